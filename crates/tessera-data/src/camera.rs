@@ -1,0 +1,181 @@
+//! Orbit camera and the mapping between a volume's sample grid and world space.
+//!
+//! World space puts the volume's centre at the origin with its longest physical side of length
+//! 1, so one camera distance fits volumes of any size. Ray casters work in grid space (sample
+//! (x,y,z) at position (x,y,z)); [`GridCamera`] carries the camera into it.
+
+use glam::Vec3;
+
+/// A camera on a sphere around the origin, looking at it with +Y up.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct OrbitCamera {
+    pub azimuth_deg: f32,
+    pub elevation_deg: f32,
+    /// Distance from the origin in world units (the volume's longest side is 1).
+    pub distance: f32,
+    pub fov_y_deg: f32,
+}
+
+impl Default for OrbitCamera {
+    fn default() -> Self {
+        OrbitCamera {
+            azimuth_deg: 30.0,
+            elevation_deg: 20.0,
+            distance: 1.8,
+            fov_y_deg: 40.0,
+        }
+    }
+}
+
+impl OrbitCamera {
+    /// Parses `AZ,EL,DIST` (degrees, degrees, world units).
+    pub fn parse(text: &str) -> Result<OrbitCamera, String> {
+        let parts: Vec<&str> = text.split(',').map(str::trim).collect();
+        if parts.len() != 3 {
+            return Err(format!("camera '{text}': expected AZ,EL,DIST"));
+        }
+        let num = |s: &str| {
+            s.parse::<f32>()
+                .ok()
+                .filter(|v| v.is_finite())
+                .ok_or_else(|| format!("camera '{text}': '{s}' is not a number"))
+        };
+        let camera = OrbitCamera {
+            azimuth_deg: num(parts[0])?,
+            elevation_deg: num(parts[1])?,
+            distance: num(parts[2])?,
+            ..OrbitCamera::default()
+        };
+        if camera.distance <= 0.0 {
+            return Err(format!("camera '{text}': distance must be positive"));
+        }
+        Ok(camera)
+    }
+
+    pub fn eye(&self) -> Vec3 {
+        // Straight up or down has no defined "right"; stay just short of the pole.
+        let el = self.elevation_deg.clamp(-89.9, 89.9).to_radians();
+        let az = self.azimuth_deg.to_radians();
+        self.distance * Vec3::new(el.cos() * az.sin(), el.sin(), el.cos() * az.cos())
+    }
+
+    /// Orthonormal (forward, right, up) in world space.
+    pub fn basis(&self) -> (Vec3, Vec3, Vec3) {
+        let forward = (-self.eye()).normalize();
+        let right = forward.cross(Vec3::Y).normalize();
+        let up = right.cross(forward);
+        (forward, right, up)
+    }
+}
+
+/// How sample-grid coordinates map to world space for a volume.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GridFrame {
+    pub dims: [u32; 3],
+    /// World units per grid unit along each axis.
+    pub grid_to_world: Vec3,
+}
+
+impl GridFrame {
+    pub fn new(dims: [u32; 3], spacing: [f32; 3]) -> GridFrame {
+        let extent = Vec3::new(
+            (dims[0].max(2) - 1) as f32 * spacing[0],
+            (dims[1].max(2) - 1) as f32 * spacing[1],
+            (dims[2].max(2) - 1) as f32 * spacing[2],
+        );
+        let scale = 1.0 / extent.max_element();
+        GridFrame {
+            dims,
+            grid_to_world: Vec3::from(spacing) * scale,
+        }
+    }
+
+    pub fn centre(&self) -> Vec3 {
+        Vec3::new(
+            (self.dims[0] - 1) as f32,
+            (self.dims[1] - 1) as f32,
+            (self.dims[2] - 1) as f32,
+        ) * 0.5
+    }
+
+    pub fn world_to_grid_point(&self, p: Vec3) -> Vec3 {
+        p / self.grid_to_world + self.centre()
+    }
+
+    pub fn world_to_grid_vector(&self, v: Vec3) -> Vec3 {
+        v / self.grid_to_world
+    }
+}
+
+/// The camera expressed in grid space, as both the CPU and GPU ray casters consume it. A pixel's
+/// ray direction is `normalize(forward + sx * right + sy * up)` with `sx, sy` from
+/// [`GridCamera::screen`]; the vectors are not unit length in grid space.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GridCamera {
+    pub eye: Vec3,
+    pub forward: Vec3,
+    pub right: Vec3,
+    pub up: Vec3,
+    pub tan_half_fov_x: f32,
+    pub tan_half_fov_y: f32,
+    /// Light direction (towards the light) in world space: above and to the right of the eye.
+    pub light_world: Vec3,
+}
+
+impl GridCamera {
+    pub fn new(camera: &OrbitCamera, frame: &GridFrame, width: u32, height: u32) -> GridCamera {
+        let (forward, right, up) = camera.basis();
+        let tan_y = (camera.fov_y_deg.to_radians() * 0.5).tan();
+        GridCamera {
+            eye: frame.world_to_grid_point(camera.eye()),
+            forward: frame.world_to_grid_vector(forward),
+            right: frame.world_to_grid_vector(right),
+            up: frame.world_to_grid_vector(up),
+            tan_half_fov_x: tan_y * width as f32 / height.max(1) as f32,
+            tan_half_fov_y: tan_y,
+            light_world: (-forward + 0.6 * up + 0.4 * right).normalize(),
+        }
+    }
+
+    /// Screen offsets of pixel (x, y)'s centre; y grows downwards in the image.
+    pub fn screen(&self, x: u32, y: u32, width: u32, height: u32) -> (f32, f32) {
+        let sx = (2.0 * (x as f32 + 0.5) / width as f32 - 1.0) * self.tan_half_fov_x;
+        let sy = (1.0 - 2.0 * (y as f32 + 0.5) / height as f32) * self.tan_half_fov_y;
+        (sx, sy)
+    }
+
+    pub fn ray_direction(&self, x: u32, y: u32, width: u32, height: u32) -> Vec3 {
+        let (sx, sy) = self.screen(x, y, width, height);
+        (self.forward + sx * self.right + sy * self.up).normalize()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn centre_pixel_looks_at_volume_centre() {
+        let cam = OrbitCamera::default();
+        let frame = GridFrame::new([33, 17, 9], [1.0, 2.0, 4.0]);
+        let gc = GridCamera::new(&cam, &frame, 101, 101);
+        let d = gc.ray_direction(50, 50, 101, 101);
+        let to_centre = (frame.centre() - gc.eye).normalize();
+        assert!(d.dot(to_centre) > 0.99999, "{d} vs {to_centre}");
+    }
+
+    #[test]
+    fn world_box_longest_side_is_one() {
+        let frame = GridFrame::new([65, 33, 17], [1.0, 1.0, 1.0]);
+        let size = Vec3::new(64.0, 32.0, 16.0) * frame.grid_to_world;
+        assert!((size.max_element() - 1.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn parse_rejects_bad_text() {
+        assert!(OrbitCamera::parse("10,20").is_err());
+        assert!(OrbitCamera::parse("10,x,2").is_err());
+        assert!(OrbitCamera::parse("10,20,-1").is_err());
+        assert_eq!(OrbitCamera::parse("10, 20, 2.5").unwrap().distance, 2.5);
+    }
+}

@@ -1,0 +1,23 @@
+//! Tessera's data model and CPU reference algorithms. Nothing here knows about Vulkan:
+//! file formats, procedural generators, cameras and the reference implementations the GPU
+//! techniques are tested against.
+
+pub mod camera;
+pub mod error;
+pub mod image;
+pub mod load;
+pub mod marching_cubes;
+pub mod mc_tables;
+pub mod mesh;
+pub mod minmax;
+pub mod nrrd;
+pub mod procedural;
+pub mod raw;
+pub mod raycast;
+pub mod shading;
+pub mod volume;
+
+pub use camera::{GridCamera, GridFrame, OrbitCamera};
+pub use error::DataError;
+pub use image::RgbaImage;
+pub use volume::{IsoValue, NanPolicy, Samples, ScalarType, Volume};

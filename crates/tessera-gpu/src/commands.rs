@@ -1,0 +1,370 @@
+//! Command recording and one-shot submission.
+
+use crate::context::Gpu;
+use crate::error::{GpuError, Result, VkContext};
+use crate::memory::{color_range, Buffer, Image};
+use crate::pipeline::{Pipeline, Slot, PUSH_CONSTANT_BYTES};
+use crate::timer::Timer;
+use ash::vk;
+
+/// A resource bound to the slot of the same index.
+#[derive(Clone, Copy)]
+pub enum Binding<'a> {
+    Buffer(&'a Buffer),
+    /// Sampled through the device's clamp-to-edge sampler; `linear` picks the filter.
+    Texture {
+        image: &'a Image,
+        linear: bool,
+    },
+    StorageImage(&'a Image),
+}
+
+/// Records into one command buffer; created by [`Gpu::submit`].
+pub struct Recorder<'a> {
+    gpu: &'a Gpu,
+    pub cmd: vk::CommandBuffer,
+}
+
+impl Recorder<'_> {
+    pub fn copy_buffer(&self, src: &Buffer, dst: &Buffer, bytes: u64) {
+        let region = [vk::BufferCopy::default().size(bytes)];
+        unsafe {
+            self.gpu
+                .device
+                .cmd_copy_buffer(self.cmd, src.handle, dst.handle, &region)
+        };
+    }
+
+    pub fn fill_buffer(&self, dst: &Buffer, value: u32) {
+        unsafe {
+            self.gpu
+                .device
+                .cmd_fill_buffer(self.cmd, dst.handle, 0, vk::WHOLE_SIZE, value)
+        };
+    }
+
+    fn image_barrier(&self, image: &Image, from: vk::ImageLayout, to: vk::ImageLayout) {
+        let barrier = [vk::ImageMemoryBarrier2::default()
+            .src_stage_mask(vk::PipelineStageFlags2::ALL_COMMANDS)
+            .src_access_mask(vk::AccessFlags2::MEMORY_WRITE)
+            .dst_stage_mask(vk::PipelineStageFlags2::ALL_COMMANDS)
+            .dst_access_mask(vk::AccessFlags2::MEMORY_READ | vk::AccessFlags2::MEMORY_WRITE)
+            .old_layout(from)
+            .new_layout(to)
+            .image(image.handle)
+            .subresource_range(color_range())];
+        let dep = vk::DependencyInfo::default().image_memory_barriers(&barrier);
+        unsafe { self.gpu.device.cmd_pipeline_barrier2(self.cmd, &dep) };
+    }
+
+    /// Moves an image into `GENERAL` layout for storage or attachment use; its old contents go.
+    pub fn discard_to_general(&self, image: &Image) {
+        self.image_barrier(image, vk::ImageLayout::UNDEFINED, vk::ImageLayout::GENERAL);
+    }
+
+    /// Copies tightly packed texels into the whole image and leaves it ready for sampling.
+    pub fn copy_buffer_to_image(&self, src: &Buffer, dst: &Image) {
+        self.image_barrier(
+            dst,
+            vk::ImageLayout::UNDEFINED,
+            vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+        );
+        let region = [vk::BufferImageCopy::default()
+            .image_subresource(vk::ImageSubresourceLayers {
+                aspect_mask: vk::ImageAspectFlags::COLOR,
+                mip_level: 0,
+                base_array_layer: 0,
+                layer_count: 1,
+            })
+            .image_extent(dst.extent)];
+        unsafe {
+            self.gpu.device.cmd_copy_buffer_to_image(
+                self.cmd,
+                src.handle,
+                dst.handle,
+                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                &region,
+            )
+        };
+        self.image_barrier(
+            dst,
+            vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+        );
+    }
+
+    /// Copies a 2-D image in `GENERAL` layout into a buffer, tightly packed.
+    pub fn copy_image_to_buffer(&self, src: &Image, dst: &Buffer) {
+        let region = [vk::BufferImageCopy::default()
+            .image_subresource(vk::ImageSubresourceLayers {
+                aspect_mask: vk::ImageAspectFlags::COLOR,
+                mip_level: 0,
+                base_array_layer: 0,
+                layer_count: 1,
+            })
+            .image_extent(src.extent)];
+        unsafe {
+            self.gpu.device.cmd_copy_image_to_buffer(
+                self.cmd,
+                src.handle,
+                vk::ImageLayout::GENERAL,
+                dst.handle,
+                &region,
+            )
+        };
+    }
+
+    /// Makes all earlier writes visible to all later reads and writes. Coarse on purpose: the
+    /// passes here are long, and a wrong fine-grained barrier is a silent race.
+    pub fn barrier(&self) {
+        let barrier = [vk::MemoryBarrier2::default()
+            .src_stage_mask(vk::PipelineStageFlags2::ALL_COMMANDS)
+            .src_access_mask(vk::AccessFlags2::MEMORY_WRITE)
+            .dst_stage_mask(vk::PipelineStageFlags2::ALL_COMMANDS)
+            .dst_access_mask(vk::AccessFlags2::MEMORY_READ | vk::AccessFlags2::MEMORY_WRITE)];
+        let dep = vk::DependencyInfo::default().memory_barriers(&barrier);
+        unsafe { self.gpu.device.cmd_pipeline_barrier2(self.cmd, &dep) };
+    }
+
+    /// Binds the pipeline, its resources (in slot order) and push constants.
+    pub fn bind(&self, pipeline: &Pipeline, bindings: &[Binding], push: &[u8]) {
+        assert_eq!(
+            bindings.len(),
+            pipeline.slots.len(),
+            "pipeline '{}' takes {} bindings",
+            pipeline.name,
+            pipeline.slots.len()
+        );
+        assert!(push.len() <= PUSH_CONSTANT_BYTES as usize);
+        let mut buffer_infos = Vec::with_capacity(bindings.len());
+        let mut image_infos = Vec::with_capacity(bindings.len());
+        for b in bindings {
+            match *b {
+                Binding::Buffer(buf) => buffer_infos.push([vk::DescriptorBufferInfo {
+                    buffer: buf.handle,
+                    offset: 0,
+                    range: vk::WHOLE_SIZE,
+                }]),
+                Binding::Texture { image, linear } => image_infos.push([vk::DescriptorImageInfo {
+                    sampler: if linear {
+                        self.gpu.sampler_linear
+                    } else {
+                        self.gpu.sampler_nearest
+                    },
+                    image_view: image.view,
+                    image_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+                }]),
+                Binding::StorageImage(image) => image_infos.push([vk::DescriptorImageInfo {
+                    sampler: vk::Sampler::null(),
+                    image_view: image.view,
+                    image_layout: vk::ImageLayout::GENERAL,
+                }]),
+            }
+        }
+        let (mut bi, mut ii) = (0, 0);
+        let writes: Vec<_> = bindings
+            .iter()
+            .zip(&pipeline.slots)
+            .enumerate()
+            .map(|(i, (b, slot))| {
+                let w = vk::WriteDescriptorSet::default()
+                    .dst_binding(i as u32)
+                    .descriptor_type(slot_type(*slot));
+                match b {
+                    Binding::Buffer(_) => {
+                        bi += 1;
+                        w.buffer_info(&buffer_infos[bi - 1])
+                    }
+                    _ => {
+                        ii += 1;
+                        w.image_info(&image_infos[ii - 1])
+                    }
+                }
+            })
+            .collect();
+        unsafe {
+            let d = &self.gpu.device;
+            d.cmd_bind_pipeline(self.cmd, pipeline.bind_point, pipeline.handle);
+            if !writes.is_empty() {
+                self.gpu.push_descriptor.cmd_push_descriptor_set(
+                    self.cmd,
+                    pipeline.bind_point,
+                    pipeline.layout,
+                    0,
+                    &writes,
+                );
+            }
+            if !push.is_empty() {
+                d.cmd_push_constants(
+                    self.cmd,
+                    pipeline.layout,
+                    vk::ShaderStageFlags::ALL,
+                    0,
+                    push,
+                );
+            }
+        }
+    }
+
+    /// Dispatches enough workgroups to cover `threads` invocations per axis.
+    pub fn dispatch(
+        &self,
+        pipeline: &Pipeline,
+        bindings: &[Binding],
+        push: &[u8],
+        threads: [u32; 3],
+    ) {
+        let groups = [0, 1, 2].map(|i| threads[i].div_ceil(pipeline.local_size[i].max(1)));
+        self.dispatch_groups(pipeline, bindings, push, groups);
+    }
+
+    pub fn dispatch_groups(
+        &self,
+        pipeline: &Pipeline,
+        bindings: &[Binding],
+        push: &[u8],
+        groups: [u32; 3],
+    ) {
+        self.bind(pipeline, bindings, push);
+        unsafe {
+            self.gpu
+                .device
+                .cmd_dispatch(self.cmd, groups[0], groups[1], groups[2])
+        };
+    }
+
+    /// Begins dynamic rendering into `target` (in `GENERAL` layout), cleared to `clear`.
+    pub fn begin_rendering(&self, target: &Image, clear: [f32; 4]) {
+        let extent = vk::Extent2D {
+            width: target.extent.width,
+            height: target.extent.height,
+        };
+        let attachments = [vk::RenderingAttachmentInfo::default()
+            .image_view(target.view)
+            .image_layout(vk::ImageLayout::GENERAL)
+            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .store_op(vk::AttachmentStoreOp::STORE)
+            .clear_value(vk::ClearValue {
+                color: vk::ClearColorValue { float32: clear },
+            })];
+        let info = vk::RenderingInfo::default()
+            .render_area(extent.into())
+            .layer_count(1)
+            .color_attachments(&attachments);
+        let viewport = [vk::Viewport {
+            x: 0.0,
+            y: 0.0,
+            width: extent.width as f32,
+            height: extent.height as f32,
+            min_depth: 0.0,
+            max_depth: 1.0,
+        }];
+        unsafe {
+            let d = &self.gpu.device;
+            d.cmd_begin_rendering(self.cmd, &info);
+            d.cmd_set_viewport(self.cmd, 0, &viewport);
+            d.cmd_set_scissor(self.cmd, 0, &[extent.into()]);
+        }
+    }
+
+    pub fn end_rendering(&self) {
+        unsafe { self.gpu.device.cmd_end_rendering(self.cmd) };
+    }
+
+    pub fn draw(&self, pipeline: &Pipeline, bindings: &[Binding], push: &[u8], vertices: u32) {
+        self.bind(pipeline, bindings, push);
+        unsafe { self.gpu.device.cmd_draw(self.cmd, vertices, 1, 0, 0) };
+    }
+
+    /// Launches mesh-shader workgroups; the device must have `VK_EXT_mesh_shader`.
+    pub fn draw_mesh_tasks(
+        &self,
+        pipeline: &Pipeline,
+        bindings: &[Binding],
+        push: &[u8],
+        groups: [u32; 3],
+    ) -> Result<()> {
+        let mesh = self
+            .gpu
+            .mesh_shader
+            .as_ref()
+            .ok_or_else(|| GpuError::Unsupported {
+                device: self.gpu.caps().device_name.clone(),
+                what: "VK_EXT_mesh_shader".into(),
+            })?;
+        self.bind(pipeline, bindings, push);
+        unsafe { mesh.cmd_draw_mesh_tasks(self.cmd, groups[0], groups[1], groups[2]) };
+        Ok(())
+    }
+
+    pub fn timestamp(&self, timer: &Timer, index: u32) {
+        unsafe {
+            self.gpu.device.cmd_write_timestamp2(
+                self.cmd,
+                vk::PipelineStageFlags2::ALL_COMMANDS,
+                timer.pool,
+                index,
+            )
+        };
+    }
+}
+
+fn slot_type(slot: Slot) -> vk::DescriptorType {
+    match slot {
+        Slot::StorageBuffer => vk::DescriptorType::STORAGE_BUFFER,
+        Slot::UniformBuffer => vk::DescriptorType::UNIFORM_BUFFER,
+        Slot::Texture => vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+        Slot::StorageImage => vk::DescriptorType::STORAGE_IMAGE,
+    }
+}
+
+impl Gpu {
+    /// Records commands with `record`, submits them and waits. `pass` names the work in errors
+    /// (a lost device reports which pass it was in).
+    pub fn submit(&self, pass: &str, record: impl FnOnce(&Recorder)) -> Result<()> {
+        let alloc = vk::CommandBufferAllocateInfo::default()
+            .command_pool(self.command_pool)
+            .level(vk::CommandBufferLevel::PRIMARY)
+            .command_buffer_count(1);
+        let cmd = unsafe { self.device.allocate_command_buffers(&alloc) }
+            .call("vkAllocateCommandBuffers")?[0];
+        let result = self.record_and_run(pass, cmd, record);
+        unsafe { self.device.free_command_buffers(self.command_pool, &[cmd]) };
+        result
+    }
+
+    fn record_and_run(
+        &self,
+        pass: &str,
+        cmd: vk::CommandBuffer,
+        record: impl FnOnce(&Recorder),
+    ) -> Result<()> {
+        let begin = vk::CommandBufferBeginInfo::default()
+            .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
+        unsafe { self.device.begin_command_buffer(cmd, &begin) }.call("vkBeginCommandBuffer")?;
+        record(&Recorder { gpu: self, cmd });
+        unsafe { self.device.end_command_buffer(cmd) }.call("vkEndCommandBuffer")?;
+        let fence = unsafe {
+            self.device
+                .create_fence(&vk::FenceCreateInfo::default(), None)
+        }
+        .call("vkCreateFence")?;
+        let cmds = [cmd];
+        let submit = [vk::SubmitInfo::default().command_buffers(&cmds)];
+        let lost = |r: vk::Result| match r {
+            vk::Result::ERROR_DEVICE_LOST => GpuError::DeviceLost { pass: pass.into() },
+            result => GpuError::Vulkan {
+                call: "vkQueueSubmit/vkWaitForFences",
+                result,
+            },
+        };
+        let result = unsafe {
+            self.device
+                .queue_submit(self.queue, &submit, fence)
+                .and_then(|_| self.device.wait_for_fences(&[fence], true, u64::MAX))
+        }
+        .map_err(lost);
+        unsafe { self.device.destroy_fence(fence, None) };
+        result
+    }
+}

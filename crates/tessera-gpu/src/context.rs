@@ -1,0 +1,466 @@
+//! Instance, device and queue: the one object every other part of the plumbing borrows.
+
+use crate::caps::{self, has_extension, Capabilities};
+use crate::error::{GpuError, Result, VkContext};
+use ash::vk;
+use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
+use std::ffi::{c_void, CStr, CString};
+use std::sync::{Arc, Mutex};
+
+const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
+
+/// How to open the device.
+#[derive(Debug, Clone, Default)]
+pub struct GpuOptions {
+    /// Index into the enumeration order printed by `tessera info`; `None` picks the best device
+    /// (discrete, then integrated, then anything else).
+    pub device_index: Option<usize>,
+    /// Enables the Khronos validation layer and counts its error messages.
+    pub validation: bool,
+}
+
+/// Validation messages, shared with the debug callback.
+#[derive(Default)]
+pub struct ValidationLog {
+    errors: Mutex<Vec<String>>,
+    warnings: Mutex<Vec<String>>,
+}
+
+impl ValidationLog {
+    pub fn errors(&self) -> Vec<String> {
+        self.errors.lock().map(|e| e.clone()).unwrap_or_default()
+    }
+    pub fn warnings(&self) -> Vec<String> {
+        self.warnings.lock().map(|e| e.clone()).unwrap_or_default()
+    }
+}
+
+unsafe extern "system" fn debug_callback(
+    severity: vk::DebugUtilsMessageSeverityFlagsEXT,
+    _types: vk::DebugUtilsMessageTypeFlagsEXT,
+    data: *const vk::DebugUtilsMessengerCallbackDataEXT<'_>,
+    user: *mut c_void,
+) -> vk::Bool32 {
+    if data.is_null() || user.is_null() {
+        return vk::FALSE;
+    }
+    let log = unsafe { &*(user as *const ValidationLog) };
+    let message = unsafe { (*data).message_as_c_str() }
+        .map(|m| m.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    if severity.contains(vk::DebugUtilsMessageSeverityFlagsEXT::ERROR) {
+        eprintln!("[vulkan validation error] {message}");
+        if let Ok(mut e) = log.errors.lock() {
+            e.push(message);
+        }
+    } else if severity.contains(vk::DebugUtilsMessageSeverityFlagsEXT::WARNING) {
+        if let Ok(mut w) = log.warnings.lock() {
+            w.push(message);
+        }
+    }
+    vk::FALSE
+}
+
+/// A physical device as listed for the user, before one is opened.
+#[derive(Debug, Clone)]
+pub struct DeviceListing {
+    pub index: usize,
+    pub name: String,
+    pub device_type: String,
+}
+
+/// The opened device with its queue, allocator and extension loaders.
+pub struct Gpu {
+    pub(crate) device: ash::Device,
+    pub(crate) queue: vk::Queue,
+    pub(crate) allocator: std::mem::ManuallyDrop<Mutex<Allocator>>,
+    pub(crate) command_pool: vk::CommandPool,
+    pub(crate) push_descriptor: ash::khr::push_descriptor::Device,
+    pub(crate) mesh_shader: Option<ash::ext::mesh_shader::Device>,
+    pub(crate) debug_device: Option<ash::ext::debug_utils::Device>,
+    /// Clamp-to-edge samplers shared by every texture binding.
+    pub(crate) sampler_nearest: vk::Sampler,
+    pub(crate) sampler_linear: vk::Sampler,
+    caps: Capabilities,
+    physical: vk::PhysicalDevice,
+    messenger: Option<(ash::ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT)>,
+    validation: Arc<ValidationLog>,
+    pub(crate) instance: ash::Instance,
+    _entry: ash::Entry,
+}
+
+fn load_entry() -> Result<ash::Entry> {
+    unsafe { ash::Entry::load() }.map_err(|e| GpuError::Loader(e.to_string()))
+}
+
+fn create_instance(entry: &ash::Entry, validation: bool) -> Result<ash::Instance> {
+    let app_name = c"tessera";
+    let app = vk::ApplicationInfo::default()
+        .application_name(app_name)
+        .engine_name(app_name)
+        .api_version(vk::API_VERSION_1_3);
+    let layers: Vec<*const i8> = if validation {
+        let available = unsafe { entry.enumerate_instance_layer_properties() }
+            .call("vkEnumerateInstanceLayerProperties")?;
+        let found = available
+            .iter()
+            .any(|l| l.layer_name_as_c_str().is_ok_and(|n| n == VALIDATION_LAYER));
+        if !found {
+            return Err(GpuError::NoValidationLayer);
+        }
+        vec![VALIDATION_LAYER.as_ptr()]
+    } else {
+        vec![]
+    };
+    let ext_props = unsafe { entry.enumerate_instance_extension_properties(None) }
+        .call("vkEnumerateInstanceExtensionProperties")?;
+    let mut extensions = vec![];
+    if has_extension(&ext_props, ash::ext::debug_utils::NAME) {
+        extensions.push(ash::ext::debug_utils::NAME.as_ptr());
+    }
+    let info = vk::InstanceCreateInfo::default()
+        .application_info(&app)
+        .enabled_layer_names(&layers)
+        .enabled_extension_names(&extensions);
+    unsafe { entry.create_instance(&info, None) }.call("vkCreateInstance")
+}
+
+fn device_rank(t: vk::PhysicalDeviceType) -> u32 {
+    match t {
+        vk::PhysicalDeviceType::DISCRETE_GPU => 0,
+        vk::PhysicalDeviceType::INTEGRATED_GPU => 1,
+        vk::PhysicalDeviceType::VIRTUAL_GPU => 2,
+        vk::PhysicalDeviceType::CPU => 3,
+        _ => 4,
+    }
+}
+
+/// Lists the devices without opening one, for `tessera info`.
+pub fn list_devices() -> Result<Vec<DeviceListing>> {
+    let entry = load_entry()?;
+    let instance = create_instance(&entry, false)?;
+    let physicals =
+        unsafe { instance.enumerate_physical_devices() }.call("vkEnumeratePhysicalDevices");
+    let result = physicals.map(|list| {
+        list.iter()
+            .enumerate()
+            .map(|(index, &p)| {
+                let props = unsafe { instance.get_physical_device_properties(p) };
+                DeviceListing {
+                    index,
+                    name: props
+                        .device_name_as_c_str()
+                        .map(|c| c.to_string_lossy().into_owned())
+                        .unwrap_or_default(),
+                    device_type: format!("{:?}", props.device_type),
+                }
+            })
+            .collect()
+    });
+    unsafe { instance.destroy_instance(None) };
+    result
+}
+
+/// The device extensions Tessera enables whenever the device has them.
+const OPTIONAL_EXTENSIONS: &[&CStr] = &[
+    ash::ext::mesh_shader::NAME,
+    ash::khr::acceleration_structure::NAME,
+    ash::khr::ray_tracing_pipeline::NAME,
+    ash::khr::ray_query::NAME,
+    ash::khr::deferred_host_operations::NAME,
+    ash::ext::shader_atomic_float::NAME,
+    ash::ext::shader_image_atomic_int64::NAME,
+    ash::nv::representative_fragment_test::NAME,
+    ash::khr::fragment_shader_barycentric::NAME,
+    ash::ext::fragment_shader_interlock::NAME,
+];
+
+impl Gpu {
+    pub fn new(options: &GpuOptions) -> Result<Gpu> {
+        let entry = load_entry()?;
+        let instance = create_instance(&entry, options.validation)?;
+        // From here on, failures must destroy the instance; `open` does the rest.
+        match Self::open(entry.clone(), instance.clone(), options) {
+            Ok(gpu) => Ok(gpu),
+            Err(e) => {
+                unsafe { instance.destroy_instance(None) };
+                Err(e)
+            }
+        }
+    }
+
+    fn pick_physical(instance: &ash::Instance, index: Option<usize>) -> Result<vk::PhysicalDevice> {
+        let physicals =
+            unsafe { instance.enumerate_physical_devices() }.call("vkEnumeratePhysicalDevices")?;
+        if physicals.is_empty() {
+            return Err(GpuError::NoDevice);
+        }
+        if let Some(index) = index {
+            return physicals.get(index).copied().ok_or(GpuError::DeviceIndex {
+                index,
+                count: physicals.len(),
+            });
+        }
+        let best = physicals
+            .iter()
+            .min_by_key(|&&p| {
+                device_rank(unsafe { instance.get_physical_device_properties(p) }.device_type)
+            })
+            .copied();
+        best.ok_or(GpuError::NoDevice)
+    }
+
+    fn open(entry: ash::Entry, instance: ash::Instance, options: &GpuOptions) -> Result<Gpu> {
+        let validation = Arc::new(ValidationLog::default());
+        let messenger = if options.validation {
+            let debug = ash::ext::debug_utils::Instance::new(&entry, &instance);
+            let info = vk::DebugUtilsMessengerCreateInfoEXT::default()
+                .message_severity(
+                    vk::DebugUtilsMessageSeverityFlagsEXT::ERROR
+                        | vk::DebugUtilsMessageSeverityFlagsEXT::WARNING,
+                )
+                .message_type(
+                    vk::DebugUtilsMessageTypeFlagsEXT::VALIDATION
+                        | vk::DebugUtilsMessageTypeFlagsEXT::PERFORMANCE
+                        | vk::DebugUtilsMessageTypeFlagsEXT::GENERAL,
+                )
+                .pfn_user_callback(Some(debug_callback))
+                .user_data(Arc::as_ptr(&validation) as *mut c_void);
+            let m = unsafe { debug.create_debug_utils_messenger(&info, None) }
+                .call("vkCreateDebugUtilsMessengerEXT")?;
+            Some((debug, m))
+        } else {
+            None
+        };
+        let physical = Self::pick_physical(&instance, options.device_index)?;
+        let extensions = unsafe { instance.enumerate_device_extension_properties(physical) }
+            .call("vkEnumerateDeviceExtensionProperties")?;
+        let caps = caps::query(&instance, physical, &extensions);
+        if !has_extension(&extensions, ash::khr::push_descriptor::NAME) {
+            return Err(GpuError::Unsupported {
+                device: caps.device_name.clone(),
+                what: "VK_KHR_push_descriptor".into(),
+            });
+        }
+        let families = unsafe { instance.get_physical_device_queue_family_properties(physical) };
+        let queue_family = families
+            .iter()
+            .position(|f| {
+                f.queue_flags
+                    .contains(vk::QueueFlags::GRAPHICS | vk::QueueFlags::COMPUTE)
+                    && f.timestamp_valid_bits > 0
+            })
+            .ok_or_else(|| GpuError::Unsupported {
+                device: caps.device_name.clone(),
+                what: "a graphics+compute queue with timestamps".into(),
+            })? as u32;
+
+        let mut enabled: Vec<*const i8> = vec![ash::khr::push_descriptor::NAME.as_ptr()];
+        for ext in OPTIONAL_EXTENSIONS {
+            if has_extension(&extensions, ext) {
+                enabled.push(ext.as_ptr());
+            }
+        }
+        let device = Self::create_device(&instance, physical, queue_family, &caps, &enabled)?;
+        let queue = unsafe { device.get_device_queue(queue_family, 0) };
+        let allocator = Allocator::new(&AllocatorCreateDesc {
+            instance: instance.clone(),
+            device: device.clone(),
+            physical_device: physical,
+            debug_settings: Default::default(),
+            buffer_device_address: true,
+            allocation_sizes: Default::default(),
+        })
+        .map_err(|e| GpuError::Allocation {
+            name: "allocator".into(),
+            bytes: 0,
+            message: e.to_string(),
+        })?;
+        let pool_info = vk::CommandPoolCreateInfo::default()
+            .queue_family_index(queue_family)
+            .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
+        let command_pool =
+            unsafe { device.create_command_pool(&pool_info, None) }.call("vkCreateCommandPool")?;
+        let debug_device = messenger
+            .as_ref()
+            .map(|_| ash::ext::debug_utils::Device::new(&instance, &device));
+        let mesh_shader = caps
+            .mesh_shader
+            .then(|| ash::ext::mesh_shader::Device::new(&instance, &device));
+        let sampler = |filter: vk::Filter| {
+            let info = vk::SamplerCreateInfo::default()
+                .mag_filter(filter)
+                .min_filter(filter)
+                .address_mode_u(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+                .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+                .address_mode_w(vk::SamplerAddressMode::CLAMP_TO_EDGE);
+            unsafe { device.create_sampler(&info, None) }.call("vkCreateSampler")
+        };
+        let sampler_nearest = sampler(vk::Filter::NEAREST)?;
+        let sampler_linear = sampler(vk::Filter::LINEAR)?;
+        Ok(Gpu {
+            sampler_nearest,
+            sampler_linear,
+            push_descriptor: ash::khr::push_descriptor::Device::new(&instance, &device),
+            mesh_shader,
+            debug_device,
+            device,
+            queue,
+            allocator: std::mem::ManuallyDrop::new(Mutex::new(allocator)),
+            command_pool,
+            caps,
+            physical,
+            messenger,
+            validation,
+            instance,
+            _entry: entry,
+        })
+    }
+
+    fn create_device(
+        instance: &ash::Instance,
+        physical: vk::PhysicalDevice,
+        queue_family: u32,
+        caps: &Capabilities,
+        extensions: &[*const i8],
+    ) -> Result<ash::Device> {
+        let priorities = [1.0f32];
+        let queues = [vk::DeviceQueueCreateInfo::default()
+            .queue_family_index(queue_family)
+            .queue_priorities(&priorities)];
+        let supported = unsafe { instance.get_physical_device_features(physical) };
+        let base = vk::PhysicalDeviceFeatures::default()
+            .tessellation_shader(caps.tessellation)
+            .shader_int64(supported.shader_int64 != 0)
+            .fragment_stores_and_atomics(supported.fragment_stores_and_atomics != 0)
+            .vertex_pipeline_stores_and_atomics(supported.vertex_pipeline_stores_and_atomics != 0)
+            .shader_storage_image_write_without_format(
+                supported.shader_storage_image_write_without_format != 0,
+            )
+            .pipeline_statistics_query(supported.pipeline_statistics_query != 0);
+        let mut v11 =
+            vk::PhysicalDeviceVulkan11Features::default().storage_buffer16_bit_access(true);
+        let mut v12 = vk::PhysicalDeviceVulkan12Features::default()
+            .buffer_device_address(true)
+            .shader_buffer_int64_atomics(caps.buffer_int64_atomics)
+            .storage_buffer8_bit_access(true)
+            .shader_int8(true)
+            .scalar_block_layout(true)
+            .host_query_reset(true)
+            .descriptor_indexing(true)
+            .runtime_descriptor_array(true);
+        let mut v13 = vk::PhysicalDeviceVulkan13Features::default()
+            .dynamic_rendering(true)
+            .synchronization2(true)
+            .maintenance4(true);
+        let mut mesh = vk::PhysicalDeviceMeshShaderFeaturesEXT::default()
+            .mesh_shader(true)
+            .task_shader(caps.task_shader);
+        let mut rtp =
+            vk::PhysicalDeviceRayTracingPipelineFeaturesKHR::default().ray_tracing_pipeline(true);
+        let mut accel = vk::PhysicalDeviceAccelerationStructureFeaturesKHR::default()
+            .acceleration_structure(true);
+        let mut rq = vk::PhysicalDeviceRayQueryFeaturesKHR::default().ray_query(true);
+        let mut fatomic = vk::PhysicalDeviceShaderAtomicFloatFeaturesEXT::default()
+            .shader_buffer_float32_atomic_add(caps.buffer_float32_atomic_add)
+            .shader_buffer_float32_atomics(caps.buffer_float32_atomic_add)
+            .shader_image_float32_atomic_add(caps.image_float32_atomic_add)
+            .shader_image_float32_atomics(caps.image_float32_atomic_add);
+        let mut img64 = vk::PhysicalDeviceShaderImageAtomicInt64FeaturesEXT::default()
+            .shader_image_int64_atomics(true);
+        let mut rep = vk::PhysicalDeviceRepresentativeFragmentTestFeaturesNV::default()
+            .representative_fragment_test(true);
+        let mut bary = vk::PhysicalDeviceFragmentShaderBarycentricFeaturesKHR::default()
+            .fragment_shader_barycentric(true);
+        let mut lock = vk::PhysicalDeviceFragmentShaderInterlockFeaturesEXT::default()
+            .fragment_shader_pixel_interlock(true);
+        let mut info = vk::DeviceCreateInfo::default()
+            .queue_create_infos(&queues)
+            .enabled_extension_names(extensions)
+            .enabled_features(&base)
+            .push_next(&mut v11)
+            .push_next(&mut v12)
+            .push_next(&mut v13);
+        if caps.mesh_shader {
+            info = info.push_next(&mut mesh);
+        }
+        if caps.ray_tracing_pipeline {
+            info = info.push_next(&mut rtp);
+        }
+        if caps.acceleration_structure {
+            info = info.push_next(&mut accel);
+        }
+        if caps.ray_query {
+            info = info.push_next(&mut rq);
+        }
+        if caps.buffer_float32_atomic_add || caps.image_float32_atomic_add {
+            info = info.push_next(&mut fatomic);
+        }
+        if caps.image_int64_atomics {
+            info = info.push_next(&mut img64);
+        }
+        if caps.representative_fragment_test {
+            info = info.push_next(&mut rep);
+        }
+        if caps.fragment_barycentric {
+            info = info.push_next(&mut bary);
+        }
+        if caps.fragment_shader_interlock {
+            info = info.push_next(&mut lock);
+        }
+        unsafe { instance.create_device(physical, &info, None) }.call("vkCreateDevice")
+    }
+
+    pub fn caps(&self) -> &Capabilities {
+        &self.caps
+    }
+
+    /// Validation-layer errors seen so far (empty when validation is off).
+    pub fn validation_errors(&self) -> Vec<String> {
+        self.validation.errors()
+    }
+
+    pub fn validation_enabled(&self) -> bool {
+        self.messenger.is_some()
+    }
+
+    pub fn device(&self) -> &ash::Device {
+        &self.device
+    }
+
+    pub fn physical_device(&self) -> vk::PhysicalDevice {
+        self.physical
+    }
+
+    /// Names a Vulkan object for the validation layer and capture tools.
+    pub fn set_name<H: vk::Handle>(&self, handle: H, name: &str) {
+        if let (Some(debug), Ok(name)) = (&self.debug_device, CString::new(name)) {
+            let info = vk::DebugUtilsObjectNameInfoEXT::default()
+                .object_handle(handle)
+                .object_name(&name);
+            // Naming is a debugging aid; failing to name must not fail the work.
+            let _ = unsafe { debug.set_debug_utils_object_name(&info) };
+        }
+    }
+
+    pub fn wait_idle(&self) -> Result<()> {
+        unsafe { self.device.device_wait_idle() }.call("vkDeviceWaitIdle")
+    }
+}
+
+impl Drop for Gpu {
+    fn drop(&mut self) {
+        unsafe {
+            let _ = self.device.device_wait_idle();
+            self.device.destroy_command_pool(self.command_pool, None);
+            self.device.destroy_sampler(self.sampler_nearest, None);
+            self.device.destroy_sampler(self.sampler_linear, None);
+            std::mem::ManuallyDrop::drop(&mut self.allocator);
+            self.device.destroy_device(None);
+            if let Some((debug, m)) = self.messenger.take() {
+                debug.destroy_debug_utils_messenger(m, None);
+            }
+            self.instance.destroy_instance(None);
+        }
+    }
+}

@@ -1,0 +1,61 @@
+use ash::vk;
+use std::path::PathBuf;
+
+/// Everything that can go wrong below the techniques. Each variant names the call, resource or
+/// file involved so that a message read by a user points at the cause.
+#[derive(Debug, thiserror::Error)]
+pub enum GpuError {
+    #[error("the Vulkan loader could not be opened ({0}); install libvulkan1, and mesa-vulkan-drivers for a CPU device")]
+    Loader(String),
+    #[error("{call} failed: {result}")]
+    Vulkan {
+        call: &'static str,
+        result: vk::Result,
+    },
+    #[error("no Vulkan device found; install a GPU driver or mesa-vulkan-drivers (lavapipe)")]
+    NoDevice,
+    #[error("device index {index} does not exist: {count} device(s) found (see `tessera info`)")]
+    DeviceIndex { index: usize, count: usize },
+    #[error("device '{device}' lacks {what}, which this needs")]
+    Unsupported { device: String, what: String },
+    #[error("the Khronos validation layer was requested but is not installed (Debian: vulkan-validationlayers)")]
+    NoValidationLayer,
+    #[error("allocating {bytes} bytes for '{name}' failed: {message}")]
+    Allocation {
+        name: String,
+        bytes: u64,
+        message: String,
+    },
+    #[error("'{name}' needs {bytes} bytes but the device offers at most {limit} bytes ({what})")]
+    TooLarge {
+        name: String,
+        bytes: u64,
+        limit: u64,
+        what: &'static str,
+    },
+    #[error("device lost during '{pass}'")]
+    DeviceLost { pass: String },
+    #[error("shader {path}: {log}")]
+    ShaderCompile { path: String, log: String },
+    #[error("shader {path}: {message}")]
+    ShaderReflect { path: String, message: String },
+    #[error("shader cache {path}: {source}")]
+    ShaderCache {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+}
+
+pub type Result<T> = std::result::Result<T, GpuError>;
+
+/// Attaches the Vulkan call name to a raw result, since `vk::Result` alone does not say which of
+/// dozens of calls in a frame failed.
+pub(crate) trait VkContext<T> {
+    fn call(self, call: &'static str) -> Result<T>;
+}
+
+impl<T> VkContext<T> for std::result::Result<T, vk::Result> {
+    fn call(self, call: &'static str) -> Result<T> {
+        self.map_err(|result| GpuError::Vulkan { call, result })
+    }
+}

@@ -1,0 +1,23 @@
+//! Vulkan plumbing for Tessera: device and capabilities, memory, run-time shader compilation,
+//! pipelines, command recording and GPU timing. It knows nothing about volumes, meshes or
+//! glyphs; techniques in the `tessera` crate build on it.
+
+pub mod caps;
+pub mod commands;
+pub mod context;
+pub mod error;
+pub mod memory;
+pub mod pipeline;
+pub mod shader;
+pub mod spirv;
+pub mod timer;
+
+pub use ash::vk;
+pub use caps::Capabilities;
+pub use commands::{Binding, Recorder};
+pub use context::{list_devices, DeviceListing, Gpu, GpuOptions};
+pub use error::{GpuError, Result};
+pub use memory::{Buffer, Image, MemoryLocation};
+pub use pipeline::{Pipeline, Slot, PUSH_CONSTANT_BYTES};
+pub use shader::{ShaderCompiler, Source, Spirv, Stage};
+pub use timer::Timer;

@@ -1,0 +1,236 @@
+//! Pipelines over one push-descriptor set and a push-constant block. Bindings are listed in
+//! order (binding i = entry i), which keeps call sites free of descriptor bookkeeping.
+
+use crate::context::Gpu;
+use crate::error::{Result, VkContext};
+use crate::shader::Spirv;
+use ash::vk;
+use std::ffi::CStr;
+
+/// Bytes of push constants every pipeline accepts: the guaranteed minimum on all devices.
+pub const PUSH_CONSTANT_BYTES: u32 = 128;
+
+/// What each binding slot holds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Slot {
+    StorageBuffer,
+    UniformBuffer,
+    /// A combined image sampler (`sampler3D`/`sampler2D`).
+    Texture,
+    StorageImage,
+}
+
+impl Slot {
+    fn descriptor_type(self) -> vk::DescriptorType {
+        match self {
+            Slot::StorageBuffer => vk::DescriptorType::STORAGE_BUFFER,
+            Slot::UniformBuffer => vk::DescriptorType::UNIFORM_BUFFER,
+            Slot::Texture => vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+            Slot::StorageImage => vk::DescriptorType::STORAGE_IMAGE,
+        }
+    }
+}
+
+/// The layout and pipeline objects shared by every pipeline kind.
+pub struct Pipeline {
+    pub(crate) handle: vk::Pipeline,
+    pub(crate) layout: vk::PipelineLayout,
+    pub(crate) set_layout: vk::DescriptorSetLayout,
+    pub(crate) bind_point: vk::PipelineBindPoint,
+    pub(crate) slots: Vec<Slot>,
+    /// Workgroup size of the compute shader (compute pipelines only).
+    pub local_size: [u32; 3],
+    pub name: String,
+}
+
+const ENTRY: &CStr = c"main";
+
+impl Gpu {
+    fn layout_for(&self, slots: &[Slot]) -> Result<(vk::DescriptorSetLayout, vk::PipelineLayout)> {
+        let bindings: Vec<_> = slots
+            .iter()
+            .enumerate()
+            .map(|(i, s)| {
+                vk::DescriptorSetLayoutBinding::default()
+                    .binding(i as u32)
+                    .descriptor_type(s.descriptor_type())
+                    .descriptor_count(1)
+                    .stage_flags(vk::ShaderStageFlags::ALL)
+            })
+            .collect();
+        let set_info = vk::DescriptorSetLayoutCreateInfo::default()
+            .flags(vk::DescriptorSetLayoutCreateFlags::PUSH_DESCRIPTOR_KHR)
+            .bindings(&bindings);
+        let set_layout = unsafe { self.device.create_descriptor_set_layout(&set_info, None) }
+            .call("vkCreateDescriptorSetLayout")?;
+        let ranges = [vk::PushConstantRange {
+            stage_flags: vk::ShaderStageFlags::ALL,
+            offset: 0,
+            size: PUSH_CONSTANT_BYTES,
+        }];
+        let set_layouts = [set_layout];
+        let info = vk::PipelineLayoutCreateInfo::default()
+            .set_layouts(&set_layouts)
+            .push_constant_ranges(&ranges);
+        let layout = unsafe { self.device.create_pipeline_layout(&info, None) }
+            .call("vkCreatePipelineLayout")?;
+        Ok((set_layout, layout))
+    }
+
+    fn module(&self, spirv: &Spirv) -> Result<vk::ShaderModule> {
+        let info = vk::ShaderModuleCreateInfo::default().code(&spirv.words);
+        let module = unsafe { self.device.create_shader_module(&info, None) }
+            .call("vkCreateShaderModule")?;
+        self.set_name(module, &spirv.path);
+        Ok(module)
+    }
+
+    pub fn compute_pipeline(&self, name: &str, shader: &Spirv, slots: &[Slot]) -> Result<Pipeline> {
+        let local_size = shader.local_size()?;
+        let (set_layout, layout) = self.layout_for(slots)?;
+        let module = self.module(shader)?;
+        let stage = vk::PipelineShaderStageCreateInfo::default()
+            .stage(vk::ShaderStageFlags::COMPUTE)
+            .module(module)
+            .name(ENTRY);
+        let info = [vk::ComputePipelineCreateInfo::default()
+            .stage(stage)
+            .layout(layout)];
+        let result = unsafe {
+            self.device
+                .create_compute_pipelines(vk::PipelineCache::null(), &info, None)
+        };
+        unsafe { self.device.destroy_shader_module(module, None) };
+        let handle = result
+            .map_err(|(_, e)| e)
+            .call("vkCreateComputePipelines")?[0];
+        self.set_name(handle, name);
+        Ok(Pipeline {
+            handle,
+            layout,
+            set_layout,
+            bind_point: vk::PipelineBindPoint::COMPUTE,
+            slots: slots.to_vec(),
+            local_size,
+            name: name.into(),
+        })
+    }
+
+    /// A graphics pipeline drawing into one colour attachment of `color_format` with dynamic
+    /// rendering. `shaders` is either vertex+fragment or (task+)mesh+fragment.
+    pub fn graphics_pipeline(
+        &self,
+        name: &str,
+        shaders: &[&Spirv],
+        slots: &[Slot],
+        color_format: vk::Format,
+        blend_additive: bool,
+    ) -> Result<Pipeline> {
+        let (set_layout, layout) = self.layout_for(slots)?;
+        let mut modules = Vec::new();
+        for s in shaders {
+            modules.push(self.module(s)?);
+        }
+        let stages: Vec<_> = shaders
+            .iter()
+            .zip(&modules)
+            .map(|(s, &m)| {
+                vk::PipelineShaderStageCreateInfo::default()
+                    .stage(stage_flag(s.stage))
+                    .module(m)
+                    .name(ENTRY)
+            })
+            .collect();
+        let vertex_input = vk::PipelineVertexInputStateCreateInfo::default();
+        let assembly = vk::PipelineInputAssemblyStateCreateInfo::default()
+            .topology(vk::PrimitiveTopology::TRIANGLE_LIST);
+        let viewport = vk::PipelineViewportStateCreateInfo::default()
+            .viewport_count(1)
+            .scissor_count(1);
+        let raster = vk::PipelineRasterizationStateCreateInfo::default()
+            .polygon_mode(vk::PolygonMode::FILL)
+            .cull_mode(vk::CullModeFlags::NONE)
+            .line_width(1.0);
+        let multisample = vk::PipelineMultisampleStateCreateInfo::default()
+            .rasterization_samples(vk::SampleCountFlags::TYPE_1);
+        let attachment = [vk::PipelineColorBlendAttachmentState::default()
+            .blend_enable(blend_additive)
+            .src_color_blend_factor(vk::BlendFactor::ONE)
+            .dst_color_blend_factor(vk::BlendFactor::ONE)
+            .color_blend_op(vk::BlendOp::ADD)
+            .src_alpha_blend_factor(vk::BlendFactor::ONE)
+            .dst_alpha_blend_factor(vk::BlendFactor::ONE)
+            .alpha_blend_op(vk::BlendOp::ADD)
+            .color_write_mask(vk::ColorComponentFlags::RGBA)];
+        let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&attachment);
+        let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
+        let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
+        let formats = [color_format];
+        let mut rendering =
+            vk::PipelineRenderingCreateInfo::default().color_attachment_formats(&formats);
+        let mut info = vk::GraphicsPipelineCreateInfo::default()
+            .stages(&stages)
+            .viewport_state(&viewport)
+            .rasterization_state(&raster)
+            .multisample_state(&multisample)
+            .color_blend_state(&blend)
+            .dynamic_state(&dynamic)
+            .layout(layout)
+            .push_next(&mut rendering);
+        let uses_vertex = shaders
+            .iter()
+            .any(|s| s.stage == crate::shader::Stage::Vertex);
+        if uses_vertex {
+            info = info
+                .vertex_input_state(&vertex_input)
+                .input_assembly_state(&assembly);
+        }
+        let result = unsafe {
+            self.device
+                .create_graphics_pipelines(vk::PipelineCache::null(), &[info], None)
+        };
+        for m in modules {
+            unsafe { self.device.destroy_shader_module(m, None) };
+        }
+        let handle = result
+            .map_err(|(_, e)| e)
+            .call("vkCreateGraphicsPipelines")?[0];
+        self.set_name(handle, name);
+        Ok(Pipeline {
+            handle,
+            layout,
+            set_layout,
+            bind_point: vk::PipelineBindPoint::GRAPHICS,
+            slots: slots.to_vec(),
+            local_size: [0; 3],
+            name: name.into(),
+        })
+    }
+
+    pub fn destroy_pipeline(&self, p: Pipeline) {
+        unsafe {
+            self.device.destroy_pipeline(p.handle, None);
+            self.device.destroy_pipeline_layout(p.layout, None);
+            self.device
+                .destroy_descriptor_set_layout(p.set_layout, None);
+        }
+    }
+}
+
+fn stage_flag(stage: crate::shader::Stage) -> vk::ShaderStageFlags {
+    use crate::shader::Stage::*;
+    match stage {
+        Vertex => vk::ShaderStageFlags::VERTEX,
+        TessControl => vk::ShaderStageFlags::TESSELLATION_CONTROL,
+        TessEval => vk::ShaderStageFlags::TESSELLATION_EVALUATION,
+        Fragment => vk::ShaderStageFlags::FRAGMENT,
+        Compute => vk::ShaderStageFlags::COMPUTE,
+        Task => vk::ShaderStageFlags::TASK_EXT,
+        Mesh => vk::ShaderStageFlags::MESH_EXT,
+        RayGen => vk::ShaderStageFlags::RAYGEN_KHR,
+        ClosestHit => vk::ShaderStageFlags::CLOSEST_HIT_KHR,
+        Miss => vk::ShaderStageFlags::MISS_KHR,
+        AnyHit => vk::ShaderStageFlags::ANY_HIT_KHR,
+        Intersection => vk::ShaderStageFlags::INTERSECTION_KHR,
+    }
+}

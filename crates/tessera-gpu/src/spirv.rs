@@ -1,0 +1,68 @@
+//! The little SPIR-V reflection Tessera needs: workgroup sizes (so dispatch helpers can turn
+//! thread counts into group counts) and struct member offsets (so a test can hold host structs
+//! to the shader's layout).
+
+const OP_NAME: u32 = 5;
+const OP_MEMBER_NAME: u32 = 6;
+const OP_EXECUTION_MODE: u32 = 16;
+const OP_MEMBER_DECORATE: u32 = 72;
+const MODE_LOCAL_SIZE: u32 = 17;
+const DECORATION_OFFSET: u32 = 35;
+const HEADER_WORDS: usize = 5;
+
+/// Yields (opcode, operands) for each instruction.
+fn instructions(words: &[u32]) -> impl Iterator<Item = (u32, &[u32])> {
+    let mut at = HEADER_WORDS.min(words.len());
+    std::iter::from_fn(move || {
+        let first = *words.get(at)?;
+        let count = (first >> 16) as usize;
+        if count == 0 || at + count > words.len() {
+            return None;
+        }
+        let operands = &words[at + 1..at + count];
+        at += count;
+        Some((first & 0xffff, operands))
+    })
+}
+
+fn literal_string(words: &[u32]) -> String {
+    let bytes: Vec<u8> = words
+        .iter()
+        .flat_map(|w| w.to_le_bytes())
+        .take_while(|&b| b != 0)
+        .collect();
+    String::from_utf8_lossy(&bytes).into_owned()
+}
+
+pub fn local_size(words: &[u32]) -> Option<[u32; 3]> {
+    instructions(words).find_map(|(op, args)| {
+        (op == OP_EXECUTION_MODE && args.len() >= 5 && args[1] == MODE_LOCAL_SIZE)
+            .then(|| [args[2], args[3], args[4]])
+    })
+}
+
+/// Member names and byte offsets of the struct type called `type_name`, in member order.
+pub fn struct_offsets(words: &[u32], type_name: &str) -> Option<Vec<(String, u32)>> {
+    let id = instructions(words).find_map(|(op, args)| {
+        (op == OP_NAME && args.len() >= 2 && literal_string(&args[1..]) == type_name)
+            .then_some(args[0])
+    })?;
+    let mut names = std::collections::BTreeMap::new();
+    let mut offsets = std::collections::BTreeMap::new();
+    for (op, args) in instructions(words) {
+        if args.first() != Some(&id) || args.len() < 3 {
+            continue;
+        }
+        if op == OP_MEMBER_NAME {
+            names.insert(args[1], literal_string(&args[2..]));
+        } else if op == OP_MEMBER_DECORATE && args[2] == DECORATION_OFFSET && args.len() >= 4 {
+            offsets.insert(args[1], args[3]);
+        }
+    }
+    Some(
+        offsets
+            .into_iter()
+            .map(|(member, offset)| (names.get(&member).cloned().unwrap_or_default(), offset))
+            .collect(),
+    )
+}

@@ -1,0 +1,81 @@
+//! GPU timestamp scopes: named stages timed inside one submission.
+
+use crate::commands::Recorder;
+use crate::context::Gpu;
+use crate::error::{Result, VkContext};
+use ash::vk;
+
+/// Holds a query pool of two timestamps per named scope.
+pub struct Timer {
+    pub(crate) pool: vk::QueryPool,
+    names: Vec<String>,
+    capacity: u32,
+}
+
+impl Timer {
+    pub fn new(gpu: &Gpu, max_scopes: u32) -> Result<Timer> {
+        let info = vk::QueryPoolCreateInfo::default()
+            .query_type(vk::QueryType::TIMESTAMP)
+            .query_count(max_scopes * 2);
+        let pool =
+            unsafe { gpu.device.create_query_pool(&info, None) }.call("vkCreateQueryPool")?;
+        Ok(Timer {
+            pool,
+            names: Vec::new(),
+            capacity: max_scopes,
+        })
+    }
+
+    /// Forgets earlier scopes; call before recording a new frame.
+    pub fn reset(&mut self, gpu: &Gpu) {
+        unsafe { gpu.device.reset_query_pool(self.pool, 0, self.capacity * 2) };
+        self.names.clear();
+    }
+
+    /// Times everything `body` records as the stage `name`.
+    pub fn scope<R>(&mut self, rec: &Recorder, name: &str, body: impl FnOnce(&Recorder) -> R) -> R {
+        let index = self.names.len() as u32;
+        assert!(
+            index < self.capacity,
+            "timer holds {} scopes",
+            self.capacity
+        );
+        self.names.push(name.to_string());
+        rec.timestamp(self, index * 2);
+        let r = body(rec);
+        rec.timestamp(self, index * 2 + 1);
+        r
+    }
+
+    /// Milliseconds per scope of the last submitted frame, in recording order.
+    pub fn read_ms(&self, gpu: &Gpu) -> Result<Vec<(String, f64)>> {
+        let n = self.names.len();
+        if n == 0 {
+            return Ok(vec![]);
+        }
+        let mut ticks = vec![0u64; n * 2];
+        unsafe {
+            gpu.device.get_query_pool_results(
+                self.pool,
+                0,
+                &mut ticks,
+                vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT,
+            )
+        }
+        .call("vkGetQueryPoolResults")?;
+        let period = gpu.caps().timestamp_period_ns as f64;
+        Ok(self
+            .names
+            .iter()
+            .enumerate()
+            .map(|(i, name)| {
+                let dt = ticks[i * 2 + 1].wrapping_sub(ticks[i * 2]) as f64;
+                (name.clone(), dt * period * 1e-6)
+            })
+            .collect())
+    }
+
+    pub fn destroy(self, gpu: &Gpu) {
+        unsafe { gpu.device.destroy_query_pool(self.pool, None) };
+    }
+}

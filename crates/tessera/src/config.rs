@@ -1,0 +1,59 @@
+//! Constants shared by Rust and GLSL. Each is defined once on the Rust side (next to the CPU
+//! code that needs it) and handed to every shader as a `#define`, so no value is copied by hand
+//! between the two languages.
+
+use tessera_data::minmax::BLOCK_CELLS;
+use tessera_data::raycast::{REFINEMENTS, STEP};
+use tessera_data::shading;
+use tessera_data::ScalarType;
+
+fn float(v: f32) -> String {
+    format!("{v:?}")
+}
+
+fn vec3(v: [f32; 3]) -> String {
+    format!("vec3({}, {}, {})", float(v[0]), float(v[1]), float(v[2]))
+}
+
+fn vec4(v: [f32; 4]) -> String {
+    format!(
+        "vec4({}, {}, {}, {})",
+        float(v[0]),
+        float(v[1]),
+        float(v[2]),
+        float(v[3])
+    )
+}
+
+/// Defines every shader receives.
+pub fn common_defines() -> Vec<(String, String)> {
+    vec![
+        ("BLOCK_X".into(), format!("{}u", BLOCK_CELLS[0])),
+        ("BLOCK_Y".into(), format!("{}u", BLOCK_CELLS[1])),
+        ("BLOCK_Z".into(), format!("{}u", BLOCK_CELLS[2])),
+        ("STEP".into(), float(STEP)),
+        ("REFINEMENTS".into(), REFINEMENTS.to_string()),
+        ("GOOCH_COOL".into(), vec3(shading::GOOCH_COOL)),
+        ("GOOCH_WARM".into(), vec3(shading::GOOCH_WARM)),
+        (
+            "SPECULAR_STRENGTH".into(),
+            float(shading::SPECULAR_STRENGTH),
+        ),
+        (
+            "SPECULAR_EXPONENT".into(),
+            float(shading::SPECULAR_EXPONENT),
+        ),
+        ("BACKGROUND".into(), vec4(shading::BACKGROUND)),
+    ]
+}
+
+/// Defines for shaders that read a volume of `scalar` samples.
+pub fn volume_defines(scalar: ScalarType) -> Vec<(String, String)> {
+    let sampler = match scalar {
+        ScalarType::U8 | ScalarType::U16 => "usampler3D",
+        ScalarType::F32 => "sampler3D",
+    };
+    let mut d = common_defines();
+    d.push(("VOLUME_SAMPLER".into(), sampler.into()));
+    d
+}

@@ -1,0 +1,153 @@
+//! Min-max octree built on the GPU (paper D's empty-space-skipping structure; DESIGN §4).
+//!
+//! Level 0 holds one (min, max) per block of 8×8×4 cells, computed by one workgroup per block in
+//! a single pass over the volume; each further level is the 2×2×2 max-reduction of the one
+//! below, up to a single root. The CPU twin is `tessera_data::minmax`.
+
+use crate::builtin_shader;
+use crate::config::volume_defines;
+use crate::error::Result;
+use crate::gpu_volume::GpuVolume;
+use bytemuck::{Pod, Zeroable};
+use tessera_data::minmax::level_dims;
+use tessera_data::ScalarType;
+use tessera_gpu::{
+    vk, Binding, Buffer, Gpu, MemoryLocation, Pipeline, Recorder, ShaderCompiler, Slot,
+};
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+pub struct BlockParams {
+    pub volume_dims: [u32; 4],
+    pub block_dims: [u32; 4],
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+pub struct ReduceParams {
+    pub child: [u32; 4],
+    pub parent: [u32; 4],
+}
+
+/// The octree's storage: all levels' (min, max) pairs in one buffer, level 0 first, plus a
+/// table of (nodes per axis, first node) per level.
+pub struct MinMaxOctreeGpu {
+    pub nodes: Buffer,
+    pub levels: Buffer,
+    pub level_dims: Vec<[u32; 3]>,
+    pub level_offsets: Vec<u32>,
+}
+
+impl MinMaxOctreeGpu {
+    pub fn allocate(gpu: &Gpu, volume_dims: [u32; 3]) -> Result<MinMaxOctreeGpu> {
+        let level_dims = level_dims(volume_dims);
+        let mut level_offsets = Vec::with_capacity(level_dims.len());
+        let mut total = 0u32;
+        for d in &level_dims {
+            level_offsets.push(total);
+            total += d[0] * d[1] * d[2];
+        }
+        let table: Vec<[u32; 4]> = level_dims
+            .iter()
+            .zip(&level_offsets)
+            .map(|(d, &o)| [d[0], d[1], d[2], o])
+            .collect();
+        let nodes = gpu.create_buffer(
+            "minmax_nodes",
+            total as u64 * 8,
+            vk::BufferUsageFlags::STORAGE_BUFFER
+                | vk::BufferUsageFlags::TRANSFER_SRC
+                | vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuOnly,
+        )?;
+        let levels = gpu.upload_buffer(
+            "minmax_levels",
+            bytemuck::cast_slice(&table),
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+        )?;
+        Ok(MinMaxOctreeGpu {
+            nodes,
+            levels,
+            level_dims,
+            level_offsets,
+        })
+    }
+
+    pub fn node_count(&self) -> u64 {
+        self.nodes.size / 8
+    }
+
+    /// Reads all levels back as (min, max) pairs, level 0 first.
+    pub fn read(&self, gpu: &Gpu) -> Result<Vec<[f32; 2]>> {
+        let bytes = gpu.read_buffer(&self.nodes)?;
+        Ok(bytemuck::allocation::pod_collect_to_vec(&bytes))
+    }
+
+    pub fn destroy(self, gpu: &Gpu) {
+        gpu.destroy_buffer(self.nodes);
+        gpu.destroy_buffer(self.levels);
+    }
+}
+
+/// The two compute pipelines that build the octree for volumes of one scalar type.
+pub struct MinMaxBuilder {
+    blocks: Pipeline,
+    reduce: Pipeline,
+}
+
+impl MinMaxBuilder {
+    pub fn new(gpu: &Gpu, compiler: &ShaderCompiler, scalar: ScalarType) -> Result<MinMaxBuilder> {
+        let defines = volume_defines(scalar);
+        let blocks = compiler.compile(&builtin_shader!("minmax_blocks.comp.glsl"), &defines)?;
+        let reduce = compiler.compile(&builtin_shader!("minmax_reduce.comp.glsl"), &defines)?;
+        Ok(MinMaxBuilder {
+            blocks: gpu.compute_pipeline(
+                "minmax blocks",
+                &blocks,
+                &[Slot::Texture, Slot::StorageBuffer],
+            )?,
+            reduce: gpu.compute_pipeline("minmax reduce", &reduce, &[Slot::StorageBuffer])?,
+        })
+    }
+
+    /// Records the build of every level of `octree` from `volume`.
+    pub fn record(&self, rec: &Recorder, volume: &GpuVolume, octree: &MinMaxOctreeGpu) {
+        let d0 = octree.level_dims[0];
+        let params = BlockParams {
+            volume_dims: [volume.dims[0], volume.dims[1], volume.dims[2], 0],
+            block_dims: [d0[0], d0[1], d0[2], 0],
+        };
+        rec.dispatch_groups(
+            &self.blocks,
+            &[
+                Binding::Texture {
+                    image: &volume.texture,
+                    linear: false,
+                },
+                Binding::Buffer(&octree.nodes),
+            ],
+            bytemuck::bytes_of(&params),
+            d0,
+        );
+        for level in 1..octree.level_dims.len() {
+            rec.barrier();
+            let c = octree.level_dims[level - 1];
+            let p = octree.level_dims[level];
+            let params = ReduceParams {
+                child: [c[0], c[1], c[2], octree.level_offsets[level - 1]],
+                parent: [p[0], p[1], p[2], octree.level_offsets[level]],
+            };
+            rec.dispatch(
+                &self.reduce,
+                &[Binding::Buffer(&octree.nodes)],
+                bytemuck::bytes_of(&params),
+                p,
+            );
+        }
+    }
+
+    pub fn destroy(self, gpu: &Gpu) {
+        gpu.destroy_pipeline(self.blocks);
+        gpu.destroy_pipeline(self.reduce);
+    }
+}

@@ -1,0 +1,4 @@
+//! Isosurface techniques over regular volumes (papers C and D and their references).
+
+pub mod minmax;
+pub mod raymarch;

@@ -1,0 +1,233 @@
+//! Isosurface ray marching through a min-max octree — paper D's reference method.
+//!
+//! Per pixel: enter the volume's box, march at half-cell steps, skip to the exit of the largest
+//! octree node whose value range excludes the isovalue, refine the first crossing with three
+//! bisections, shade with central-difference normals and Gooch tones. Unlike the paper's
+//! implementation the sample lattice is fixed per ray, so skipping never changes the result and
+//! the image equals a plain march (the CPU reference, `tessera_data::raycast`).
+
+use crate::builtin_shader;
+use crate::config::volume_defines;
+use crate::error::{Error, Result};
+use crate::gpu_volume::GpuVolume;
+use crate::iso::minmax::{MinMaxBuilder, MinMaxOctreeGpu};
+use bytemuck::{Pod, Zeroable};
+use tessera_data::{GridCamera, GridFrame, OrbitCamera, RgbaImage, ScalarType, Volume};
+use tessera_gpu::{
+    vk, Binding, Buffer, Gpu, MemoryLocation, Pipeline, Recorder, ShaderCompiler, Slot, Timer,
+};
+
+/// Push constants of `raymarch.comp.glsl` (its `RaymarchParams` block; a test holds the two to
+/// the same layout).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct RaymarchParams {
+    pub eye: [f32; 4],
+    pub forward: [f32; 4],
+    pub right: [f32; 4],
+    pub up: [f32; 4],
+    pub light: [f32; 4],
+    pub grid_to_world: [f32; 4],
+    pub dims: [u32; 4],
+    pub image: [u32; 4],
+}
+
+/// A volume uploaded with its octree, ready to render at any isovalue.
+pub struct PreparedVolume {
+    pub volume: GpuVolume,
+    pub octree: MinMaxOctreeGpu,
+    pub spacing: [f32; 3],
+}
+
+/// Where a frame's pixels go: packed RGBA8, one `u32` per pixel.
+pub struct RenderTarget {
+    pub pixels: Buffer,
+    pub width: u32,
+    pub height: u32,
+}
+
+impl RenderTarget {
+    pub fn new(gpu: &Gpu, width: u32, height: u32) -> Result<RenderTarget> {
+        if width == 0 || height == 0 {
+            return Err(Error::Invalid(format!(
+                "image size {width}x{height} is empty"
+            )));
+        }
+        let pixels = gpu.create_buffer(
+            "raymarch pixels",
+            width as u64 * height as u64 * 4,
+            vk::BufferUsageFlags::STORAGE_BUFFER
+                | vk::BufferUsageFlags::TRANSFER_SRC
+                | vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuOnly,
+        )?;
+        Ok(RenderTarget {
+            pixels,
+            width,
+            height,
+        })
+    }
+
+    /// Fills every pixel with `value`, so a pixel the shader never writes is caught.
+    pub fn poison(&self, gpu: &Gpu, value: u32) -> Result<()> {
+        gpu.submit("poison pixels", |rec| rec.fill_buffer(&self.pixels, value))?;
+        Ok(())
+    }
+
+    pub fn read(&self, gpu: &Gpu) -> Result<RgbaImage> {
+        let bytes = gpu.read_buffer(&self.pixels)?;
+        Ok(RgbaImage {
+            width: self.width,
+            height: self.height,
+            pixels: bytemuck::allocation::pod_collect_to_vec(
+                &bytes[..(self.width * self.height * 4) as usize],
+            ),
+        })
+    }
+
+    pub fn destroy(self, gpu: &Gpu) {
+        gpu.destroy_buffer(self.pixels);
+    }
+}
+
+pub struct Raymarch {
+    march: Pipeline,
+    builder: MinMaxBuilder,
+    scalar: ScalarType,
+}
+
+impl Raymarch {
+    pub fn new(gpu: &Gpu, compiler: &ShaderCompiler, scalar: ScalarType) -> Result<Raymarch> {
+        let spirv = compiler.compile(
+            &builtin_shader!("raymarch.comp.glsl"),
+            &volume_defines(scalar),
+        )?;
+        let march = gpu.compute_pipeline(
+            "raymarch",
+            &spirv,
+            &[
+                Slot::Texture,
+                Slot::StorageBuffer,
+                Slot::StorageBuffer,
+                Slot::StorageBuffer,
+            ],
+        )?;
+        Ok(Raymarch {
+            march,
+            builder: MinMaxBuilder::new(gpu, compiler, scalar)?,
+            scalar,
+        })
+    }
+
+    /// Uploads `volume` and builds its octree on the GPU.
+    pub fn prepare(&self, gpu: &Gpu, volume: &Volume) -> Result<PreparedVolume> {
+        if volume.scalar_type() != self.scalar {
+            return Err(Error::Invalid(format!(
+                "this raymarcher was built for {} samples, the volume has {}",
+                self.scalar.name(),
+                volume.scalar_type().name()
+            )));
+        }
+        let gpu_volume = GpuVolume::upload(gpu, volume)?;
+        let octree = MinMaxOctreeGpu::allocate(gpu, volume.dims())?;
+        gpu.submit("build min-max octree", |rec| {
+            self.builder.record(rec, &gpu_volume, &octree)
+        })?;
+        Ok(PreparedVolume {
+            volume: gpu_volume,
+            octree,
+            spacing: volume.spacing(),
+        })
+    }
+
+    /// Records the octree build alone (for timing it).
+    pub fn record_build(&self, rec: &Recorder, prepared: &PreparedVolume) {
+        self.builder.record(rec, &prepared.volume, &prepared.octree);
+    }
+
+    pub fn params(
+        prepared: &PreparedVolume,
+        iso: f32,
+        camera: &OrbitCamera,
+        width: u32,
+        height: u32,
+    ) -> RaymarchParams {
+        let dims = prepared.volume.dims;
+        let frame = GridFrame::new(dims, prepared.spacing);
+        let cam = GridCamera::new(camera, &frame, width, height);
+        let v4 = |v: glam::Vec3, w: f32| [v.x, v.y, v.z, w];
+        RaymarchParams {
+            eye: v4(cam.eye, iso),
+            forward: v4(cam.forward, cam.tan_half_fov_x),
+            right: v4(cam.right, cam.tan_half_fov_y),
+            up: v4(cam.up, 0.0),
+            light: v4(cam.light_world, 0.0),
+            grid_to_world: v4(frame.grid_to_world, 0.0),
+            dims: [
+                dims[0],
+                dims[1],
+                dims[2],
+                prepared.octree.level_dims.len() as u32,
+            ],
+            image: [width, height, 0, 0],
+        }
+    }
+
+    /// Records one frame into `target`.
+    pub fn record(
+        &self,
+        rec: &Recorder,
+        prepared: &PreparedVolume,
+        target: &RenderTarget,
+        params: &RaymarchParams,
+    ) {
+        rec.dispatch(
+            &self.march,
+            &[
+                Binding::Texture {
+                    image: &prepared.volume.texture,
+                    linear: false,
+                },
+                Binding::Buffer(&prepared.octree.nodes),
+                Binding::Buffer(&prepared.octree.levels),
+                Binding::Buffer(&target.pixels),
+            ],
+            bytemuck::bytes_of(params),
+            [target.width, target.height, 1],
+        );
+    }
+
+    /// Renders one frame and returns it with the GPU time of the march in milliseconds.
+    pub fn render(
+        &self,
+        gpu: &Gpu,
+        prepared: &PreparedVolume,
+        target: &RenderTarget,
+        iso: f32,
+        camera: &OrbitCamera,
+    ) -> Result<(RgbaImage, f64)> {
+        let params = Self::params(prepared, iso, camera, target.width, target.height);
+        let mut timer = Timer::new(gpu, 1)?;
+        timer.reset(gpu);
+        gpu.submit("raymarch", |rec| {
+            timer.scope(rec, "raymarch", |rec| {
+                self.record(rec, prepared, target, &params)
+            });
+        })?;
+        let ms = timer.read_ms(gpu)?.first().map(|s| s.1).unwrap_or(0.0);
+        timer.destroy(gpu);
+        Ok((target.read(gpu)?, ms))
+    }
+
+    pub fn destroy(self, gpu: &Gpu) {
+        gpu.destroy_pipeline(self.march);
+        self.builder.destroy(gpu);
+    }
+}
+
+impl PreparedVolume {
+    pub fn destroy(self, gpu: &Gpu) {
+        self.volume.destroy(gpu);
+        self.octree.destroy(gpu);
+    }
+}

@@ -1,0 +1,12 @@
+//! Tessera's rendering techniques, one folder each with its shaders beside the Rust that drives
+//! it. Data types and CPU references come from `tessera_data`; Vulkan plumbing from
+//! `tessera_gpu`.
+
+pub mod config;
+pub mod error;
+pub mod gpu_volume;
+pub mod iso;
+pub mod shaders;
+pub mod throughput;
+
+pub use error::{Error, Result};

@@ -1,0 +1,1 @@
+//! Graphics-versus-compute throughput scenario.

@@ -1,0 +1,78 @@
+//! Shared set-up for GPU tests: a device with the validation layer on, and image checks that
+//! leave evidence behind when they fail.
+#![allow(dead_code)]
+
+use std::path::PathBuf;
+use tessera_data::RgbaImage;
+use tessera_gpu::{Gpu, GpuOptions};
+
+/// Opens the default device with validation. Tests must end with [`assert_clean`].
+pub fn gpu() -> Gpu {
+    Gpu::new(&GpuOptions {
+        device_index: None,
+        validation: true,
+    })
+    .unwrap_or_else(|e| panic!("cannot open a Vulkan device for tests: {e}"))
+}
+
+pub fn assert_clean(gpu: &Gpu) {
+    let errors = gpu.validation_errors();
+    assert!(
+        errors.is_empty(),
+        "{} validation error(s):\n{}",
+        errors.len(),
+        errors.join("\n")
+    );
+}
+
+pub fn out_dir() -> PathBuf {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("images");
+    let _ = std::fs::create_dir_all(&dir);
+    dir
+}
+
+pub fn write_png(path: &std::path::Path, img: &RgbaImage) {
+    let file = std::fs::File::create(path).expect("create png");
+    let mut enc = png::Encoder::new(std::io::BufWriter::new(file), img.width, img.height);
+    enc.set_color(png::ColorType::Rgba);
+    enc.set_depth(png::BitDepth::Eight);
+    let mut w = enc.write_header().expect("png header");
+    w.write_image_data(&img.to_rgba_bytes()).expect("png data");
+}
+
+/// Holds `actual` to `expected`: at least `min_fraction` of pixels within `tolerance` per
+/// channel. On failure writes NAME-expected.png, NAME-actual.png and NAME-diff.png.
+pub fn assert_images_match(
+    name: &str,
+    actual: &RgbaImage,
+    expected: &RgbaImage,
+    tolerance: u8,
+    min_fraction: f64,
+) {
+    let diff = actual.compare(expected, tolerance);
+    eprintln!(
+        "{name}: {:.3}% within {tolerance}/255, {} pixel(s) outside, max diff {}",
+        diff.fraction_within * 100.0,
+        diff.pixels_outside,
+        diff.max_channel_diff
+    );
+    if std::env::var_os("TESSERA_KEEP_IMAGES").is_some() {
+        write_png(&out_dir().join(format!("{name}-actual.png")), actual);
+    }
+    if diff.fraction_within < min_fraction {
+        let dir = out_dir();
+        write_png(&dir.join(format!("{name}-expected.png")), expected);
+        write_png(&dir.join(format!("{name}-actual.png")), actual);
+        write_png(
+            &dir.join(format!("{name}-diff.png")),
+            &actual.diff_image(expected),
+        );
+        panic!(
+            "{name}: only {:.3}% of pixels within {tolerance}/255 (need {:.1}%), max diff {}; images in {}",
+            diff.fraction_within * 100.0,
+            min_fraction * 100.0,
+            diff.max_channel_diff,
+            dir.display()
+        );
+    }
+}

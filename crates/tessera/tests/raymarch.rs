@@ -1,0 +1,137 @@
+//! The GPU ray marcher and its min-max octree against the CPU references, on lavapipe or a GPU.
+
+mod common;
+
+use common::{assert_clean, assert_images_match, gpu};
+use tessera::iso::minmax::MinMaxOctreeGpu;
+use tessera::iso::raymarch::{Raymarch, RaymarchParams, RenderTarget};
+use tessera::shaders;
+use tessera_data::minmax::MinMaxOctree;
+use tessera_data::procedural::{generate, ProceduralKind};
+use tessera_data::{raycast, IsoValue, OrbitCamera, Samples, ScalarType, Volume};
+
+const POISON: u32 = u32::MAX;
+
+fn volumes() -> Vec<Volume> {
+    vec![
+        generate(ProceduralKind::HeadPhantom, 40, ScalarType::U8).unwrap(),
+        generate(ProceduralKind::MarschnerLobb, 33, ScalarType::U16).unwrap(),
+        generate(ProceduralKind::Turbulence, 29, ScalarType::F32).unwrap(),
+    ]
+}
+
+#[test]
+fn gpu_octree_equals_cpu_octree_exactly() {
+    let gpu = gpu();
+    let compiler = shaders::compiler();
+    // Odd sizes on purpose: partial blocks at the upper faces are where indexing goes wrong.
+    let mut vols = volumes();
+    let n = 23 * 18 * 11;
+    let ramp: Vec<f32> = (0..n).map(|i| ((i * 37) % 101) as f32 - 50.5).collect();
+    vols.push(Volume::new("ramp", [23, 18, 11], [1.0; 3], Samples::F32(ramp)).unwrap());
+    for volume in &vols {
+        let rm = Raymarch::new(&gpu, &compiler, volume.scalar_type()).unwrap();
+        let prepared = rm.prepare(&gpu, volume).unwrap();
+        let cpu = MinMaxOctree::build(volume);
+        let gpu_nodes = prepared.octree.read(&gpu).unwrap();
+        assert_eq!(gpu_nodes.len(), cpu.flattened().len(), "{}", volume.name());
+        assert_eq!(gpu_nodes, cpu.flattened(), "octree of {}", volume.name());
+        assert_eq!(prepared.octree.level_dims.len(), cpu.levels.len());
+        prepared.destroy(&gpu);
+        rm.destroy(&gpu);
+    }
+    assert_clean(&gpu);
+}
+
+#[test]
+fn raymarched_images_match_cpu_reference() {
+    let gpu = gpu();
+    let compiler = shaders::compiler();
+    let (w, h) = (128, 112);
+    let camera = OrbitCamera {
+        azimuth_deg: 35.0,
+        elevation_deg: 25.0,
+        distance: 1.9,
+        fov_y_deg: 40.0,
+    };
+    let target = RenderTarget::new(&gpu, w, h).unwrap();
+    for volume in volumes() {
+        let rm = Raymarch::new(&gpu, &compiler, volume.scalar_type()).unwrap();
+        let prepared = rm.prepare(&gpu, &volume).unwrap();
+        for fraction in [0.3f32, 0.6] {
+            let iso = volume.iso_to_texel(IsoValue::Normalized(fraction));
+            target.poison(&gpu, POISON).unwrap();
+            let (image, _ms) = rm.render(&gpu, &prepared, &target, iso, &camera).unwrap();
+            assert!(!image.pixels.contains(&POISON), "unwritten pixels");
+            let reference = raycast::render(&volume, iso, &camera, w, h);
+            let name = format!("raymarch-{}-{fraction}", volume.name());
+            assert_images_match(&name, &image, &reference, 2, 0.99);
+            // The surface must be in view: a test that only saw background would prove nothing.
+            let background = tessera_data::shading::pack_rgba8(tessera_data::shading::BACKGROUND);
+            let hits = image.pixels.iter().filter(|&&p| p != background).count();
+            assert!(
+                hits > (w * h / 20) as usize,
+                "{name}: only {hits} surface pixels"
+            );
+        }
+        prepared.destroy(&gpu);
+        rm.destroy(&gpu);
+    }
+    target.destroy(&gpu);
+    assert_clean(&gpu);
+}
+
+#[test]
+fn isovalue_outside_range_renders_background_only() {
+    let gpu = gpu();
+    let compiler = shaders::compiler();
+    let volume = generate(ProceduralKind::Sphere, 24, ScalarType::U8).unwrap();
+    let rm = Raymarch::new(&gpu, &compiler, ScalarType::U8).unwrap();
+    let prepared = rm.prepare(&gpu, &volume).unwrap();
+    let target = RenderTarget::new(&gpu, 32, 32).unwrap();
+    target.poison(&gpu, POISON).unwrap();
+    let (image, _) = rm
+        .render(&gpu, &prepared, &target, 300.0, &OrbitCamera::default())
+        .unwrap();
+    let background = tessera_data::shading::pack_rgba8(tessera_data::shading::BACKGROUND);
+    assert!(image.pixels.iter().all(|&p| p == background));
+    target.destroy(&gpu);
+    prepared.destroy(&gpu);
+    rm.destroy(&gpu);
+    assert_clean(&gpu);
+}
+
+#[test]
+fn push_constant_layout_matches_shader() {
+    let compiler = shaders::compiler();
+    let spirv = compiler
+        .compile(
+            &tessera::shaders::builtin(
+                "crates/tessera/src/iso/raymarch/mod.rs",
+                "raymarch.comp.glsl",
+                include_str!("../src/iso/raymarch/raymarch.comp.glsl"),
+            ),
+            &tessera::config::volume_defines(ScalarType::U8),
+        )
+        .unwrap();
+    let offsets = tessera_gpu::spirv::struct_offsets(&spirv.words, "RaymarchParams").unwrap();
+    let host = [
+        ("eye", std::mem::offset_of!(RaymarchParams, eye)),
+        ("forward", std::mem::offset_of!(RaymarchParams, forward)),
+        ("right", std::mem::offset_of!(RaymarchParams, right)),
+        ("up", std::mem::offset_of!(RaymarchParams, up)),
+        ("light", std::mem::offset_of!(RaymarchParams, light)),
+        (
+            "grid_to_world",
+            std::mem::offset_of!(RaymarchParams, grid_to_world),
+        ),
+        ("dims", std::mem::offset_of!(RaymarchParams, dims)),
+        ("image", std::mem::offset_of!(RaymarchParams, image)),
+    ];
+    assert_eq!(offsets.len(), host.len());
+    for ((name, off), (hname, hoff)) in offsets.iter().zip(host) {
+        assert_eq!((name.as_str(), *off as usize), (hname, hoff));
+    }
+    assert!(std::mem::size_of::<RaymarchParams>() <= tessera_gpu::PUSH_CONSTANT_BYTES as usize);
+    let _ = MinMaxOctreeGpu::allocate; // the octree type is exercised by the other tests
+}
