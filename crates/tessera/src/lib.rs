@@ -2,6 +2,7 @@
 //! it. Data types and CPU references come from `tessera_data`; Vulkan plumbing from
 //! `tessera_gpu`.
 
+pub mod bench;
 pub mod config;
 pub mod error;
 pub mod gpu_volume;

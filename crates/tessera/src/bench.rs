@@ -1,0 +1,137 @@
+//! GPU-timed benchmark frames and the JSON-lines records `tessera bench` writes.
+
+use crate::error::Result;
+use serde::Serialize;
+use std::collections::BTreeMap;
+use tessera_gpu::{Gpu, Recorder, Timer};
+
+/// Frame counts for one measurement.
+#[derive(Debug, Clone, Copy)]
+pub struct FramePlan {
+    pub warmup: u32,
+    pub frames: u32,
+}
+
+impl Default for FramePlan {
+    fn default() -> Self {
+        FramePlan {
+            warmup: 10,
+            frames: 100,
+        }
+    }
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct StageStats {
+    pub stage: String,
+    pub median_ms: f64,
+    pub min_ms: f64,
+    pub max_ms: f64,
+}
+
+impl StageStats {
+    pub fn from_samples(stage: &str, samples: &[f64]) -> StageStats {
+        let mut s = samples.to_vec();
+        s.sort_by(f64::total_cmp);
+        let median = match s.len() {
+            0 => f64::NAN,
+            n if n % 2 == 1 => s[n / 2],
+            n => 0.5 * (s[n / 2 - 1] + s[n / 2]),
+        };
+        StageStats {
+            stage: stage.to_string(),
+            median_ms: median,
+            min_ms: s.first().copied().unwrap_or(f64::NAN),
+            max_ms: s.last().copied().unwrap_or(f64::NAN),
+        }
+    }
+}
+
+/// One line of `tessera bench` output.
+#[derive(Debug, Clone, Serialize)]
+pub struct BenchRecord {
+    pub scenario: String,
+    pub technique: String,
+    /// Which pipeline ran it: "compute", "fragment", "mesh", …
+    pub path: String,
+    pub dataset: String,
+    pub width: u32,
+    pub height: u32,
+    pub warmup: u32,
+    pub frames: u32,
+    pub stages: Vec<StageStats>,
+    pub counts: BTreeMap<String, f64>,
+    pub device: String,
+    pub driver: String,
+}
+
+impl BenchRecord {
+    pub fn new(gpu: &Gpu, scenario: &str, technique: &str, path: &str, dataset: &str) -> BenchRecord {
+        let caps = gpu.caps();
+        BenchRecord {
+            scenario: scenario.into(),
+            technique: technique.into(),
+            path: path.into(),
+            dataset: dataset.into(),
+            width: 0,
+            height: 0,
+            warmup: 0,
+            frames: 0,
+            stages: vec![],
+            counts: BTreeMap::new(),
+            device: caps.device_name.clone(),
+            driver: format!("{} {}", caps.driver_name, caps.driver_info),
+        }
+    }
+
+    pub fn median_ms(&self, stage: &str) -> Option<f64> {
+        self.stages.iter().find(|s| s.stage == stage).map(|s| s.median_ms)
+    }
+}
+
+/// Submits `plan.warmup + plan.frames` frames recorded by `record` (which opens timer scopes)
+/// and returns per-stage statistics over the timed frames.
+pub fn time_frames(
+    gpu: &Gpu,
+    plan: FramePlan,
+    max_scopes: u32,
+    mut record: impl FnMut(&Recorder, &mut Timer),
+) -> Result<Vec<StageStats>> {
+    let mut timer = Timer::new(gpu, max_scopes)?;
+    let mut samples: Vec<(String, Vec<f64>)> = Vec::new();
+    let result = (|| -> Result<()> {
+        for frame in 0..plan.warmup + plan.frames {
+            timer.reset(gpu);
+            gpu.submit("benchmark frame", |rec| record(rec, &mut timer))?;
+            if frame < plan.warmup {
+                continue;
+            }
+            for (i, (name, ms)) in timer.read_ms(gpu)?.into_iter().enumerate() {
+                if samples.len() <= i {
+                    samples.push((name, Vec::new()));
+                }
+                samples[i].1.push(ms);
+            }
+        }
+        Ok(())
+    })();
+    timer.destroy(gpu);
+    result?;
+    Ok(samples
+        .iter()
+        .map(|(name, s)| StageStats::from_samples(name, s))
+        .collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn stats_median_min_max() {
+        let s = StageStats::from_samples("x", &[3.0, 1.0, 2.0, 10.0]);
+        assert_eq!((s.median_ms, s.min_ms, s.max_ms), (2.5, 1.0, 10.0));
+        let s = StageStats::from_samples("x", &[5.0, 1.0, 2.0]);
+        assert_eq!(s.median_ms, 2.0);
+    }
+}
