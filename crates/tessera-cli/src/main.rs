@@ -1,1 +1,77 @@
-fn main() {}
+//! `tessera`: render, measure and export scientific data on the GPU.
+
+mod bench;
+mod data;
+mod demo;
+mod extract;
+mod info;
+mod output;
+mod render;
+
+use anyhow::Result;
+use clap::{Parser, Subcommand};
+
+#[derive(Parser)]
+#[command(
+    name = "tessera",
+    version,
+    about = "GPU rendering of volumes, tetrahedral meshes and glyph fields"
+)]
+struct Cli {
+    /// Vulkan device index (see `tessera info`); default: the first discrete GPU.
+    #[arg(long, global = true)]
+    device: Option<usize>,
+    /// Enable the Khronos validation layer and fail on any error it reports.
+    #[arg(long, global = true)]
+    validation: bool,
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Show devices, drivers, capabilities and the path each technique takes.
+    Info(info::InfoArgs),
+    /// Render a data set to a PNG.
+    Render(render::RenderArgs),
+    /// GPU-timed runs of techniques side by side, as JSON lines.
+    Bench(bench::BenchArgs),
+    /// Render a gallery of built-in procedural data sets into a folder.
+    Demo(demo::DemoArgs),
+    /// Extract an isosurface to a PLY file.
+    Extract(extract::ExtractArgs),
+}
+
+fn main() {
+    let cli = Cli::parse();
+    let gpu_options = tessera_gpu::GpuOptions {
+        device_index: cli.device,
+        validation: cli.validation,
+    };
+    let result: Result<()> = match cli.command {
+        Command::Info(a) => info::run(&gpu_options, &a),
+        Command::Render(a) => render::run(&gpu_options, &a),
+        Command::Bench(a) => bench::run(&gpu_options, &a),
+        Command::Demo(a) => demo::run(&gpu_options, &a),
+        Command::Extract(a) => extract::run(&a),
+    };
+    if let Err(e) = result {
+        eprintln!("error: {e:#}");
+        std::process::exit(1);
+    }
+}
+
+/// Opens the device, with a hint when no Vulkan driver is installed.
+pub fn open_gpu(options: &tessera_gpu::GpuOptions) -> Result<tessera_gpu::Gpu> {
+    use anyhow::Context;
+    tessera_gpu::Gpu::new(options).context("opening the Vulkan device")
+}
+
+/// Fails when validation is on and reported errors, so scripted runs cannot miss them.
+pub fn check_validation(gpu: &tessera_gpu::Gpu) -> Result<()> {
+    let errors = gpu.validation_errors();
+    if !errors.is_empty() {
+        anyhow::bail!("the validation layer reported {} error(s)", errors.len());
+    }
+    Ok(())
+}

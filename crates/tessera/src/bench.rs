@@ -66,7 +66,13 @@ pub struct BenchRecord {
 }
 
 impl BenchRecord {
-    pub fn new(gpu: &Gpu, scenario: &str, technique: &str, path: &str, dataset: &str) -> BenchRecord {
+    pub fn new(
+        gpu: &Gpu,
+        scenario: &str,
+        technique: &str,
+        path: &str,
+        dataset: &str,
+    ) -> BenchRecord {
         let caps = gpu.caps();
         BenchRecord {
             scenario: scenario.into(),
@@ -85,7 +91,10 @@ impl BenchRecord {
     }
 
     pub fn median_ms(&self, stage: &str) -> Option<f64> {
-        self.stages.iter().find(|s| s.stage == stage).map(|s| s.median_ms)
+        self.stages
+            .iter()
+            .find(|s| s.stage == stage)
+            .map(|s| s.median_ms)
     }
 }
 

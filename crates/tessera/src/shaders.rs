@@ -12,6 +12,10 @@ const COMMON: &[(&str, &str)] = &[
         "common/shading.glsl",
         include_str!("shaders/common/shading.glsl"),
     ),
+    (
+        "common/throughput.glsl",
+        include_str!("shaders/common/throughput.glsl"),
+    ),
 ];
 
 /// A built-in shader beside the Rust file that drives it: reported under its source-tree path,

@@ -1,0 +1,233 @@
+//! `tessera bench`: GPU-timed scenarios, printed as a table and written as JSON lines.
+
+use anyhow::{bail, Context, Result};
+use clap::Args;
+use std::io::Write;
+use std::path::PathBuf;
+use tessera::bench::{time_frames, BenchRecord, FramePlan};
+use tessera::iso::raymarch::{Raymarch, RenderTarget};
+use tessera_data::minmax::MinMaxOctree;
+use tessera_data::procedural::ProceduralKind;
+use tessera_data::{IsoValue, OrbitCamera, ScalarType, Volume};
+use tessera_gpu::{vk, Gpu, GpuOptions, MemoryLocation};
+
+const SCENARIOS: &[&str] = &["pipeline-throughput", "raymarch", "minmax-build"];
+
+#[derive(Args)]
+pub struct BenchArgs {
+    /// pipeline-throughput, raymarch, minmax-build or all.
+    scenario: String,
+    /// Append JSON lines here.
+    #[arg(long)]
+    json: Option<PathBuf>,
+    /// Timed frames per measurement (after warm-up).
+    #[arg(long, default_value_t = 100)]
+    frames: u32,
+    #[arg(long, default_value_t = 10)]
+    warmup: u32,
+    /// Small volumes and images, for CPU drivers and smoke tests.
+    #[arg(long)]
+    quick: bool,
+    /// Isovalue as a fraction of the value range for the isosurface scenarios.
+    #[arg(long, default_value_t = 0.3)]
+    iso_fraction: f32,
+}
+
+struct Sink {
+    file: Option<std::fs::File>,
+}
+
+impl Sink {
+    fn emit(&mut self, r: &BenchRecord) -> Result<()> {
+        for s in &r.stages {
+            println!(
+                "{:<20} {:<10} {:<9} {:<32} {:>5}x{:<5} {:<14} {:>10.3} {:>10.3} {:>10.3}",
+                r.scenario,
+                r.technique,
+                r.path,
+                r.dataset,
+                r.width,
+                r.height,
+                s.stage,
+                s.median_ms,
+                s.min_ms,
+                s.max_ms
+            );
+        }
+        if !r.counts.is_empty() {
+            let counts: Vec<String> = r
+                .counts
+                .iter()
+                .map(|(k, v)| format!("{k}={v:.4}"))
+                .collect();
+            println!("{:<20} {}", "", counts.join("  "));
+        }
+        if let Some(f) = &mut self.file {
+            writeln!(f, "{}", serde_json::to_string(r)?)?;
+        }
+        Ok(())
+    }
+}
+
+pub fn run(options: &GpuOptions, args: &BenchArgs) -> Result<()> {
+    let scenarios: Vec<&str> = match args.scenario.as_str() {
+        "all" => SCENARIOS.to_vec(),
+        s if SCENARIOS.contains(&s) => vec![s],
+        s => bail!(
+            "unknown scenario '{s}'; choose one of {} or all",
+            SCENARIOS.join(", ")
+        ),
+    };
+    let gpu = crate::open_gpu(options)?;
+    let file = match &args.json {
+        Some(p) => Some(
+            std::fs::OpenOptions::new()
+                .create(true)
+                .append(true)
+                .open(p)
+                .with_context(|| format!("opening {}", p.display()))?,
+        ),
+        None => None,
+    };
+    let mut sink = Sink { file };
+    let caps = gpu.caps();
+    println!(
+        "device: {} — {} {}",
+        caps.device_name, caps.driver_name, caps.driver_info
+    );
+    println!(
+        "{:<20} {:<10} {:<9} {:<32} {:>11} {:<14} {:>10} {:>10} {:>10}",
+        "scenario",
+        "technique",
+        "path",
+        "dataset",
+        "size",
+        "stage",
+        "median ms",
+        "min ms",
+        "max ms"
+    );
+    let plan = FramePlan {
+        warmup: args.warmup,
+        frames: args.frames.max(1),
+    };
+    for scenario in scenarios {
+        match scenario {
+            "pipeline-throughput" => throughput(&gpu, args, plan, &mut sink)?,
+            "raymarch" => raymarch(&gpu, args, plan, &mut sink)?,
+            "minmax-build" => minmax_build(&gpu, args, plan, &mut sink)?,
+            _ => unreachable!("scenario list checked above"),
+        }
+    }
+    crate::check_validation(&gpu)
+}
+
+fn throughput(_gpu: &Gpu, _args: &BenchArgs, _plan: FramePlan, _sink: &mut Sink) -> Result<()> {
+    bail!("pending")
+}
+
+/// The volumes of the isosurface scenarios (DESIGN §6): head-like phantoms.
+fn bench_volumes(quick: bool) -> Vec<(u32, ScalarType)> {
+    if quick {
+        vec![(64, ScalarType::U8), (96, ScalarType::U16)]
+    } else {
+        vec![
+            (256, ScalarType::U8),
+            (512, ScalarType::U8),
+            (1024, ScalarType::U16),
+        ]
+    }
+}
+
+fn bench_sizes(quick: bool) -> Vec<(u32, u32)> {
+    if quick {
+        vec![(256, 144)]
+    } else {
+        vec![(1280, 720), (1920, 1080), (3840, 2160)]
+    }
+}
+
+fn make_volume(gpu: &Gpu, size: u32, scalar: ScalarType) -> Result<Volume> {
+    gpu.check_fits(
+        "benchmark volume",
+        (size as u64).pow(3) * scalar.size_bytes() as u64,
+    )?;
+    crate::data::generate(ProceduralKind::HeadPhantom, size, scalar)
+}
+
+fn raymarch(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -> Result<()> {
+    let compiler = tessera::shaders::compiler();
+    let camera = OrbitCamera::default();
+    for (size, scalar) in bench_volumes(args.quick) {
+        let volume = make_volume(gpu, size, scalar)?;
+        let iso = volume.iso_to_texel(IsoValue::Normalized(args.iso_fraction));
+        let occupied = MinMaxOctree::build(&volume).occupied_fraction(iso);
+        let rm = Raymarch::new(gpu, &compiler, scalar)?;
+        let prepared = rm.prepare(gpu, &volume)?;
+        for (w, h) in bench_sizes(args.quick) {
+            let target = RenderTarget::new(gpu, w, h)?;
+            let params = Raymarch::params(&prepared, iso, &camera, w, h);
+            let stages = time_frames(gpu, plan, 1, |rec, timer| {
+                timer.scope(rec, "raymarch", |rec| {
+                    rm.record(rec, &prepared, &target, &params)
+                });
+            })?;
+            let mut r = BenchRecord::new(gpu, "raymarch", "raymarch", "compute", volume.name());
+            (r.width, r.height, r.warmup, r.frames, r.stages) =
+                (w, h, plan.warmup, plan.frames, stages);
+            r.counts.insert("iso".into(), iso as f64);
+            r.counts.insert("occupied_block_fraction".into(), occupied);
+            if let Some(ms) = r.median_ms("raymarch") {
+                r.counts
+                    .insert("mrays_per_s".into(), (w * h) as f64 / ms / 1e3);
+            }
+            sink.emit(&r)?;
+            target.destroy(gpu);
+        }
+        prepared.destroy(gpu);
+        rm.destroy(gpu);
+    }
+    Ok(())
+}
+
+/// The octree build reads the volume once; a buffer copy of the same bytes shows what the
+/// memory system allows.
+fn minmax_build(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -> Result<()> {
+    let compiler = tessera::shaders::compiler();
+    for (size, scalar) in bench_volumes(args.quick) {
+        let volume = make_volume(gpu, size, scalar)?;
+        let bytes = volume.size_bytes();
+        let rm = Raymarch::new(gpu, &compiler, scalar)?;
+        let prepared = rm.prepare(gpu, &volume)?;
+        let usage = vk::BufferUsageFlags::TRANSFER_SRC | vk::BufferUsageFlags::TRANSFER_DST;
+        let src = gpu.upload_buffer("copy source", volume.bytes(), usage)?;
+        let dst = gpu.create_buffer("copy destination", bytes, usage, MemoryLocation::GpuOnly)?;
+        drop(volume);
+        let stages = time_frames(gpu, plan, 2, |rec, timer| {
+            timer.scope(rec, "octree-build", |rec| rm.record_build(rec, &prepared));
+            rec.barrier();
+            timer.scope(rec, "copy", |rec| rec.copy_buffer(&src, &dst, bytes));
+        })?;
+        let name = format!("head_{size}^3_{}", scalar.name());
+        let mut r = BenchRecord::new(gpu, "minmax-build", "minmax-octree", "compute", &name);
+        (r.warmup, r.frames, r.stages) = (plan.warmup, plan.frames, stages);
+        r.counts.insert("volume_bytes".into(), bytes as f64);
+        r.counts
+            .insert("octree_nodes".into(), prepared.octree.node_count() as f64);
+        if let (Some(build), Some(copy)) = (r.median_ms("octree-build"), r.median_ms("copy")) {
+            r.counts
+                .insert("build_read_gb_per_s".into(), bytes as f64 / build / 1e6);
+            r.counts.insert(
+                "copy_read_write_gb_per_s".into(),
+                2.0 * bytes as f64 / copy / 1e6,
+            );
+            r.counts.insert("build_over_copy".into(), build / copy);
+        }
+        sink.emit(&r)?;
+        gpu.destroy_buffer(src);
+        gpu.destroy_buffer(dst);
+        prepared.destroy(gpu);
+        rm.destroy(gpu);
+    }
+    Ok(())
+}

@@ -1,0 +1,65 @@
+//! `tessera render`: one image of a data set.
+
+use crate::data::{self, IsoArgs, VolumeArgs};
+use anyhow::{bail, Context, Result};
+use clap::Args;
+use std::path::PathBuf;
+use std::time::Instant;
+use tessera::iso::raymarch::{Raymarch, RenderTarget};
+use tessera_data::OrbitCamera;
+use tessera_gpu::GpuOptions;
+
+#[derive(Args)]
+pub struct RenderArgs {
+    /// A volume file (raw, .nrrd, .nhdr) or procedural:NAME:SIZE[:TYPE], e.g. procedural:marschner-lobb:128.
+    data: String,
+    /// Technique to render with.
+    #[arg(long, default_value = "raymarch", value_parser = ["raymarch"])]
+    technique: String,
+    #[command(flatten)]
+    iso: IsoArgs,
+    #[command(flatten)]
+    volume: VolumeArgs,
+    /// Image size WxH.
+    #[arg(long, default_value = "1280x720", value_parser = data::parse_size)]
+    size: (u32, u32),
+    /// Camera AZ,EL,DIST: azimuth and elevation in degrees, distance in units of the volume's longest side.
+    #[arg(long, default_value = "30,20,1.8", value_parser = OrbitCamera::parse, allow_hyphen_values = true)]
+    camera: OrbitCamera,
+    /// Output PNG.
+    #[arg(short, long, default_value = "out.png")]
+    output: PathBuf,
+}
+
+pub fn run(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
+    let gpu = crate::open_gpu(options)?;
+    if let Some(bytes) = args.volume.expected_bytes(&args.data) {
+        gpu.check_fits(&args.data, bytes)
+            .with_context(|| format!("{} does not fit on {}", args.data, gpu.caps().device_name))?;
+    }
+    let volume = data::load(&args.data, &args.volume)?;
+    let iso = args.iso.resolve(&volume)?;
+    if args.technique != "raymarch" {
+        bail!("unknown technique '{}'", args.technique);
+    }
+    let compiler = tessera::shaders::compiler();
+    let started = Instant::now();
+    let raymarch = Raymarch::new(&gpu, &compiler, volume.scalar_type())?;
+    let prepared = raymarch
+        .prepare(&gpu, &volume)
+        .with_context(|| format!("uploading {}", args.data))?;
+    let prepare_s = started.elapsed().as_secs_f64();
+    let (w, h) = args.size;
+    let target = RenderTarget::new(&gpu, w, h)?;
+    let (image, gpu_ms) = raymarch.render(&gpu, &prepared, &target, iso, &args.camera)?;
+    crate::output::write_png(&args.output, &image)?;
+    println!(
+        "{}: raymarch iso {iso} at {w}x{h}: {gpu_ms:.3} ms GPU (prepare {prepare_s:.2} s) -> {}",
+        volume.name(),
+        args.output.display()
+    );
+    target.destroy(&gpu);
+    prepared.destroy(&gpu);
+    raymarch.destroy(&gpu);
+    crate::check_validation(&gpu)
+}

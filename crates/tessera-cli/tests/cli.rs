@@ -1,0 +1,228 @@
+//! The `tessera` binary end to end: good runs produce files, bad input gives an error that
+//! names the file and the problem, never a panic.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn tessera(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_tessera"))
+        .args(args)
+        .output()
+        .expect("run tessera")
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
+        .join("cli")
+        .join(name);
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// Asserts a clean failure: exit code 1, no panic, and every `needle` in the message.
+fn assert_fails_with(o: &Output, needles: &[&str]) {
+    let err = stderr(o);
+    assert_eq!(
+        o.status.code(),
+        Some(1),
+        "expected failure, got {:?}: {err}",
+        o.status
+    );
+    assert!(!err.contains("panicked"), "panic: {err}");
+    for n in needles {
+        assert!(err.contains(n), "'{n}' missing from: {err}");
+    }
+}
+
+fn png_size(path: &Path) -> (u32, u32) {
+    let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path).unwrap()));
+    let reader = decoder.read_info().unwrap();
+    let info = reader.info();
+    (info.width, info.height)
+}
+
+#[test]
+fn renders_procedural_volume_to_png() {
+    let dir = scratch("render");
+    let out = dir.join("ml.png");
+    let o = tessera(&[
+        "--validation",
+        "render",
+        "procedural:marschner-lobb:40",
+        "--size",
+        "96x64",
+        "--camera",
+        "-30,20,1.8",
+        "--iso-fraction",
+        "0.5",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(png_size(&out), (96, 64));
+}
+
+#[test]
+fn truncated_raw_names_file_and_problem() {
+    let dir = scratch("truncated");
+    let file = dir.join("cut_16x16x16_uint8.raw");
+    std::fs::write(&file, vec![7u8; 1000]).unwrap();
+    let o = tessera(&[
+        "render",
+        file.to_str().unwrap(),
+        "-o",
+        dir.join("x.png").to_str().unwrap(),
+    ]);
+    assert_fails_with(&o, &["cut_16x16x16_uint8.raw", "truncated"]);
+}
+
+#[test]
+fn explicit_dims_that_disagree_with_the_file_are_refused() {
+    let dir = scratch("mismatch");
+    let file = dir.join("data.raw");
+    std::fs::write(&file, vec![1u8; 512]).unwrap();
+    let f = file.to_str().unwrap();
+    let o = tessera(&["render", f, "--dims", "8,8,4", "--dtype", "uint8"]);
+    assert_fails_with(&o, &["data.raw", "extra bytes"]);
+    let o = tessera(&["render", f, "--dims", "8,8,8", "--dtype", "uint16"]);
+    assert_fails_with(&o, &["data.raw", "truncated"]);
+}
+
+#[test]
+fn unknown_dtype_and_zero_dims_are_refused() {
+    let dir = scratch("dtype");
+    let file = dir.join("data.raw");
+    std::fs::write(&file, vec![1u8; 512]).unwrap();
+    let f = file.to_str().unwrap();
+    let o = tessera(&["render", f, "--dims", "8,8,8", "--dtype", "complex64"]);
+    assert_fails_with(&o, &["data.raw", "complex64", "uint8"]);
+    let o = tessera(&["render", f, "--dims", "0,8,8", "--dtype", "uint8"]);
+    assert_fails_with(&o, &["data.raw"]);
+}
+
+#[test]
+fn nan_samples_are_refused_unless_filled() {
+    let dir = scratch("nan");
+    let file = dir.join("field_8x8x8_float32.raw");
+    let mut values = vec![0.5f32; 512];
+    values[3 + 8 * (2 + 8 * 1)] = f32::NAN;
+    let bytes: Vec<u8> = values.iter().flat_map(|v| v.to_le_bytes()).collect();
+    std::fs::write(&file, bytes).unwrap();
+    let f = file.to_str().unwrap();
+    let out = dir.join("filled.png");
+    let o = tessera(&["render", f, "-o", out.to_str().unwrap()]);
+    assert_fails_with(&o, &["field_8x8x8_float32.raw", "(3, 2, 1)"]);
+    let o = tessera(&[
+        "--validation",
+        "render",
+        f,
+        "--nan-fill",
+        "0",
+        "--size",
+        "32x32",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(out.exists());
+}
+
+#[test]
+fn volume_larger_than_device_memory_is_refused_before_loading() {
+    let dir = scratch("huge");
+    // The name promises 10^15 bytes; the file is tiny, so only the pre-check can stop it.
+    let file = dir.join("huge_100000x100000x100000_uint8.raw");
+    std::fs::write(&file, [0u8; 16]).unwrap();
+    let o = tessera(&["render", file.to_str().unwrap()]);
+    assert_fails_with(
+        &o,
+        &[
+            "huge_100000x100000x100000_uint8.raw",
+            "does not fit",
+            "1000000000000000 bytes",
+        ],
+    );
+}
+
+#[test]
+fn missing_file_is_named() {
+    let o = tessera(&["render", "/nonexistent/brain.nrrd"]);
+    assert_fails_with(&o, &["/nonexistent/brain.nrrd"]);
+}
+
+#[test]
+fn bad_arguments_are_explained() {
+    let o = tessera(&["render", "procedural:nosuch:32"]);
+    assert_fails_with(&o, &["nosuch", "sphere"]);
+    let o = tessera(&["render", "procedural:sphere:16", "--size", "0x10"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let o = tessera(&["render", "procedural:sphere:16", "--camera", "1,2"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+}
+
+#[test]
+fn extract_writes_ply() {
+    let dir = scratch("extract");
+    let out = dir.join("s.ply");
+    let o = tessera(&[
+        "extract",
+        "procedural:sphere:24",
+        "--iso-fraction",
+        "0.6",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let bytes = std::fs::read(&out).unwrap();
+    let header = String::from_utf8_lossy(&bytes[..400.min(bytes.len())]).into_owned();
+    assert!(header.starts_with("ply"), "{header}");
+    let faces: usize = header
+        .lines()
+        .find_map(|l| l.strip_prefix("element face "))
+        .and_then(|n| n.trim().parse().ok())
+        .unwrap();
+    assert!(faces > 100, "{faces} faces");
+}
+
+#[test]
+fn info_lists_capabilities() {
+    let o = tessera(&["--validation", "info"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = String::from_utf8_lossy(&o.stdout);
+    for needle in [
+        "mesh/task shaders",
+        "ray-tracing pipeline",
+        "subgroup size",
+        "raymarch",
+    ] {
+        assert!(text.contains(needle), "{needle} missing: {text}");
+    }
+}
+
+#[test]
+fn demo_writes_gallery() {
+    let dir = scratch("demo");
+    let o = tessera(&[
+        "--validation",
+        "demo",
+        "--out",
+        dir.to_str().unwrap(),
+        "--volume-size",
+        "32",
+        "--image-size",
+        "48",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let pngs = std::fs::read_dir(&dir).unwrap().filter(|e| {
+        e.as_ref()
+            .is_ok_and(|e| e.path().extension().is_some_and(|x| x == "png"))
+    });
+    assert_eq!(pngs.count(), 5);
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert_eq!(stdout.matches("ms GPU").count(), 5, "{stdout}");
+}

@@ -1,0 +1,42 @@
+#!/usr/bin/env bash
+# Makes sure the Vulkan loader, a Vulkan driver and the Khronos validation layer are present.
+# As root on Debian it installs what is missing (Mesa's lavapipe comes from bookworm-backports:
+# bookworm's own Mesa 22.3 lacks mesh shaders and ray tracing on the CPU); otherwise it says
+# what to install and fails.
+set -euo pipefail
+
+need=()
+libs=$(ldconfig -p 2>/dev/null || true)
+case "$libs" in *libvulkan.so.1*) ;; *) need+=(libvulkan1) ;; esac
+ls /usr/share/vulkan/explicit_layer.d/VkLayer_khronos_validation.json >/dev/null 2>&1 || need+=(vulkan-validationlayers)
+
+# lavapipe must be new enough for task/mesh shaders and ray tracing (Mesa >= 25).
+mesa_ok=no
+if ls /usr/share/vulkan/icd.d/lvp_icd*.json >/dev/null 2>&1; then
+  v=$(dpkg-query -W -f='${Version}' mesa-vulkan-drivers 2>/dev/null || echo 0)
+  case "$v" in 2[5-9].*|[3-9][0-9].*) mesa_ok=yes ;; esac
+fi
+[ "$mesa_ok" = yes ] || need+=(mesa-vulkan-drivers)
+
+[ ${#need[@]} -eq 0 ] && exit 0
+
+if [ "$(id -u)" != 0 ] || ! command -v apt-get >/dev/null 2>&1; then
+  echo "missing: ${need[*]}" >&2
+  echo "install on Debian 12 (as root): add bookworm-backports, then" >&2
+  echo "  apt-get install -t bookworm-backports mesa-vulkan-drivers && apt-get install libvulkan1 vulkan-validationlayers" >&2
+  exit 1
+fi
+
+echo "installing: ${need[*]}"
+src=/etc/apt/sources.list.d/debian.sources
+if [ -f "$src" ] && ! grep -rqs 'bookworm-backports' /etc/apt/sources.list.d/ /etc/apt/sources.list; then
+  # Derive the backports entry from the machine's own Debian entry, so no mirror is hard-coded.
+  awk 'BEGIN{RS="";ORS="\n\n"} NR==1' "$src" | sed 's/^Suites: .*/Suites: bookworm-backports/' \
+    > /etc/apt/sources.list.d/backports.sources
+fi
+export DEBIAN_FRONTEND=noninteractive
+apt-get update -qq
+if printf '%s\n' "${need[@]}" | grep -qx mesa-vulkan-drivers; then
+  apt-get install -y -qq -t bookworm-backports mesa-vulkan-drivers
+fi
+apt-get install -y -qq libvulkan1 vulkan-validationlayers
