@@ -122,8 +122,32 @@ pub fn run(options: &GpuOptions, args: &BenchArgs) -> Result<()> {
     crate::check_validation(&gpu)
 }
 
-fn throughput(_gpu: &Gpu, _args: &BenchArgs, _plan: FramePlan, _sink: &mut Sink) -> Result<()> {
-    bail!("pending")
+fn throughput(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -> Result<()> {
+    let compiler = tessera::shaders::compiler();
+    let mut opts = tessera::throughput::ThroughputOptions {
+        plan,
+        ..Default::default()
+    };
+    if args.quick {
+        opts.width = 256;
+        opts.height = 144;
+        opts.triangles = 20_000;
+        opts.iterations = 16;
+    }
+    for note in tessera::throughput::notes(gpu) {
+        println!("note: {note}");
+    }
+    let records = tessera::throughput::run(gpu, &compiler, &opts)?;
+    for r in &records {
+        sink.emit(r)?;
+    }
+    for (what, ratio) in tessera::throughput::summarize(&records) {
+        println!(
+            "{:<20} {what}: graphics path {ratio:.2}x the compute time",
+            ""
+        );
+    }
+    Ok(())
 }
 
 /// The volumes of the isosurface scenarios (DESIGN §6): head-like phantoms.

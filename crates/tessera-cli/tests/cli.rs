@@ -110,7 +110,8 @@ fn nan_samples_are_refused_unless_filled() {
     let dir = scratch("nan");
     let file = dir.join("field_8x8x8_float32.raw");
     let mut values = vec![0.5f32; 512];
-    values[3 + 8 * (2 + 8 * 1)] = f32::NAN;
+    // Voxel (3, 2, 1): x + 8 * (y + 8 * z).
+    values[3 + 8 * (2 + 8)] = f32::NAN;
     let bytes: Vec<u8> = values.iter().flat_map(|v| v.to_le_bytes()).collect();
     std::fs::write(&file, bytes).unwrap();
     let f = file.to_str().unwrap();

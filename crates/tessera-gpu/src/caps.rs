@@ -166,7 +166,10 @@ pub(crate) fn query(
         subgroup_size: v11_p.subgroup_size,
         subgroup_arithmetic: v11_p
             .subgroup_supported_operations
-            .contains(vk::SubgroupFeatureFlags::ARITHMETIC),
+            .contains(vk::SubgroupFeatureFlags::ARITHMETIC)
+            && v11_p
+                .subgroup_supported_stages
+                .contains(vk::ShaderStageFlags::COMPUTE),
         representative_fragment_test: rep_f.representative_fragment_test != 0,
         fragment_barycentric: bary_f.fragment_shader_barycentric != 0,
         fragment_shader_interlock: lock_f.fragment_shader_pixel_interlock != 0,

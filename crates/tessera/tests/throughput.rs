@@ -66,6 +66,13 @@ fn fragment_and_compute_arithmetic_write_the_same_pixels() {
         }
         eprintln!("iterations {iterations}: {differing} pixel(s) differ, max {worst}/255");
         assert!(worst <= 1, "fragment and compute differ by {worst}/255");
+        // Rounding may flip a byte now and then, a systematic difference (e.g. another sample
+        // point) moves most pixels.
+        assert!(
+            differing * 100 <= frag.len(),
+            "{differing} of {} pixels differ",
+            frag.len()
+        );
     }
     gpu.destroy_image(frag_img);
     gpu.destroy_image(comp_img);

@@ -1,7 +1,13 @@
 #version 460
-// Level 0 of the min-max octree: one workgroup per block of BLOCK_X×BLOCK_Y×BLOCK_Z cells, one
-// invocation per cell, reduced in shared memory (no subgroup size is assumed).
+// Level 0 of the min-max octree: one workgroup per block of BLOCK_X×BLOCK_Y×BLOCK_Z cells.
+// The block's cells touch (BLOCK+1)^3 samples; each invocation fetches at most two of them (not
+// the 8 corners of "its" cell, which would read every sample up to 8 times), then the workgroup
+// reduces: with subgroup arithmetic, per subgroup and then across the subgroups through shared
+// memory; without it, a shared-memory tree. No subgroup size is assumed.
 #include "common/volume.glsl"
+#if SUBGROUP_ARITHMETIC
+#extension GL_KHR_shader_subgroup_arithmetic : require
+#endif
 
 layout(local_size_x = BLOCK_X, local_size_y = BLOCK_Y, local_size_z = BLOCK_Z) in;
 layout(binding = 0) uniform VOLUME_SAMPLER volume_tex;
@@ -13,30 +19,49 @@ layout(push_constant) uniform BlockParams {
 } params;
 
 const uint CELLS = BLOCK_X * BLOCK_Y * BLOCK_Z;
+const uvec3 SPAN = uvec3(BLOCK_X + 1u, BLOCK_Y + 1u, BLOCK_Z + 1u);
+const uint SAMPLES = SPAN.x * SPAN.y * SPAN.z;
 shared vec2 partial[CELLS];
 
+vec2 merge(vec2 a, vec2 b) {
+    return vec2(min(a.x, b.x), max(a.y, b.y));
+}
+
 void main() {
-    uvec3 cell = gl_WorkGroupID * uvec3(BLOCK_X, BLOCK_Y, BLOCK_Z) + gl_LocalInvocationID;
+    uvec3 origin = gl_WorkGroupID * uvec3(BLOCK_X, BLOCK_Y, BLOCK_Z);
+    uint me = gl_LocalInvocationIndex;
     vec2 range = vec2(uintBitsToFloat(0x7f800000u), uintBitsToFloat(0xff800000u));
-    if (all(lessThan(cell, params.volume_dims.xyz - 1u))) {
-        for (int c = 0; c < 8; ++c) {
-            ivec3 p = ivec3(cell) + ivec3(c & 1, (c >> 1) & 1, c >> 2);
-            float v = volume_texel(volume_tex, p);
-            range = vec2(min(range.x, v), max(range.y, v));
+    for (uint i = me; i < SAMPLES; i += CELLS) {
+        uvec3 p = origin + uvec3(i % SPAN.x, (i / SPAN.x) % SPAN.y, i / (SPAN.x * SPAN.y));
+        if (all(lessThan(p, params.volume_dims.xyz))) {
+            float v = volume_texel(volume_tex, ivec3(p));
+            range = merge(range, vec2(v));
         }
     }
-    uint me = gl_LocalInvocationIndex;
+#if SUBGROUP_ARITHMETIC
+    range = vec2(subgroupMin(range.x), subgroupMax(range.y));
+    if (subgroupElect()) {
+        partial[gl_SubgroupID] = range;
+    }
+    barrier();
+    if (me == 0) {
+        for (uint s = 1; s < gl_NumSubgroups; ++s) {
+            range = merge(range, partial[s]);
+        }
+        range = merge(range, partial[0]);
+#else
     partial[me] = range;
     barrier();
     for (uint stride = CELLS / 2; stride > 0; stride /= 2) {
         if (me < stride) {
-            vec2 other = partial[me + stride];
-            partial[me] = vec2(min(partial[me].x, other.x), max(partial[me].y, other.y));
+            partial[me] = merge(partial[me], partial[me + stride]);
         }
         barrier();
     }
     if (me == 0) {
+        range = partial[0];
+#endif
         uvec3 b = gl_WorkGroupID;
-        minmax_nodes[b.x + params.block_dims.x * (b.y + params.block_dims.y * b.z)] = partial[0];
+        minmax_nodes[b.x + params.block_dims.x * (b.y + params.block_dims.y * b.z)] = range;
     }
 }

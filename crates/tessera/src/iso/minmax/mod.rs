@@ -97,8 +97,25 @@ pub struct MinMaxBuilder {
 
 impl MinMaxBuilder {
     pub fn new(gpu: &Gpu, compiler: &ShaderCompiler, scalar: ScalarType) -> Result<MinMaxBuilder> {
+        Self::with_reduction(gpu, compiler, scalar, gpu.caps().subgroup_arithmetic)
+    }
+
+    /// `subgroups` picks the block reduction: subgroup arithmetic (needs device support) or a
+    /// shared-memory tree. Both give identical results; tests run both.
+    pub fn with_reduction(
+        gpu: &Gpu,
+        compiler: &ShaderCompiler,
+        scalar: ScalarType,
+        subgroups: bool,
+    ) -> Result<MinMaxBuilder> {
         let defines = volume_defines(scalar);
-        let blocks = compiler.compile(&builtin_shader!("minmax_blocks.comp.glsl"), &defines)?;
+        let mut block_defines = defines.clone();
+        block_defines.push((
+            "SUBGROUP_ARITHMETIC".into(),
+            u32::from(subgroups).to_string(),
+        ));
+        let blocks =
+            compiler.compile(&builtin_shader!("minmax_blocks.comp.glsl"), &block_defines)?;
         let reduce = compiler.compile(&builtin_shader!("minmax_reduce.comp.glsl"), &defines)?;
         Ok(MinMaxBuilder {
             blocks: gpu.compute_pipeline(
