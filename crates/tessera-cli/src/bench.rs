@@ -7,7 +7,6 @@ use std::path::PathBuf;
 use tessera::bench::{time_frames, BenchRecord, FramePlan};
 use tessera::iso::raymarch::{Raymarch, RenderTarget};
 use tessera_data::minmax::MinMaxOctree;
-use tessera_data::procedural::ProceduralKind;
 use tessera_data::{IsoValue, OrbitCamera, ScalarType, Volume};
 use tessera_gpu::{vk, Gpu, GpuOptions, MemoryLocation};
 
@@ -31,6 +30,12 @@ pub struct BenchArgs {
     /// Isovalue as a fraction of the value range for the isosurface scenarios.
     #[arg(long, default_value_t = 0.3)]
     iso_fraction: f32,
+    /// Benchmark the isosurface scenarios on this volume (a file or procedural:NAME:SIZE[:TYPE])
+    /// instead of the built-in head phantoms.
+    #[arg(long)]
+    data: Option<String>,
+    #[command(flatten)]
+    volume: crate::data::VolumeArgs,
 }
 
 struct Sink {
@@ -150,17 +155,24 @@ fn throughput(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -> 
     Ok(())
 }
 
-/// The volumes of the isosurface scenarios (DESIGN §6): head-like phantoms.
-fn bench_volumes(quick: bool) -> Vec<(u32, ScalarType)> {
-    if quick {
-        vec![(64, ScalarType::U8), (96, ScalarType::U16)]
+/// The volumes of the isosurface scenarios: `--data`, or head-like phantoms of DESIGN §6's sizes.
+fn bench_volumes(args: &BenchArgs) -> Vec<String> {
+    if let Some(data) = &args.data {
+        return vec![data.clone()];
+    }
+    let sizes: &[(u32, ScalarType)] = if args.quick {
+        &[(64, ScalarType::U8), (96, ScalarType::U16)]
     } else {
-        vec![
+        &[
             (256, ScalarType::U8),
             (512, ScalarType::U8),
             (1024, ScalarType::U16),
         ]
-    }
+    };
+    sizes
+        .iter()
+        .map(|(size, scalar)| format!("procedural:head:{size}:{}", scalar.name()))
+        .collect()
 }
 
 fn bench_sizes(quick: bool) -> Vec<(u32, u32)> {
@@ -171,19 +183,19 @@ fn bench_sizes(quick: bool) -> Vec<(u32, u32)> {
     }
 }
 
-fn make_volume(gpu: &Gpu, size: u32, scalar: ScalarType) -> Result<Volume> {
-    gpu.check_fits(
-        "benchmark volume",
-        (size as u64).pow(3) * scalar.size_bytes() as u64,
-    )?;
-    crate::data::generate(ProceduralKind::HeadPhantom, size, scalar)
+fn make_volume(gpu: &Gpu, spec: &str, args: &BenchArgs) -> Result<Volume> {
+    if let Some(bytes) = args.volume.expected_bytes(spec) {
+        gpu.check_fits(spec, bytes)?;
+    }
+    crate::data::load(spec, &args.volume)
 }
 
 fn raymarch(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -> Result<()> {
     let compiler = tessera::shaders::compiler();
     let camera = OrbitCamera::default();
-    for (size, scalar) in bench_volumes(args.quick) {
-        let volume = make_volume(gpu, size, scalar)?;
+    for spec in bench_volumes(args) {
+        let volume = make_volume(gpu, &spec, args)?;
+        let scalar = volume.scalar_type();
         let iso = volume.iso_to_texel(IsoValue::Normalized(args.iso_fraction));
         let occupied = MinMaxOctree::build(&volume).occupied_fraction(iso);
         let rm = Raymarch::new(gpu, &compiler, scalar)?;
@@ -218,8 +230,10 @@ fn raymarch(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -> Re
 /// memory system allows.
 fn minmax_build(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -> Result<()> {
     let compiler = tessera::shaders::compiler();
-    for (size, scalar) in bench_volumes(args.quick) {
-        let volume = make_volume(gpu, size, scalar)?;
+    for spec in bench_volumes(args) {
+        let volume = make_volume(gpu, &spec, args)?;
+        let scalar = volume.scalar_type();
+        let name = volume.name().to_string();
         let bytes = volume.size_bytes();
         let rm = Raymarch::new(gpu, &compiler, scalar)?;
         let prepared = rm.prepare(gpu, &volume)?;
@@ -232,7 +246,6 @@ fn minmax_build(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -
             rec.barrier();
             timer.scope(rec, "copy", |rec| rec.copy_buffer(&src, &dst, bytes));
         })?;
-        let name = format!("head_{size}^3_{}", scalar.name());
         let mut r = BenchRecord::new(gpu, "minmax-build", "minmax-octree", "compute", &name);
         (r.warmup, r.frames, r.stages) = (plan.warmup, plan.frames, stages);
         r.counts.insert("volume_bytes".into(), bytes as f64);

@@ -173,19 +173,3 @@ pub fn load(spec: &str, args: &VolumeArgs) -> Result<Volume> {
     );
     Ok(volume)
 }
-
-/// Generates a procedural benchmark volume with a spinner.
-pub fn generate(
-    kind: procedural::ProceduralKind,
-    size: u32,
-    scalar: tessera_data::ScalarType,
-) -> Result<Volume> {
-    let bar = spinner(format!(
-        "generating {} {size}^3 {}",
-        kind.name(),
-        scalar.name()
-    ));
-    let v = procedural::generate(kind, size, scalar);
-    bar.finish_and_clear();
-    Ok(v?)
-}

@@ -40,9 +40,18 @@ fn raymarch_matches_reference(volume: &Volume, isos: &[f32], camera: &OrbitCamer
         target.poison(&gpu, u32::MAX).unwrap();
         let (image, _) = rm.render(&gpu, &prepared, &target, iso, camera).unwrap();
         let reference = raycast::render(volume, iso, camera, w, h);
-        assert_images_match(&format!("real-{}-{iso}", volume.name()), &image, &reference, 2, 0.99);
+        assert_images_match(
+            &format!("real-{}-{iso}", volume.name()),
+            &image,
+            &reference,
+            2,
+            0.99,
+        );
         let hits = image.pixels.iter().filter(|&&p| p != background).count();
-        assert!(hits > (w * h / 50) as usize, "iso {iso}: only {hits} surface pixels");
+        assert!(
+            hits > (w * h / 50) as usize,
+            "iso {iso}: only {hits} surface pixels"
+        );
     }
     target.destroy(&gpu);
     prepared.destroy(&gpu);
