@@ -44,10 +44,14 @@ pub fn run(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
     }
     let compiler = tessera::shaders::compiler();
     let started = Instant::now();
-    let raymarch = Raymarch::new(&gpu, &compiler, volume.scalar_type())?;
-    let prepared = raymarch
-        .prepare(&gpu, &volume)
-        .with_context(|| format!("uploading {}", args.data))?;
+    let bar = data::spinner("compiling shaders, uploading, building the min-max octree".into());
+    let built = (|| -> tessera::Result<_> {
+        let raymarch = Raymarch::new(&gpu, &compiler, volume.scalar_type())?;
+        let prepared = raymarch.prepare(&gpu, &volume)?;
+        Ok((raymarch, prepared))
+    })();
+    bar.finish_and_clear();
+    let (raymarch, prepared) = built.with_context(|| format!("preparing {}", args.data))?;
     let prepare_s = started.elapsed().as_secs_f64();
     let (w, h) = args.size;
     let target = RenderTarget::new(&gpu, w, h)?;
