@@ -11,6 +11,7 @@ pub mod mc_tables;
 pub mod mesh;
 pub mod minmax;
 pub mod nrrd;
+pub mod nifti;
 pub mod procedural;
 pub mod raw;
 pub mod raycast;
