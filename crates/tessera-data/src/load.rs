@@ -3,12 +3,14 @@
 use std::path::Path;
 
 use crate::error::{DataError, Result};
+use crate::nifti::load_nifti;
 use crate::nrrd::load_nrrd;
 use crate::raw::{load_raw, RawOptions};
 use crate::volume::Volume;
 
-/// Loads `path` as NRRD (`.nrrd`, `.nhdr`, any case) or else as a raw file. For NRRD files
-/// only `opts.nan_policy` applies; the header supplies everything else.
+/// Loads `path` as NRRD (`.nrrd`, `.nhdr`), NIfTI (`.nii`, `.nii.gz`), extensions in any
+/// case, or else as a raw file. For NRRD and NIfTI files only `opts.nan_policy` applies; the
+/// header supplies everything else.
 pub fn load_volume(path: &Path, opts: &RawOptions) -> Result<Volume> {
     // Checked up front so that a mistyped path reports "not found" rather than, say, a
     // complaint about missing --dims for a raw file that does not exist.
@@ -20,8 +22,14 @@ pub fn load_volume(path: &Path, opts: &RawOptions) -> Result<Volume> {
         .extension()
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
+    let is_nii_gz = path
+        .file_name()
+        .and_then(|n| n.to_str())
+        .is_some_and(|n| n.to_ascii_lowercase().ends_with(".nii.gz"));
     match ext.as_deref() {
         Some("nrrd" | "nhdr") => load_nrrd(path, opts.nan_policy),
+        Some("nii") => load_nifti(path, opts.nan_policy),
+        Some("gz") if is_nii_gz => load_nifti(path, opts.nan_policy),
         _ => load_raw(path, opts),
     }
 }
@@ -47,9 +55,46 @@ mod tests {
         assert_eq!(v.dims(), [2, 2, 3]);
     }
 
+    /// A minimal little-endian NIfTI-1 file: 2x2x3 uint8, data at byte 352.
+    fn nifti_bytes() -> Vec<u8> {
+        let mut bytes = vec![0u8; 352];
+        bytes[0..4].copy_from_slice(&348i32.to_le_bytes());
+        for (i, d) in [3i16, 2, 2, 3, 1, 1, 1, 1].iter().enumerate() {
+            bytes[40 + 2 * i..42 + 2 * i].copy_from_slice(&d.to_le_bytes());
+        }
+        bytes[70..72].copy_from_slice(&2i16.to_le_bytes());
+        bytes[108..112].copy_from_slice(&352f32.to_le_bytes());
+        bytes[344..348].copy_from_slice(b"n+1\0");
+        bytes.extend([4u8; 12]);
+        bytes
+    }
+
+    #[test]
+    fn dispatches_nifti() {
+        use std::io::Write;
+
+        let path = test_path("scan.NII");
+        std::fs::write(&path, nifti_bytes()).expect("write");
+        let v = load_volume(&path, &RawOptions::default()).expect("nii");
+        assert_eq!((v.name(), v.dims()), ("scan", [2, 2, 3]));
+
+        let mut enc = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::fast());
+        enc.write_all(&nifti_bytes()).expect("compress");
+        let path = test_path("scan.Nii.Gz");
+        std::fs::write(&path, enc.finish().expect("compress")).expect("write");
+        let v = load_volume(&path, &RawOptions::default()).expect("nii.gz");
+        assert_eq!((v.name(), v.dims()), ("scan", [2, 2, 3]));
+
+        // Other .gz files are not taken for NIfTI.
+        let path = test_path("scan.raw.gz");
+        std::fs::write(&path, [0u8; 8]).expect("write");
+        let err = load_volume(&path, &RawOptions::default()).expect_err("raw");
+        assert!(err.to_string().contains("--dims"), "{err}");
+    }
+
     #[test]
     fn missing_file_and_directory() {
-        for name in ["nowhere_2x2x2_uint8.raw", "nowhere.nhdr"] {
+        for name in ["nowhere_2x2x2_uint8.raw", "nowhere.nhdr", "nowhere.nii.gz"] {
             let path = test_path(name);
             let err = load_volume(&path, &RawOptions::default()).expect_err("missing");
             assert!(matches!(err, DataError::Io { .. }), "{err}");

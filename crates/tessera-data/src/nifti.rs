@@ -112,7 +112,11 @@ fn read_nifti(
     let count = sample_count(path, header.dims)?;
     let need = count as u64 * header.source.size_bytes() as u64;
     let [nx, ny, nz] = header.dims;
-    let what = if file_len.is_some() { "" } else { "decompressed " };
+    let what = if file_len.is_some() {
+        ""
+    } else {
+        "decompressed "
+    };
     let truncated = |found: u64| DataError::SizeMismatch {
         path: path.to_path_buf(),
         expected_bytes: need,
@@ -133,12 +137,11 @@ fn read_nifti(
     if skip(reader, gap).map_err(|e| DataError::io(path, e))? < gap {
         return Err(truncated(0));
     }
-    let samples = read_samples(reader, count, header.source, header.endian, path).map_err(
-        |e| match e {
+    let samples =
+        read_samples(reader, count, header.source, header.endian, path).map_err(|e| match e {
             DataError::SizeMismatch { found_bytes, .. } => truncated(found_bytes),
             other => other,
-        },
-    )?;
+        })?;
     Ok((header, samples))
 }
 
@@ -621,7 +624,9 @@ mod tests {
             ),
             (
                 16,
-                (0..8).flat_map(|i| (i as f32 * 0.25).to_le_bytes()).collect(),
+                (0..8)
+                    .flat_map(|i| (i as f32 * 0.25).to_le_bytes())
+                    .collect(),
                 (0..8).map(|i| i as f32 * 0.25).collect(),
             ),
             (
@@ -645,7 +650,9 @@ mod tests {
         nii.big = true;
         nii.slope = 2.0;
         nii.inter = -1.0;
-        let data: Vec<u8> = (0..8).flat_map(|i| (i as f32 + 0.5).to_be_bytes()).collect();
+        let data: Vec<u8> = (0..8)
+            .flat_map(|i| (i as f32 + 0.5).to_be_bytes())
+            .collect();
         let v = load(&nii.write("scaled.nii", &data));
         let want: Vec<f32> = (0..8).map(|i| (i as f32 + 0.5) * 2.0 - 1.0).collect();
         assert_eq!(v.samples(), &Samples::F32(want));
@@ -727,7 +734,13 @@ mod tests {
             nii.pixdim = [1.0, 0.5, 0.25, 4.0, 2.0, 0.0, 0.0, 0.0];
             let data: Vec<u8> = values
                 .iter()
-                .flat_map(|v| if big { v.to_be_bytes() } else { v.to_le_bytes() })
+                .flat_map(|v| {
+                    if big {
+                        v.to_be_bytes()
+                    } else {
+                        v.to_le_bytes()
+                    }
+                })
                 .collect();
             let v = load(&nii.write("two.nii", &data));
             assert_eq!(v.dims(), [2, 2, 2]);
@@ -873,7 +886,10 @@ mod tests {
             ),
             "{err}"
         );
-        assert!(text.contains("truncated") && text.contains("int16"), "{text}");
+        assert!(
+            text.contains("truncated") && text.contains("int16"),
+            "{text}"
+        );
 
         // Too little data inside a complete gzip stream.
         let (err, text) = load_err(&nii.write_gz("gshort.nii.gz", &[0; 30]));
@@ -926,7 +942,10 @@ mod tests {
         std::fs::write(&path, packed).expect("write");
         let (err, _) = load_err(&path);
         assert!(
-            matches!(err, DataError::Format { .. } | DataError::SizeMismatch { .. }),
+            matches!(
+                err,
+                DataError::Format { .. } | DataError::SizeMismatch { .. }
+            ),
             "{err}"
         );
     }
@@ -938,7 +957,10 @@ mod tests {
         let data: Vec<u8> = vals.iter().flat_map(|v| v.to_le_bytes()).collect();
         let path = Nii::new([2, 2, 2], 64).write("nan.nii", &data);
         let (err, text) = load_err(&path);
-        assert!(matches!(err, DataError::NonFinite { count: 1, .. }), "{err}");
+        assert!(
+            matches!(err, DataError::NonFinite { count: 1, .. }),
+            "{err}"
+        );
         assert!(text.contains("(1, 0, 1)"), "{text}");
         let v = load_nifti(&path, NanPolicy::Replace(-5.0)).expect("replaced");
         assert_eq!(v.texel(1, 0, 1), -5.0);
@@ -980,7 +1002,10 @@ mod tests {
         let Samples::U8(s) = v.samples() else {
             panic!("uint8 expected");
         };
-        let bright = s.iter().filter(|&&x| f32::from(x) > lo + 0.25 * (hi - lo)).count();
+        let bright = s
+            .iter()
+            .filter(|&&x| f32::from(x) > lo + 0.25 * (hi - lo))
+            .count();
         assert!(
             bright > s.len() / 20 && bright < s.len() * 3 / 4,
             "{bright}"
