@@ -150,6 +150,64 @@ impl GridCamera {
     }
 }
 
+/// Perspective projection of grid points for rasterizing techniques, matching the ray casters'
+/// pixel model: the centre of pixel (x, y) sees along `forward + sx * right + sy * up` with
+/// `sx = (2(x+0.5)/W - 1) tan(fov_x/2)` and `sy = (1 - 2(y+0.5)/H) tan(fov_y/2)`.
+/// Clip space is Vulkan's: y points down, depth in [0, 1].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Projection {
+    /// Grid point (homogeneous, w = 1) to clip space, column-major.
+    pub grid_to_clip: glam::Mat4,
+    /// Eye position in world space, for view vectors in shading.
+    pub eye_world: Vec3,
+    pub near: f32,
+    pub far: f32,
+}
+
+impl Projection {
+    pub fn new(camera: &OrbitCamera, frame: &GridFrame, width: u32, height: u32) -> Projection {
+        let (forward, right, up) = camera.basis();
+        let eye = camera.eye();
+        let tan_y = (camera.fov_y_deg.to_radians() * 0.5).tan();
+        let tan_x = tan_y * width as f32 / height.max(1) as f32;
+        // The volume's world box lies within a sphere of radius sqrt(3)/2 around the origin.
+        let radius = 0.87;
+        let far = camera.distance + radius;
+        let near = (camera.distance - radius).max(far * 1e-4);
+        // World to view: rows are the camera axes, translated by the eye.
+        let view = glam::Mat4::from_cols(
+            glam::Vec4::new(right.x, up.x, forward.x, 0.0),
+            glam::Vec4::new(right.y, up.y, forward.y, 0.0),
+            glam::Vec4::new(right.z, up.z, forward.z, 0.0),
+            glam::Vec4::new(-right.dot(eye), -up.dot(eye), -forward.dot(eye), 1.0),
+        );
+        // View (x right, y up, z forward) to clip: x / tan_x, -y / tan_y, depth 0 at near and
+        // 1 at far, w = z.
+        let a = far / (far - near);
+        let proj = glam::Mat4::from_cols(
+            glam::Vec4::new(1.0 / tan_x, 0.0, 0.0, 0.0),
+            glam::Vec4::new(0.0, -1.0 / tan_y, 0.0, 0.0),
+            glam::Vec4::new(0.0, 0.0, a, 1.0),
+            glam::Vec4::new(0.0, 0.0, -a * near, 0.0),
+        );
+        let grid_to_world = glam::Mat4::from_scale_rotation_translation(
+            frame.grid_to_world,
+            glam::Quat::IDENTITY,
+            -frame.centre() * frame.grid_to_world,
+        );
+        Projection {
+            grid_to_clip: proj * view * grid_to_world,
+            eye_world: eye,
+            near,
+            far,
+        }
+    }
+
+    pub fn to_clip(&self, grid_point: Vec3) -> glam::Vec4 {
+        self.grid_to_clip * grid_point.extend(1.0)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -162,6 +220,31 @@ mod tests {
         let d = gc.ray_direction(50, 50, 101, 101);
         let to_centre = (frame.centre() - gc.eye).normalize();
         assert!(d.dot(to_centre) > 0.99999, "{d} vs {to_centre}");
+    }
+
+    #[test]
+    fn projection_puts_ray_points_on_their_pixel() {
+        let cam = OrbitCamera {
+            azimuth_deg: 70.0,
+            elevation_deg: -25.0,
+            distance: 2.1,
+            fov_y_deg: 35.0,
+        };
+        let frame = GridFrame::new([40, 30, 20], [1.0, 1.5, 2.0]);
+        let (w, h) = (160, 90);
+        let gc = GridCamera::new(&cam, &frame, w, h);
+        let proj = Projection::new(&cam, &frame, w, h);
+        for (x, y) in [(0, 0), (80, 45), (159, 89), (13, 70)] {
+            // A point as far along the ray as the volume's centre is from the eye.
+            let p = gc.eye + gc.ray_direction(x, y, w, h) * (frame.centre() - gc.eye).length();
+            let c = proj.to_clip(p);
+            let ndc = c.truncate() / c.w;
+            let px = (ndc.x + 1.0) * 0.5 * w as f32;
+            let py = (ndc.y + 1.0) * 0.5 * h as f32;
+            assert!((px - (x as f32 + 0.5)).abs() < 1e-3, "x {px} for {x}");
+            assert!((py - (y as f32 + 0.5)).abs() < 1e-3, "y {py} for {y}");
+            assert!((0.0..=1.0).contains(&ndc.z), "depth {}", ndc.z);
+        }
     }
 
     #[test]

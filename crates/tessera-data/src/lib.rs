@@ -18,7 +18,7 @@ pub mod raycast;
 pub mod shading;
 pub mod volume;
 
-pub use camera::{GridCamera, GridFrame, OrbitCamera};
+pub use camera::{GridCamera, GridFrame, OrbitCamera, Projection};
 pub use error::DataError;
 pub use image::RgbaImage;
 pub use volume::{IsoValue, NanPolicy, Samples, ScalarType, Volume};
