@@ -2,7 +2,7 @@
 
 use crate::context::Gpu;
 use crate::error::{GpuError, Result, VkContext};
-use crate::memory::{color_range, Buffer, Image};
+use crate::memory::{aspect_of, full_range, Buffer, Image};
 use crate::pipeline::{Pipeline, Slot, PUSH_CONSTANT_BYTES};
 use crate::timer::Timer;
 use ash::vk;
@@ -52,7 +52,7 @@ impl Recorder<'_> {
             .old_layout(from)
             .new_layout(to)
             .image(image.handle)
-            .subresource_range(color_range())];
+            .subresource_range(full_range(image.format))];
         let dep = vk::DependencyInfo::default().image_memory_barriers(&barrier);
         unsafe { self.gpu.device.cmd_pipeline_barrier2(self.cmd, &dep) };
     }
@@ -97,7 +97,7 @@ impl Recorder<'_> {
     pub fn copy_image_to_buffer(&self, src: &Image, dst: &Buffer) {
         let region = [vk::BufferImageCopy::default()
             .image_subresource(vk::ImageSubresourceLayers {
-                aspect_mask: vk::ImageAspectFlags::COLOR,
+                aspect_mask: aspect_of(src.format),
                 mip_level: 0,
                 base_array_layer: 0,
                 layer_count: 1,
@@ -235,6 +235,17 @@ impl Recorder<'_> {
 
     /// Begins dynamic rendering into `target` (in `GENERAL` layout), cleared to `clear`.
     pub fn begin_rendering(&self, target: &Image, clear: [f32; 4]) {
+        self.begin_rendering_with_depth(target, None, clear);
+    }
+
+    /// Like [`Recorder::begin_rendering`], with a depth attachment (in `GENERAL` layout)
+    /// cleared to 1.0 when given.
+    pub fn begin_rendering_with_depth(
+        &self,
+        target: &Image,
+        depth: Option<&Image>,
+        clear: [f32; 4],
+    ) {
         let extent = vk::Extent2D {
             width: target.extent.width,
             height: target.extent.height,
@@ -247,10 +258,26 @@ impl Recorder<'_> {
             .clear_value(vk::ClearValue {
                 color: vk::ClearColorValue { float32: clear },
             })];
-        let info = vk::RenderingInfo::default()
+        let depth_attachment = depth.map(|d| {
+            vk::RenderingAttachmentInfo::default()
+                .image_view(d.view)
+                .image_layout(vk::ImageLayout::GENERAL)
+                .load_op(vk::AttachmentLoadOp::CLEAR)
+                .store_op(vk::AttachmentStoreOp::STORE)
+                .clear_value(vk::ClearValue {
+                    depth_stencil: vk::ClearDepthStencilValue {
+                        depth: 1.0,
+                        stencil: 0,
+                    },
+                })
+        });
+        let mut info = vk::RenderingInfo::default()
             .render_area(extent.into())
             .layer_count(1)
             .color_attachments(&attachments);
+        if let Some(d) = &depth_attachment {
+            info = info.depth_attachment(d);
+        }
         let viewport = [vk::Viewport {
             x: 0.0,
             y: 0.0,

@@ -269,7 +269,7 @@ impl Gpu {
             .image(handle)
             .view_type(view_type)
             .format(format)
-            .subresource_range(color_range());
+            .subresource_range(full_range(format));
         let view =
             unsafe { self.device.create_image_view(&view_info, None) }.call("vkCreateImageView")?;
         Ok(Image {
@@ -328,9 +328,22 @@ impl Gpu {
     }
 }
 
-pub(crate) fn color_range() -> vk::ImageSubresourceRange {
+/// Depth formats are viewed and transitioned through their depth aspect, all others as colour.
+pub(crate) fn aspect_of(format: vk::Format) -> vk::ImageAspectFlags {
+    match format {
+        vk::Format::D16_UNORM | vk::Format::D32_SFLOAT | vk::Format::X8_D24_UNORM_PACK32 => {
+            vk::ImageAspectFlags::DEPTH
+        }
+        vk::Format::D24_UNORM_S8_UINT | vk::Format::D32_SFLOAT_S8_UINT => {
+            vk::ImageAspectFlags::DEPTH | vk::ImageAspectFlags::STENCIL
+        }
+        _ => vk::ImageAspectFlags::COLOR,
+    }
+}
+
+pub(crate) fn full_range(format: vk::Format) -> vk::ImageSubresourceRange {
     vk::ImageSubresourceRange {
-        aspect_mask: vk::ImageAspectFlags::COLOR,
+        aspect_mask: aspect_of(format),
         base_mip_level: 0,
         level_count: 1,
         base_array_layer: 0,

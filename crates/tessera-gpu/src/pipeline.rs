@@ -45,6 +45,15 @@ pub struct Pipeline {
 
 const ENTRY: &CStr = c"main";
 
+/// The attachments a graphics pipeline renders into.
+#[derive(Debug, Clone, Copy)]
+pub struct RenderTargets {
+    pub color_format: vk::Format,
+    pub depth_format: Option<vk::Format>,
+    /// Adds fragment outputs to the attachment instead of replacing it.
+    pub blend_additive: bool,
+}
+
 impl Gpu {
     fn layout_for(&self, slots: &[Slot]) -> Result<(vk::DescriptorSetLayout, vk::PipelineLayout)> {
         let bindings: Vec<_> = slots
@@ -126,6 +135,24 @@ impl Gpu {
         color_format: vk::Format,
         blend_additive: bool,
     ) -> Result<Pipeline> {
+        let targets = RenderTargets {
+            color_format,
+            depth_format: None,
+            blend_additive,
+        };
+        self.graphics_pipeline_for(name, shaders, slots, &targets)
+    }
+
+    /// A graphics pipeline for the attachments described by `targets`; with a depth format it
+    /// tests and writes depth with LESS.
+    pub fn graphics_pipeline_for(
+        &self,
+        name: &str,
+        shaders: &[&Spirv],
+        slots: &[Slot],
+        targets: &RenderTargets,
+    ) -> Result<Pipeline> {
+        let (color_format, blend_additive) = (targets.color_format, targets.blend_additive);
         let (set_layout, layout) = self.layout_for(slots)?;
         let mut modules = Vec::new();
         for s in shaders {
@@ -168,6 +195,13 @@ impl Gpu {
         let formats = [color_format];
         let mut rendering =
             vk::PipelineRenderingCreateInfo::default().color_attachment_formats(&formats);
+        let depth_stencil = vk::PipelineDepthStencilStateCreateInfo::default()
+            .depth_test_enable(true)
+            .depth_write_enable(true)
+            .depth_compare_op(vk::CompareOp::LESS);
+        if let Some(depth) = targets.depth_format {
+            rendering = rendering.depth_attachment_format(depth);
+        }
         let mut info = vk::GraphicsPipelineCreateInfo::default()
             .stages(&stages)
             .viewport_state(&viewport)
@@ -180,6 +214,9 @@ impl Gpu {
         let uses_vertex = shaders
             .iter()
             .any(|s| s.stage == crate::shader::Stage::Vertex);
+        if targets.depth_format.is_some() {
+            info = info.depth_stencil_state(&depth_stencil);
+        }
         if uses_vertex {
             info = info
                 .vertex_input_state(&vertex_input)

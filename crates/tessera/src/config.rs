@@ -2,6 +2,7 @@
 //! code that needs it) and handed to every shader as a `#define`, so no value is copied by hand
 //! between the two languages.
 
+use crate::iso::direct;
 use tessera_data::minmax::BLOCK_CELLS;
 use tessera_data::raycast::{REFINEMENTS, STEP};
 use tessera_data::shading;
@@ -44,6 +45,18 @@ pub fn common_defines() -> Vec<(String, String)> {
             float(shading::SPECULAR_EXPONENT),
         ),
         ("BACKGROUND".into(), vec4(shading::BACKGROUND)),
+        (
+            "DIRECT_MAX_CELLS".into(),
+            format!("{}u", direct::MAX_CELLS_PER_LIST),
+        ),
+        (
+            "DIRECT_MAX_VERTICES".into(),
+            format!("{}u", direct::MAX_VERTICES_PER_LIST),
+        ),
+        (
+            "DIRECT_MAX_TRIANGLES".into(),
+            format!("{}u", direct::MAX_TRIANGLES_PER_LIST),
+        ),
     ]
 }
 

@@ -1,8 +1,10 @@
 //! The shader compiler set up with Tessera's shared GLSL headers.
 
+use tessera_data::mc_tables;
 use tessera_gpu::{ShaderCompiler, Source};
 
-/// Shared headers, included as `#include "common/NAME.glsl"`.
+/// Shared headers, included by name: `common/…` for all techniques, `<technique>/…` for the
+/// pieces one technique's stages share.
 const COMMON: &[(&str, &str)] = &[
     (
         "common/volume.glsl",
@@ -11,6 +13,18 @@ const COMMON: &[(&str, &str)] = &[
     (
         "common/shading.glsl",
         include_str!("shaders/common/shading.glsl"),
+    ),
+    (
+        "common/mc_cell.glsl",
+        include_str!("shaders/common/mc_cell.glsl"),
+    ),
+    (
+        "iso/direct/payload.glsl",
+        include_str!("iso/direct/payload.glsl"),
+    ),
+    (
+        "iso/direct/params.glsl",
+        include_str!("iso/direct/params.glsl"),
     ),
     (
         "common/throughput.glsl",
@@ -40,5 +54,56 @@ pub fn compiler() -> ShaderCompiler {
     for (name, text) in COMMON {
         c.add_header(name, text);
     }
+    c.add_header("common/mc_tables.glsl", &mc_tables_glsl());
     c
+}
+
+/// The marching-cubes tables as GLSL constants, generated from `tessera_data::mc_tables` so
+/// the CPU reference and the shaders share one definition (conventions documented there).
+///
+/// `MC_TRIS[case]` packs the case's edge ids as nibbles: entries 0–7 in `.x`, entries 8–14 in
+/// `.y` nibbles 0–6, and the triangle count in `.y` nibble 7. `MC_EDGE_MASK[case]` has bit `e`
+/// set for each crossing edge; `MC_EDGE_CORNERS` packs each edge's start and end corner.
+pub fn mc_tables_glsl() -> String {
+    use std::fmt::Write;
+    let t = mc_tables::mc_tables();
+    let mut out = String::from("// Generated from tessera_data::mc_tables at run time.\n");
+    let _ = write!(out, "const uint MC_EDGE_MASK[256] = uint[](");
+    let masks: Vec<String> = t.edge_mask.iter().map(|m| format!("{m}u")).collect();
+    let _ = writeln!(out, "{});", masks.join(","));
+    let tris: Vec<String> = (0..256)
+        .map(|case| {
+            let mut words = [0u32; 2];
+            for i in 0..15 {
+                let e = t.tris[case][i];
+                let nibble = if e < 0 { 0xF } else { e as u32 };
+                words[i / 8] |= nibble << ((i % 8) * 4);
+            }
+            words[1] |= u32::from(t.tri_count[case]) << 28;
+            format!("uvec2({}u,{}u)", words[0], words[1])
+        })
+        .collect();
+    let _ = writeln!(
+        out,
+        "const uvec2 MC_TRIS[256] = uvec2[]({});",
+        tris.join(",")
+    );
+    let corners: Vec<String> = mc_tables::EDGE_CORNERS
+        .iter()
+        .map(|[a, b]| format!("{}u", u32::from(*a) | (u32::from(*b) << 4)))
+        .collect();
+    let _ = writeln!(
+        out,
+        "const uint MC_EDGE_CORNERS[12] = uint[]({});",
+        corners.join(",")
+    );
+    out.push_str(
+        "uint mc_tri_count(uint case_index) { return MC_TRIS[case_index].y >> 28; }\n\
+         uint mc_tri_edge(uint case_index, uint i) {\n\
+         \x20   uvec2 row = MC_TRIS[case_index];\n\
+         \x20   return ((i < 8u ? row.x : row.y) >> ((i & 7u) * 4u)) & 15u;\n\
+         }\n\
+         uvec3 mc_corner_offset(uint corner) { return uvec3(corner & 1u, (corner >> 1) & 1u, corner >> 2); }\n",
+    );
+    out
 }

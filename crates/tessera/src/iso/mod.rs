@@ -1,4 +1,53 @@
 //! Isosurface techniques over regular volumes (papers C and D and their references).
 
+pub mod direct;
 pub mod minmax;
 pub mod raymarch;
+
+use crate::error::Result;
+use crate::gpu_volume::GpuVolume;
+use minmax::{MinMaxBuilder, MinMaxOctreeGpu};
+use tessera_data::Volume;
+use tessera_gpu::Gpu;
+
+/// A volume uploaded with its min-max octree, ready to render at any isovalue by any
+/// isosurface technique.
+pub struct PreparedVolume {
+    pub volume: GpuVolume,
+    pub octree: MinMaxOctreeGpu,
+    pub spacing: [f32; 3],
+}
+
+impl PreparedVolume {
+    /// Uploads `volume` and builds its octree on the GPU.
+    pub fn new(gpu: &Gpu, builder: &MinMaxBuilder, volume: &Volume) -> Result<PreparedVolume> {
+        let gpu_volume = GpuVolume::upload(gpu, volume)?;
+        let octree = match MinMaxOctreeGpu::allocate(gpu, volume.dims()) {
+            Ok(o) => o,
+            Err(e) => {
+                gpu_volume.destroy(gpu);
+                return Err(e);
+            }
+        };
+        let prepared = PreparedVolume {
+            volume: gpu_volume,
+            octree,
+            spacing: volume.spacing(),
+        };
+        let built = gpu.submit("build min-max octree", |rec| {
+            builder.record(rec, &prepared.volume, &prepared.octree)
+        });
+        match built {
+            Ok(()) => Ok(prepared),
+            Err(e) => {
+                prepared.destroy(gpu);
+                Err(e.into())
+            }
+        }
+    }
+
+    pub fn destroy(self, gpu: &Gpu) {
+        self.volume.destroy(gpu);
+        self.octree.destroy(gpu);
+    }
+}

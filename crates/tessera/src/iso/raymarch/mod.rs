@@ -9,8 +9,8 @@
 use crate::builtin_shader;
 use crate::config::volume_defines;
 use crate::error::{Error, Result};
-use crate::gpu_volume::GpuVolume;
-use crate::iso::minmax::{MinMaxBuilder, MinMaxOctreeGpu};
+use crate::iso::minmax::MinMaxBuilder;
+pub use crate::iso::PreparedVolume;
 use bytemuck::{Pod, Zeroable};
 use tessera_data::{GridCamera, GridFrame, OrbitCamera, RgbaImage, ScalarType, Volume};
 use tessera_gpu::{
@@ -30,13 +30,6 @@ pub struct RaymarchParams {
     pub grid_to_world: [f32; 4],
     pub dims: [u32; 4],
     pub image: [u32; 4],
-}
-
-/// A volume uploaded with its octree, ready to render at any isovalue.
-pub struct PreparedVolume {
-    pub volume: GpuVolume,
-    pub octree: MinMaxOctreeGpu,
-    pub spacing: [f32; 3],
 }
 
 /// Where a frame's pixels go: packed RGBA8, one `u32` per pixel.
@@ -128,16 +121,7 @@ impl Raymarch {
                 volume.scalar_type().name()
             )));
         }
-        let gpu_volume = GpuVolume::upload(gpu, volume)?;
-        let octree = MinMaxOctreeGpu::allocate(gpu, volume.dims())?;
-        gpu.submit("build min-max octree", |rec| {
-            self.builder.record(rec, &gpu_volume, &octree)
-        })?;
-        Ok(PreparedVolume {
-            volume: gpu_volume,
-            octree,
-            spacing: volume.spacing(),
-        })
+        PreparedVolume::new(gpu, &self.builder, volume)
     }
 
     /// Records the octree build alone (for timing it).
@@ -222,12 +206,5 @@ impl Raymarch {
     pub fn destroy(self, gpu: &Gpu) {
         gpu.destroy_pipeline(self.march);
         self.builder.destroy(gpu);
-    }
-}
-
-impl PreparedVolume {
-    pub fn destroy(self, gpu: &Gpu) {
-        self.volume.destroy(gpu);
-        self.octree.destroy(gpu);
     }
 }

@@ -1,0 +1,104 @@
+#version 460
+// Task stage of direct isosurface rasterization (paper D, §3.4.1): one workgroup per block of
+// BLOCK_X×BLOCK_Y×BLOCK_Z cells. Skips blocks the min-max grid rules out, classifies the cells,
+// compacts the occupied ones and cuts them into lists for mesh workgroups. The paper's warp
+// ballots become shared-memory counts so any subgroup size works.
+#extension GL_EXT_mesh_shader : require
+#include "common/volume.glsl"
+#include "common/mc_tables.glsl"
+#include "common/mc_cell.glsl"
+#include "iso/direct/payload.glsl"
+#include "iso/direct/params.glsl"
+
+layout(local_size_x = 32) in;
+layout(binding = 0) uniform VOLUME_SAMPLER volume_tex;
+layout(binding = 1) readonly buffer Nodes { vec2 minmax_nodes[]; };
+
+taskPayloadSharedEXT TaskPayload payload;
+
+const uint CELLS = BLOCK_X * BLOCK_Y * BLOCK_Z;
+const uint PER_THREAD = CELLS / 32u;
+shared uint vertex_counts[CELLS];
+shared uint occupied_per_thread[32];
+shared uint occupied_ids[CELLS];
+shared uint list_count;
+
+void main() {
+    uint me = gl_LocalInvocationIndex;
+    uvec3 block = gl_WorkGroupID;
+    uvec3 dims = params.dims.xyz;
+    float iso = params.eye_world.w;
+    uvec3 block_dims = (dims - 2u) / uvec3(BLOCK_X, BLOCK_Y, BLOCK_Z) + 1u;
+    vec2 range = minmax_nodes[block.x + block_dims.x * (block.y + block_dims.y * block.z)];
+    if (iso < range.x || iso > range.y) {
+        EmitMeshTasksEXT(0, 1, 1);
+    }
+
+    // Each invocation owns PER_THREAD consecutive cell ids, so compaction keeps id order.
+    uint occupied = 0u;
+    for (uint k = 0u; k < PER_THREAD; ++k) {
+        uint id = me * PER_THREAD + k;
+        uvec3 local = uvec3(id % BLOCK_X, (id / BLOCK_X) % BLOCK_Y, id / (BLOCK_X * BLOCK_Y));
+        uvec3 cell = block * uvec3(BLOCK_X, BLOCK_Y, BLOCK_Z) + local;
+        uint count = 0u;
+        if (all(lessThan(cell, dims - 1u))) {
+            uint c = mc_cell_case(volume_tex, cell, iso);
+            count = mc_tri_count(c) > 0u ? bitCount(MC_EDGE_MASK[c]) : 0u;
+        }
+        vertex_counts[id] = count;
+        occupied += uint(count > 0u);
+    }
+    occupied_per_thread[me] = occupied;
+    barrier();
+
+    uint first = 0u;
+    for (uint t = 0u; t < me; ++t) {
+        first += occupied_per_thread[t];
+    }
+    uint slot = first;
+    for (uint k = 0u; k < PER_THREAD; ++k) {
+        uint id = me * PER_THREAD + k;
+        if (vertex_counts[id] > 0u) {
+            occupied_ids[slot] = id;
+            slot += 1u;
+        }
+    }
+    barrier();
+    for (uint w = me; w < CELLS / 4u; w += 32u) {
+        uint word = 0u;
+        for (uint b = 0u; b < 4u; ++b) {
+            word |= (occupied_ids[4u * w + b] & 255u) << (8u * b);
+        }
+        payload.cell_words[w] = word;
+    }
+
+    // One invocation cuts the compact list into mesh-workgroup lists; it is short (≤ 256).
+    if (me == 0u) {
+        uint total = 0u;
+        for (uint t = 0u; t < 32u; ++t) {
+            total += occupied_per_thread[t];
+        }
+        uint lists = 0u;
+        uint start = 0u;
+        uint cells = 0u;
+        uint vertices = 0u;
+        for (uint i = 0u; i < total; ++i) {
+            uint n = vertex_counts[occupied_ids[i]];
+            if (cells == DIRECT_MAX_CELLS || vertices + n > DIRECT_MAX_VERTICES) {
+                payload.lists[lists++] = start | (cells << 16);
+                start = i;
+                cells = 0u;
+                vertices = 0u;
+            }
+            cells += 1u;
+            vertices += n;
+        }
+        if (cells > 0u) {
+            payload.lists[lists++] = start | (cells << 16);
+        }
+        payload.block = block;
+        list_count = lists;
+    }
+    barrier();
+    EmitMeshTasksEXT(list_count, 1, 1);
+}

@@ -1,0 +1,342 @@
+//! Direct isosurface rasterization — paper D (Kreskowski et al.): task shaders find the
+//! occupied cells of each 8×8×4 block, mesh shaders run marching cubes on lists of them and
+//! hand the triangles straight to the rasterizer; nothing is stored.
+//!
+//! Differences from the paper: blocks the min-max grid rules out are dropped in the task
+//! shader before any cell is read; the warp-level scans are shared-memory scans, so the
+//! technique runs with any subgroup size; and a debug capture of the emitted triangles lets
+//! tests hold the GPU to the CPU marching cubes exactly. Raster occlusion culling, stereo and
+//! the compute path are not built yet.
+
+use crate::builtin_shader;
+use crate::config::volume_defines;
+use crate::error::{Error, Result};
+use crate::iso::minmax::MinMaxBuilder;
+use crate::iso::PreparedVolume;
+use bytemuck::{Pod, Zeroable};
+use glam::Vec3;
+use tessera_data::shading::BACKGROUND;
+use tessera_data::{GridCamera, GridFrame, OrbitCamera, Projection, RgbaImage, ScalarType, Volume};
+use tessera_gpu::{
+    vk, Binding, Buffer, Gpu, Image, MemoryLocation, Pipeline, Recorder, RenderTargets,
+    ShaderCompiler, Slot, Timer,
+};
+
+/// Cells one mesh workgroup handles at most: one per invocation of a 32-wide workgroup.
+pub const MAX_CELLS_PER_LIST: u32 = 32;
+/// Vertices one mesh workgroup emits at most: the paper's measured sweet spot.
+pub const MAX_VERTICES_PER_LIST: u32 = 96;
+/// Triangles one mesh workgroup emits at most: 5 per cell.
+pub const MAX_TRIANGLES_PER_LIST: u32 = MAX_CELLS_PER_LIST * 5;
+
+const COLOR_FORMAT: vk::Format = vk::Format::R8G8B8A8_UNORM;
+const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
+
+/// Push constants shared by the three stages (`iso/direct/params.glsl`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct DirectParams {
+    pub grid_to_clip: [[f32; 4]; 4],
+    pub eye_world: [f32; 4],
+    pub grid_to_world: [f32; 4],
+    pub light: [f32; 4],
+    pub dims: [u32; 4],
+}
+
+/// What one frame did.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct DirectStats {
+    pub mesh_workgroups: u32,
+    pub triangles: u32,
+    pub vertices: u32,
+}
+
+/// Colour and depth attachments plus a readback buffer.
+pub struct RasterTarget {
+    pub color: Image,
+    pub depth: Image,
+    readback: Buffer,
+    pub width: u32,
+    pub height: u32,
+}
+
+impl RasterTarget {
+    pub fn new(gpu: &Gpu, width: u32, height: u32) -> Result<RasterTarget> {
+        if width == 0 || height == 0 {
+            return Err(Error::Invalid(format!(
+                "image size {width}x{height} is empty"
+            )));
+        }
+        let color = gpu.create_image(
+            "direct colour",
+            [width, height, 1],
+            COLOR_FORMAT,
+            vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
+            false,
+        )?;
+        let depth = gpu.create_image(
+            "direct depth",
+            [width, height, 1],
+            DEPTH_FORMAT,
+            vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
+            false,
+        )?;
+        let readback = gpu.create_buffer(
+            "direct colour readback",
+            width as u64 * height as u64 * 4,
+            vk::BufferUsageFlags::TRANSFER_DST | vk::BufferUsageFlags::TRANSFER_SRC,
+            MemoryLocation::GpuOnly,
+        )?;
+        Ok(RasterTarget {
+            color,
+            depth,
+            readback,
+            width,
+            height,
+        })
+    }
+
+    pub fn read(&self, gpu: &Gpu) -> Result<RgbaImage> {
+        gpu.submit("copy direct colour", |rec| {
+            rec.copy_image_to_buffer(&self.color, &self.readback)
+        })?;
+        let bytes = gpu.read_buffer(&self.readback)?;
+        Ok(RgbaImage {
+            width: self.width,
+            height: self.height,
+            pixels: bytemuck::allocation::pod_collect_to_vec(&bytes),
+        })
+    }
+
+    pub fn destroy(self, gpu: &Gpu) {
+        gpu.destroy_image(self.color);
+        gpu.destroy_image(self.depth);
+        gpu.destroy_buffer(self.readback);
+    }
+}
+
+/// Triangles captured from the mesh shaders, in grid coordinates.
+pub type CapturedTriangle = [Vec3; 3];
+
+pub struct Direct {
+    pipeline: Pipeline,
+    builder: MinMaxBuilder,
+    stats: Buffer,
+    scalar: ScalarType,
+}
+
+impl Direct {
+    pub fn new(gpu: &Gpu, compiler: &ShaderCompiler, scalar: ScalarType) -> Result<Direct> {
+        if !gpu.caps().mesh_shader || !gpu.caps().task_shader {
+            return Err(Error::Gpu(tessera_gpu::GpuError::Unsupported {
+                device: gpu.caps().device_name.clone(),
+                what: "task and mesh shaders (VK_EXT_mesh_shader)".into(),
+            }));
+        }
+        let defines = volume_defines(scalar);
+        let task = compiler.compile(&builtin_shader!("direct.task.glsl"), &defines)?;
+        let mesh = compiler.compile(&builtin_shader!("direct.mesh.glsl"), &defines)?;
+        let frag = compiler.compile(&builtin_shader!("direct.frag.glsl"), &defines)?;
+        let pipeline = gpu.graphics_pipeline_for(
+            "direct isosurface",
+            &[&task, &mesh, &frag],
+            &[
+                Slot::Texture,
+                Slot::StorageBuffer,
+                Slot::StorageBuffer,
+                Slot::StorageBuffer,
+            ],
+            &RenderTargets {
+                color_format: COLOR_FORMAT,
+                depth_format: Some(DEPTH_FORMAT),
+                blend_additive: false,
+            },
+        )?;
+        let stats = gpu.create_buffer(
+            "direct stats",
+            16,
+            vk::BufferUsageFlags::STORAGE_BUFFER
+                | vk::BufferUsageFlags::TRANSFER_SRC
+                | vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuOnly,
+        )?;
+        Ok(Direct {
+            pipeline,
+            builder: MinMaxBuilder::new(gpu, compiler, scalar)?,
+            stats,
+            scalar,
+        })
+    }
+
+    pub fn prepare(&self, gpu: &Gpu, volume: &Volume) -> Result<PreparedVolume> {
+        if volume.scalar_type() != self.scalar {
+            return Err(Error::Invalid(format!(
+                "this renderer was built for {} samples, the volume has {}",
+                self.scalar.name(),
+                volume.scalar_type().name()
+            )));
+        }
+        PreparedVolume::new(gpu, &self.builder, volume)
+    }
+
+    pub fn params(
+        prepared: &PreparedVolume,
+        iso: f32,
+        camera: &OrbitCamera,
+        width: u32,
+        height: u32,
+        capture_capacity: u32,
+    ) -> DirectParams {
+        let dims = prepared.volume.dims;
+        let frame = GridFrame::new(dims, prepared.spacing);
+        let projection = Projection::new(camera, &frame, width, height);
+        let light = GridCamera::new(camera, &frame, width, height).light_world;
+        let e = projection.eye_world;
+        DirectParams {
+            grid_to_clip: projection.grid_to_clip.to_cols_array_2d(),
+            eye_world: [e.x, e.y, e.z, iso],
+            grid_to_world: frame.grid_to_world.extend(0.0).to_array(),
+            light: light.extend(0.0).to_array(),
+            dims: [dims[0], dims[1], dims[2], capture_capacity],
+        }
+    }
+
+    /// Records one frame into `target`. `capture` must be bound whenever
+    /// `params.dims[3]` (the capture capacity) is non-zero.
+    pub fn record(
+        &self,
+        rec: &Recorder,
+        prepared: &PreparedVolume,
+        target: &RasterTarget,
+        params: &DirectParams,
+        capture: &Buffer,
+    ) -> Result<()> {
+        rec.fill_buffer(&self.stats, 0);
+        rec.barrier();
+        rec.discard_to_general(&target.color);
+        rec.discard_to_general(&target.depth);
+        rec.begin_rendering_with_depth(&target.color, Some(&target.depth), BACKGROUND);
+        let blocks = prepared.octree.level_dims[0];
+        let drawn = rec.draw_mesh_tasks(
+            &self.pipeline,
+            &[
+                Binding::Texture {
+                    image: &prepared.volume.texture,
+                    linear: false,
+                },
+                Binding::Buffer(&prepared.octree.nodes),
+                Binding::Buffer(&self.stats),
+                Binding::Buffer(capture),
+            ],
+            bytemuck::bytes_of(params),
+            blocks,
+        );
+        rec.end_rendering();
+        rec.barrier();
+        Ok(drawn?)
+    }
+
+    /// Renders one frame; returns the image, what the mesh shaders emitted and the GPU time
+    /// in milliseconds. With `capture_capacity > 0`, also the emitted triangles.
+    pub fn render(
+        &self,
+        gpu: &Gpu,
+        prepared: &PreparedVolume,
+        target: &RasterTarget,
+        iso: f32,
+        camera: &OrbitCamera,
+        capture_capacity: u32,
+    ) -> Result<DirectFrame> {
+        let params = Self::params(
+            prepared,
+            iso,
+            camera,
+            target.width,
+            target.height,
+            capture_capacity,
+        );
+        let capture = gpu.create_buffer(
+            "direct triangle capture",
+            4 + capture_capacity as u64 * 36,
+            vk::BufferUsageFlags::STORAGE_BUFFER
+                | vk::BufferUsageFlags::TRANSFER_SRC
+                | vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuOnly,
+        )?;
+        let mut timer = Timer::new(gpu, 1)?;
+        timer.reset(gpu);
+        let mut recorded = Ok(());
+        let submitted = gpu.submit("direct isosurface", |rec| {
+            rec.fill_buffer(&capture, 0);
+            rec.barrier();
+            recorded = timer.scope(rec, "direct", |rec| {
+                self.record(rec, prepared, target, &params, &capture)
+            });
+        });
+        let result = submitted
+            .map_err(Error::from)
+            .and(recorded)
+            .and_then(|_| self.collect(gpu, target, &timer, &capture, capture_capacity));
+        timer.destroy(gpu);
+        gpu.destroy_buffer(capture);
+        result
+    }
+
+    fn collect(
+        &self,
+        gpu: &Gpu,
+        target: &RasterTarget,
+        timer: &Timer,
+        capture: &Buffer,
+        capacity: u32,
+    ) -> Result<DirectFrame> {
+        let ms = timer.read_ms(gpu)?.first().map(|s| s.1).unwrap_or(0.0);
+        let s: Vec<u32> = bytemuck::allocation::pod_collect_to_vec(&gpu.read_buffer(&self.stats)?);
+        let stats = DirectStats {
+            mesh_workgroups: s[0],
+            triangles: s[1],
+            vertices: s[2],
+        };
+        let triangles = if capacity > 0 {
+            let words: Vec<u32> =
+                bytemuck::allocation::pod_collect_to_vec(&gpu.read_buffer(capture)?);
+            let count = words[0];
+            if count > capacity {
+                return Err(Error::Invalid(format!(
+                    "{count} triangles emitted, capture holds {capacity}"
+                )));
+            }
+            let xyz: &[f32] = bytemuck::cast_slice(&words[1..]);
+            Some(
+                (0..count as usize)
+                    .map(|t| {
+                        let v = |j: usize| Vec3::from_slice(&xyz[t * 9 + 3 * j..t * 9 + 3 * j + 3]);
+                        [v(0), v(1), v(2)]
+                    })
+                    .collect(),
+            )
+        } else {
+            None
+        };
+        Ok(DirectFrame {
+            image: target.read(gpu)?,
+            stats,
+            gpu_ms: ms,
+            triangles,
+        })
+    }
+
+    pub fn destroy(self, gpu: &Gpu) {
+        gpu.destroy_pipeline(self.pipeline);
+        gpu.destroy_buffer(self.stats);
+        self.builder.destroy(gpu);
+    }
+}
+
+/// One rendered frame of [`Direct::render`].
+pub struct DirectFrame {
+    pub image: RgbaImage,
+    pub stats: DirectStats,
+    pub gpu_ms: f64,
+    pub triangles: Option<Vec<CapturedTriangle>>,
+}

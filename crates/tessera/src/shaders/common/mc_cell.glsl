@@ -1,0 +1,48 @@
+// Marching-cubes work on single cells, shared by every extraction path. Needs
+// common/volume.glsl and common/mc_tables.glsl; conventions are tessera_data::mc_tables'.
+
+// Case index of the cell whose minimum corner is `cell`: bit c set when corner c is below iso.
+uint mc_cell_case(VOLUME_SAMPLER vol, uvec3 cell, float iso) {
+    uint case_index = 0u;
+    for (uint c = 0u; c < 8u; ++c) {
+        float v = volume_texel(vol, ivec3(cell + mc_corner_offset(c)));
+        case_index |= uint(v < iso) << c;
+    }
+    return case_index;
+}
+
+// Gradient at grid point p: central differences inside, one-sided on the border.
+vec3 mc_grid_gradient(VOLUME_SAMPLER vol, uvec3 p, uvec3 dims) {
+    vec3 g;
+    for (int axis = 0; axis < 3; ++axis) {
+        uvec3 lo = p;
+        uvec3 hi = p;
+        lo[axis] = p[axis] > 0u ? p[axis] - 1u : 0u;
+        hi[axis] = min(p[axis] + 1u, dims[axis] - 1u);
+        float span = float(hi[axis] - lo[axis]);
+        g[axis] = (volume_texel(vol, ivec3(hi)) - volume_texel(vol, ivec3(lo))) / span;
+    }
+    return g;
+}
+
+// The vertex where edge `edge` of `cell` crosses iso, in grid coordinates, with its normal
+// (the gradient blended along the edge; the edge direction pointing from the below end to
+// the above end where the gradient vanishes).
+void mc_edge_vertex(VOLUME_SAMPLER vol, uvec3 cell, uint edge, float iso, uvec3 dims,
+                    out vec3 position, out vec3 normal) {
+    uint corners = MC_EDGE_CORNERS[edge];
+    uvec3 pa = cell + mc_corner_offset(corners & 15u);
+    uvec3 pb = cell + mc_corner_offset(corners >> 4);
+    float a = volume_texel(vol, ivec3(pa));
+    float b = volume_texel(vol, ivec3(pb));
+    float t = clamp((iso - a) / (b - a), 0.0, 1.0);
+    if (isnan(t)) {
+        t = 0.5;
+    }
+    vec3 dir = vec3(pb - pa);
+    position = vec3(pa) + dir * t;
+    vec3 ga = mc_grid_gradient(vol, pa, dims);
+    vec3 gb = mc_grid_gradient(vol, pb, dims);
+    vec3 g = ga * (1.0 - t) + gb * t;
+    normal = dot(g, g) > 0.0 ? normalize(g) : (a < iso ? dir : -dir);
+}

@@ -1,0 +1,193 @@
+//! Direct isosurface rasterization (paper D) against the CPU marching cubes, on lavapipe or a
+//! GPU with mesh shaders. Tests are skipped, visibly, on devices without task/mesh shaders.
+
+mod common;
+
+use common::{assert_clean, gpu};
+use glam::Vec3;
+use std::collections::HashMap;
+use tessera::iso::direct::{Direct, RasterTarget};
+use tessera::shaders;
+use tessera_data::marching_cubes::marching_cubes;
+use tessera_data::procedural::{generate, ProceduralKind};
+use tessera_data::{IsoValue, OrbitCamera, Samples, ScalarType, Volume};
+use tessera_gpu::Gpu;
+
+fn mesh_gpu() -> Option<Gpu> {
+    let gpu = gpu();
+    if !gpu.caps().mesh_shader || !gpu.caps().task_shader {
+        eprintln!(
+            "skipped: {} has no task/mesh shaders",
+            gpu.caps().device_name
+        );
+        return None;
+    }
+    Some(gpu)
+}
+
+/// Every cell has a sign change on every edge: 12 vertices and 4 triangles per cell, so each
+/// block is fully occupied and lists are cut by the vertex limit, not the cell limit.
+fn checkerboard(dims: [u32; 3]) -> Volume {
+    let mut v = Vec::new();
+    for z in 0..dims[2] {
+        for y in 0..dims[1] {
+            for x in 0..dims[0] {
+                v.push(((x + y + z) % 2) as f32);
+            }
+        }
+    }
+    Volume::new("checkerboard", dims, [1.0; 3], Samples::F32(v)).unwrap()
+}
+
+/// Asserts the two triangle lists are the same multiset: each GPU triangle matches one
+/// unmatched CPU triangle in some cyclic order (orientation kept), every coordinate within `tol`.
+fn assert_same_triangles(
+    name: &str,
+    gpu_tris: &[[Vec3; 3]],
+    cpu: &tessera_data::mesh::TriangleMesh,
+    tol: f32,
+) {
+    let cpu_tris: Vec<[Vec3; 3]> = cpu
+        .triangles
+        .iter()
+        .map(|t| t.map(|i| cpu.positions[i as usize]))
+        .collect();
+    assert_eq!(
+        gpu_tris.len(),
+        cpu_tris.len(),
+        "{name}: triangle counts differ"
+    );
+    // Bucket CPU triangles by the cell holding their centroid (half-cell grid, searched with
+    // neighbours, so a centroid near a bucket border is still found).
+    let key = |t: &[Vec3; 3]| ((t[0] + t[1] + t[2]) / 3.0 * 2.0).floor().as_ivec3();
+    let mut buckets: HashMap<glam::IVec3, Vec<usize>> = HashMap::new();
+    for (i, t) in cpu_tris.iter().enumerate() {
+        buckets.entry(key(t)).or_default().push(i);
+    }
+    let mut used = vec![false; cpu_tris.len()];
+    let same = |a: &[Vec3; 3], b: &[Vec3; 3]| {
+        (0..3).any(|r| (0..3).all(|j| (a[(j + r) % 3] - b[j]).abs().max_element() <= tol))
+    };
+    for (n, t) in gpu_tris.iter().enumerate() {
+        let k = key(t);
+        let mut found = false;
+        'search: for dz in -1..=1 {
+            for dy in -1..=1 {
+                for dx in -1..=1 {
+                    if let Some(list) = buckets.get(&(k + glam::IVec3::new(dx, dy, dz))) {
+                        for &i in list {
+                            if !used[i] && same(t, &cpu_tris[i]) {
+                                used[i] = true;
+                                found = true;
+                                break 'search;
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        assert!(
+            found,
+            "{name}: GPU triangle {n} {t:?} has no CPU counterpart"
+        );
+    }
+}
+
+#[test]
+fn mesh_shader_triangles_equal_cpu_marching_cubes() {
+    let Some(gpu) = mesh_gpu() else { return };
+    let compiler = shaders::compiler();
+    let cases: Vec<(Volume, f32)> = vec![
+        (
+            generate(ProceduralKind::Sphere, 21, ScalarType::U8).unwrap(),
+            0.6,
+        ),
+        (
+            generate(ProceduralKind::HeadPhantom, 26, ScalarType::U8).unwrap(),
+            0.3,
+        ),
+        (
+            generate(ProceduralKind::MarschnerLobb, 19, ScalarType::U16).unwrap(),
+            0.5,
+        ),
+        (
+            generate(ProceduralKind::Turbulence, 23, ScalarType::F32).unwrap(),
+            0.45,
+        ),
+        (checkerboard([18, 11, 9]), 0.5),
+    ];
+    let camera = OrbitCamera::default();
+    let target = RasterTarget::new(&gpu, 64, 64).unwrap();
+    for (volume, fraction) in &cases {
+        let iso = volume.iso_to_texel(IsoValue::Normalized(*fraction));
+        let cpu = marching_cubes(volume, iso);
+        let direct = Direct::new(&gpu, &compiler, volume.scalar_type()).unwrap();
+        let prepared = direct.prepare(&gpu, volume).unwrap();
+        let capacity = cpu.triangle_count() as u32 + 64;
+        let frame = direct
+            .render(&gpu, &prepared, &target, iso, &camera, capacity)
+            .unwrap();
+        let tris = frame.triangles.unwrap();
+        assert!(!tris.is_empty(), "{}: no triangles", volume.name());
+        assert_same_triangles(volume.name(), &tris, &cpu, 1e-5);
+        assert_eq!(
+            frame.stats.triangles as usize,
+            cpu.triangle_count(),
+            "{}",
+            volume.name()
+        );
+        assert!(frame.stats.mesh_workgroups > 0);
+        assert!(
+            frame.stats.vertices
+                <= frame.stats.mesh_workgroups * tessera::iso::direct::MAX_VERTICES_PER_LIST,
+            "{}: a list exceeded the vertex limit",
+            volume.name()
+        );
+        prepared.destroy(&gpu);
+        direct.destroy(&gpu);
+    }
+    target.destroy(&gpu);
+    assert_clean(&gpu);
+}
+
+#[test]
+fn checkerboard_lists_respect_the_vertex_limit() {
+    let Some(gpu) = mesh_gpu() else { return };
+    let compiler = shaders::compiler();
+    let volume = checkerboard([9, 9, 5]); // exactly one fully occupied block
+    let direct = Direct::new(&gpu, &compiler, ScalarType::F32).unwrap();
+    let prepared = direct.prepare(&gpu, &volume).unwrap();
+    let target = RasterTarget::new(&gpu, 32, 32).unwrap();
+    let frame = direct
+        .render(&gpu, &prepared, &target, 0.5, &OrbitCamera::default(), 2048)
+        .unwrap();
+    // 256 cells × 12 vertices, 8 cells per list at 96 vertices: 32 mesh workgroups.
+    assert_eq!(frame.stats.mesh_workgroups, 32);
+    assert_eq!(frame.stats.vertices, 256 * 12);
+    assert_eq!(frame.stats.triangles, 256 * 4);
+    target.destroy(&gpu);
+    prepared.destroy(&gpu);
+    direct.destroy(&gpu);
+    assert_clean(&gpu);
+}
+
+#[test]
+fn isovalue_outside_range_draws_nothing() {
+    let Some(gpu) = mesh_gpu() else { return };
+    let compiler = shaders::compiler();
+    let volume = generate(ProceduralKind::Sphere, 20, ScalarType::U8).unwrap();
+    let direct = Direct::new(&gpu, &compiler, ScalarType::U8).unwrap();
+    let prepared = direct.prepare(&gpu, &volume).unwrap();
+    let target = RasterTarget::new(&gpu, 40, 30).unwrap();
+    let frame = direct
+        .render(&gpu, &prepared, &target, 300.0, &OrbitCamera::default(), 16)
+        .unwrap();
+    assert_eq!(frame.stats.triangles, 0);
+    assert_eq!(frame.triangles.unwrap().len(), 0);
+    let background = tessera_data::shading::pack_rgba8(tessera_data::shading::BACKGROUND);
+    assert!(frame.image.pixels.iter().all(|&p| p == background));
+    target.destroy(&gpu);
+    prepared.destroy(&gpu);
+    direct.destroy(&gpu);
+    assert_clean(&gpu);
+}
