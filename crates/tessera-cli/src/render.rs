@@ -1,11 +1,11 @@
 //! `tessera render`: one image of a data set.
 
 use crate::data::{self, IsoArgs, VolumeArgs};
-use anyhow::{bail, Context, Result};
+use anyhow::{Context, Result};
 use clap::Args;
 use std::path::PathBuf;
 use std::time::Instant;
-use tessera::iso::raymarch::{Raymarch, RenderTarget};
+use tessera::iso::renderer::{IsoRenderer, IsoTechnique};
 use tessera_data::OrbitCamera;
 use tessera_gpu::GpuOptions;
 
@@ -13,8 +13,8 @@ use tessera_gpu::GpuOptions;
 pub struct RenderArgs {
     /// A volume file (raw, .nrrd, .nhdr) or procedural:NAME:SIZE[:TYPE], e.g. procedural:marschner-lobb:128.
     data: String,
-    /// Technique to render with.
-    #[arg(long, default_value = "raymarch", value_parser = ["raymarch"])]
+    /// Technique to render with: raymarch (compute) or direct (task/mesh shaders).
+    #[arg(long, default_value = "raymarch", value_parser = ["raymarch", "direct"])]
     technique: String,
     #[command(flatten)]
     iso: IsoArgs,
@@ -39,31 +39,33 @@ pub fn run(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
     }
     let volume = data::load(&args.data, &args.volume)?;
     let iso = args.iso.resolve(&volume)?;
-    if args.technique != "raymarch" {
-        bail!("unknown technique '{}'", args.technique);
-    }
+    let technique = IsoTechnique::parse(&args.technique)?;
     let compiler = tessera::shaders::compiler();
     let started = Instant::now();
     let bar = data::spinner("compiling shaders, uploading, building the min-max octree".into());
     let built = (|| -> tessera::Result<_> {
-        let raymarch = Raymarch::new(&gpu, &compiler, volume.scalar_type())?;
-        let prepared = raymarch.prepare(&gpu, &volume)?;
-        Ok((raymarch, prepared))
+        let renderer = IsoRenderer::new(&gpu, &compiler, technique, volume.scalar_type())?;
+        let prepared = renderer.prepare(&gpu, &volume)?;
+        Ok((renderer, prepared))
     })();
     bar.finish_and_clear();
-    let (raymarch, prepared) = built.with_context(|| format!("preparing {}", args.data))?;
+    let (renderer, prepared) = built.with_context(|| format!("preparing {}", args.data))?;
     let prepare_s = started.elapsed().as_secs_f64();
     let (w, h) = args.size;
-    let target = RenderTarget::new(&gpu, w, h)?;
-    let (image, gpu_ms) = raymarch.render(&gpu, &prepared, &target, iso, &args.camera)?;
-    crate::output::write_png(&args.output, &image)?;
+    let frame = renderer.render(&gpu, &prepared, iso, &args.camera, args.size)?;
+    crate::output::write_png(&args.output, &frame.image)?;
+    let triangles = frame
+        .triangles
+        .map(|t| format!(", {t} triangles"))
+        .unwrap_or_default();
     println!(
-        "{}: raymarch iso {iso} at {w}x{h}: {gpu_ms:.3} ms GPU (prepare {prepare_s:.2} s) -> {}",
+        "{}: {} iso {iso} at {w}x{h}: {:.3} ms GPU{triangles} (prepare {prepare_s:.2} s) -> {}",
         volume.name(),
+        technique.name(),
+        frame.gpu_ms,
         args.output.display()
     );
-    target.destroy(&gpu);
     prepared.destroy(&gpu);
-    raymarch.destroy(&gpu);
+    renderer.destroy(&gpu);
     crate::check_validation(&gpu)
 }

@@ -3,6 +3,7 @@
 pub mod direct;
 pub mod minmax;
 pub mod raymarch;
+pub mod renderer;
 
 use crate::error::Result;
 use crate::gpu_volume::GpuVolume;
