@@ -10,11 +10,18 @@ use tessera_data::minmax::MinMaxOctree;
 use tessera_data::{IsoValue, OrbitCamera, ScalarType, Volume};
 use tessera_gpu::{vk, Gpu, GpuOptions, MemoryLocation};
 
-const SCENARIOS: &[&str] = &["pipeline-throughput", "raymarch", "minmax-build"];
+const SCENARIOS: &[&str] = &[
+    "pipeline-throughput",
+    "raymarch",
+    "minmax-build",
+    "isosurface",
+    "iso-sweep",
+];
 
 #[derive(Args)]
 pub struct BenchArgs {
-    /// pipeline-throughput, raymarch, minmax-build or all.
+    /// pipeline-throughput, raymarch, minmax-build, isosurface (raymarch against direct),
+    /// iso-sweep (isovalue changes every frame) or all.
     scenario: String,
     /// Append JSON lines here.
     #[arg(long)]
@@ -26,10 +33,10 @@ pub struct BenchArgs {
     warmup: u32,
     /// Small volumes and images, for CPU drivers and smoke tests.
     #[arg(long)]
-    quick: bool,
+    pub(crate) quick: bool,
     /// Isovalue as a fraction of the value range for the isosurface scenarios.
     #[arg(long, default_value_t = 0.3)]
-    iso_fraction: f32,
+    pub(crate) iso_fraction: f32,
     /// Benchmark the isosurface scenarios on this volume (a file or procedural:NAME:SIZE[:TYPE])
     /// instead of the built-in head phantoms.
     #[arg(long)]
@@ -38,12 +45,12 @@ pub struct BenchArgs {
     volume: crate::data::VolumeArgs,
 }
 
-struct Sink {
+pub(crate) struct Sink {
     file: Option<std::fs::File>,
 }
 
 impl Sink {
-    fn emit(&mut self, r: &BenchRecord) -> Result<()> {
+    pub(crate) fn emit(&mut self, r: &BenchRecord) -> Result<()> {
         for s in &r.stages {
             println!(
                 "{:<20} {:<10} {:<9} {:<32} {:>5}x{:<5} {:<14} {:>10.3} {:>10.3} {:>10.3}",
@@ -121,6 +128,8 @@ pub fn run(options: &GpuOptions, args: &BenchArgs) -> Result<()> {
             "pipeline-throughput" => throughput(&gpu, args, plan, &mut sink)?,
             "raymarch" => raymarch(&gpu, args, plan, &mut sink)?,
             "minmax-build" => minmax_build(&gpu, args, plan, &mut sink)?,
+            "isosurface" => crate::bench_iso::isosurface(&gpu, args, plan, &mut sink)?,
+            "iso-sweep" => crate::bench_iso::iso_sweep(&gpu, args, plan, &mut sink)?,
             _ => unreachable!("scenario list checked above"),
         }
     }
@@ -156,7 +165,7 @@ fn throughput(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -> 
 }
 
 /// The volumes of the isosurface scenarios: `--data`, or head-like phantoms of DESIGN §6's sizes.
-fn bench_volumes(args: &BenchArgs) -> Vec<String> {
+pub(crate) fn bench_volumes(args: &BenchArgs) -> Vec<String> {
     if let Some(data) = &args.data {
         return vec![data.clone()];
     }
@@ -175,7 +184,7 @@ fn bench_volumes(args: &BenchArgs) -> Vec<String> {
         .collect()
 }
 
-fn bench_sizes(quick: bool) -> Vec<(u32, u32)> {
+pub(crate) fn bench_sizes(quick: bool) -> Vec<(u32, u32)> {
     if quick {
         vec![(256, 144)]
     } else {
@@ -183,7 +192,7 @@ fn bench_sizes(quick: bool) -> Vec<(u32, u32)> {
     }
 }
 
-fn make_volume(gpu: &Gpu, spec: &str, args: &BenchArgs) -> Result<Volume> {
+pub(crate) fn make_volume(gpu: &Gpu, spec: &str, args: &BenchArgs) -> Result<Volume> {
     if let Some(bytes) = args.volume.expected_bytes(spec) {
         gpu.check_fits(spec, bytes)?;
     }

@@ -282,6 +282,26 @@ impl Direct {
         result
     }
 
+    /// What the last recorded frame emitted.
+    pub fn read_stats(&self, gpu: &Gpu) -> Result<DirectStats> {
+        let s: Vec<u32> = bytemuck::allocation::pod_collect_to_vec(&gpu.read_buffer(&self.stats)?);
+        Ok(DirectStats {
+            mesh_workgroups: s[0],
+            triangles: s[1],
+            vertices: s[2],
+        })
+    }
+
+    /// A capture buffer for frames that capture nothing (the binding must still be valid).
+    pub fn no_capture(gpu: &Gpu) -> Result<Buffer> {
+        Ok(gpu.create_buffer(
+            "direct no capture",
+            16,
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+            MemoryLocation::GpuOnly,
+        )?)
+    }
+
     fn collect(
         &self,
         gpu: &Gpu,
@@ -291,12 +311,7 @@ impl Direct {
         capacity: u32,
     ) -> Result<DirectFrame> {
         let ms = timer.read_ms(gpu)?.first().map(|s| s.1).unwrap_or(0.0);
-        let s: Vec<u32> = bytemuck::allocation::pod_collect_to_vec(&gpu.read_buffer(&self.stats)?);
-        let stats = DirectStats {
-            mesh_workgroups: s[0],
-            triangles: s[1],
-            vertices: s[2],
-        };
+        let stats = self.read_stats(gpu)?;
         let triangles = if capacity > 0 {
             let words: Vec<u32> =
                 bytemuck::allocation::pod_collect_to_vec(&gpu.read_buffer(capture)?);
