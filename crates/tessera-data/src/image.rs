@@ -50,6 +50,39 @@ impl RgbaImage {
         }
     }
 
+    /// Like [`RgbaImage::compare`], but only over the pixels where `mask` is true (for
+    /// example where both images show the surface). `fraction_within` is 1.0 for an empty mask.
+    pub fn compare_where(&self, other: &RgbaImage, mask: &[bool], tolerance: u8) -> ImageDiff {
+        assert_eq!((self.width, self.height), (other.width, other.height));
+        assert_eq!(
+            mask.len(),
+            self.pixels.len(),
+            "mask size differs from the image"
+        );
+        let mut max = 0u8;
+        let mut outside = 0;
+        let mut considered = 0usize;
+        for ((a, b), _) in self
+            .pixels
+            .iter()
+            .zip(&other.pixels)
+            .zip(mask)
+            .filter(|(_, &m)| m)
+        {
+            considered += 1;
+            let d = channel_diff(*a, *b);
+            max = max.max(d);
+            if d > tolerance {
+                outside += 1;
+            }
+        }
+        ImageDiff {
+            max_channel_diff: max,
+            fraction_within: 1.0 - outside as f64 / considered.max(1) as f64,
+            pixels_outside: outside,
+        }
+    }
+
     /// Per-pixel difference image (each channel's absolute difference, scaled ×8 to be seen).
     pub fn diff_image(&self, other: &RgbaImage) -> RgbaImage {
         let pixels = self
@@ -67,6 +100,26 @@ impl RgbaImage {
             height: self.height,
             pixels,
         }
+    }
+}
+
+/// Which pixels differ from `background`, i.e. show something.
+pub fn coverage_of(image: &RgbaImage, background: u32) -> Vec<bool> {
+    image.pixels.iter().map(|&p| p != background).collect()
+}
+
+/// Intersection over union of two coverage masks of the same size; 1.0 when both are empty.
+pub fn silhouette_iou(a: &[bool], b: &[bool]) -> f64 {
+    assert_eq!(a.len(), b.len(), "coverage masks differ in size");
+    let (mut both, mut either) = (0usize, 0usize);
+    for (&x, &y) in a.iter().zip(b) {
+        both += usize::from(x && y);
+        either += usize::from(x || y);
+    }
+    if either == 0 {
+        1.0
+    } else {
+        both as f64 / either as f64
     }
 }
 
@@ -90,5 +143,25 @@ mod tests {
         assert_eq!(d.max_channel_diff, 3);
         assert_eq!(d.pixels_outside, 1);
         assert!((d.fraction_within - 0.75).abs() < 1e-12);
+    }
+
+    #[test]
+    fn masked_compare_coverage_and_iou() {
+        let mut a = RgbaImage::new(2, 2);
+        let mut b = a.clone();
+        a.pixels[0] = 10;
+        b.pixels[0] = 30;
+        b.pixels[3] = 7;
+        let d = a.compare_where(&b, &[false, true, true, true], 2);
+        assert_eq!((d.max_channel_diff, d.pixels_outside), (7, 1));
+        assert!((d.fraction_within - 2.0 / 3.0).abs() < 1e-12);
+        let none = a.compare_where(&b, &[false; 4], 0);
+        assert_eq!((none.pixels_outside, none.fraction_within), (0, 1.0));
+
+        assert_eq!(coverage_of(&b, 0), vec![true, false, false, true]);
+        let (x, y) = ([true, true, false, false], [false, true, true, false]);
+        assert!((silhouette_iou(&x, &y) - 1.0 / 3.0).abs() < 1e-12);
+        assert_eq!(silhouette_iou(&[false; 3], &[false; 3]), 1.0);
+        assert_eq!(silhouette_iou(&x, &x), 1.0);
     }
 }

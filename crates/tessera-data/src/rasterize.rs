@@ -1,0 +1,795 @@
+//! CPU reference triangle rasterizer: the ground truth for GPU techniques that draw
+//! marching-cubes triangles with Vulkan and Gooch shade each fragment.
+//!
+//! It follows the Vulkan pipeline closely enough that images agree pixel for pixel up to
+//! floating-point noise:
+//!
+//! * Vertices go to clip space with [`Projection::to_clip`] (in `f32`, like a vertex shader).
+//! * Triangles are clipped in homogeneous clip space (Sutherland–Hodgman) against `w > 0`,
+//!   the near plane `z >= 0` and the far plane `z <= w`, plus a guard band far outside the
+//!   viewport that only keeps screen coordinates bounded. A clipped polygon is drawn as a fan.
+//! * The viewport maps NDC to pixels as `x = (ndc.x + 1) / 2 * W`, `y = (ndc.y + 1) / 2 * H`
+//!   (Vulkan's y points down), and positions are snapped to 1/256 pixel (8 sub-pixel bits).
+//! * A pixel is sampled at its centre. Coverage uses edge functions (exact in `f64` on the
+//!   snapped grid) with the top-left fill rule, so pixels on an edge shared by two triangles
+//!   are drawn exactly once. Triangles are double-sided; zero-area ones draw nothing.
+//! * Depth is NDC z interpolated linearly in screen space, tested with LESS against a buffer
+//!   cleared to 1.0.
+//! * World-space normal and position are interpolated perspective-correctly and shaded by
+//!   [`shade_fragment`], the rule the GPU fragment shader implements.
+
+use glam::{DVec3, DVec4, Vec3};
+
+use crate::camera::{GridCamera, GridFrame, OrbitCamera, Projection};
+use crate::image::RgbaImage;
+use crate::mesh::TriangleMesh;
+use crate::shading::{gooch, pack_rgba8, BACKGROUND};
+
+/// Sub-pixel precision of snapped screen positions, as in common hardware.
+pub const SUBPIXEL_BITS: u32 = 8;
+const SUBPIXEL: f64 = (1u32 << SUBPIXEL_BITS) as f64;
+/// Smallest clip-space w kept by clipping (the near plane already keeps w well above it).
+const MIN_W: f64 = 1e-6;
+/// Clip-space |x|, |y| limit in multiples of w: a guard band 8 viewports wide and high. Geometry
+/// beyond it is off screen anyway; clipping there only bounds the fixed-point coordinates.
+const GUARD_BAND: f64 = 8.0;
+
+/// What [`rasterize_mesh`] produces; per-pixel vectors are row-major, top row first.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RasterOutput {
+    pub image: RgbaImage,
+    /// NDC depth of the visible fragment, 1.0 (far) where nothing was drawn.
+    pub depth: Vec<f32>,
+    /// Whether any fragment was written to the pixel.
+    pub coverage: Vec<bool>,
+}
+
+/// The colour of a fragment, exactly as the GPU fragment shader computes it.
+///
+/// `normal_world` is the interpolated world-space normal (not necessarily unit length; it is
+/// normalized here, and a zero vector falls back to the view direction). The view direction is
+/// `normalize(eye_world - position_world)`; `light_world` is the unit direction towards the
+/// light ([`GridCamera::light_world`]). The colour is [`gooch`] (which turns the normal to face
+/// the viewer, so either side of a triangle shades the same) packed with alpha 1.
+pub fn shade_fragment(
+    normal_world: Vec3,
+    position_world: Vec3,
+    eye_world: Vec3,
+    light_world: Vec3,
+) -> u32 {
+    let view = (eye_world - position_world).normalize_or_zero();
+    let n = if normal_world.length_squared() > 0.0 {
+        normal_world.normalize()
+    } else {
+        view
+    };
+    let c = gooch(n, light_world, view);
+    pack_rgba8([c.x, c.y, c.z, 1.0])
+}
+
+/// Rasterizes `mesh` (positions and normals in grid coordinates of `frame`) as seen by
+/// `camera` into a `width`×`height` image; see the module docs for the conventions.
+///
+/// Per vertex, the world-space normal is `normalize(normal_grid / frame.grid_to_world)`
+/// (normals are grid-space gradients; a zero or missing normal stays zero and so shades with
+/// the view direction) and the world-space position is `(p - frame.centre()) * grid_to_world`.
+pub fn rasterize_mesh(
+    mesh: &TriangleMesh,
+    frame: &GridFrame,
+    camera: &OrbitCamera,
+    width: u32,
+    height: u32,
+) -> RasterOutput {
+    rasterize_counting(mesh, frame, camera, width, height, None)
+}
+
+/// [`rasterize_mesh`], also adding to `fragments[pixel]` once per fragment generated there
+/// (before the depth test), which lets tests see every coverage decision.
+fn rasterize_counting(
+    mesh: &TriangleMesh,
+    frame: &GridFrame,
+    camera: &OrbitCamera,
+    width: u32,
+    height: u32,
+    mut fragments: Option<&mut [u32]>,
+) -> RasterOutput {
+    let pixel_count = width as usize * height as usize;
+    let mut out = RasterOutput {
+        image: RgbaImage {
+            width,
+            height,
+            pixels: vec![pack_rgba8(BACKGROUND); pixel_count],
+        },
+        depth: vec![1.0; pixel_count],
+        coverage: vec![false; pixel_count],
+    };
+    if width == 0 || height == 0 {
+        return out;
+    }
+    let projection = Projection::new(camera, frame, width, height);
+    let light = GridCamera::new(camera, frame, width, height).light_world;
+    let eye = projection.eye_world;
+    let centre = frame.centre();
+
+    // The vertex shader's work, done once per vertex.
+    let vertices: Vec<ClipVertex> = mesh
+        .positions
+        .iter()
+        .enumerate()
+        .map(|(i, &p)| {
+            let n = mesh.normals.get(i).copied().unwrap_or(Vec3::ZERO) / frame.grid_to_world;
+            ClipVertex {
+                clip: projection.to_clip(p).as_dvec4(),
+                position: ((p - centre) * frame.grid_to_world).as_dvec3(),
+                normal: n.normalize_or_zero().as_dvec3(),
+            }
+        })
+        .collect();
+
+    let mut polygon = Vec::with_capacity(16);
+    let mut scratch = Vec::with_capacity(16);
+    for t in &mesh.triangles {
+        let corners = t.map(|i| vertices[i as usize]);
+        if !clip_triangle(corners, &mut polygon, &mut scratch) {
+            continue;
+        }
+        let screen: Vec<ScreenVertex> = polygon
+            .iter()
+            .map(|v| ScreenVertex::new(v, width, height))
+            .collect();
+        for k in 1..screen.len().saturating_sub(1) {
+            let tri = [screen[0], screen[k], screen[k + 1]];
+            raster_triangle(&tri, width, height, |index, b| {
+                if let Some(counts) = fragments.as_deref_mut() {
+                    counts[index] += 1;
+                }
+                let z = (b[0] * tri[0].z + b[1] * tri[1].z + b[2] * tri[2].z) as f32;
+                let z = z.clamp(0.0, 1.0);
+                if z >= out.depth[index] {
+                    return;
+                }
+                // Perspective-correct weights: screen barycentrics over clip w, renormalized.
+                let q = [0, 1, 2].map(|i| b[i] * tri[i].inv_w);
+                let sum = q[0] + q[1] + q[2];
+                let mix = |f: fn(&ScreenVertex) -> DVec3| {
+                    (f(&tri[0]) * q[0] + f(&tri[1]) * q[1] + f(&tri[2]) * q[2]) / sum
+                };
+                let normal = mix(|v| v.normal).as_vec3();
+                let position = mix(|v| v.position).as_vec3();
+                out.depth[index] = z;
+                out.coverage[index] = true;
+                out.image.pixels[index] = shade_fragment(normal, position, eye, light);
+            });
+        }
+    }
+    out
+}
+
+/// A vertex after the vertex shader: clip position and the attributes to interpolate.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct ClipVertex {
+    clip: DVec4,
+    position: DVec3,
+    normal: DVec3,
+}
+
+impl ClipVertex {
+    fn lerp(&self, other: &ClipVertex, t: f64) -> ClipVertex {
+        ClipVertex {
+            clip: self.clip.lerp(other.clip, t),
+            position: self.position.lerp(other.position, t),
+            normal: self.normal.lerp(other.normal, t),
+        }
+    }
+}
+
+/// Signed distance of a clip-space point to clip plane `plane`; >= 0 is inside.
+fn plane_distance(plane: usize, c: DVec4) -> f64 {
+    match plane {
+        0 => c.w - MIN_W,
+        1 => c.z,
+        2 => c.w - c.z,
+        3 => GUARD_BAND * c.w - c.x,
+        4 => GUARD_BAND * c.w + c.x,
+        5 => GUARD_BAND * c.w - c.y,
+        _ => GUARD_BAND * c.w + c.y,
+    }
+}
+const PLANE_COUNT: usize = 7;
+
+/// Clips a triangle into `polygon` (a convex fan, first vertex shared). Returns false when
+/// nothing is left. `scratch` is reused storage.
+fn clip_triangle(
+    corners: [ClipVertex; 3],
+    polygon: &mut Vec<ClipVertex>,
+    scratch: &mut Vec<ClipVertex>,
+) -> bool {
+    polygon.clear();
+    polygon.extend_from_slice(&corners);
+    for plane in 0..PLANE_COUNT {
+        let inside = polygon
+            .iter()
+            .filter(|v| plane_distance(plane, v.clip) >= 0.0)
+            .count();
+        if inside == polygon.len() {
+            continue;
+        }
+        if inside == 0 {
+            return false;
+        }
+        scratch.clear();
+        for i in 0..polygon.len() {
+            let a = polygon[i];
+            let b = polygon[(i + 1) % polygon.len()];
+            let (da, db) = (plane_distance(plane, a.clip), plane_distance(plane, b.clip));
+            if da >= 0.0 {
+                scratch.push(a);
+            }
+            if (da >= 0.0) != (db >= 0.0) {
+                scratch.push(intersect(&a, da, &b, db));
+            }
+        }
+        std::mem::swap(polygon, scratch);
+        if polygon.len() < 3 {
+            return false;
+        }
+    }
+    true
+}
+
+/// Where edge `a`-`b` crosses a plane, given the vertices' signed distances to it. The result
+/// does not depend on which way the edge is walked, so triangles sharing an edge that a plane
+/// cuts get bit-identical new vertices and stay watertight.
+fn intersect(a: &ClipVertex, da: f64, b: &ClipVertex, db: f64) -> ClipVertex {
+    if a.clip.to_array() <= b.clip.to_array() {
+        a.lerp(b, da / (da - db))
+    } else {
+        b.lerp(a, db / (db - da))
+    }
+}
+
+/// A vertex after the perspective divide and viewport transform.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct ScreenVertex {
+    /// Position in 1/256 pixel units, snapped to integers (stored as f64: all edge-function
+    /// arithmetic on them is exact).
+    x: f64,
+    y: f64,
+    /// NDC depth.
+    z: f64,
+    inv_w: f64,
+    position: DVec3,
+    normal: DVec3,
+}
+
+impl ScreenVertex {
+    fn new(v: &ClipVertex, width: u32, height: u32) -> ScreenVertex {
+        let inv_w = 1.0 / v.clip.w;
+        let snap = |ndc: f64, size: u32| ((ndc + 1.0) * 0.5 * f64::from(size) * SUBPIXEL).round();
+        ScreenVertex {
+            x: snap(v.clip.x * inv_w, width),
+            y: snap(v.clip.y * inv_w, height),
+            z: v.clip.z * inv_w,
+            inv_w,
+            position: v.position,
+            normal: v.normal,
+        }
+    }
+}
+
+/// Twice the signed area of (a, b, p) in sub-pixel units; positive when p lies to the right of
+/// a→b as seen on screen (x right, y down).
+fn edge(a: &ScreenVertex, b: &ScreenVertex, px: f64, py: f64) -> f64 {
+    (b.x - a.x) * (py - a.y) - (b.y - a.y) * (px - a.x)
+}
+
+/// Calls `fragment(pixel_index, barycentrics)` for every pixel whose centre the triangle covers
+/// under the top-left rule. Barycentrics are screen-space weights of `v[0..3]`, summing to 1.
+fn raster_triangle(
+    v: &[ScreenVertex; 3],
+    width: u32,
+    height: u32,
+    mut fragment: impl FnMut(usize, [f64; 3]),
+) {
+    let area = edge(&v[0], &v[1], v[2].x, v[2].y);
+    if !(area != 0.0) {
+        return; // zero area (or NaN): no fragments, as in Vulkan
+    }
+    // Orient every edge so the inside is where its edge function is positive.
+    let sign = area.signum();
+    // Edge i is opposite vertex i.
+    let edges = [(1, 2), (2, 0), (0, 1)];
+    let top_left = edges.map(|(a, b)| {
+        let dx = (v[b].x - v[a].x) * sign;
+        let dy = (v[b].y - v[a].y) * sign;
+        // With y down and the inside on the right: a top edge is horizontal and runs to the
+        // right; a left edge runs upwards.
+        dy < 0.0 || (dy == 0.0 && dx > 0.0)
+    });
+
+    let lo = |c: f64, size: u32| ((c / SUBPIXEL - 0.5).ceil().max(0.0) as i64).min(size as i64);
+    let hi = |c: f64, size: u32| ((c / SUBPIXEL - 0.5).floor().min(size as f64 - 1.0)) as i64;
+    let x0 = lo(v[0].x.min(v[1].x).min(v[2].x), width);
+    let x1 = hi(v[0].x.max(v[1].x).max(v[2].x), width);
+    let y0 = lo(v[0].y.min(v[1].y).min(v[2].y), height);
+    let y1 = hi(v[0].y.max(v[1].y).max(v[2].y), height);
+    let half = SUBPIXEL / 2.0;
+    for y in y0..=y1 {
+        let py = y as f64 * SUBPIXEL + half;
+        for x in x0..=x1 {
+            let px = x as f64 * SUBPIXEL + half;
+            let mut e = [0.0; 3];
+            let mut inside = true;
+            for (i, &(a, b)) in edges.iter().enumerate() {
+                e[i] = edge(&v[a], &v[b], px, py);
+                let s = e[i] * sign;
+                inside &= s > 0.0 || (s == 0.0 && top_left[i]);
+            }
+            if inside {
+                let index = y as usize * width as usize + x as usize;
+                fragment(index, e.map(|ei| ei / area));
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::image::{coverage_of, silhouette_iou};
+    use crate::marching_cubes::marching_cubes;
+    use crate::raycast;
+    use crate::volume::{Samples, Volume};
+
+    const W: u32 = 128;
+    const H: u32 = 128;
+
+    fn frame() -> GridFrame {
+        GridFrame::new([33, 33, 33], [1.0; 3])
+    }
+
+    /// Grid point at view depth `depth` (world units along the view axis) that projects to the
+    /// continuous pixel position `(px, py)`.
+    fn unproject(cam: &OrbitCamera, frame: &GridFrame, px: f64, py: f64, depth: f32) -> Vec3 {
+        let (forward, right, up) = cam.basis();
+        let tan_y = (cam.fov_y_deg.to_radians() * 0.5).tan();
+        let tan_x = tan_y * W as f32 / H as f32;
+        let sx = (2.0 * px / f64::from(W) - 1.0) as f32 * tan_x;
+        let sy = (1.0 - 2.0 * py / f64::from(H)) as f32 * tan_y;
+        frame.world_to_grid_point(cam.eye() + depth * (forward + sx * right + sy * up))
+    }
+
+    /// A mesh of screen-space polygons at `depth`, facing the camera.
+    fn screen_mesh(
+        cam: &OrbitCamera,
+        frame: &GridFrame,
+        corners: &[(f64, f64)],
+        triangles: Vec<[u32; 3]>,
+        depth: f32,
+    ) -> TriangleMesh {
+        let (forward, _, _) = cam.basis();
+        TriangleMesh {
+            positions: corners
+                .iter()
+                .map(|&(x, y)| unproject(cam, frame, x, y, depth))
+                .collect(),
+            normals: vec![-forward * frame.grid_to_world; corners.len()],
+            triangles,
+        }
+    }
+
+    fn render_counts(mesh: &TriangleMesh, frame: &GridFrame) -> (RasterOutput, Vec<u32>) {
+        let mut counts = vec![0; (W * H) as usize];
+        let out = rasterize_counting(
+            mesh,
+            frame,
+            &OrbitCamera::default(),
+            W,
+            H,
+            Some(&mut counts),
+        );
+        (out, counts)
+    }
+
+    fn shoelace(p: &[(f64, f64)]) -> f64 {
+        let n = p.len();
+        (0..n)
+            .map(|i| p[i].0 * p[(i + 1) % n].1 - p[(i + 1) % n].0 * p[i].1)
+            .sum::<f64>()
+            .abs()
+            * 0.5
+    }
+
+    #[test]
+    fn single_triangle_covers_its_area_from_either_side() {
+        let cam = OrbitCamera::default();
+        let f = frame();
+        let p = [(20.3, 15.7), (100.2, 40.1), (50.6, 110.9)];
+        let area = shoelace(&p);
+        let mut covered = Vec::new();
+        for tri in [[0, 1, 2], [0, 2, 1]] {
+            let mesh = screen_mesh(&cam, &f, &p, vec![tri], 1.7);
+            let (out, counts) = render_counts(&mesh, &f);
+            let n = out.coverage.iter().filter(|&&c| c).count();
+            assert!((n as f64 - area).abs() < 4.0, "{n} pixels, area {area}");
+            assert!(counts.iter().all(|&c| c <= 1));
+            assert!(out.depth.iter().all(|d| (0.0..=1.0).contains(d)));
+            covered.push(out.coverage);
+        }
+        assert_eq!(covered[0], covered[1], "winding must not matter");
+    }
+
+    /// Asserts that no pixel was drawn twice, every pixel centre clearly inside the convex
+    /// screen polygon `poly` (clockwise on screen) was drawn and none clearly outside was.
+    fn assert_once_inside(counts: &[u32], poly: &[(f64, f64)]) {
+        // Signed distance (pixels) of a point from the outline, positive inside.
+        let inside_by = |x: f64, y: f64| {
+            (0..poly.len())
+                .map(|i| {
+                    let (a, b) = (poly[i], poly[(i + 1) % poly.len()]);
+                    let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+                    (dx * (y - a.1) - dy * (x - a.0)) / dx.hypot(dy)
+                })
+                .fold(f64::INFINITY, f64::min)
+        };
+        for y in 0..H {
+            for x in 0..W {
+                let n = counts[(y * W + x) as usize];
+                let d = inside_by(x as f64 + 0.5, y as f64 + 0.5);
+                assert!(n <= 1, "pixel ({x}, {y}) drawn {n} times");
+                if d > 0.01 {
+                    assert_eq!(n, 1, "gap at ({x}, {y})");
+                } else if d < -0.01 {
+                    assert_eq!(n, 0, "spill at ({x}, {y})");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn shared_diagonal_and_fan_cover_each_pixel_once() {
+        let cam = OrbitCamera::default();
+        let f = frame();
+        // The diagonal (10.5, 20.5)-(110.5, 100.5) runs through a pixel centre every 5 pixels.
+        let quad = [(10.5, 20.5), (113.2, 12.7), (110.5, 100.5), (17.9, 118.3)];
+        let mesh = screen_mesh(&cam, &f, &quad, vec![[0, 1, 2], [0, 2, 3]], 1.6);
+        let (out, counts) = render_counts(&mesh, &f);
+        assert_once_inside(&counts, &quad);
+        for (c, n) in out.coverage.iter().zip(&counts) {
+            assert_eq!(*c, *n == 1);
+        }
+
+        // Twelve triangles around a vertex on a pixel centre, rim vertices on pixel centres.
+        let mut rim = vec![(64.5, 64.5)];
+        let spokes = [
+            (40, 0),
+            (40, 20),
+            (30, 30),
+            (10, 40),
+            (0, 40),
+            (-25, 30),
+            (-40, 10),
+            (-40, -15),
+            (-20, -40),
+            (0, -40),
+            (20, -40),
+            (35, -35),
+        ];
+        rim.extend(
+            spokes
+                .iter()
+                .map(|&(dx, dy)| (64.5 + dx as f64, 64.5 + dy as f64)),
+        );
+        let tris = (0..12).map(|k| [0, 1 + k, 1 + (k + 1) % 12]).collect();
+        let fan = screen_mesh(&cam, &f, &rim, tris, 1.6);
+        let (_, counts) = render_counts(&fan, &f);
+        assert_eq!(counts[(64 * W + 64) as usize], 1, "shared vertex pixel");
+        assert_once_inside(&counts, &rim[1..]);
+    }
+
+    #[test]
+    fn top_left_rule_on_a_square_through_pixel_centres() {
+        let cam = OrbitCamera::default();
+        let f = frame();
+        let square = [(10.5, 10.5), (30.5, 10.5), (30.5, 40.5), (10.5, 40.5)];
+        for tris in [vec![[0, 1, 2], [0, 2, 3]], vec![[1, 2, 3], [3, 0, 1]]] {
+            let mesh = screen_mesh(&cam, &f, &square, tris, 1.5);
+            let (out, counts) = render_counts(&mesh, &f);
+            // Top and left edges are in, right and bottom edges out: exactly 20 x 30 pixels.
+            for y in 0..H {
+                for x in 0..W {
+                    let expect = (10..30).contains(&x) && (10..40).contains(&y);
+                    let i = (y * W + x) as usize;
+                    assert_eq!(counts[i], u32::from(expect), "pixel ({x}, {y})");
+                    assert_eq!(out.coverage[i], expect);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn screen_space_top_left_rule_exactly() {
+        // Straight on the core: a right triangle with its corners on pixel centres.
+        let at = |x: f64, y: f64| ScreenVertex {
+            x: x * SUBPIXEL,
+            y: y * SUBPIXEL,
+            z: 0.5,
+            inv_w: 1.0,
+            position: DVec3::ZERO,
+            normal: DVec3::ZERO,
+        };
+        let mut hits = Vec::new();
+        let tri = [at(2.5, 2.5), at(6.5, 2.5), at(2.5, 6.5)];
+        raster_triangle(&tri, 16, 16, |i, b| {
+            assert!((b.iter().sum::<f64>() - 1.0).abs() < 1e-12);
+            hits.push((i % 16, i / 16));
+        });
+        // Top row (y = 2) and left column (x = 2) are in; the hypotenuse x + y = 8 (a right
+        // edge) is out.
+        let expect: Vec<(usize, usize)> = (2..6)
+            .flat_map(|y| (2..6).map(move |x| (x, y)))
+            .filter(|&(x, y)| x + y < 8)
+            .collect();
+        assert_eq!(hits, expect);
+    }
+
+    /// `|p - c|` sampled on a `dims` grid with the given spacing.
+    fn sphere_field(dims: [u32; 3], spacing: [f32; 3], c: Vec3) -> Volume {
+        let mut v = Vec::new();
+        for z in 0..dims[2] {
+            for y in 0..dims[1] {
+                for x in 0..dims[0] {
+                    v.push(Vec3::new(x as f32, y as f32, z as f32).distance(c));
+                }
+            }
+        }
+        Volume::new("sphere", dims, spacing, Samples::F32(v)).unwrap()
+    }
+
+    #[test]
+    fn marching_cubes_sphere_matches_ray_caster() {
+        let cam = OrbitCamera::default();
+        let dims = [48; 3];
+        let r = 18.0;
+        for spacing in [[1.0; 3], [1.0, 1.4, 0.8]] {
+            let f = GridFrame::new(dims, spacing);
+            let vol = sphere_field(dims, spacing, f.centre() + Vec3::new(0.3, -0.2, 0.1));
+            let mesh = marching_cubes(&vol, r);
+            let mut counts = vec![0; (W * H) as usize];
+            let out = rasterize_counting(&mesh, &f, &cam, W, H, Some(&mut counts));
+            let covered = out.coverage.iter().filter(|&&c| c).count();
+            // A closed surface is entered and left: every pixel is drawn an even number of
+            // times, or the mesh leaks through a shared edge or vertex.
+            assert!(counts.iter().all(|&c| c % 2 == 0), "odd overdraw");
+
+            if spacing == [1.0; 3] {
+                // A sphere on the view axis projects to a disc of radius tan(asin(R / D)).
+                let world_r = f64::from(r * f.grid_to_world.x);
+                let offset = (Vec3::new(0.3, -0.2, 0.1) * f.grid_to_world).as_dvec3();
+                let d = (cam.eye().as_dvec3() - offset).length();
+                let tan_half = (f64::from(cam.fov_y_deg).to_radians() * 0.5).tan();
+                let disc_r = (world_r / d).asin().tan() / tan_half * f64::from(H) * 0.5;
+                let disc = std::f64::consts::PI * disc_r * disc_r;
+                let ratio = covered as f64 / disc;
+                assert!(
+                    (ratio - 1.0).abs() < 0.02,
+                    "{covered} pixels vs disc {disc}"
+                );
+            }
+
+            let traced = raycast::render(&vol, r, &cam, W, H);
+            let traced_cov = coverage_of(&traced, pack_rgba8(BACKGROUND));
+            let iou = silhouette_iou(&out.coverage, &traced_cov);
+            assert!(iou >= 0.98, "silhouette IoU {iou}");
+            let both: Vec<bool> = out
+                .coverage
+                .iter()
+                .zip(&traced_cov)
+                .map(|(a, b)| *a && *b)
+                .collect();
+            let diff = out.image.compare_where(&traced, &both, 8);
+            assert!(
+                diff.fraction_within >= 0.95,
+                "spacing {spacing:?}: {diff:?}, {covered} pixels"
+            );
+            // Measured: every co-covered pixel within 1/255; keep a margin below that.
+            let close = out.image.compare_where(&traced, &both, 2);
+            assert!(
+                close.fraction_within >= 0.99,
+                "spacing {spacing:?}: {close:?}"
+            );
+        }
+    }
+
+    /// Where the ray through a pixel centre meets a triangle's plane.
+    struct RayHit {
+        /// Whether the point lies inside the triangle and between the near and far planes.
+        inside: bool,
+        /// Barycentric weights of the triangle's corners at the point.
+        weights: [f64; 3],
+        point: DVec3,
+        /// View depth of the point.
+        depth: f64,
+    }
+
+    /// Intersects the ray through pixel (x, y)'s centre with world triangle `t`, independently
+    /// of the rasterizer; `None` when the ray passes too close to an edge or a clip plane for
+    /// rounding to leave the coverage certain.
+    fn ray_hits(
+        cam: &OrbitCamera,
+        proj: &Projection,
+        t: [DVec3; 3],
+        x: u32,
+        y: u32,
+    ) -> Option<RayHit> {
+        let (forward, right, up) = cam.basis();
+        let tan_y = (f64::from(cam.fov_y_deg).to_radians() * 0.5).tan();
+        let sx = (2.0 * (f64::from(x) + 0.5) / f64::from(W) - 1.0) * tan_y;
+        let sy = (1.0 - 2.0 * (f64::from(y) + 0.5) / f64::from(H)) * tan_y;
+        let dir = forward.as_dvec3() + sx * right.as_dvec3() + sy * up.as_dvec3();
+        let o = cam.eye().as_dvec3();
+        // Möller–Trumbore; `dir` has unit length along `forward`, so `s` is the view depth.
+        let (e1, e2) = (t[1] - t[0], t[2] - t[0]);
+        let p = dir.cross(e2);
+        let det = e1.dot(p);
+        let tv = o - t[0];
+        let u = tv.dot(p) / det;
+        let q = tv.cross(e1);
+        let v = dir.dot(q) / det;
+        let s = e2.dot(q) / det;
+        let (near, far) = (f64::from(proj.near), f64::from(proj.far));
+        let margins = [u, v, 1.0 - u - v, s - near, far - s];
+        let eps = 1e-4;
+        if margins.iter().any(|m| m.abs() < eps) {
+            return None;
+        }
+        Some(RayHit {
+            inside: margins.iter().all(|&m| m > 0.0),
+            weights: [1.0 - u - v, u, v],
+            point: o + dir * s,
+            depth: s,
+        })
+    }
+
+    #[test]
+    fn triangles_crossing_near_and_far_planes_are_clipped() {
+        let cam = OrbitCamera::default();
+        // Anisotropic, so grid-space normals must be carried to world space properly.
+        let f = GridFrame::new([33, 25, 41], [1.0, 1.3, 0.7]);
+        let proj = Projection::new(&cam, &f, W, H);
+        let light = GridCamera::new(&cam, &f, W, H).light_world;
+        let normals = [Vec3::X, Vec3::new(0.0, 1.0, 0.5), Vec3::new(0.3, -0.2, 1.0)];
+        let world_normals = normals.map(|n| (n / f.grid_to_world).normalize().as_dvec3());
+        let far_ndc = f64::from(proj.far) / f64::from(proj.far - proj.near);
+        let (forward, right, up) = cam.basis();
+        let eye = cam.eye();
+        let at = |depth: f32, x: f32, y: f32| eye + depth * forward + x * right + y * up;
+        let cases = [
+            // Two corners in front, one behind the eye (above it): unclipped, the far corner
+            // would project upside down and smear the triangle over the top of the image.
+            [
+                at(1.5, -0.3, -0.3),
+                at(1.5, 0.3, -0.25),
+                at(-0.5, 0.05, 0.5),
+            ],
+            // One corner behind the eye, two in front, off to the side.
+            [at(-0.4, -0.6, 0.0), at(1.2, 0.2, 0.2), at(1.3, 0.1, -0.3)],
+            // One corner past the far plane.
+            [at(1.4, -0.3, 0.2), at(1.5, 0.3, 0.25), at(4.0, 0.0, -1.0)],
+        ];
+        for corners in cases {
+            let mesh = TriangleMesh {
+                positions: corners.map(|p| f.world_to_grid_point(p)).to_vec(),
+                normals: normals.to_vec(),
+                triangles: vec![[0, 1, 2]],
+            };
+            let (out, counts) = render_counts(&mesh, &f);
+            assert!(out.depth.iter().all(|d| (0.0..=1.0).contains(d)));
+            assert!(counts.iter().all(|&c| c <= 1));
+            let world = corners.map(|p| p.as_dvec3());
+            let mut covered = 0;
+            let mut mismatches = 0;
+            for y in 0..H {
+                for x in 0..W {
+                    let i = (y * W + x) as usize;
+                    let c = out.coverage[i];
+                    covered += usize::from(c);
+                    let Some(hit) = ray_hits(&cam, &proj, world, x, y) else {
+                        continue;
+                    };
+                    mismatches += usize::from(c != hit.inside);
+                    if !(c && hit.inside) {
+                        continue;
+                    }
+                    // Depth is NDC z of the hit; attributes are its true 3D barycentric mix
+                    // (what perspective-correct interpolation reproduces).
+                    let z = far_ndc * (1.0 - f64::from(proj.near) / hit.depth);
+                    assert!(
+                        (f64::from(out.depth[i]) - z).abs() < 1e-4,
+                        "depth at {x},{y}: {} vs {z}",
+                        out.depth[i]
+                    );
+                    let n = (0..3)
+                        .map(|k| world_normals[k] * hit.weights[k])
+                        .sum::<DVec3>();
+                    let expect = shade_fragment(n.as_vec3(), hit.point.as_vec3(), cam.eye(), light);
+                    let (got, want) = (out.image.pixels[i].to_le_bytes(), expect.to_le_bytes());
+                    let diff = (0..4).map(|k| got[k].abs_diff(want[k])).max();
+                    assert!(diff <= Some(1), "colour at {x},{y}: {got:?} vs {want:?}");
+                }
+            }
+            assert!(covered > 200, "only {covered} pixels");
+            assert_eq!(mismatches, 0, "pixels disagree with ray casting");
+        }
+
+        // Entirely behind the camera: nothing.
+        let behind = TriangleMesh {
+            positions: [at(-0.5, -0.3, 0.0), at(-0.5, 0.3, 0.0), at(-0.7, 0.0, 0.3)]
+                .map(|p| f.world_to_grid_point(p))
+                .to_vec(),
+            normals: Vec::new(),
+            triangles: vec![[0, 1, 2]],
+        };
+        let (out, counts) = render_counts(&behind, &f);
+        assert!(counts.iter().all(|&c| c == 0));
+        assert!(out.depth.iter().all(|&d| d == 1.0));
+    }
+
+    #[test]
+    fn nearer_triangle_occludes_farther_one() {
+        let cam = OrbitCamera::default();
+        let f = frame();
+        let near = [(20.0, 30.0), (100.0, 25.0), (60.0, 100.0)];
+        let far = [(10.0, 60.0), (110.0, 50.0), (70.0, 120.0)];
+        let mut a = screen_mesh(&cam, &f, &near, vec![[0, 1, 2]], 1.3);
+        let mut b = screen_mesh(&cam, &f, &far, vec![[0, 1, 2]], 2.2);
+        // Tilt the far triangle's normals so the two shade differently.
+        b.normals = vec![Vec3::new(1.0, 0.5, 0.0); 3];
+        a.normals[1] = Vec3::new(0.0, 1.0, 1.0);
+        let alone = [&a, &b].map(|m| render_counts(m, &f).0);
+        for order in [[&a, &b], [&b, &a]] {
+            let mut both = order[0].clone();
+            let base = both.positions.len() as u32;
+            both.positions.extend(&order[1].positions);
+            both.normals.extend(&order[1].normals);
+            both.triangles.push([base, base + 1, base + 2]);
+            let out = render_counts(&both, &f).0;
+            let mut overlap = 0;
+            for i in 0..(W * H) as usize {
+                let expect = if alone[0].coverage[i] {
+                    overlap += usize::from(alone[1].coverage[i]);
+                    &alone[0]
+                } else {
+                    &alone[1]
+                };
+                assert_eq!(out.image.pixels[i], expect.image.pixels[i], "pixel {i}");
+                assert_eq!(out.depth[i], expect.depth[i]);
+                assert_eq!(out.coverage[i], expect.coverage[i]);
+            }
+            assert!(overlap > 1000, "triangles barely overlap ({overlap})");
+        }
+        let differ = (0..(W * H) as usize)
+            .filter(|&i| alone[0].coverage[i] && alone[1].coverage[i])
+            .filter(|&i| alone[0].image.pixels[i] != alone[1].image.pixels[i])
+            .count();
+        assert!(differ > 1000, "the triangles shade alike ({differ})");
+    }
+
+    #[test]
+    fn shade_fragment_rules() {
+        let eye = Vec3::new(0.0, 0.0, 2.0);
+        let light = Vec3::new(0.3, 0.5, 0.8).normalize();
+        let p = Vec3::new(0.1, -0.2, 0.0);
+        let n = Vec3::new(0.2, 0.1, 1.0);
+        let c = shade_fragment(n * 3.0, p, eye, light);
+        let view = (eye - p).normalize();
+        let g = gooch(n.normalize(), light, view);
+        assert_eq!(c, pack_rgba8([g.x, g.y, g.z, 1.0]));
+        assert_eq!(shade_fragment(-n, p, eye, light), c, "double-sided");
+        let fallback = gooch(view, light, view);
+        assert_eq!(
+            shade_fragment(Vec3::ZERO, p, eye, light),
+            pack_rgba8([fallback.x, fallback.y, fallback.z, 1.0])
+        );
+    }
+}
