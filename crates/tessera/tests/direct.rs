@@ -8,8 +8,10 @@ use glam::Vec3;
 use std::collections::HashMap;
 use tessera::iso::direct::{Direct, RasterTarget};
 use tessera::shaders;
+use tessera_data::image::{coverage_of, silhouette_iou};
 use tessera_data::marching_cubes::marching_cubes;
 use tessera_data::procedural::{generate, ProceduralKind};
+use tessera_data::rasterize::rasterize_mesh;
 use tessera_data::{IsoValue, OrbitCamera, Samples, ScalarType, Volume};
 use tessera_gpu::Gpu;
 
@@ -143,6 +145,72 @@ fn mesh_shader_triangles_equal_cpu_marching_cubes() {
             "{}: a list exceeded the vertex limit",
             volume.name()
         );
+        prepared.destroy(&gpu);
+        direct.destroy(&gpu);
+    }
+    target.destroy(&gpu);
+    assert_clean(&gpu);
+}
+
+#[test]
+fn direct_images_match_cpu_rasterized_marching_cubes() {
+    let Some(gpu) = mesh_gpu() else { return };
+    let compiler = shaders::compiler();
+    let (w, h) = (128, 112);
+    let camera = OrbitCamera {
+        azimuth_deg: -40.0,
+        elevation_deg: 30.0,
+        distance: 1.9,
+        fov_y_deg: 40.0,
+    };
+    let target = RasterTarget::new(&gpu, w, h).unwrap();
+    let background = tessera_data::shading::pack_rgba8(tessera_data::shading::BACKGROUND);
+    let volumes = [
+        generate(ProceduralKind::HeadPhantom, 40, ScalarType::U8).unwrap(),
+        generate(ProceduralKind::MarschnerLobb, 33, ScalarType::U16).unwrap(),
+        generate(ProceduralKind::Turbulence, 29, ScalarType::F32).unwrap(),
+    ];
+    for volume in &volumes {
+        let direct = Direct::new(&gpu, &compiler, volume.scalar_type()).unwrap();
+        let prepared = direct.prepare(&gpu, volume).unwrap();
+        for fraction in [0.3f32, 0.6] {
+            let iso = volume.iso_to_texel(IsoValue::Normalized(fraction));
+            let frame = direct
+                .render(&gpu, &prepared, &target, iso, &camera, 0)
+                .unwrap();
+            let mesh = marching_cubes(volume, iso);
+            let frame_grid = tessera_data::GridFrame::new(volume.dims(), volume.spacing());
+            let reference = rasterize_mesh(&mesh, &frame_grid, &camera, w, h);
+            let name = format!("direct-{}-{fraction}", volume.name());
+            let coverage = coverage_of(&frame.image, background);
+            let iou = silhouette_iou(&coverage, &reference.coverage);
+            let both: Vec<bool> = coverage
+                .iter()
+                .zip(&reference.coverage)
+                .map(|(a, b)| *a && *b)
+                .collect();
+            let diff = frame.image.compare_where(&reference.image, &both, 2);
+            eprintln!(
+                "{name}: IoU {iou:.4}, {:.3}% of co-covered pixels within 2/255 (max {})",
+                diff.fraction_within * 100.0,
+                diff.max_channel_diff
+            );
+            let covered = both.iter().filter(|&&b| b).count();
+            if iou < 0.99 || diff.fraction_within < 0.99 || covered < (w * h / 20) as usize {
+                let dir = common::out_dir();
+                common::write_png(&dir.join(format!("{name}-actual.png")), &frame.image);
+                common::write_png(&dir.join(format!("{name}-expected.png")), &reference.image);
+                common::write_png(
+                    &dir.join(format!("{name}-diff.png")),
+                    &frame.image.diff_image(&reference.image),
+                );
+                panic!(
+                    "{name}: IoU {iou}, within {}, covered {covered}; images in {}",
+                    diff.fraction_within,
+                    dir.display()
+                );
+            }
+        }
         prepared.destroy(&gpu);
         direct.destroy(&gpu);
     }
