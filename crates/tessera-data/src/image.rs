@@ -33,21 +33,7 @@ impl RgbaImage {
     }
 
     pub fn compare(&self, other: &RgbaImage, tolerance: u8) -> ImageDiff {
-        assert_eq!((self.width, self.height), (other.width, other.height));
-        let mut max = 0u8;
-        let mut outside = 0;
-        for (a, b) in self.pixels.iter().zip(&other.pixels) {
-            let d = channel_diff(*a, *b);
-            max = max.max(d);
-            if d > tolerance {
-                outside += 1;
-            }
-        }
-        ImageDiff {
-            max_channel_diff: max,
-            fraction_within: 1.0 - outside as f64 / self.pixels.len().max(1) as f64,
-            pixels_outside: outside,
-        }
+        self.compare_where(other, &vec![true; self.pixels.len()], tolerance)
     }
 
     /// Like [`RgbaImage::compare`], but only over the pixels where `mask` is true (for

@@ -13,3 +13,13 @@ pub enum Error {
 }
 
 pub type Result<T> = std::result::Result<T, Error>;
+
+/// Refuses empty images before any GPU object is made for them.
+pub fn check_image_size(width: u32, height: u32) -> Result<()> {
+    if width == 0 || height == 0 {
+        return Err(Error::Invalid(format!(
+            "image size {width}x{height} is empty"
+        )));
+    }
+    Ok(())
+}

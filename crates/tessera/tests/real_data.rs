@@ -11,6 +11,7 @@ use tessera_data::raw::{load_raw, RawOptions};
 use tessera_data::{raycast, OrbitCamera, Volume};
 
 const BRAINSMALL: &str = "/usr/share/doc/libvolpack1-dev/examples/brainsmall.den";
+const T1_TEMPLATE: &str = "/usr/share/mricron/templates/ch2.nii.gz";
 
 /// VolPack's MRI head: a 62-byte header, then 128×128×84 bytes.
 fn brainsmall() -> Option<Volume> {
@@ -71,4 +72,83 @@ fn raymarch_mri_head_matches_cpu_reference() {
         fov_y_deg: 40.0,
     };
     raymarch_matches_reference(&volume, &[60.0, 100.0], &camera);
+}
+
+#[test]
+fn raymarch_t1_brain_template_matches_cpu_reference() {
+    let path = Path::new(T1_TEMPLATE);
+    if !path.exists() {
+        eprintln!("skipped: {T1_TEMPLATE} not found (Debian package mricron-data)");
+        return;
+    }
+    let volume = tessera_data::load::load_volume(path, &RawOptions::default()).expect("ch2 loads");
+    assert_eq!(volume.dims(), [181, 217, 181]);
+    let camera = OrbitCamera {
+        azimuth_deg: 120.0,
+        elevation_deg: 20.0,
+        distance: 1.8,
+        fov_y_deg: 40.0,
+    };
+    let (lo, hi) = volume.value_range();
+    raymarch_matches_reference(
+        &volume,
+        &[lo + 0.3 * (hi - lo), lo + 0.5 * (hi - lo)],
+        &camera,
+    );
+}
+
+#[test]
+fn direct_mri_head_triangles_equal_cpu_marching_cubes() {
+    let Some(volume) = brainsmall() else { return };
+    let gpu = gpu();
+    if !gpu.caps().mesh_shader {
+        eprintln!("skipped: no mesh shaders on {}", gpu.caps().device_name);
+        return;
+    }
+    let compiler = shaders::compiler();
+    let direct = tessera::iso::direct::Direct::new(&gpu, &compiler, volume.scalar_type()).unwrap();
+    let prepared = direct.prepare(&gpu, &volume).unwrap();
+    let target = tessera::iso::direct::RasterTarget::new(&gpu, 96, 96).unwrap();
+    let iso = 60.0;
+    let cpu = tessera_data::marching_cubes::marching_cubes(&volume, iso);
+    let frame = direct
+        .render(
+            &gpu,
+            &prepared,
+            &target,
+            iso,
+            &OrbitCamera::default(),
+            cpu.triangle_count() as u32 + 64,
+        )
+        .unwrap();
+    assert_eq!(frame.stats.triangles as usize, cpu.triangle_count());
+    // Same multiset of triangles: compare sorted, orientation-preserving canonical forms.
+    let canon = |t: [glam::Vec3; 3]| {
+        let k = (0..3)
+            .min_by(|&a, &b| t[a].to_array().partial_cmp(&t[b].to_array()).unwrap())
+            .unwrap();
+        [t[k], t[(k + 1) % 3], t[(k + 2) % 3]].map(|v| (v * 1024.0).round().as_ivec3().to_array())
+    };
+    let mut balance: std::collections::HashMap<_, i64> = std::collections::HashMap::new();
+    for t in frame.triangles.unwrap() {
+        *balance.entry(canon(t)).or_default() += 1;
+    }
+    for t in &cpu.triangles {
+        *balance
+            .entry(canon(t.map(|i| cpu.positions[i as usize])))
+            .or_default() -= 1;
+    }
+    let differing: i64 = balance.values().filter(|&&c| c > 0).sum();
+    let cpu_tris = &cpu.triangles;
+    // u8 data at a half-integer-free isovalue puts vertices at multiples of 1/k; rounding to
+    // 1/1024 can still split a rare pair differently, so allow a handful.
+    assert!(
+        differing <= (cpu_tris.len() / 10_000 + 2) as i64,
+        "{differing} of {} triangles differ",
+        cpu_tris.len()
+    );
+    target.destroy(&gpu);
+    prepared.destroy(&gpu);
+    direct.destroy(&gpu);
+    assert_clean(&gpu);
 }

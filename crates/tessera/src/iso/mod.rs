@@ -5,7 +5,7 @@ pub mod minmax;
 pub mod raymarch;
 pub mod renderer;
 
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::gpu_volume::GpuVolume;
 use minmax::{MinMaxBuilder, MinMaxOctreeGpu};
 use tessera_data::Volume;
@@ -22,6 +22,13 @@ pub struct PreparedVolume {
 impl PreparedVolume {
     /// Uploads `volume` and builds its octree on the GPU.
     pub fn new(gpu: &Gpu, builder: &MinMaxBuilder, volume: &Volume) -> Result<PreparedVolume> {
+        if volume.scalar_type() != builder.scalar() {
+            return Err(Error::Invalid(format!(
+                "the pipelines were built for {} samples, the volume has {}",
+                builder.scalar().name(),
+                volume.scalar_type().name()
+            )));
+        }
         let gpu_volume = GpuVolume::upload(gpu, volume)?;
         let octree = match MinMaxOctreeGpu::allocate(gpu, volume.dims()) {
             Ok(o) => o,

@@ -62,11 +62,7 @@ pub struct RasterTarget {
 
 impl RasterTarget {
     pub fn new(gpu: &Gpu, width: u32, height: u32) -> Result<RasterTarget> {
-        if width == 0 || height == 0 {
-            return Err(Error::Invalid(format!(
-                "image size {width}x{height} is empty"
-            )));
-        }
+        crate::error::check_image_size(width, height)?;
         let color = gpu.create_image(
             "direct colour",
             [width, height, 1],
@@ -122,7 +118,6 @@ pub struct Direct {
     pipeline: Pipeline,
     builder: MinMaxBuilder,
     stats: Buffer,
-    scalar: ScalarType,
 }
 
 impl Direct {
@@ -164,18 +159,10 @@ impl Direct {
             pipeline,
             builder: MinMaxBuilder::new(gpu, compiler, scalar)?,
             stats,
-            scalar,
         })
     }
 
     pub fn prepare(&self, gpu: &Gpu, volume: &Volume) -> Result<PreparedVolume> {
-        if volume.scalar_type() != self.scalar {
-            return Err(Error::Invalid(format!(
-                "this renderer was built for {} samples, the volume has {}",
-                self.scalar.name(),
-                volume.scalar_type().name()
-            )));
-        }
         PreparedVolume::new(gpu, &self.builder, volume)
     }
 

@@ -93,6 +93,7 @@ impl MinMaxOctreeGpu {
 pub struct MinMaxBuilder {
     blocks: Pipeline,
     reduce: Pipeline,
+    scalar: ScalarType,
 }
 
 impl MinMaxBuilder {
@@ -124,7 +125,13 @@ impl MinMaxBuilder {
                 &[Slot::Texture, Slot::StorageBuffer],
             )?,
             reduce: gpu.compute_pipeline("minmax reduce", &reduce, &[Slot::StorageBuffer])?,
+            scalar,
         })
+    }
+
+    /// The sample type the pipelines read.
+    pub fn scalar(&self) -> ScalarType {
+        self.scalar
     }
 
     /// Records the build of every level of `octree` from `volume`.

@@ -8,7 +8,7 @@
 
 use crate::builtin_shader;
 use crate::config::volume_defines;
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::iso::minmax::MinMaxBuilder;
 pub use crate::iso::PreparedVolume;
 use bytemuck::{Pod, Zeroable};
@@ -41,11 +41,7 @@ pub struct RenderTarget {
 
 impl RenderTarget {
     pub fn new(gpu: &Gpu, width: u32, height: u32) -> Result<RenderTarget> {
-        if width == 0 || height == 0 {
-            return Err(Error::Invalid(format!(
-                "image size {width}x{height} is empty"
-            )));
-        }
+        crate::error::check_image_size(width, height)?;
         let pixels = gpu.create_buffer(
             "raymarch pixels",
             width as u64 * height as u64 * 4,
@@ -86,7 +82,6 @@ impl RenderTarget {
 pub struct Raymarch {
     march: Pipeline,
     builder: MinMaxBuilder,
-    scalar: ScalarType,
 }
 
 impl Raymarch {
@@ -108,19 +103,11 @@ impl Raymarch {
         Ok(Raymarch {
             march,
             builder: MinMaxBuilder::new(gpu, compiler, scalar)?,
-            scalar,
         })
     }
 
     /// Uploads `volume` and builds its octree on the GPU.
     pub fn prepare(&self, gpu: &Gpu, volume: &Volume) -> Result<PreparedVolume> {
-        if volume.scalar_type() != self.scalar {
-            return Err(Error::Invalid(format!(
-                "this raymarcher was built for {} samples, the volume has {}",
-                self.scalar.name(),
-                volume.scalar_type().name()
-            )));
-        }
         PreparedVolume::new(gpu, &self.builder, volume)
     }
 
