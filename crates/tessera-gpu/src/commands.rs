@@ -233,6 +233,24 @@ impl Recorder<'_> {
         };
     }
 
+    /// Dispatches the workgroup counts stored as three `u32`s at `offset` in `args` (written
+    /// by an earlier pass, e.g. from a count of generated work).
+    pub fn dispatch_indirect(
+        &self,
+        pipeline: &Pipeline,
+        bindings: &[Binding],
+        push: &[u8],
+        args: &Buffer,
+        offset: u64,
+    ) {
+        self.bind(pipeline, bindings, push);
+        unsafe {
+            self.gpu
+                .device
+                .cmd_dispatch_indirect(self.cmd, args.handle, offset)
+        };
+    }
+
     /// Begins dynamic rendering into `target` (in `GENERAL` layout), cleared to `clear`.
     pub fn begin_rendering(&self, target: &Image, clear: [f32; 4]) {
         self.begin_rendering_with_depth(target, None, clear);
