@@ -5,7 +5,8 @@ use clap::Args;
 use std::io::Write;
 use std::path::PathBuf;
 use tessera::bench::{time_frames, BenchRecord, FramePlan};
-use tessera::iso::raymarch::{Raymarch, RenderTarget};
+use tessera::iso::raymarch::Raymarch;
+use tessera::target::PixelTarget;
 use tessera_data::minmax::MinMaxOctree;
 use tessera_data::{IsoValue, OrbitCamera, ScalarType, Volume};
 use tessera_gpu::{vk, Gpu, GpuOptions, MemoryLocation};
@@ -210,7 +211,7 @@ fn raymarch(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -> Re
         let rm = Raymarch::new(gpu, &compiler, scalar)?;
         let prepared = rm.prepare(gpu, &volume)?;
         for (w, h) in bench_sizes(args.quick) {
-            let target = RenderTarget::new(gpu, w, h)?;
+            let target = PixelTarget::new(gpu, w, h)?;
             let params = Raymarch::params(&prepared, iso, &camera, w, h);
             let stages = time_frames(gpu, plan, 1, |rec, timer| {
                 timer.scope(rec, "raymarch", |rec| {

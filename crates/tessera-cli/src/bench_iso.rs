@@ -4,8 +4,9 @@ use crate::bench::{bench_sizes, bench_volumes, make_volume, BenchArgs, Sink};
 use anyhow::Result;
 use tessera::bench::{time_frames, BenchRecord, FramePlan};
 use tessera::iso::direct::{Direct, RasterTarget};
-use tessera::iso::raymarch::{Raymarch, RenderTarget};
+use tessera::iso::raymarch::Raymarch;
 use tessera::iso::PreparedVolume;
+use tessera::target::PixelTarget;
 use tessera_data::{IsoValue, OrbitCamera, Volume};
 use tessera_gpu::{Gpu, ShaderCompiler};
 
@@ -58,7 +59,7 @@ fn measure(
         r
     };
 
-    let target = RenderTarget::new(gpu, w, h)?;
+    let target = PixelTarget::new(gpu, w, h)?;
     let mut frame = 0u32;
     let stages = time_frames(gpu, plan, 1, |rec, timer| {
         let params = Raymarch::params(prepared, iso_of(frame), &camera, w, h);

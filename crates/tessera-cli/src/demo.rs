@@ -4,7 +4,8 @@ use anyhow::Result;
 use clap::Args;
 use std::path::PathBuf;
 use std::time::Instant;
-use tessera::iso::raymarch::{Raymarch, RenderTarget};
+use tessera::iso::raymarch::Raymarch;
+use tessera::target::PixelTarget;
 use tessera_data::procedural::{generate, ProceduralKind};
 use tessera_data::{IsoValue, OrbitCamera, ScalarType};
 use tessera_gpu::GpuOptions;
@@ -79,7 +80,7 @@ pub fn run(options: &GpuOptions, args: &DemoArgs) -> Result<()> {
         gpu.caps().driver_info
     );
     let size = args.image_size;
-    let target = RenderTarget::new(&gpu, size, size)?;
+    let target = PixelTarget::new(&gpu, size, size)?;
     for scene in scenes() {
         let volume = generate(scene.kind, args.volume_size, scene.scalar)?;
         let iso = volume.iso_to_texel(IsoValue::Normalized(scene.iso_fraction));

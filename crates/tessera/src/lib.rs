@@ -8,6 +8,7 @@ pub mod error;
 pub mod gpu_volume;
 pub mod iso;
 pub mod shaders;
+pub mod target;
 pub mod throughput;
 
 pub use error::{Error, Result};

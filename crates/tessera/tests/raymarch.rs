@@ -5,8 +5,9 @@ mod common;
 use common::{assert_clean, assert_images_match, gpu};
 use tessera::gpu_volume::GpuVolume;
 use tessera::iso::minmax::{MinMaxBuilder, MinMaxOctreeGpu};
-use tessera::iso::raymarch::{Raymarch, RaymarchParams, RenderTarget};
+use tessera::iso::raymarch::{Raymarch, RaymarchParams};
 use tessera::shaders;
+use tessera::target::PixelTarget;
 use tessera_data::minmax::MinMaxOctree;
 use tessera_data::procedural::{generate, ProceduralKind};
 use tessera_data::{raycast, IsoValue, OrbitCamera, Samples, ScalarType, Volume};
@@ -87,7 +88,7 @@ fn raymarched_images_match_cpu_reference() {
         distance: 1.9,
         fov_y_deg: 40.0,
     };
-    let target = RenderTarget::new(&gpu, w, h).unwrap();
+    let target = PixelTarget::new(&gpu, w, h).unwrap();
     for volume in volumes() {
         let rm = Raymarch::new(&gpu, &compiler, volume.scalar_type()).unwrap();
         let prepared = rm.prepare(&gpu, &volume).unwrap();
@@ -121,7 +122,7 @@ fn isovalue_outside_range_renders_background_only() {
     let volume = generate(ProceduralKind::Sphere, 24, ScalarType::U8).unwrap();
     let rm = Raymarch::new(&gpu, &compiler, ScalarType::U8).unwrap();
     let prepared = rm.prepare(&gpu, &volume).unwrap();
-    let target = RenderTarget::new(&gpu, 32, 32).unwrap();
+    let target = PixelTarget::new(&gpu, 32, 32).unwrap();
     target.poison(&gpu, POISON).unwrap();
     let (image, _) = rm
         .render(&gpu, &prepared, &target, 300.0, &OrbitCamera::default())

@@ -5,8 +5,9 @@ mod common;
 
 use common::{assert_clean, assert_images_match, gpu};
 use std::path::Path;
-use tessera::iso::raymarch::{Raymarch, RenderTarget};
+use tessera::iso::raymarch::Raymarch;
 use tessera::shaders;
+use tessera::target::PixelTarget;
 use tessera_data::raw::{load_raw, RawOptions};
 use tessera_data::{raycast, OrbitCamera, Volume};
 
@@ -35,7 +36,7 @@ fn raymarch_matches_reference(volume: &Volume, isos: &[f32], camera: &OrbitCamer
     let rm = Raymarch::new(&gpu, &compiler, volume.scalar_type()).unwrap();
     let prepared = rm.prepare(&gpu, volume).unwrap();
     let (w, h) = (128, 128);
-    let target = RenderTarget::new(&gpu, w, h).unwrap();
+    let target = PixelTarget::new(&gpu, w, h).unwrap();
     let background = tessera_data::shading::pack_rgba8(tessera_data::shading::BACKGROUND);
     for &iso in isos {
         target.poison(&gpu, u32::MAX).unwrap();

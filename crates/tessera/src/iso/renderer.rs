@@ -2,8 +2,9 @@
 
 use crate::error::{Error, Result};
 use crate::iso::direct::{Direct, RasterTarget};
-use crate::iso::raymarch::{Raymarch, RenderTarget};
+use crate::iso::raymarch::Raymarch;
 use crate::iso::PreparedVolume;
+use crate::target::PixelTarget;
 use tessera_data::{OrbitCamera, RgbaImage, ScalarType, Volume};
 use tessera_gpu::{Gpu, ShaderCompiler};
 
@@ -88,7 +89,7 @@ impl IsoRenderer {
     ) -> Result<IsoFrame> {
         match &self.inner {
             Inner::Raymarch(r) => {
-                let target = RenderTarget::new(gpu, size.0, size.1)?;
+                let target = PixelTarget::new(gpu, size.0, size.1)?;
                 let result = r.render(gpu, prepared, &target, iso, camera);
                 target.destroy(gpu);
                 let (image, gpu_ms) = result?;

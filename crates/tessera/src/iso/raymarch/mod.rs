@@ -11,11 +11,10 @@ use crate::config::volume_defines;
 use crate::error::Result;
 use crate::iso::minmax::MinMaxBuilder;
 pub use crate::iso::PreparedVolume;
+use crate::target::PixelTarget;
 use bytemuck::{Pod, Zeroable};
 use tessera_data::{GridCamera, GridFrame, OrbitCamera, RgbaImage, ScalarType, Volume};
-use tessera_gpu::{
-    vk, Binding, Buffer, Gpu, MemoryLocation, Pipeline, Recorder, ShaderCompiler, Slot, Timer,
-};
+use tessera_gpu::{Binding, Gpu, Pipeline, Recorder, ShaderCompiler, Slot, Timer};
 
 /// Push constants of `raymarch.comp.glsl` (its `RaymarchParams` block; a test holds the two to
 /// the same layout).
@@ -30,53 +29,6 @@ pub struct RaymarchParams {
     pub grid_to_world: [f32; 4],
     pub dims: [u32; 4],
     pub image: [u32; 4],
-}
-
-/// Where a frame's pixels go: packed RGBA8, one `u32` per pixel.
-pub struct RenderTarget {
-    pub pixels: Buffer,
-    pub width: u32,
-    pub height: u32,
-}
-
-impl RenderTarget {
-    pub fn new(gpu: &Gpu, width: u32, height: u32) -> Result<RenderTarget> {
-        crate::error::check_image_size(width, height)?;
-        let pixels = gpu.create_buffer(
-            "raymarch pixels",
-            width as u64 * height as u64 * 4,
-            vk::BufferUsageFlags::STORAGE_BUFFER
-                | vk::BufferUsageFlags::TRANSFER_SRC
-                | vk::BufferUsageFlags::TRANSFER_DST,
-            MemoryLocation::GpuOnly,
-        )?;
-        Ok(RenderTarget {
-            pixels,
-            width,
-            height,
-        })
-    }
-
-    /// Fills every pixel with `value`, so a pixel the shader never writes is caught.
-    pub fn poison(&self, gpu: &Gpu, value: u32) -> Result<()> {
-        gpu.submit("poison pixels", |rec| rec.fill_buffer(&self.pixels, value))?;
-        Ok(())
-    }
-
-    pub fn read(&self, gpu: &Gpu) -> Result<RgbaImage> {
-        let bytes = gpu.read_buffer(&self.pixels)?;
-        Ok(RgbaImage {
-            width: self.width,
-            height: self.height,
-            pixels: bytemuck::allocation::pod_collect_to_vec(
-                &bytes[..(self.width * self.height * 4) as usize],
-            ),
-        })
-    }
-
-    pub fn destroy(self, gpu: &Gpu) {
-        gpu.destroy_buffer(self.pixels);
-    }
 }
 
 pub struct Raymarch {
@@ -149,7 +101,7 @@ impl Raymarch {
         &self,
         rec: &Recorder,
         prepared: &PreparedVolume,
-        target: &RenderTarget,
+        target: &PixelTarget,
         params: &RaymarchParams,
     ) {
         rec.dispatch(
@@ -173,7 +125,7 @@ impl Raymarch {
         &self,
         gpu: &Gpu,
         prepared: &PreparedVolume,
-        target: &RenderTarget,
+        target: &PixelTarget,
         iso: f32,
         camera: &OrbitCamera,
     ) -> Result<(RgbaImage, f64)> {
