@@ -9,7 +9,5 @@ layout(location = 0) out vec4 colour;
 #include "iso/direct/params.glsl"
 
 void main() {
-    vec3 view = normalize(params.eye_world.xyz - position_world);
-    vec3 n = dot(normal_world, normal_world) > 0.0 ? normalize(normal_world) : view;
-    colour = vec4(gooch(n, params.light.xyz, view), 1.0);
+    colour = vec4(shade_surface(normal_world, position_world, params.eye_world.xyz, params.light.xyz), 1.0);
 }

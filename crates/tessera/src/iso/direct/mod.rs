@@ -8,6 +8,8 @@
 //! tests hold the GPU to the CPU marching cubes exactly. Raster occlusion culling, stereo and
 //! the compute path are not built yet.
 
+pub mod compute;
+
 use crate::builtin_shader;
 use crate::config::volume_defines;
 use crate::error::{Error, Result};

@@ -1,0 +1,93 @@
+#version 460
+// Compute path of direct isosurface extraction: the task and mesh stages' work in one compute
+// workgroup per 8×8×4 block, for GPUs whose graphics stages run on few units. Triangles go to
+// the shared compute rasterizer's list (clip-space corners) with their shading attributes
+// beside them; the workgroup reserves its slots with one atomic.
+#include "common/volume.glsl"
+#include "common/mc_tables.glsl"
+#include "common/mc_cell.glsl"
+#include "iso/direct/params.glsl"
+
+layout(local_size_x = 32) in;
+layout(binding = 0) uniform VOLUME_SAMPLER volume_tex;
+layout(binding = 1) readonly buffer Nodes { vec2 minmax_nodes[]; };
+struct RasterTriangle { vec4 clip[3]; };
+layout(binding = 2) writeonly buffer Triangles { RasterTriangle triangles[]; };
+struct TriangleAttributes { vec4 normal_world[3]; vec4 position_world[3]; };
+layout(binding = 3) writeonly buffer Attributes { TriangleAttributes attributes[]; };
+// The rasterizer's counts (triangle_count, then its dispatch arguments).
+layout(binding = 4) buffer Counts { uint triangle_count; };
+// [0] triangles emitted (may exceed the capacity: then the frame is incomplete), [1] blocks
+// that reached classification.
+layout(binding = 5) buffer Stats { uint stats[]; };
+
+const uint CELLS = BLOCK_X * BLOCK_Y * BLOCK_Z;
+const uint PER_THREAD = CELLS / 32u;
+shared uint prefix[33];
+shared uint base;
+
+void main() {
+    uint me = gl_LocalInvocationIndex;
+    uvec3 block = gl_WorkGroupID;
+    uvec3 dims = params.dims.xyz;
+    float iso = params.eye_world.w;
+    uint capacity = params.dims.w;
+    uvec3 block_dims = (dims - 2u) / uvec3(BLOCK_X, BLOCK_Y, BLOCK_Z) + 1u;
+    vec2 range = minmax_nodes[block.x + block_dims.x * (block.y + block_dims.y * block.z)];
+    if (iso < range.x || iso > range.y) {
+        return;  // uniform across the workgroup
+    }
+
+    uint cases[PER_THREAD];
+    uint total = 0u;
+    for (uint k = 0u; k < PER_THREAD; ++k) {
+        uint id = me * PER_THREAD + k;
+        uvec3 local = uvec3(id % BLOCK_X, (id / BLOCK_X) % BLOCK_Y, id / (BLOCK_X * BLOCK_Y));
+        uvec3 cell = block * uvec3(BLOCK_X, BLOCK_Y, BLOCK_Z) + local;
+        cases[k] = all(lessThan(cell, dims - 1u)) ? mc_cell_case(volume_tex, cell, iso) : 0u;
+        total += mc_tri_count(cases[k]);
+    }
+    prefix[me + 1u] = total;
+    barrier();
+    if (me == 0u) {
+        prefix[0] = 0u;
+        for (uint t = 1u; t <= 32u; ++t) {
+            prefix[t] += prefix[t - 1u];
+        }
+        uint wg_total = prefix[32];
+        uint first = atomicAdd(stats[0], wg_total);
+        atomicAdd(stats[1], 1u);
+        // Slots past the capacity are dropped; the count stays exact (see Stats).
+        uint kept = first >= capacity ? 0u : min(wg_total, capacity - first);
+        atomicAdd(triangle_count, kept);
+        base = first;
+    }
+    barrier();
+
+    uint slot = base + prefix[me];
+    vec3 centre = 0.5 * vec3(dims - 1u);
+    for (uint k = 0u; k < PER_THREAD; ++k) {
+        uint case_index = cases[k];
+        uint n = mc_tri_count(case_index);
+        if (n == 0u) {
+            continue;
+        }
+        uint id = me * PER_THREAD + k;
+        uvec3 local = uvec3(id % BLOCK_X, (id / BLOCK_X) % BLOCK_Y, id / (BLOCK_X * BLOCK_Y));
+        uvec3 cell = block * uvec3(BLOCK_X, BLOCK_Y, BLOCK_Z) + local;
+        for (uint t = 0u; t < n; ++t, ++slot) {
+            if (slot >= capacity) {
+                continue;
+            }
+            for (uint j = 0u; j < 3u; ++j) {
+                vec3 p;
+                vec3 normal;
+                mc_edge_vertex(volume_tex, cell, mc_tri_edge(case_index, 3u * t + j), iso, dims, p, normal);
+                vec3 nw = normal / params.grid_to_world.xyz;
+                triangles[slot].clip[j] = params.grid_to_clip * vec4(p, 1.0);
+                attributes[slot].normal_world[j] = vec4(dot(nw, nw) > 0.0 ? normalize(nw) : nw, 0.0);
+                attributes[slot].position_world[j] = vec4((p - centre) * params.grid_to_world.xyz, 1.0);
+            }
+        }
+    }
+}
