@@ -17,12 +17,13 @@ const SCENARIOS: &[&str] = &[
     "minmax-build",
     "isosurface",
     "iso-sweep",
+    "time-varying",
 ];
 
 #[derive(Args)]
 pub struct BenchArgs {
     /// pipeline-throughput, raymarch, minmax-build, isosurface (raymarch against direct),
-    /// iso-sweep (isovalue changes every frame) or all.
+    /// iso-sweep (isovalue changes every frame), time-varying (a new volume every frame) or all.
     scenario: String,
     /// Append JSON lines here.
     #[arg(long)]
@@ -131,6 +132,7 @@ pub fn run(options: &GpuOptions, args: &BenchArgs) -> Result<()> {
             "minmax-build" => minmax_build(&gpu, args, plan, &mut sink)?,
             "isosurface" => crate::bench_iso::isosurface(&gpu, args, plan, &mut sink)?,
             "iso-sweep" => crate::bench_iso::iso_sweep(&gpu, args, plan, &mut sink)?,
+            "time-varying" => crate::bench_iso::time_varying(&gpu, args, plan, &mut sink)?,
             _ => unreachable!("scenario list checked above"),
         }
     }

@@ -7,7 +7,7 @@ use tessera::iso::direct::{Direct, RasterTarget};
 use tessera::iso::raymarch::Raymarch;
 use tessera::iso::PreparedVolume;
 use tessera::target::PixelTarget;
-use tessera_data::{IsoValue, OrbitCamera, Volume};
+use tessera_data::{IsoValue, OrbitCamera, ScalarType, Volume};
 use tessera_gpu::{Gpu, ShaderCompiler};
 
 /// Each frame's isovalue as a fraction of the value range; `None` keeps it fixed.
@@ -149,4 +149,110 @@ pub fn iso_sweep(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) 
         0.2 + 0.4 * (1.0 - (2.0 * phase - 1.0).abs())
     };
     run_scenario(gpu, args, plan, sink, "iso-sweep", Some(&sweep))
+}
+
+/// A new volume every frame, as when playing back a simulation's time steps: each frame copies
+/// the next step from host memory into the volume texture, rebuilds the octree and renders.
+/// The steps are the four procedural fields at one size and type, staged in host memory.
+pub fn time_varying(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -> Result<()> {
+    use tessera_data::procedural::{generate, ProceduralKind};
+    let compiler = tessera::shaders::compiler();
+    let sizes: &[(u32, ScalarType)] = if args.quick {
+        &[(48, ScalarType::U8)]
+    } else {
+        &[(256, ScalarType::U8), (512, ScalarType::U8)]
+    };
+    let camera = OrbitCamera::default();
+    for &(size, scalar) in sizes {
+        let kinds = [
+            ProceduralKind::HeadPhantom,
+            ProceduralKind::Turbulence,
+            ProceduralKind::MarschnerLobb,
+            ProceduralKind::Sphere,
+        ];
+        let steps: Vec<Volume> = kinds
+            .iter()
+            .map(|&k| generate(k, size, scalar))
+            .collect::<std::result::Result<_, _>>()?;
+        let staged: Vec<_> = steps
+            .iter()
+            .map(|v| gpu.staging_with(v.name(), v.bytes()))
+            .collect::<std::result::Result<_, _>>()?;
+        let isos: Vec<f32> = steps
+            .iter()
+            .map(|v| v.iso_to_texel(IsoValue::Normalized(args.iso_fraction)))
+            .collect();
+        let t = techniques(gpu, &compiler, &steps[0])?;
+        let builder = tessera::iso::minmax::MinMaxBuilder::new(gpu, &compiler, scalar)?;
+        let prepared = PreparedVolume::new(gpu, &builder, &steps[0])?;
+        let dataset = format!("{size}^3 {} x{} steps", scalar.name(), steps.len());
+        for (w, h) in bench_sizes(args.quick) {
+            let mut frame = 0usize;
+            let target = PixelTarget::new(gpu, w, h)?;
+            let stages = time_frames(gpu, plan, 3, |rec, timer| {
+                let k = frame % steps.len();
+                frame += 1;
+                timer.scope(rec, "upload", |rec| {
+                    rec.copy_buffer_to_image(&staged[k], &prepared.volume.texture)
+                });
+                rec.barrier();
+                timer.scope(rec, "octree-build", |rec| {
+                    builder.record(rec, &prepared.volume, &prepared.octree)
+                });
+                rec.barrier();
+                let params = Raymarch::params(&prepared, isos[k], &camera, w, h);
+                timer.scope(rec, "raymarch", |rec| {
+                    t.raymarch.record(rec, &prepared, &target, &params)
+                });
+            })?;
+            target.destroy(gpu);
+            let mut r = BenchRecord::new(gpu, "time-varying", "raymarch", "compute", &dataset);
+            (r.width, r.height, r.warmup, r.frames, r.stages) =
+                (w, h, plan.warmup, plan.frames, stages);
+            r.counts
+                .insert("step_bytes".into(), steps[0].size_bytes() as f64);
+            sink.emit(&r)?;
+            if let Some(direct) = &t.direct {
+                let target = RasterTarget::new(gpu, w, h)?;
+                let capture = Direct::no_capture(gpu)?;
+                let mut recorded = Ok(());
+                let stages = time_frames(gpu, plan, 3, |rec, timer| {
+                    let k = frame % steps.len();
+                    frame += 1;
+                    timer.scope(rec, "upload", |rec| {
+                        rec.copy_buffer_to_image(&staged[k], &prepared.volume.texture)
+                    });
+                    rec.barrier();
+                    timer.scope(rec, "octree-build", |rec| {
+                        builder.record(rec, &prepared.volume, &prepared.octree)
+                    });
+                    rec.barrier();
+                    let params = Direct::params(&prepared, isos[k], &camera, w, h, 0);
+                    let result = timer.scope(rec, "direct", |rec| {
+                        direct.record(rec, &prepared, &target, &params, &capture)
+                    });
+                    recorded = recorded.clone().and(result.map_err(|e| e.to_string()));
+                });
+                target.destroy(gpu);
+                gpu.destroy_buffer(capture);
+                recorded.map_err(anyhow::Error::msg)?;
+                let mut r = BenchRecord::new(gpu, "time-varying", "direct", "mesh", &dataset);
+                (r.width, r.height, r.warmup, r.frames) = (w, h, plan.warmup, plan.frames);
+                r.stages = stages?;
+                r.counts
+                    .insert("step_bytes".into(), steps[0].size_bytes() as f64);
+                sink.emit(&r)?;
+            }
+        }
+        prepared.destroy(gpu);
+        builder.destroy(gpu);
+        for s in staged {
+            gpu.destroy_buffer(s);
+        }
+        t.raymarch.destroy(gpu);
+        if let Some(d) = t.direct {
+            d.destroy(gpu);
+        }
+    }
+    Ok(())
 }

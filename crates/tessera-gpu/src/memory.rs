@@ -130,7 +130,9 @@ impl Gpu {
         result.map(|_| buffer)
     }
 
-    fn staging_with(&self, name: &str, data: &[u8]) -> Result<Buffer> {
+    /// A host-visible copy source holding `data`, for uploads recorded by the caller (e.g. a
+    /// new time step each frame).
+    pub fn staging_with(&self, name: &str, data: &[u8]) -> Result<Buffer> {
         let mut staging = self.create_buffer(
             &format!("{name} (staging)"),
             data.len() as u64,
