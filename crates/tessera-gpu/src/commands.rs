@@ -264,6 +264,24 @@ impl Recorder<'_> {
         depth: Option<&Image>,
         clear: [f32; 4],
     ) {
+        self.begin_rendering_ops(target, depth, Some(clear));
+    }
+
+    /// Begins dynamic rendering; `clear: None` keeps the attachments' contents (to go on
+    /// drawing into an image after a compute pass), otherwise colour is cleared to it and
+    /// depth to 1.0.
+    pub fn begin_rendering_ops(
+        &self,
+        target: &Image,
+        depth: Option<&Image>,
+        clear: Option<[f32; 4]>,
+    ) {
+        let load = if clear.is_some() {
+            vk::AttachmentLoadOp::CLEAR
+        } else {
+            vk::AttachmentLoadOp::LOAD
+        };
+        let clear = clear.unwrap_or([0.0; 4]);
         let extent = vk::Extent2D {
             width: target.extent.width,
             height: target.extent.height,
@@ -271,7 +289,7 @@ impl Recorder<'_> {
         let attachments = [vk::RenderingAttachmentInfo::default()
             .image_view(target.view)
             .image_layout(vk::ImageLayout::GENERAL)
-            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .load_op(load)
             .store_op(vk::AttachmentStoreOp::STORE)
             .clear_value(vk::ClearValue {
                 color: vk::ClearColorValue { float32: clear },
@@ -280,7 +298,7 @@ impl Recorder<'_> {
             vk::RenderingAttachmentInfo::default()
                 .image_view(d.view)
                 .image_layout(vk::ImageLayout::GENERAL)
-                .load_op(vk::AttachmentLoadOp::CLEAR)
+                .load_op(load)
                 .store_op(vk::AttachmentStoreOp::STORE)
                 .clear_value(vk::ClearValue {
                     depth_stencil: vk::ClearDepthStencilValue {
@@ -339,6 +357,29 @@ impl Recorder<'_> {
             })?;
         self.bind(pipeline, bindings, push);
         unsafe { mesh.cmd_draw_mesh_tasks(self.cmd, groups[0], groups[1], groups[2]) };
+        Ok(())
+    }
+
+    /// Launches mesh-shader workgroups counted by a buffer: `draws` draws whose
+    /// `VkDrawMeshTasksIndirectCommandEXT` (three `u32` group counts) start at `offset`.
+    pub fn draw_mesh_tasks_indirect(
+        &self,
+        pipeline: &Pipeline,
+        bindings: &[Binding],
+        push: &[u8],
+        args: &Buffer,
+        offset: u64,
+    ) -> Result<()> {
+        let mesh = self
+            .gpu
+            .mesh_shader
+            .as_ref()
+            .ok_or_else(|| GpuError::Unsupported {
+                device: self.gpu.caps().device_name.clone(),
+                what: "VK_EXT_mesh_shader".into(),
+            })?;
+        self.bind(pipeline, bindings, push);
+        unsafe { mesh.cmd_draw_mesh_tasks_indirect(self.cmd, args.handle, offset, 1, 12) };
         Ok(())
     }
 

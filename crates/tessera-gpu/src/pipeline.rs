@@ -45,13 +45,40 @@ pub struct Pipeline {
 
 const ENTRY: &CStr = c"main";
 
-/// The attachments a graphics pipeline renders into.
+/// The attachments a graphics pipeline renders into and how it treats them.
 #[derive(Debug, Clone, Copy)]
 pub struct RenderTargets {
     pub color_format: vk::Format,
     pub depth_format: Option<vk::Format>,
     /// Adds fragment outputs to the attachment instead of replacing it.
     pub blend_additive: bool,
+    /// With a depth format: whether passing fragments write depth (off for visibility tests
+    /// against depth drawn earlier, which then also pass equal depths).
+    pub depth_write: bool,
+    /// Whether fragments write the colour attachment at all.
+    pub color_write: bool,
+}
+
+impl RenderTargets {
+    /// Colour only, written and not blended.
+    pub fn color(color_format: vk::Format) -> RenderTargets {
+        RenderTargets {
+            color_format,
+            depth_format: None,
+            blend_additive: false,
+            depth_write: false,
+            color_write: true,
+        }
+    }
+
+    /// Colour plus a depth attachment that is tested (LESS) and written.
+    pub fn color_depth(color_format: vk::Format, depth_format: vk::Format) -> RenderTargets {
+        RenderTargets {
+            depth_format: Some(depth_format),
+            depth_write: true,
+            ..RenderTargets::color(color_format)
+        }
+    }
 }
 
 impl Gpu {
@@ -136,9 +163,8 @@ impl Gpu {
         blend_additive: bool,
     ) -> Result<Pipeline> {
         let targets = RenderTargets {
-            color_format,
-            depth_format: None,
             blend_additive,
+            ..RenderTargets::color(color_format)
         };
         self.graphics_pipeline_for(name, shaders, slots, &targets)
     }
@@ -188,7 +214,11 @@ impl Gpu {
             .src_alpha_blend_factor(vk::BlendFactor::ONE)
             .dst_alpha_blend_factor(vk::BlendFactor::ONE)
             .alpha_blend_op(vk::BlendOp::ADD)
-            .color_write_mask(vk::ColorComponentFlags::RGBA)];
+            .color_write_mask(if targets.color_write {
+                vk::ColorComponentFlags::RGBA
+            } else {
+                vk::ColorComponentFlags::empty()
+            })];
         let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&attachment);
         let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
         let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
@@ -197,8 +227,12 @@ impl Gpu {
             vk::PipelineRenderingCreateInfo::default().color_attachment_formats(&formats);
         let depth_stencil = vk::PipelineDepthStencilStateCreateInfo::default()
             .depth_test_enable(true)
-            .depth_write_enable(true)
-            .depth_compare_op(vk::CompareOp::LESS);
+            .depth_write_enable(targets.depth_write)
+            .depth_compare_op(if targets.depth_write {
+                vk::CompareOp::LESS
+            } else {
+                vk::CompareOp::LESS_OR_EQUAL
+            });
         if let Some(depth) = targets.depth_format {
             rendering = rendering.depth_attachment_format(depth);
         }

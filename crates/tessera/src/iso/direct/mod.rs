@@ -143,11 +143,7 @@ impl Direct {
                 Slot::StorageBuffer,
                 Slot::StorageBuffer,
             ],
-            &RenderTargets {
-                color_format: COLOR_FORMAT,
-                depth_format: Some(DEPTH_FORMAT),
-                blend_additive: false,
-            },
+            &RenderTargets::color_depth(COLOR_FORMAT, DEPTH_FORMAT),
         )?;
         let stats = gpu.create_buffer(
             "direct stats",
