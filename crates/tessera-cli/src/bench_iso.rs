@@ -83,7 +83,7 @@ fn measure(
             let params = Direct::params(prepared, iso_of(frame), &camera, w, h, 0);
             frame += 1;
             let result = timer.scope(rec, "direct", |rec| {
-                direct.record(rec, prepared, &target, &params, &capture)
+                direct.record(rec, prepared, &target, &params, &capture, None)
             });
             recorded = recorded.clone().and(result.map_err(|e| e.to_string()));
         });
@@ -229,7 +229,7 @@ pub fn time_varying(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sin
                     rec.barrier();
                     let params = Direct::params(&prepared, isos[k], &camera, w, h, 0);
                     let result = timer.scope(rec, "direct", |rec| {
-                        direct.record(rec, &prepared, &target, &params, &capture)
+                        direct.record(rec, &prepared, &target, &params, &capture, None)
                     });
                     recorded = recorded.clone().and(result.map_err(|e| e.to_string()));
                 });

@@ -26,6 +26,9 @@ pub struct RenderArgs {
     /// Camera AZ,EL,DIST: azimuth and elevation in degrees, distance in units of the volume's longest side.
     #[arg(long, default_value = "30,20,1.8", value_parser = OrbitCamera::parse, allow_hyphen_values = true)]
     camera: OrbitCamera,
+    /// Raster occlusion culling for rasterizing techniques (direct).
+    #[arg(long, default_value = "on", value_parser = ["on", "off"])]
+    culling: String,
     /// Output PNG.
     #[arg(short, long, default_value = "out.png")]
     output: PathBuf,
@@ -52,7 +55,14 @@ pub fn run(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
     let (renderer, prepared) = built.with_context(|| format!("preparing {}", args.data))?;
     let prepare_s = started.elapsed().as_secs_f64();
     let (w, h) = args.size;
-    let frame = renderer.render(&gpu, &prepared, iso, &args.camera, args.size)?;
+    let frame = renderer.render(
+        &gpu,
+        &prepared,
+        iso,
+        &args.camera,
+        args.size,
+        args.culling == "on",
+    )?;
     crate::output::write_png(&args.output, &frame.image)?;
     let triangles = frame
         .triangles

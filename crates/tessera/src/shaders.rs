@@ -26,6 +26,7 @@ const COMMON: &[(&str, &str)] = &[
         "iso/direct/params.glsl",
         include_str!("iso/direct/params.glsl"),
     ),
+    ("iso/direct/cull.glsl", include_str!("iso/direct/cull.glsl")),
     (
         "common/throughput.glsl",
         include_str!("shaders/common/throughput.glsl"),

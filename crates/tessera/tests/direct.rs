@@ -7,6 +7,7 @@ use common::{assert_clean, gpu};
 use glam::Vec3;
 use std::collections::HashMap;
 use tessera::iso::direct::compute::{DirectExtract, TriangleLists};
+use tessera::iso::direct::cull::CullState;
 use tessera::iso::direct::{Direct, RasterTarget};
 use tessera::iso::minmax::MinMaxBuilder;
 use tessera::iso::PreparedVolume;
@@ -130,7 +131,7 @@ fn mesh_shader_triangles_equal_cpu_marching_cubes() {
         let prepared = direct.prepare(&gpu, volume).unwrap();
         let capacity = cpu.triangle_count() as u32 + 64;
         let frame = direct
-            .render(&gpu, &prepared, &target, iso, &camera, capacity)
+            .render(&gpu, &prepared, &target, iso, &camera, capacity, None)
             .unwrap();
         let tris = frame.triangles.unwrap();
         assert!(!tris.is_empty(), "{}: no triangles", volume.name());
@@ -179,7 +180,7 @@ fn direct_images_match_cpu_rasterized_marching_cubes() {
         for fraction in [0.3f32, 0.6] {
             let iso = volume.iso_to_texel(IsoValue::Normalized(fraction));
             let frame = direct
-                .render(&gpu, &prepared, &target, iso, &camera, 0)
+                .render(&gpu, &prepared, &target, iso, &camera, 0, None)
                 .unwrap();
             let mesh = marching_cubes(volume, iso);
             let frame_grid = tessera_data::GridFrame::new(volume.dims(), volume.spacing());
@@ -311,6 +312,73 @@ fn compute_extraction_equals_cpu_marching_cubes() {
 }
 
 #[test]
+fn occlusion_culling_changes_work_not_images() {
+    let Some(gpu) = mesh_gpu() else { return };
+    let compiler = shaders::compiler();
+    let volume = generate(ProceduralKind::HeadPhantom, 56, ScalarType::U8).unwrap();
+    let iso = volume.iso_to_texel(IsoValue::Normalized(0.3));
+    let direct = Direct::new(&gpu, &compiler, ScalarType::U8).unwrap();
+    let prepared = direct.prepare(&gpu, &volume).unwrap();
+    let state = CullState::new(&gpu, &prepared).unwrap();
+    let target = RasterTarget::new(&gpu, 96, 80).unwrap();
+    let cam = |az: f32| OrbitCamera {
+        azimuth_deg: az,
+        ..OrbitCamera::default()
+    };
+    // Still camera for three frames, then a turn that brings hidden regions into view.
+    let path = [30.0, 30.0, 30.0, 75.0, 150.0, 150.0];
+    let mut drawn_per_frame = Vec::new();
+    let mut occupied_regions = 0;
+    for (frame, &az) in path.iter().enumerate() {
+        let plain = direct
+            .render(&gpu, &prepared, &target, iso, &cam(az), 0, None)
+            .unwrap();
+        let culled = direct
+            .render(&gpu, &prepared, &target, iso, &cam(az), 0, Some(&state))
+            .unwrap();
+        let stats = state.read_stats(&gpu).unwrap();
+        let diff = culled.image.compare(&plain.image, 2);
+        assert!(
+            diff.fraction_within >= 0.999,
+            "frame {frame}: culled image differs from the unculled one in {} pixels",
+            diff.pixels_outside
+        );
+        assert!(culled.stats.triangles <= plain.stats.triangles);
+        drawn_per_frame.push(stats.blocks_drawn_first + stats.blocks_drawn_new);
+        occupied_regions = stats.regions_occupied;
+        if frame == 0 {
+            assert_eq!(
+                stats.blocks_drawn_first, 0,
+                "nothing is known before the first frame"
+            );
+        }
+        if frame == 1 || frame == 2 {
+            assert_eq!(
+                stats.blocks_drawn_new, 0,
+                "a still camera finds nothing new"
+            );
+        }
+        if frame == 1 {
+            // Frame 0 knew nothing, so everything in view became an occluder; testing against
+            // it leaves only what is really visible.
+            assert!(stats.blocks_visible < stats.blocks_drawn_first, "{stats:?}");
+        }
+        if frame == 2 {
+            assert!(
+                culled.stats.triangles < plain.stats.triangles,
+                "frame {frame} culled nothing"
+            );
+        }
+    }
+    eprintln!("blocks drawn per frame {drawn_per_frame:?} of {occupied_regions} occupied regions");
+    state.destroy(&gpu);
+    target.destroy(&gpu);
+    prepared.destroy(&gpu);
+    direct.destroy(&gpu);
+    assert_clean(&gpu);
+}
+
+#[test]
 fn checkerboard_lists_respect_the_vertex_limit() {
     let Some(gpu) = mesh_gpu() else { return };
     let compiler = shaders::compiler();
@@ -319,7 +387,15 @@ fn checkerboard_lists_respect_the_vertex_limit() {
     let prepared = direct.prepare(&gpu, &volume).unwrap();
     let target = RasterTarget::new(&gpu, 32, 32).unwrap();
     let frame = direct
-        .render(&gpu, &prepared, &target, 0.5, &OrbitCamera::default(), 2048)
+        .render(
+            &gpu,
+            &prepared,
+            &target,
+            0.5,
+            &OrbitCamera::default(),
+            2048,
+            None,
+        )
         .unwrap();
     // 256 cells × 12 vertices, 8 cells per list at 96 vertices: 32 mesh workgroups.
     assert_eq!(frame.stats.mesh_workgroups, 32);
@@ -340,7 +416,15 @@ fn isovalue_outside_range_draws_nothing() {
     let prepared = direct.prepare(&gpu, &volume).unwrap();
     let target = RasterTarget::new(&gpu, 40, 30).unwrap();
     let frame = direct
-        .render(&gpu, &prepared, &target, 300.0, &OrbitCamera::default(), 16)
+        .render(
+            &gpu,
+            &prepared,
+            &target,
+            300.0,
+            &OrbitCamera::default(),
+            16,
+            None,
+        )
         .unwrap();
     assert_eq!(frame.stats.triangles, 0);
     assert_eq!(frame.triangles.unwrap().len(), 0);

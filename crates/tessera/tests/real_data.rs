@@ -120,6 +120,7 @@ fn direct_mri_head_triangles_equal_cpu_marching_cubes() {
             iso,
             &OrbitCamera::default(),
             cpu.triangle_count() as u32 + 64,
+            None,
         )
         .unwrap();
     assert_eq!(frame.stats.triangles as usize, cpu.triangle_count());

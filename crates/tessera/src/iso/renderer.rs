@@ -1,6 +1,7 @@
 //! One front door to the isosurface techniques, for tools that pick one by name.
 
 use crate::error::{Error, Result};
+use crate::iso::direct::cull::CullState;
 use crate::iso::direct::{Direct, RasterTarget};
 use crate::iso::raymarch::Raymarch;
 use crate::iso::PreparedVolume;
@@ -86,6 +87,7 @@ impl IsoRenderer {
         iso: f32,
         camera: &OrbitCamera,
         size: (u32, u32),
+        culling: bool,
     ) -> Result<IsoFrame> {
         match &self.inner {
             Inner::Raymarch(r) => {
@@ -101,8 +103,16 @@ impl IsoRenderer {
             }
             Inner::Direct(d) => {
                 let target = RasterTarget::new(gpu, size.0, size.1)?;
-                let result = d.render(gpu, prepared, &target, iso, camera, 0);
+                let state = if culling {
+                    Some(CullState::new(gpu, prepared)?)
+                } else {
+                    None
+                };
+                let result = d.render(gpu, prepared, &target, iso, camera, 0, state.as_ref());
                 target.destroy(gpu);
+                if let Some(state) = state {
+                    state.destroy(gpu);
+                }
                 let frame = result?;
                 Ok(IsoFrame {
                     image: frame.image,

@@ -13,6 +13,10 @@
 layout(local_size_x = 32) in;
 layout(binding = 0) uniform VOLUME_SAMPLER volume_tex;
 layout(binding = 1) readonly buffer Nodes { vec2 minmax_nodes[]; };
+#if BLOCK_LIST
+// With occlusion culling, task workgroups take their blocks from a list (linear block ids).
+layout(binding = 4) readonly buffer Blocks { uint block_args[3]; uint block_pad; uint block_list[]; };
+#endif
 
 taskPayloadSharedEXT TaskPayload payload;
 
@@ -25,10 +29,16 @@ shared uint list_count;
 
 void main() {
     uint me = gl_LocalInvocationIndex;
-    uvec3 block = gl_WorkGroupID;
     uvec3 dims = params.dims.xyz;
     float iso = params.eye_world.w;
     uvec3 block_dims = (dims - 2u) / uvec3(BLOCK_X, BLOCK_Y, BLOCK_Z) + 1u;
+#if BLOCK_LIST
+    uint listed = block_list[gl_WorkGroupID.x];
+    uvec3 block = uvec3(listed % block_dims.x, (listed / block_dims.x) % block_dims.y,
+                        listed / (block_dims.x * block_dims.y));
+#else
+    uvec3 block = gl_WorkGroupID;
+#endif
     vec2 range = minmax_nodes[block.x + block_dims.x * (block.y + block_dims.y * block.z)];
     if (iso < range.x || iso > range.y) {
         EmitMeshTasksEXT(0, 1, 1);

@@ -9,6 +9,7 @@
 //! the compute path are not built yet.
 
 pub mod compute;
+pub mod cull;
 
 use crate::builtin_shader;
 use crate::config::volume_defines;
@@ -16,6 +17,7 @@ use crate::error::{Error, Result};
 use crate::iso::minmax::MinMaxBuilder;
 use crate::iso::PreparedVolume;
 use bytemuck::{Pod, Zeroable};
+use cull::{CullPipelines, CullState, DrawBlockList};
 use glam::Vec3;
 use tessera_data::shading::BACKGROUND;
 use tessera_data::{GridCamera, GridFrame, OrbitCamera, Projection, RgbaImage, ScalarType, Volume};
@@ -31,8 +33,8 @@ pub const MAX_VERTICES_PER_LIST: u32 = 96;
 /// Triangles one mesh workgroup emits at most: 5 per cell.
 pub const MAX_TRIANGLES_PER_LIST: u32 = MAX_CELLS_PER_LIST * 5;
 
-const COLOR_FORMAT: vk::Format = vk::Format::R8G8B8A8_UNORM;
-const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
+pub(crate) const COLOR_FORMAT: vk::Format = vk::Format::R8G8B8A8_UNORM;
+pub(crate) const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 
 /// Push constants shared by the three stages (`iso/direct/params.glsl`).
 #[repr(C)]
@@ -117,9 +119,35 @@ impl RasterTarget {
 pub type CapturedTriangle = [Vec3; 3];
 
 pub struct Direct {
+    /// Task workgroups over the whole block grid.
     pipeline: Pipeline,
+    /// Task workgroups over a list of blocks (occlusion culling).
+    list_pipeline: Pipeline,
+    cull: CullPipelines,
     builder: MinMaxBuilder,
     stats: Buffer,
+}
+
+/// Draws block lists for the culling passes with the list pipeline.
+struct ListDraw<'a> {
+    direct: &'a Direct,
+    prepared: &'a PreparedVolume,
+    params: &'a DirectParams,
+    capture: &'a Buffer,
+}
+
+impl DrawBlockList for ListDraw<'_> {
+    fn draw_blocks(&self, rec: &Recorder, list: &Buffer) -> Result<()> {
+        let bindings = self.direct.bindings(self.prepared, self.capture, list);
+        rec.draw_mesh_tasks_indirect(
+            &self.direct.list_pipeline,
+            &bindings,
+            bytemuck::bytes_of(self.params),
+            list,
+            0,
+        )?;
+        Ok(())
+    }
 }
 
 impl Direct {
@@ -131,19 +159,34 @@ impl Direct {
             }));
         }
         let defines = volume_defines(scalar);
-        let task = compiler.compile(&builtin_shader!("direct.task.glsl"), &defines)?;
+        let with_list = |on: bool| {
+            let mut d = defines.clone();
+            d.push(("BLOCK_LIST".into(), u32::from(on).to_string()));
+            d
+        };
+        let task = compiler.compile(&builtin_shader!("direct.task.glsl"), &with_list(false))?;
+        let list_task = compiler.compile(&builtin_shader!("direct.task.glsl"), &with_list(true))?;
         let mesh = compiler.compile(&builtin_shader!("direct.mesh.glsl"), &defines)?;
         let frag = compiler.compile(&builtin_shader!("direct.frag.glsl"), &defines)?;
+        let slots = [
+            Slot::Texture,
+            Slot::StorageBuffer,
+            Slot::StorageBuffer,
+            Slot::StorageBuffer,
+            Slot::StorageBuffer,
+        ];
+        let targets = RenderTargets::color_depth(COLOR_FORMAT, DEPTH_FORMAT);
         let pipeline = gpu.graphics_pipeline_for(
             "direct isosurface",
             &[&task, &mesh, &frag],
-            &[
-                Slot::Texture,
-                Slot::StorageBuffer,
-                Slot::StorageBuffer,
-                Slot::StorageBuffer,
-            ],
-            &RenderTargets::color_depth(COLOR_FORMAT, DEPTH_FORMAT),
+            &slots,
+            &targets,
+        )?;
+        let list_pipeline = gpu.graphics_pipeline_for(
+            "direct isosurface (block list)",
+            &[&list_task, &mesh, &frag],
+            &slots,
+            &targets,
         )?;
         let stats = gpu.create_buffer(
             "direct stats",
@@ -155,6 +198,8 @@ impl Direct {
         )?;
         Ok(Direct {
             pipeline,
+            list_pipeline,
+            cull: CullPipelines::new(gpu, compiler)?,
             builder: MinMaxBuilder::new(gpu, compiler, scalar)?,
             stats,
         })
@@ -186,8 +231,26 @@ impl Direct {
         }
     }
 
-    /// Records one frame into `target`. `capture` must be bound whenever
-    /// `params.dims[3]` (the capture capacity) is non-zero.
+    fn bindings<'a>(
+        &'a self,
+        prepared: &'a PreparedVolume,
+        capture: &'a Buffer,
+        list: &'a Buffer,
+    ) -> [Binding<'a>; 5] {
+        [
+            Binding::Texture {
+                image: &prepared.volume.texture,
+                linear: false,
+            },
+            Binding::Buffer(&prepared.octree.nodes),
+            Binding::Buffer(&self.stats),
+            Binding::Buffer(capture),
+            Binding::Buffer(list),
+        ]
+    }
+
+    /// Records one frame into `target`, with occlusion culling when `culling` is given.
+    /// `capture` must be bound whenever `params.dims[3]` (the capture capacity) is non-zero.
     pub fn record(
         &self,
         rec: &Recorder,
@@ -195,26 +258,38 @@ impl Direct {
         target: &RasterTarget,
         params: &DirectParams,
         capture: &Buffer,
+        culling: Option<&CullState>,
     ) -> Result<()> {
         rec.fill_buffer(&self.stats, 0);
         rec.barrier();
         rec.discard_to_general(&target.color);
         rec.discard_to_general(&target.depth);
+        if let Some(state) = culling {
+            let draw = ListDraw {
+                direct: self,
+                prepared,
+                params,
+                capture,
+            };
+            return self.cull.record_frame(
+                rec,
+                state,
+                prepared,
+                params,
+                &target.color,
+                &target.depth,
+                BACKGROUND,
+                &draw,
+            );
+        }
         rec.begin_rendering_with_depth(&target.color, Some(&target.depth), BACKGROUND);
-        let blocks = prepared.octree.level_dims[0];
+        // The whole grid is drawn; the list binding is unused, any buffer will do.
+        let bindings = self.bindings(prepared, capture, &self.stats);
         let drawn = rec.draw_mesh_tasks(
             &self.pipeline,
-            &[
-                Binding::Texture {
-                    image: &prepared.volume.texture,
-                    linear: false,
-                },
-                Binding::Buffer(&prepared.octree.nodes),
-                Binding::Buffer(&self.stats),
-                Binding::Buffer(capture),
-            ],
+            &bindings,
             bytemuck::bytes_of(params),
-            blocks,
+            prepared.octree.level_dims[0],
         );
         rec.end_rendering();
         rec.barrier();
@@ -231,6 +306,7 @@ impl Direct {
         iso: f32,
         camera: &OrbitCamera,
         capture_capacity: u32,
+        culling: Option<&CullState>,
     ) -> Result<DirectFrame> {
         let params = Self::params(
             prepared,
@@ -255,7 +331,7 @@ impl Direct {
             rec.fill_buffer(&capture, 0);
             rec.barrier();
             recorded = timer.scope(rec, "direct", |rec| {
-                self.record(rec, prepared, target, &params, &capture)
+                self.record(rec, prepared, target, &params, &capture, culling)
             });
         });
         let result = submitted
@@ -328,6 +404,8 @@ impl Direct {
 
     pub fn destroy(self, gpu: &Gpu) {
         gpu.destroy_pipeline(self.pipeline);
+        gpu.destroy_pipeline(self.list_pipeline);
+        self.cull.destroy(gpu);
         gpu.destroy_buffer(self.stats);
         self.builder.destroy(gpu);
     }

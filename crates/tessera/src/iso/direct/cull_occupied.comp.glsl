@@ -1,0 +1,32 @@
+#version 460
+// Lists the regions whose blocks may hold the isosurface at this frame's isovalue, and clears
+// their visibility flags.
+#include "iso/direct/params.glsl"
+#include "iso/direct/cull.glsl"
+
+layout(local_size_x = 64) in;
+layout(binding = 0) readonly buffer Nodes { vec2 minmax_nodes[]; };
+layout(binding = 1) buffer Occupied { uint quad_groups[3]; uint occupied_count; uint occupied[]; };
+layout(binding = 2) writeonly buffer Visible { uint visible[]; };
+
+bool block_holds(uint block, float iso) {
+    if (block == ~0u) {
+        return false;
+    }
+    vec2 range = minmax_nodes[block];
+    return iso >= range.x && iso <= range.y;
+}
+
+void main() {
+    uint region = gl_GlobalInvocationID.x;
+    uvec3 dims = params.dims.xyz;
+    if (region >= cull_region_count(dims)) {
+        return;
+    }
+    visible[region] = 0u;
+    float iso = params.eye_world.w;
+    if (block_holds(cull_region_block(region, 0u, dims), iso)
+            || block_holds(cull_region_block(region, 1u, dims), iso)) {
+        occupied[atomicAdd(occupied_count, 1u)] = region;
+    }
+}

@@ -1,0 +1,70 @@
+#version 460
+// One screen-space quad per occupied region at the region's nearest depth (paper D, §3.5.2):
+// where any of its fragments survives the depth test against the geometry drawn so far, the
+// region may be visible. Regions reaching the near plane are flagged visible outright.
+#extension GL_EXT_mesh_shader : require
+#include "iso/direct/params.glsl"
+#include "iso/direct/cull.glsl"
+
+layout(local_size_x = 32) in;
+layout(triangles, max_vertices = 128, max_primitives = 64) out;
+layout(binding = 0) readonly buffer Occupied { uint quad_groups[3]; uint occupied_count; uint occupied[]; };
+layout(binding = 1) writeonly buffer Visible { uint visible[]; };
+
+layout(location = 0) flat out uint region_id[];
+
+shared uint quad_slots[33];
+
+void main() {
+    uint me = gl_LocalInvocationIndex;
+    uint i = gl_WorkGroupID.x * 32u + me;
+    uvec3 dims = params.dims.xyz;
+    bool has_quad = false;
+    uint region = 0u;
+    vec3 lo_ndc = vec3(1e30);
+    vec3 hi_ndc = vec3(-1e30);
+    if (i < occupied_count) {
+        region = occupied[i];
+        uvec3 lo = cull_region_coords(region, dims) * REGION_CELLS;
+        uvec3 hi = min(lo + REGION_CELLS, dims - 1u);
+        bool crosses_near = false;
+        for (uint c = 0u; c < 8u; ++c) {
+            vec3 p = mix(vec3(lo), vec3(hi), vec3(c & 1u, (c >> 1) & 1u, c >> 2));
+            vec4 clip = params.grid_to_clip * vec4(p, 1.0);
+            if (clip.w <= 1e-6 || clip.z < 0.0) {
+                crosses_near = true;
+            } else {
+                vec3 ndc = clip.xyz / clip.w;
+                lo_ndc = min(lo_ndc, ndc);
+                hi_ndc = max(hi_ndc, ndc);
+            }
+        }
+        if (crosses_near) {
+            visible[region] = 1u;
+        } else {
+            has_quad = true;
+        }
+    }
+    quad_slots[me + 1u] = uint(has_quad);
+    barrier();
+    if (me == 0u) {
+        quad_slots[0] = 0u;
+        for (uint t = 1u; t <= 32u; ++t) {
+            quad_slots[t] += quad_slots[t - 1u];
+        }
+    }
+    barrier();
+    uint quads = quad_slots[32];
+    SetMeshOutputsEXT(quads * 4u, quads * 2u);
+    if (has_quad) {
+        uint q = quad_slots[me];
+        float z = max(lo_ndc.z, 0.0);
+        for (uint k = 0u; k < 4u; ++k) {
+            vec2 xy = vec2((k & 1u) != 0u ? hi_ndc.x : lo_ndc.x, (k & 2u) != 0u ? hi_ndc.y : lo_ndc.y);
+            gl_MeshVerticesEXT[4u * q + k].gl_Position = vec4(xy, z, 1.0);
+            region_id[4u * q + k] = region;
+        }
+        gl_PrimitiveTriangleIndicesEXT[2u * q] = uvec3(4u * q, 4u * q + 1u, 4u * q + 2u);
+        gl_PrimitiveTriangleIndicesEXT[2u * q + 1u] = uvec3(4u * q + 1u, 4u * q + 3u, 4u * q + 2u);
+    }
+}
