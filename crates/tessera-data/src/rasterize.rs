@@ -18,7 +18,7 @@
 //! * World-space normal and position are interpolated perspective-correctly and shaded by
 //!   [`shade_fragment`], the rule the GPU fragment shader implements.
 
-use glam::{DVec3, DVec4, Vec3};
+use glam::{DVec3, DVec4, Vec3, Vec4};
 
 use crate::camera::{GridCamera, GridFrame, OrbitCamera, Projection};
 use crate::image::RgbaImage;
@@ -29,10 +29,10 @@ use crate::shading::{gooch, pack_rgba8, BACKGROUND};
 pub const SUBPIXEL_BITS: u32 = 8;
 const SUBPIXEL: f64 = (1u32 << SUBPIXEL_BITS) as f64;
 /// Smallest clip-space w kept by clipping (the near plane already keeps w well above it).
-const MIN_W: f64 = 1e-6;
+pub const MIN_W: f64 = 1e-6;
 /// Clip-space |x|, |y| limit in multiples of w: a guard band 8 viewports wide and high. Geometry
 /// beyond it is off screen anyway; clipping there only bounds the fixed-point coordinates.
-const GUARD_BAND: f64 = 8.0;
+pub const GUARD_BAND: f64 = 8.0;
 
 /// What [`rasterize_mesh`] produces; per-pixel vectors are row-major, top row first.
 #[derive(Debug, Clone, PartialEq)]
@@ -126,43 +126,110 @@ fn rasterize_counting(
         })
         .collect();
 
-    let mut polygon = Vec::with_capacity(16);
-    let mut scratch = Vec::with_capacity(16);
+    let mut clipper = Clipper::default();
     for t in &mesh.triangles {
         let corners = t.map(|i| vertices[i as usize]);
-        if !clip_triangle(corners, &mut polygon, &mut scratch) {
-            continue;
+        clipper.draw(corners, width, height, |index, z, tri, b| {
+            if let Some(counts) = fragments.as_deref_mut() {
+                counts[index] += 1;
+            }
+            if z >= out.depth[index] {
+                return;
+            }
+            // Perspective-correct weights: screen barycentrics over clip w, renormalized.
+            let q = [0, 1, 2].map(|i| b[i] * tri[i].inv_w);
+            let sum = q[0] + q[1] + q[2];
+            let mix = |f: fn(&ScreenVertex) -> DVec3| {
+                (f(&tri[0]) * q[0] + f(&tri[1]) * q[1] + f(&tri[2]) * q[2]) / sum
+            };
+            let normal = mix(|v| v.normal).as_vec3();
+            let position = mix(|v| v.position).as_vec3();
+            out.depth[index] = z;
+            out.coverage[index] = true;
+            out.image.pixels[index] = shade_fragment(normal, position, eye, light);
+        });
+    }
+    out
+}
+
+/// Rasterizes triangles given directly as clip-space corners (the input of the GPU compute
+/// rasterizer) under the rules of [`rasterize_mesh`]. Returns, per pixel (row-major, top row
+/// first), the NDC depth and the index in `triangles` of the visible triangle, or `None` where
+/// nothing was drawn. Triangles are drawn in order, so at equal depth the lower index stays.
+pub fn rasterize_clip_triangles(
+    triangles: &[[Vec4; 3]],
+    width: u32,
+    height: u32,
+) -> Vec<Option<(f32, u32)>> {
+    let mut out: Vec<Option<(f32, u32)>> = vec![None; width as usize * height as usize];
+    let mut clipper = Clipper::default();
+    for (index, t) in triangles.iter().enumerate() {
+        let corners = t.map(ClipVertex::bare);
+        clipper.draw(corners, width, height, |pixel, z, _, _| {
+            if z < out[pixel].map_or(1.0, |(depth, _)| depth) {
+                out[pixel] = Some((z, index as u32));
+            }
+        });
+    }
+    out
+}
+
+/// The polygon [`rasterize_clip_triangles`] fills for one clip-space triangle: what clipping
+/// leaves of it, in pixels (snapped to 1/256) with NDC depth in `z`; empty when nothing is left.
+/// It is drawn as a fan around its first vertex.
+pub fn screen_polygon(clip: &[Vec4; 3], width: u32, height: u32) -> Vec<DVec3> {
+    let mut clipper = Clipper::default();
+    if !clip_triangle(
+        clip.map(ClipVertex::bare),
+        &mut clipper.polygon,
+        &mut clipper.scratch,
+    ) {
+        return Vec::new();
+    }
+    clipper
+        .polygon
+        .iter()
+        .map(|v| {
+            let s = ScreenVertex::new(v, width, height);
+            DVec3::new(s.x / SUBPIXEL, s.y / SUBPIXEL, s.z)
+        })
+        .collect()
+}
+
+/// Reused storage for clipping one triangle after another.
+#[derive(Default)]
+struct Clipper {
+    polygon: Vec<ClipVertex>,
+    scratch: Vec<ClipVertex>,
+}
+
+impl Clipper {
+    /// Clips a triangle, maps it to the screen and calls `fragment(pixel, depth, triangle,
+    /// barycentrics)` for each fragment of its fan: `depth` is NDC z clamped to [0, 1] as the
+    /// depth test sees it, `triangle` the screen triangle of the fan that produced it.
+    fn draw(
+        &mut self,
+        corners: [ClipVertex; 3],
+        width: u32,
+        height: u32,
+        mut fragment: impl FnMut(usize, f32, &[ScreenVertex; 3], [f64; 3]),
+    ) {
+        if !clip_triangle(corners, &mut self.polygon, &mut self.scratch) {
+            return;
         }
-        let screen: Vec<ScreenVertex> = polygon
+        let screen: Vec<ScreenVertex> = self
+            .polygon
             .iter()
             .map(|v| ScreenVertex::new(v, width, height))
             .collect();
         for k in 1..screen.len().saturating_sub(1) {
             let tri = [screen[0], screen[k], screen[k + 1]];
             raster_triangle(&tri, width, height, |index, b| {
-                if let Some(counts) = fragments.as_deref_mut() {
-                    counts[index] += 1;
-                }
                 let z = (b[0] * tri[0].z + b[1] * tri[1].z + b[2] * tri[2].z) as f32;
-                let z = z.clamp(0.0, 1.0);
-                if z >= out.depth[index] {
-                    return;
-                }
-                // Perspective-correct weights: screen barycentrics over clip w, renormalized.
-                let q = [0, 1, 2].map(|i| b[i] * tri[i].inv_w);
-                let sum = q[0] + q[1] + q[2];
-                let mix = |f: fn(&ScreenVertex) -> DVec3| {
-                    (f(&tri[0]) * q[0] + f(&tri[1]) * q[1] + f(&tri[2]) * q[2]) / sum
-                };
-                let normal = mix(|v| v.normal).as_vec3();
-                let position = mix(|v| v.position).as_vec3();
-                out.depth[index] = z;
-                out.coverage[index] = true;
-                out.image.pixels[index] = shade_fragment(normal, position, eye, light);
+                fragment(index, z.clamp(0.0, 1.0), &tri, b);
             });
         }
     }
-    out
 }
 
 /// A vertex after the vertex shader: clip position and the attributes to interpolate.
@@ -174,6 +241,15 @@ struct ClipVertex {
 }
 
 impl ClipVertex {
+    /// A clip-space position without attributes.
+    fn bare(clip: Vec4) -> ClipVertex {
+        ClipVertex {
+            clip: clip.as_dvec4(),
+            position: DVec3::ZERO,
+            normal: DVec3::ZERO,
+        }
+    }
+
     fn lerp(&self, other: &ClipVertex, t: f64) -> ClipVertex {
         ClipVertex {
             clip: self.clip.lerp(other.clip, t),

@@ -39,6 +39,8 @@ pub struct Capabilities {
     pub max_image_dimension_3d: u32,
     pub max_storage_buffer_range: u64,
     pub max_compute_workgroup_invocations: u32,
+    /// Most workgroups one dispatch may launch along x, y and z.
+    pub max_compute_workgroup_count: [u32; 3],
 }
 
 impl Capabilities {
@@ -178,5 +180,6 @@ pub(crate) fn query(
         max_image_dimension_3d: p.limits.max_image_dimension3_d,
         max_storage_buffer_range: p.limits.max_storage_buffer_range as u64,
         max_compute_workgroup_invocations: p.limits.max_compute_work_group_invocations,
+        max_compute_workgroup_count: p.limits.max_compute_work_group_count,
     }
 }

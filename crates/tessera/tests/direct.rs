@@ -3,6 +3,8 @@
 
 mod common;
 
+use tessera::iso::direct::FrameOptions;
+
 use common::{assert_clean, gpu};
 use glam::Vec3;
 use std::collections::HashMap;
@@ -131,7 +133,17 @@ fn mesh_shader_triangles_equal_cpu_marching_cubes() {
         let prepared = direct.prepare(&gpu, volume).unwrap();
         let capacity = cpu.triangle_count() as u32 + 64;
         let frame = direct
-            .render(&gpu, &prepared, &target, iso, &camera, capacity, None)
+            .render(
+                &gpu,
+                &prepared,
+                &target,
+                iso,
+                &camera,
+                &FrameOptions {
+                    capture_capacity: capacity,
+                    ..Default::default()
+                },
+            )
             .unwrap();
         let tris = frame.triangles.unwrap();
         assert!(!tris.is_empty(), "{}: no triangles", volume.name());
@@ -180,7 +192,14 @@ fn direct_images_match_cpu_rasterized_marching_cubes() {
         for fraction in [0.3f32, 0.6] {
             let iso = volume.iso_to_texel(IsoValue::Normalized(fraction));
             let frame = direct
-                .render(&gpu, &prepared, &target, iso, &camera, 0, None)
+                .render(
+                    &gpu,
+                    &prepared,
+                    &target,
+                    iso,
+                    &camera,
+                    &FrameOptions::default(),
+                )
                 .unwrap();
             let mesh = marching_cubes(volume, iso);
             let frame_grid = tessera_data::GridFrame::new(volume.dims(), volume.spacing());
@@ -331,10 +350,27 @@ fn occlusion_culling_changes_work_not_images() {
     let mut occupied_regions = 0;
     for (frame, &az) in path.iter().enumerate() {
         let plain = direct
-            .render(&gpu, &prepared, &target, iso, &cam(az), 0, None)
+            .render(
+                &gpu,
+                &prepared,
+                &target,
+                iso,
+                &cam(az),
+                &FrameOptions::default(),
+            )
             .unwrap();
         let culled = direct
-            .render(&gpu, &prepared, &target, iso, &cam(az), 0, Some(&state))
+            .render(
+                &gpu,
+                &prepared,
+                &target,
+                iso,
+                &cam(az),
+                &FrameOptions {
+                    culling: Some(&state),
+                    ..Default::default()
+                },
+            )
             .unwrap();
         let stats = state.read_stats(&gpu).unwrap();
         let diff = culled.image.compare(&plain.image, 2);
@@ -393,8 +429,10 @@ fn checkerboard_lists_respect_the_vertex_limit() {
             &target,
             0.5,
             &OrbitCamera::default(),
-            2048,
-            None,
+            &FrameOptions {
+                capture_capacity: 2048,
+                ..Default::default()
+            },
         )
         .unwrap();
     // 256 cells × 12 vertices, 8 cells per list at 96 vertices: 32 mesh workgroups.
@@ -422,8 +460,10 @@ fn isovalue_outside_range_draws_nothing() {
             &target,
             300.0,
             &OrbitCamera::default(),
-            16,
-            None,
+            &FrameOptions {
+                capture_capacity: 16,
+                ..Default::default()
+            },
         )
         .unwrap();
     assert_eq!(frame.stats.triangles, 0);

@@ -3,6 +3,8 @@
 
 mod common;
 
+use tessera::iso::direct::FrameOptions;
+
 use common::{assert_clean, assert_images_match, gpu};
 use std::path::Path;
 use tessera::iso::raymarch::Raymarch;
@@ -119,8 +121,10 @@ fn direct_mri_head_triangles_equal_cpu_marching_cubes() {
             &target,
             iso,
             &OrbitCamera::default(),
-            cpu.triangle_count() as u32 + 64,
-            None,
+            &FrameOptions {
+                capture_capacity: cpu.triangle_count() as u32 + 64,
+                ..Default::default()
+            },
         )
         .unwrap();
     assert_eq!(frame.stats.triangles as usize, cpu.triangle_count());

@@ -2,7 +2,7 @@
 
 use crate::error::{Error, Result};
 use crate::iso::direct::cull::CullState;
-use crate::iso::direct::{Direct, RasterTarget};
+use crate::iso::direct::{Direct, FrameOptions, RasterTarget};
 use crate::iso::raymarch::Raymarch;
 use crate::iso::PreparedVolume;
 use crate::target::PixelTarget;
@@ -44,8 +44,8 @@ impl IsoTechnique {
 }
 
 enum Inner {
-    Raymarch(Raymarch),
-    Direct(Direct),
+    Raymarch(Box<Raymarch>),
+    Direct(Box<Direct>),
 }
 
 pub struct IsoRenderer {
@@ -67,8 +67,10 @@ impl IsoRenderer {
         scalar: ScalarType,
     ) -> Result<IsoRenderer> {
         let inner = match technique {
-            IsoTechnique::Raymarch => Inner::Raymarch(Raymarch::new(gpu, compiler, scalar)?),
-            IsoTechnique::Direct => Inner::Direct(Direct::new(gpu, compiler, scalar)?),
+            IsoTechnique::Raymarch => {
+                Inner::Raymarch(Box::new(Raymarch::new(gpu, compiler, scalar)?))
+            }
+            IsoTechnique::Direct => Inner::Direct(Box::new(Direct::new(gpu, compiler, scalar)?)),
         };
         Ok(IsoRenderer { inner })
     }
@@ -108,7 +110,11 @@ impl IsoRenderer {
                 } else {
                     None
                 };
-                let result = d.render(gpu, prepared, &target, iso, camera, 0, state.as_ref());
+                let options = FrameOptions {
+                    capture_capacity: 0,
+                    culling: state.as_ref(),
+                };
+                let result = d.render(gpu, prepared, &target, iso, camera, &options);
                 target.destroy(gpu);
                 if let Some(state) = state {
                     state.destroy(gpu);

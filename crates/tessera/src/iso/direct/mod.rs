@@ -305,9 +305,9 @@ impl Direct {
         target: &RasterTarget,
         iso: f32,
         camera: &OrbitCamera,
-        capture_capacity: u32,
-        culling: Option<&CullState>,
+        options: &FrameOptions,
     ) -> Result<DirectFrame> {
+        let (capture_capacity, culling) = (options.capture_capacity, options.culling);
         let params = Self::params(
             prepared,
             iso,
@@ -409,6 +409,15 @@ impl Direct {
         gpu.destroy_buffer(self.stats);
         self.builder.destroy(gpu);
     }
+}
+
+/// Extras of one [`Direct::render`] call.
+#[derive(Default, Clone, Copy)]
+pub struct FrameOptions<'a> {
+    /// Capture up to this many emitted triangles (0: no capture).
+    pub capture_capacity: u32,
+    /// Occlusion culling with this state (carried from frame to frame).
+    pub culling: Option<&'a CullState>,
 }
 
 /// One rendered frame of [`Direct::render`].
