@@ -3,6 +3,7 @@
 use crate::bench::{bench_sizes, bench_volumes, make_volume, BenchArgs, Sink};
 use anyhow::Result;
 use tessera::bench::{time_frames, BenchRecord, FramePlan};
+use tessera::iso::direct::cull::CullState;
 use tessera::iso::direct::{Direct, RasterTarget};
 use tessera::iso::raymarch::Raymarch;
 use tessera::iso::PreparedVolume;
@@ -75,35 +76,56 @@ fn measure(
     sink.emit(&r)?;
 
     if let Some(direct) = &t.direct {
-        let target = RasterTarget::new(gpu, w, h)?;
-        let capture = Direct::no_capture(gpu)?;
-        let mut frame = 0u32;
-        let mut recorded = Ok(());
-        let stages = time_frames(gpu, plan, 1, |rec, timer| {
-            let params = Direct::params(prepared, iso_of(frame), &camera, w, h, 0);
-            frame += 1;
-            let result = timer.scope(rec, "direct", |rec| {
-                direct.record(rec, prepared, &target, &params, &capture, None)
+        for culling in [false, true] {
+            let state = if culling {
+                Some(CullState::new(gpu, prepared)?)
+            } else {
+                None
+            };
+            let target = RasterTarget::new(gpu, w, h)?;
+            let capture = Direct::no_capture(gpu)?;
+            let mut frame = 0u32;
+            let mut recorded = Ok(());
+            let stages = time_frames(gpu, plan, 1, |rec, timer| {
+                let params = Direct::params(prepared, iso_of(frame), &camera, w, h, 0);
+                frame += 1;
+                let result = timer.scope(rec, "direct", |rec| {
+                    direct.record(rec, prepared, &target, &params, &capture, state.as_ref())
+                });
+                recorded = recorded.clone().and(result.map_err(|e| e.to_string()));
             });
-            recorded = recorded.clone().and(result.map_err(|e| e.to_string()));
-        });
-        let stats = direct.read_stats(gpu);
-        target.destroy(gpu);
-        gpu.destroy_buffer(capture);
-        recorded.map_err(anyhow::Error::msg)?;
-        let stats = stats?;
-        let mut r = record("direct", "mesh");
-        r.stages = stages?;
-        r.counts
-            .insert("triangles_last_frame".into(), stats.triangles as f64);
-        r.counts.insert(
-            "mesh_workgroups_last_frame".into(),
-            stats.mesh_workgroups as f64,
-        );
-        if let (Some(d), Some(rm)) = (r.median_ms("direct"), raymarch_ms) {
-            r.counts.insert("speedup_over_raymarch".into(), rm / d);
+            let stats = direct.read_stats(gpu);
+            let cull_stats = state.as_ref().map(|s| s.read_stats(gpu)).transpose();
+            target.destroy(gpu);
+            gpu.destroy_buffer(capture);
+            if let Some(s) = state {
+                s.destroy(gpu);
+            }
+            recorded.map_err(anyhow::Error::msg)?;
+            let (stats, cull_stats) = (stats?, cull_stats?);
+            let mut r = record(if culling { "direct+roc" } else { "direct" }, "mesh");
+            r.stages = stages?;
+            r.counts
+                .insert("triangles_last_frame".into(), stats.triangles as f64);
+            r.counts.insert(
+                "mesh_workgroups_last_frame".into(),
+                stats.mesh_workgroups as f64,
+            );
+            if let Some(c) = cull_stats {
+                r.counts
+                    .insert("regions_occupied".into(), c.regions_occupied as f64);
+                r.counts
+                    .insert("blocks_visible".into(), c.blocks_visible as f64);
+                r.counts.insert(
+                    "blocks_drawn".into(),
+                    (c.blocks_drawn_first + c.blocks_drawn_new) as f64,
+                );
+            }
+            if let (Some(d), Some(rm)) = (r.median_ms("direct"), raymarch_ms) {
+                r.counts.insert("speedup_over_raymarch".into(), rm / d);
+            }
+            sink.emit(&r)?;
         }
-        sink.emit(&r)?;
     }
     Ok(())
 }
