@@ -17,6 +17,9 @@
 //!   cleared to 1.0.
 //! * World-space normal and position are interpolated perspective-correctly and shaded by
 //!   [`shade_fragment`], the rule the GPU fragment shader implements.
+//!
+//! [`rasterize_clip_triangles`] applies the same rules to triangles given in clip space, keeping
+//! each pixel's depth and triangle index: the contract of the GPU compute rasterizer.
 
 use glam::{DVec3, DVec4, Vec3, Vec4};
 

@@ -27,6 +27,11 @@ const COMMON: &[(&str, &str)] = &[
         include_str!("iso/direct/params.glsl"),
     ),
     ("iso/direct/cull.glsl", include_str!("iso/direct/cull.glsl")),
+    ("raster/raster.glsl", include_str!("raster/raster.glsl")),
+    (
+        "iso/direct/attributes.glsl",
+        include_str!("iso/direct/attributes.glsl"),
+    ),
     (
         "common/throughput.glsl",
         include_str!("shaders/common/throughput.glsl"),

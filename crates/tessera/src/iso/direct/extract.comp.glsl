@@ -7,13 +7,13 @@
 #include "common/mc_tables.glsl"
 #include "common/mc_cell.glsl"
 #include "iso/direct/params.glsl"
+#include "iso/direct/attributes.glsl"
+#include "raster/raster.glsl"
 
 layout(local_size_x = 32) in;
 layout(binding = 0) uniform VOLUME_SAMPLER volume_tex;
 layout(binding = 1) readonly buffer Nodes { vec2 minmax_nodes[]; };
-struct RasterTriangle { vec4 clip[3]; };
 layout(binding = 2) writeonly buffer Triangles { RasterTriangle triangles[]; };
-struct TriangleAttributes { vec4 normal_world[3]; vec4 position_world[3]; };
 layout(binding = 3) writeonly buffer Attributes { TriangleAttributes attributes[]; };
 // The rasterizer's counts (triangle_count, then its dispatch arguments).
 layout(binding = 4) buffer Counts { uint triangle_count; };

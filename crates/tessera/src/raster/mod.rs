@@ -1,0 +1,277 @@
+//! The shared compute rasterizer: draws clip-space triangles made by a compute pass into a
+//! depth-and-payload frame with 64-bit atomics, for techniques that avoid the graphics stages
+//! (on H100/H200 a fragment shader runs far slower than the same compute shader;
+//! docs/BENCHMARKS.md). A technique generates triangles, rasterizes them here, then resolves the
+//! frame to colour with its own shader, which looks up what it needs by triangle index.
+//!
+//! The rules are those of the CPU reference [`tessera_data::rasterize`]: clipping in clip space
+//! against w > 0, the near (z >= 0) and far (z <= w) planes and a guard band, fan drawing,
+//! positions snapped to 1/256 pixel, pixel centres, the top-left rule, double-sided, NDC depth
+//! linear in screen space tested LESS against 1.0. Coverage uses exact integer edge functions,
+//! and positions are snapped in double-float arithmetic so that they land on the reference's
+//! (f64) grid points, so the frame equals
+//! [`tessera_data::rasterize::rasterize_clip_triangles`] except where f32 clipping moves a
+//! clipped corner to a neighbouring grid point or two depths tie within f32 rounding (neither
+//! happened in the tests, on lavapipe or an H100). The far plane is clipped like the others; only
+//! dropping fragments with depth >= 1 would give the same pixels in exact arithmetic (the part of
+//! a triangle with z <= w is where its screen-linear depth is <= 1), but differ within a
+//! sub-pixel step of that line, where the reference snaps the clipped corners.
+//!
+//! One invocation handles one triangle, which suits the small triangles of marching cubes; a
+//! triangle covering much of the screen is drawn by a single invocation, slowly.
+//!
+//! # Data layout
+//!
+//! * **Triangles** — a storage buffer of [`RasterTriangle`], GLSL
+//!   `struct RasterTriangle { vec4 clip[3]; }` (48 bytes, clip-space corners), from offset 0
+//!   with nothing before them. Only the first `min(triangle_count, buffer size / 48)` are read.
+//! * **Counts** — a 16-byte buffer, [`RasterCounts`]: `uint triangle_count` (written by the
+//!   generating pass) then `uint dispatch_x, dispatch_y, dispatch_z`, the indirect dispatch
+//!   arguments [`ComputeRasterizer::record_prepare_dispatch`] fills. Usage must include
+//!   `STORAGE_BUFFER | INDIRECT_BUFFER` ([`create_counts_buffer`] makes one).
+//! * **Frame** — [`RasterFrame`]: `uint64_t depth_payload[width * height]`, row-major from the
+//!   top-left pixel. A drawn pixel holds `floatBitsToUint(depth) << 32 | index` with `depth` the
+//!   NDC depth in `[0, 1)` (a non-negative float, so its bits order as the values do) and
+//!   `index` the triangle's position in the triangle buffer; an empty pixel holds [`EMPTY`]
+//!   (all ones). Resolve shaders `#include "raster/raster.glsl"` and bind it as
+//!   `uvec2 depth_payload[]` (x = index, y = depth bits) with the helpers there:
+//!   `raster_is_empty`, `raster_depth`, `raster_index`, `raster_pixel_centre` and
+//!   `raster_barycentrics` (perspective-correct weights of the original corners at a pixel).
+//!
+//! # Passes
+//!
+//! [`ComputeRasterizer::record_clear`], then (after the pass that writes the triangles and the
+//! count, and a barrier) [`ComputeRasterizer::record_prepare_dispatch`] and
+//! [`ComputeRasterizer::record_raster`]; or all three with [`ComputeRasterizer::record`]. Each
+//! `record_*` ends with a barrier, so the next pass sees its writes.
+
+use crate::builtin_shader;
+use crate::error::{check_image_size, Error, Result};
+use bytemuck::{Pod, Zeroable};
+use tessera_data::rasterize::{GUARD_BAND, MIN_W, SUBPIXEL_BITS};
+use tessera_gpu::{
+    vk, Binding, Buffer, Gpu, MemoryLocation, Pipeline, Recorder, ShaderCompiler, Slot,
+};
+
+/// Bytes per [`RasterTriangle`].
+pub const TRIANGLE_BYTES: u64 = 48;
+/// Bytes of the counts buffer ([`RasterCounts`]).
+pub const COUNTS_BYTES: u64 = 16;
+/// The value of a pixel nothing was drawn to.
+pub const EMPTY: u64 = u64::MAX;
+/// Largest frame side: keeps the guard band's snapped coordinates below 2^24 sub-pixels, where
+/// the shader's snapping and 32-bit positions are exact.
+pub const MAX_FRAME_SIDE: u32 = 8192;
+
+/// One input triangle: its corners in clip space (`RasterTriangle` in `raster/raster.glsl`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct RasterTriangle {
+    pub clip: [[f32; 4]; 3],
+}
+
+/// The counts buffer: the triangle count, then the raster pass's indirect dispatch arguments.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
+pub struct RasterCounts {
+    pub triangle_count: u32,
+    pub dispatch: [u32; 3],
+}
+
+/// Push constants of `raster_prepare.comp.glsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+struct PrepareParams {
+    max_groups: [u32; 2],
+    group_size: u32,
+    _pad: u32,
+}
+
+/// Push constants of `raster.comp.glsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+struct RasterParams {
+    size: [u32; 2],
+    capacity: u32,
+    _pad: u32,
+}
+
+/// Splits a frame value into (NDC depth, triangle index); `None` for an empty pixel.
+pub fn decode(value: u64) -> Option<(f32, u32)> {
+    (value >> 32 != u64::from(u32::MAX))
+        .then(|| (f32::from_bits((value >> 32) as u32), value as u32))
+}
+
+/// A counts buffer with the usage the passes need (storage, indirect, transfer).
+pub fn create_counts_buffer(gpu: &Gpu, name: &str) -> Result<Buffer> {
+    Ok(gpu.create_buffer(
+        name,
+        COUNTS_BYTES,
+        vk::BufferUsageFlags::STORAGE_BUFFER
+            | vk::BufferUsageFlags::INDIRECT_BUFFER
+            | vk::BufferUsageFlags::TRANSFER_SRC
+            | vk::BufferUsageFlags::TRANSFER_DST,
+        MemoryLocation::GpuOnly,
+    )?)
+}
+
+/// The rasterizer's output: one 64-bit depth-and-payload value per pixel.
+pub struct RasterFrame {
+    pub depth_payload: Buffer,
+    pub width: u32,
+    pub height: u32,
+}
+
+impl RasterFrame {
+    pub fn new(gpu: &Gpu, width: u32, height: u32) -> Result<RasterFrame> {
+        check_image_size(width, height)?;
+        if width > MAX_FRAME_SIDE || height > MAX_FRAME_SIDE {
+            return Err(Error::Invalid(format!(
+                "raster frame {width}x{height} is larger than {MAX_FRAME_SIDE} pixels a side"
+            )));
+        }
+        let depth_payload = gpu.create_buffer(
+            "raster depth_payload",
+            width as u64 * height as u64 * 8,
+            vk::BufferUsageFlags::STORAGE_BUFFER
+                | vk::BufferUsageFlags::TRANSFER_SRC
+                | vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuOnly,
+        )?;
+        Ok(RasterFrame {
+            depth_payload,
+            width,
+            height,
+        })
+    }
+
+    pub fn pixel_count(&self) -> usize {
+        self.width as usize * self.height as usize
+    }
+
+    /// The frame's values, row-major; see [`decode`].
+    pub fn read(&self, gpu: &Gpu) -> Result<Vec<u64>> {
+        let bytes = gpu.read_buffer(&self.depth_payload)?;
+        Ok(bytemuck::allocation::pod_collect_to_vec(
+            &bytes[..self.pixel_count() * 8],
+        ))
+    }
+
+    pub fn destroy(self, gpu: &Gpu) {
+        gpu.destroy_buffer(self.depth_payload);
+    }
+}
+
+pub struct ComputeRasterizer {
+    prepare: Pipeline,
+    raster: Pipeline,
+    max_groups: [u32; 2],
+}
+
+impl ComputeRasterizer {
+    /// Builds the passes; the device must have 64-bit buffer atomics
+    /// (`caps().buffer_int64_atomics`).
+    pub fn new(gpu: &Gpu, compiler: &ShaderCompiler) -> Result<ComputeRasterizer> {
+        if !gpu.caps().buffer_int64_atomics {
+            return Err(Error::Invalid(format!(
+                "the compute rasterizer needs 64-bit buffer atomics, which {} lacks",
+                gpu.caps().device_name
+            )));
+        }
+        // The reference's constants, defined once in tessera_data.
+        let defines = vec![
+            ("SUBPIXEL_BITS".into(), SUBPIXEL_BITS.to_string()),
+            ("MIN_W".into(), format!("{:?}", MIN_W as f32)),
+            ("GUARD_BAND".into(), format!("{:?}", GUARD_BAND as f32)),
+        ];
+        let prepare = compiler.compile(&builtin_shader!("raster_prepare.comp.glsl"), &defines)?;
+        let raster = compiler.compile(&builtin_shader!("raster.comp.glsl"), &defines)?;
+        let prepare = gpu.compute_pipeline("raster prepare", &prepare, &[Slot::StorageBuffer])?;
+        let raster = match gpu.compute_pipeline("raster", &raster, &[Slot::StorageBuffer; 3]) {
+            Ok(p) => p,
+            Err(e) => {
+                gpu.destroy_pipeline(prepare);
+                return Err(e.into());
+            }
+        };
+        let limit = gpu.caps().max_compute_workgroup_count;
+        Ok(ComputeRasterizer {
+            prepare,
+            raster,
+            max_groups: [limit[0], limit[1]],
+        })
+    }
+
+    /// Lowers the workgroups per row of the raster dispatch (never above the device's limit),
+    /// so that tests can reach the 2-D grid with few triangles.
+    pub fn limit_groups_x(&mut self, groups: u32) {
+        self.max_groups[0] = groups.clamp(1, self.max_groups[0]);
+    }
+
+    /// Invocations (triangles) per workgroup of the raster pass.
+    pub fn group_size(&self) -> u32 {
+        self.raster.local_size[0]
+    }
+
+    /// Marks every pixel of `frame` empty.
+    pub fn record_clear(&self, rec: &Recorder, frame: &RasterFrame) {
+        rec.fill_buffer(&frame.depth_payload, u32::MAX);
+        rec.barrier();
+    }
+
+    /// Writes the raster pass's dispatch arguments into `counts` from its triangle count.
+    pub fn record_prepare_dispatch(&self, rec: &Recorder, counts: &Buffer) {
+        let params = PrepareParams {
+            max_groups: self.max_groups,
+            group_size: self.group_size(),
+            _pad: 0,
+        };
+        rec.dispatch_groups(
+            &self.prepare,
+            &[Binding::Buffer(counts)],
+            bytemuck::bytes_of(&params),
+            [1, 1, 1],
+        );
+        rec.barrier();
+    }
+
+    /// Draws the counted triangles into `frame`, keeping the nearest per pixel; `counts` must
+    /// hold arguments from [`Self::record_prepare_dispatch`].
+    pub fn record_raster(
+        &self,
+        rec: &Recorder,
+        triangles: &Buffer,
+        counts: &Buffer,
+        frame: &RasterFrame,
+    ) {
+        let params = RasterParams {
+            size: [frame.width, frame.height],
+            capacity: (triangles.size / TRIANGLE_BYTES).min(u32::MAX as u64) as u32,
+            _pad: 0,
+        };
+        rec.dispatch_indirect(
+            &self.raster,
+            &[
+                Binding::Buffer(triangles),
+                Binding::Buffer(counts),
+                Binding::Buffer(&frame.depth_payload),
+            ],
+            bytemuck::bytes_of(&params),
+            counts,
+            4,
+        );
+        rec.barrier();
+    }
+
+    /// Clears `frame` and draws the counted triangles into it.
+    pub fn record(&self, rec: &Recorder, triangles: &Buffer, counts: &Buffer, frame: &RasterFrame) {
+        self.record_clear(rec, frame);
+        self.record_prepare_dispatch(rec, counts);
+        self.record_raster(rec, triangles, counts, frame);
+    }
+
+    pub fn destroy(self, gpu: &Gpu) {
+        gpu.destroy_pipeline(self.prepare);
+        gpu.destroy_pipeline(self.raster);
+    }
+}

@@ -1,0 +1,662 @@
+//! The shared compute rasterizer against the CPU reference (`tessera_data::rasterize`), on
+//! lavapipe or a GPU, with validation on.
+
+mod common;
+
+use common::{assert_clean, gpu};
+use glam::{DVec2, DVec3, Vec4};
+use tessera::raster::{
+    create_counts_buffer, decode, ComputeRasterizer, RasterCounts, RasterFrame, RasterTriangle,
+    EMPTY,
+};
+use tessera::shaders;
+use tessera_data::rasterize::{rasterize_clip_triangles, screen_polygon};
+use tessera_gpu::{vk, Binding, Gpu, Slot, Source};
+
+/// The rasterizer, or `None` (said aloud) on a device without 64-bit buffer atomics.
+fn rasterizer(gpu: &Gpu) -> Option<ComputeRasterizer> {
+    if !gpu.caps().buffer_int64_atomics {
+        eprintln!(
+            "SKIPPED: {} has no 64-bit buffer atomics; the compute rasterizer cannot run",
+            gpu.caps().device_name
+        );
+        return None;
+    }
+    Some(ComputeRasterizer::new(gpu, &shaders::compiler()).expect("build the rasterizer"))
+}
+
+/// Draws the first `count` of `tris` (the buffer holds all of them, at least one slot) into
+/// `frame`; returns the frame and the counts buffer as the passes left them.
+fn draw_into(
+    gpu: &Gpu,
+    rast: &ComputeRasterizer,
+    tris: &[[Vec4; 3]],
+    count: u32,
+    frame: &RasterFrame,
+) -> (Vec<u64>, RasterCounts) {
+    let mut list: Vec<RasterTriangle> = tris
+        .iter()
+        .map(|t| RasterTriangle {
+            clip: t.map(|c| c.to_array()),
+        })
+        .collect();
+    if list.is_empty() {
+        list.push(RasterTriangle::default());
+    }
+    let triangles = gpu
+        .upload_buffer(
+            "test triangles",
+            bytemuck::cast_slice(&list),
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+        )
+        .unwrap();
+    let counts = create_counts_buffer(gpu, "test counts").unwrap();
+    let initial = RasterCounts {
+        triangle_count: count,
+        dispatch: [u32::MAX; 3],
+    };
+    gpu.write_buffer(&counts, bytemuck::bytes_of(&initial))
+        .unwrap();
+    gpu.submit("raster test", |rec| {
+        rast.record(rec, &triangles, &counts, frame)
+    })
+    .unwrap();
+    let values = frame.read(gpu).unwrap();
+    let args: RasterCounts = bytemuck::pod_read_unaligned(&gpu.read_buffer(&counts).unwrap()[..16]);
+    gpu.destroy_buffer(triangles);
+    gpu.destroy_buffer(counts);
+    (values, args)
+}
+
+fn draw(gpu: &Gpu, rast: &ComputeRasterizer, tris: &[[Vec4; 3]], w: u32, h: u32) -> Vec<u64> {
+    let frame = RasterFrame::new(gpu, w, h).unwrap();
+    let (values, _) = draw_into(gpu, rast, tris, tris.len() as u32, &frame);
+    frame.destroy(gpu);
+    values
+}
+
+/// xorshift64*: deterministic test data.
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> f64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        (self.0.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 11) as f64 / (1u64 << 53) as f64
+    }
+    fn range(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + (hi - lo) * self.next()
+    }
+}
+
+/// A perspective camera like `tessera_data::Projection`: view space x right, y up, z forward.
+struct Camera {
+    width: u32,
+    height: u32,
+    tan_y: f64,
+    near: f64,
+    far: f64,
+}
+
+impl Camera {
+    fn tan_x(&self) -> f64 {
+        self.tan_y * f64::from(self.width) / f64::from(self.height)
+    }
+    /// The view-space point at view depth `d` seen at pixel position (px, py).
+    fn at_pixel(&self, px: f64, py: f64, d: f64) -> DVec3 {
+        let ndc_x = 2.0 * px / f64::from(self.width) - 1.0;
+        let ndc_y = 2.0 * py / f64::from(self.height) - 1.0;
+        DVec3::new(ndc_x * self.tan_x() * d, -ndc_y * self.tan_y * d, d)
+    }
+    /// View-space size of one pixel at view depth `d`.
+    fn pixel_size(&self, d: f64) -> f64 {
+        2.0 * self.tan_y * d / f64::from(self.height)
+    }
+    fn to_clip(&self, v: DVec3) -> Vec4 {
+        let a = self.far / (self.far - self.near);
+        let c = [
+            v.x / self.tan_x(),
+            -v.y / self.tan_y,
+            a * (v.z - self.near),
+            v.z,
+        ];
+        Vec4::from_array(c.map(|x| x as f32))
+    }
+}
+
+/// A triangle around the pixel (px, py) at depth d, `size` pixels across, its corners spread
+/// in depth by up to `depth_spread` view units.
+fn triangle(cam: &Camera, rng: &mut Rng, centre: DVec3, size: f64, depth_spread: f64) -> [Vec4; 3] {
+    let base = cam.at_pixel(centre.x, centre.y, centre.z);
+    let r = size * cam.pixel_size(centre.z) * 0.5;
+    [0, 1, 2].map(|_| {
+        let angle = rng.range(0.0, std::f64::consts::TAU);
+        let radius = r * rng.range(0.3, 1.0);
+        let offset = DVec3::new(
+            radius * angle.cos(),
+            radius * angle.sin(),
+            rng.range(-depth_spread, depth_spread),
+        );
+        cam.to_clip(base + offset)
+    })
+}
+
+/// A few hundred triangles: small and medium ones (overlapping, some partly off screen), some
+/// crossing the near plane or reaching behind the eye, some crossing the far plane, repeated
+/// ones, degenerate ones and ones wholly outside.
+fn random_scene(cam: &Camera, rng: &mut Rng) -> Vec<[Vec4; 3]> {
+    let (w, h) = (f64::from(cam.width), f64::from(cam.height));
+    let mut tris = Vec::new();
+    let centre = |rng: &mut Rng, d0: f64, d1: f64| {
+        DVec3::new(
+            rng.range(-0.1 * w, 1.1 * w),
+            rng.range(-0.1 * h, 1.1 * h),
+            rng.range(d0, d1),
+        )
+    };
+    for _ in 0..300 {
+        let c = centre(rng, 1.0, 6.0);
+        let size = rng.range(1.0, 8.0);
+        tris.push(triangle(cam, rng, c, size, 0.02));
+    }
+    for _ in 0..250 {
+        let c = centre(rng, 1.0, 6.0);
+        let size = rng.range(10.0, 80.0);
+        tris.push(triangle(cam, rng, c, size, 0.5));
+    }
+    for _ in 0..40 {
+        // Near the near plane with corners spread to either side of it, some behind the eye.
+        let c = centre(rng, cam.near * 0.8, cam.near * 1.6);
+        let size = rng.range(20.0, 150.0);
+        tris.push(triangle(cam, rng, c, size, 1.2));
+    }
+    for _ in 0..30 {
+        let c = centre(rng, cam.far - 1.0, cam.far + 0.5);
+        let size = rng.range(10.0, 80.0);
+        tris.push(triangle(cam, rng, c, size, 2.0));
+    }
+    // Exact copies drawn later: equal depths, where the lower index must stay.
+    for k in 0..20 {
+        tris.push(tris[300 + 7 * k]);
+    }
+    // Degenerate: a repeated corner, collinear corners, one point.
+    let p = |x: f64, y: f64, d: f64| cam.to_clip(cam.at_pixel(x, y, d));
+    tris.push([p(10.0, 10.0, 2.0), p(10.0, 10.0, 2.0), p(60.0, 40.0, 2.0)]);
+    tris.push([p(10.0, 50.0, 2.0), p(30.0, 60.0, 2.0), p(50.0, 70.0, 2.0)]);
+    tris.push([p(80.0, 80.0, 2.0); 3]);
+    // Wholly off screen, wholly behind the eye, wholly beyond the far plane.
+    tris.push([
+        p(-90.0, 10.0, 2.0),
+        p(-30.0, 50.0, 2.0),
+        p(-60.0, 90.0, 3.0),
+    ]);
+    let behind = |x: f64, y: f64| cam.to_clip(DVec3::new(x, y, -1.0));
+    tris.push([behind(0.0, 0.0), behind(1.0, 0.0), behind(0.0, 1.0)]);
+    tris.push([
+        p(20.0, 20.0, 9.0),
+        p(200.0, 30.0, 9.5),
+        p(90.0, 150.0, 10.0),
+    ]);
+    tris
+}
+
+/// Distance in pixels from `p` to the outline of a screen polygon.
+fn distance_to_outline(p: DVec2, polygon: &[DVec3]) -> f64 {
+    let n = polygon.len();
+    (0..n)
+        .map(|i| {
+            let a = polygon[i].truncate();
+            let b = polygon[(i + 1) % n].truncate();
+            let ab = b - a;
+            let t = if ab.length_squared() > 0.0 {
+                ((p - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            (a + ab * t).distance(p)
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+#[test]
+fn random_triangles_match_cpu_reference() {
+    let gpu = gpu();
+    let Some(mut rast) = rasterizer(&gpu) else {
+        return;
+    };
+    let cam = Camera {
+        width: 256,
+        height: 192,
+        tan_y: 0.45,
+        near: 0.5,
+        far: 8.0,
+    };
+    let (w, h) = (cam.width, cam.height);
+    let tris = random_scene(&cam, &mut Rng(0x1234_5678_9abc_def1));
+    let clipped = |f: fn(&Vec4) -> bool| tris.iter().filter(|t| t.iter().any(f)).count();
+    let (behind_eye, near, far) = (
+        clipped(|c| c.w < 0.0),
+        clipped(|c| c.z < 0.0),
+        clipped(|c| c.z > c.w),
+    );
+    let gpu_values = draw(&gpu, &rast, &tris, w, h);
+    let cpu = rasterize_clip_triangles(&tris, w, h);
+
+    // A pixel drawn on one side only must lie next to its triangle's outline: f32 clipping may
+    // put a clipped corner on the neighbouring 1/256-pixel grid point of the reference's (f64)
+    // one, which moves the edges ending there by at most one sub-pixel step.
+    const OUTLINE_TOLERANCE: f64 = 1.0 / 256.0;
+    let (mut same, mut index_differs, mut one_sided) = (0usize, 0usize, 0usize);
+    let (mut max_depth_diff, mut max_tie_gap, mut max_outline) = (0f64, 0f64, 0f64);
+    let mut drawn = 0usize;
+    for (i, (&g, c)) in gpu_values.iter().zip(&cpu).enumerate() {
+        let centre = DVec2::new((i as u32 % w) as f64 + 0.5, (i as u32 / w) as f64 + 0.5);
+        match (decode(g), *c) {
+            (None, None) => same += 1,
+            (Some((gd, gi)), Some((cd, ci))) => {
+                drawn += 1;
+                let gap = (f64::from(gd) - f64::from(cd)).abs();
+                if gi == ci {
+                    same += 1;
+                    max_depth_diff = max_depth_diff.max(gap);
+                } else {
+                    index_differs += 1;
+                    max_tie_gap = max_tie_gap.max(gap);
+                }
+            }
+            (g, c) => {
+                one_sided += 1;
+                let (_, t) = g.or(c).unwrap();
+                let poly = screen_polygon(&tris[t as usize], w, h);
+                let d = distance_to_outline(centre, &poly);
+                max_outline = max_outline.max(d);
+                assert!(
+                    d <= OUTLINE_TOLERANCE,
+                    "pixel {centre} drawn only by the {} (triangle {t}), {d} px inside/outside",
+                    if g.is_some() { "GPU" } else { "CPU" }
+                );
+            }
+        }
+    }
+    let total = gpu_values.len();
+    eprintln!(
+        "{} triangles ({near} crossing the near plane, {behind_eye} of them behind the eye, \
+         {far} the far plane), {drawn} pixels drawn: {same}/{total} equal, {index_differs} with another \
+         triangle (depth gap <= {max_tie_gap:e}), {one_sided} one-sided (<= {max_outline:e} px \
+         from an outline), depth error <= {max_depth_diff:e}",
+        tris.len()
+    );
+    assert!(drawn > total / 2, "the scene covers too little: {drawn}");
+    assert!(near >= 20 && behind_eye >= 10 && far >= 10);
+    assert!(
+        same as f64 >= 0.999 * total as f64,
+        "only {same} of {total} pixels agree"
+    );
+    assert!(max_depth_diff <= 1e-6, "depth differs by {max_depth_diff}");
+
+    // The same through a 2-D grid of workgroups: bit for bit the same frame.
+    rast.limit_groups_x(2);
+    let frame = RasterFrame::new(&gpu, w, h).unwrap();
+    let (grid_values, args) = draw_into(&gpu, &rast, &tris, tris.len() as u32, &frame);
+    let groups = (tris.len() as u32).div_ceil(rast.group_size());
+    assert_eq!(args.dispatch, [2, groups.div_ceil(2), 1]);
+    assert!(grid_values == gpu_values, "2-D grid changed the frame");
+    frame.destroy(&gpu);
+    rast.destroy(&gpu);
+    assert_clean(&gpu);
+}
+
+/// Renders each triangle alone and adds up the coverage; checks every pixel is drawn at most
+/// once, per triangle exactly as the CPU reference draws it, and that drawing the whole fan at
+/// once keeps, per pixel, the one triangle covering it.
+fn check_fan(gpu: &Gpu, rast: &ComputeRasterizer, fan: &[[Vec4; 3]], size: (u32, u32)) -> Vec<u32> {
+    let (w, h) = size;
+    let mut owner = vec![None; (w * h) as usize];
+    let mut counts = vec![0u32; (w * h) as usize];
+    for (t, tri) in fan.iter().enumerate() {
+        let alone = draw(gpu, rast, std::slice::from_ref(tri), w, h);
+        let cpu = rasterize_clip_triangles(std::slice::from_ref(tri), w, h);
+        for (i, v) in alone.iter().enumerate() {
+            let covered = *v != EMPTY;
+            assert_eq!(covered, cpu[i].is_some(), "triangle {t}, pixel {i}");
+            if covered {
+                counts[i] += 1;
+                owner[i] = Some(t as u32);
+            }
+        }
+    }
+    assert!(counts.iter().all(|&c| c <= 1), "a pixel drawn twice");
+    let together = draw(gpu, rast, fan, w, h);
+    for (i, v) in together.iter().enumerate() {
+        assert_eq!(decode(*v).map(|(_, t)| t), owner[i], "pixel {i}");
+    }
+    counts
+}
+
+/// Asserts every pixel centre clearly inside the fan around `centre` with corners `rim` (all in
+/// pixels) was drawn once and none clearly outside was drawn; "clearly" is 0.01 pixel.
+fn assert_fills(counts: &[u32], centre: DVec2, rim: &[DVec2], w: u32) {
+    // Signed distance from the nearest edge of triangle t, positive inside.
+    let inside_by = |t: [DVec2; 3], p: DVec2| {
+        let sign = (t[1] - t[0]).perp_dot(t[2] - t[0]).signum();
+        (0..3)
+            .map(|i| {
+                let (a, b) = (t[i], t[(i + 1) % 3]);
+                sign * (b - a).perp_dot(p - a) / (b - a).length()
+            })
+            .fold(f64::INFINITY, f64::min)
+    };
+    let n = rim.len();
+    for (i, &c) in counts.iter().enumerate() {
+        let p = DVec2::new((i as u32 % w) as f64 + 0.5, (i as u32 / w) as f64 + 0.5);
+        let d = (0..n)
+            .map(|k| inside_by([centre, rim[k], rim[(k + 1) % n]], p))
+            .fold(f64::NEG_INFINITY, f64::max);
+        if d > 0.01 {
+            assert_eq!(c, 1, "gap at {p}");
+        } else if d < -0.01 {
+            assert_eq!(c, 0, "spill at {p}");
+        }
+    }
+}
+
+#[test]
+fn fans_cover_each_pixel_exactly_once() {
+    let gpu = gpu();
+    let Some(rast) = rasterizer(&gpu) else {
+        return;
+    };
+    let (w, h) = (128u32, 128u32);
+    // A corner at pixel position (px, py), NDC depth z, clip w.
+    let at = |px: f64, py: f64, z: f64, cw: f64| {
+        let ndc = [2.0 * px / f64::from(w) - 1.0, 2.0 * py / f64::from(h) - 1.0];
+        Vec4::new(
+            (ndc[0] * cw) as f32,
+            (ndc[1] * cw) as f32,
+            (z * cw) as f32,
+            cw as f32,
+        )
+    };
+    let fan_of = |centre: Vec4, rim: &[Vec4]| -> Vec<[Vec4; 3]> {
+        (0..rim.len())
+            .map(|k| [centre, rim[k], rim[(k + 1) % rim.len()]])
+            .collect()
+    };
+
+    // Twelve triangles around a corner on a pixel centre, rim corners on pixel centres too
+    // (power-of-two w keeps them exactly there), so the fill rule decides at every corner.
+    let spokes = [
+        (40, 0),
+        (40, 20),
+        (30, 30),
+        (10, 40),
+        (0, 40),
+        (-25, 30),
+        (-40, 10),
+        (-40, -15),
+        (-20, -40),
+        (0, -40),
+        (20, -40),
+        (35, -35),
+    ];
+    let ws = [1.0, 2.0, 0.5, 4.0];
+    let rim_px: Vec<DVec2> = spokes
+        .iter()
+        .map(|&(dx, dy)| DVec2::new(64.5 + f64::from(dx), 64.5 + f64::from(dy)))
+        .collect();
+    let rim: Vec<Vec4> = rim_px
+        .iter()
+        .enumerate()
+        .map(|(k, p)| at(p.x, p.y, 0.3 + 0.04 * k as f64, ws[k % 4]))
+        .collect();
+    let counts = check_fan(&gpu, &rast, &fan_of(at(64.5, 64.5, 0.5, 2.0), &rim), (w, h));
+    assert_eq!(counts[(64 * w + 64) as usize], 1, "shared corner pixel");
+    assert_fills(&counts, DVec2::new(64.5, 64.5), &rim_px, w);
+
+    // Irregular corners and w, partly off screen.
+    let mut rng = Rng(77);
+    let rim_px: Vec<DVec2> = (0..9)
+        .map(|k| {
+            let angle = (k as f64 + rng.range(-0.3, 0.3)) * std::f64::consts::TAU / 9.0;
+            let r = rng.range(30.0, 80.0);
+            DVec2::new(61.3 + r * angle.cos(), 70.9 + r * angle.sin())
+        })
+        .collect();
+    let rim: Vec<Vec4> = rim_px
+        .iter()
+        .map(|p| at(p.x, p.y, rng.range(0.1, 0.9), rng.range(0.6, 3.0)))
+        .collect();
+    let fan = fan_of(at(61.3, 70.9, 0.4, 1.37), &rim);
+    let counts = check_fan(&gpu, &rast, &fan, (w, h));
+    assert_fills(&counts, DVec2::new(61.3, 70.9), &rim_px, w);
+    assert!(counts.iter().filter(|&&c| c == 1).count() > 5000);
+
+    // A fan crossing the near plane: shared edges cut by clipping must stay watertight.
+    let cam = Camera {
+        width: w,
+        height: h,
+        tan_y: 0.5,
+        near: 0.5,
+        far: 8.0,
+    };
+    let centre = cam.to_clip(cam.at_pixel(60.0, 66.0, 1.0));
+    let rim: Vec<Vec4> = (0..10)
+        .map(|k| {
+            let angle = k as f64 * std::f64::consts::TAU / 10.0;
+            let base = cam.at_pixel(60.0, 66.0, 1.0);
+            let offset = DVec3::new(0.6 * angle.cos(), 0.6 * angle.sin(), 0.9 * angle.sin());
+            cam.to_clip(base + offset)
+        })
+        .collect();
+    let counts = check_fan(&gpu, &rast, &fan_of(centre, &rim), (w, h));
+    assert!(counts.iter().filter(|&&c| c == 1).count() > 3000);
+    rast.destroy(&gpu);
+    assert_clean(&gpu);
+}
+
+const BARYCENTRICS: &str = r#"#version 460
+#include "raster/raster.glsl"
+layout(local_size_x = 8, local_size_y = 8) in;
+layout(binding = 0) writeonly buffer Weights { vec4 weights[]; };
+layout(push_constant) uniform Params { vec4 clip[3]; uvec2 size; } params;
+void main() {
+    uvec2 pixel = gl_GlobalInvocationID.xy;
+    if (any(greaterThanEqual(pixel, params.size))) {
+        return;
+    }
+    vec3 b = raster_barycentrics(params.clip[0], params.clip[1], params.clip[2],
+                                 raster_pixel_centre(pixel), params.size);
+    weights[pixel.y * params.size.x + pixel.x] = vec4(b, 0.0);
+}
+"#;
+
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct BaryParams {
+    clip: [[f32; 4]; 3],
+    size: [u32; 2],
+    _pad: [u32; 2],
+}
+
+/// Weights of the corners at the point pixel (px, py) sees, by ray-triangle intersection in
+/// homogeneous pixel space (independent of the shader's formula); `None` when the triangle's
+/// plane is met behind the eye.
+fn ray_weights(clip: &[Vec4; 3], px: f64, py: f64, w: u32, h: u32) -> Option<[f64; 3]> {
+    let corner = |c: Vec4| {
+        let c = c.as_dvec4();
+        DVec3::new(
+            (c.x + c.w) * f64::from(w) / 2.0,
+            (c.y + c.w) * f64::from(h) / 2.0,
+            c.w,
+        )
+    };
+    let [a, b, c] = clip.map(corner);
+    let dir = DVec3::new(px, py, 1.0);
+    let (e1, e2) = (b - a, c - a);
+    let p = dir.cross(e2);
+    let det = e1.dot(p);
+    let s = -a;
+    let u = s.dot(p) / det;
+    let q = s.cross(e1);
+    let v = dir.dot(q) / det;
+    let t = e2.dot(q) / det;
+    (t > 0.0).then_some([1.0 - u - v, u, v])
+}
+
+#[test]
+fn resolve_barycentrics_are_perspective_correct() {
+    let gpu = gpu();
+    let compiler = shaders::compiler();
+    let spirv = compiler
+        .compile(
+            &Source::new("tests/raster_barycentrics.comp.glsl", BARYCENTRICS),
+            &[],
+        )
+        .unwrap();
+    let pipeline = gpu
+        .compute_pipeline("barycentrics", &spirv, &[Slot::StorageBuffer])
+        .unwrap();
+    let (w, h) = (128u32, 96u32);
+    let out = gpu
+        .create_buffer(
+            "weights",
+            u64::from(w * h) * 16,
+            vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC,
+            tessera_gpu::MemoryLocation::GpuOnly,
+        )
+        .unwrap();
+    let cases = [
+        // In front, strongly varying w.
+        [
+            Vec4::new(-0.55, -0.6, 0.3, 0.7),
+            Vec4::new(1.9, -0.4, 1.2, 1.6),
+            Vec4::new(0.3, 2.5, 2.2, 2.9),
+        ],
+        // One corner behind the eye: the visible part's weights still refer to all three.
+        [
+            Vec4::new(-0.5, -0.3, 0.4, 1.1),
+            Vec4::new(0.6, -0.2, 0.8, 1.5),
+            Vec4::new(0.4, 0.9, -0.7, -0.4),
+        ],
+    ];
+    let rast = rasterizer(&gpu);
+    for clip in cases {
+        let params = BaryParams {
+            clip: clip.map(|c| c.to_array()),
+            size: [w, h],
+            _pad: [0; 2],
+        };
+        gpu.submit("barycentrics", |rec| {
+            rec.dispatch(
+                &pipeline,
+                &[Binding::Buffer(&out)],
+                bytemuck::bytes_of(&params),
+                [w, h, 1],
+            )
+        })
+        .unwrap();
+        let got: Vec<[f32; 4]> =
+            bytemuck::allocation::pod_collect_to_vec(&gpu.read_buffer(&out).unwrap());
+        let mut compared = 0;
+        let mut max_err = 0f64;
+        for y in 0..h {
+            for x in 0..w {
+                let (px, py) = (f64::from(x) + 0.5, f64::from(y) + 0.5);
+                let Some(want) = ray_weights(&clip, px, py, w, h) else {
+                    continue;
+                };
+                // Near the triangle, where weights are what a resolve pass uses.
+                if want.iter().any(|&b| !(-0.5..=1.5).contains(&b)) {
+                    continue;
+                }
+                let g = got[(y * w + x) as usize];
+                for k in 0..3 {
+                    max_err = max_err.max((f64::from(g[k]) - want[k]).abs());
+                }
+                compared += 1;
+            }
+        }
+        eprintln!("barycentrics: {compared} pixels, max error {max_err:e}");
+        assert!(compared > 1000, "only {compared} pixels compared");
+        assert!(max_err <= 1e-5, "barycentrics off by {max_err}");
+
+        // Where the rasterizer draws the triangle, its depth is the weights' perspective mix.
+        if let Some(rast) = &rast {
+            let frame = draw(&gpu, rast, &[clip], w, h);
+            let mut drawn = 0;
+            for (i, v) in frame.iter().enumerate() {
+                let Some((depth, _)) = decode(*v) else {
+                    continue;
+                };
+                drawn += 1;
+                let (px, py) = ((i as u32 % w) as f64 + 0.5, (i as u32 / w) as f64 + 0.5);
+                let b = ray_weights(&clip, px, py, w, h).expect("a drawn pixel sees the plane");
+                let c = clip.map(|c| c.as_dvec4());
+                let z: f64 = (0..3).map(|k| b[k] * c[k].z).sum::<f64>();
+                let cw: f64 = (0..3).map(|k| b[k] * c[k].w).sum::<f64>();
+                assert!(b.iter().all(|&b| b > -0.01), "pixel {i} weights {b:?}");
+                assert!((z / cw - f64::from(depth)).abs() < 1e-4, "pixel {i} depth");
+            }
+            assert!(drawn > 500, "triangle drew {drawn} pixels");
+        }
+    }
+    if let Some(rast) = rast {
+        rast.destroy(&gpu);
+    }
+    gpu.destroy_buffer(out);
+    gpu.destroy_pipeline(pipeline);
+    assert_clean(&gpu);
+}
+
+#[test]
+fn empty_lists_and_counts_beyond_capacity() {
+    let gpu = gpu();
+    let Some(mut rast) = rasterizer(&gpu) else {
+        return;
+    };
+    let (w, h) = (64u32, 48u32);
+    let full = |z: f32| {
+        [
+            Vec4::new(-3.0, -3.0, z, 1.0),
+            Vec4::new(3.0, -3.0, z, 1.0),
+            Vec4::new(0.0, 3.0, z, 1.0),
+        ]
+    };
+    let tris = [full(0.5), full(0.25), full(0.75), full(0.1)];
+    let frame = RasterFrame::new(&gpu, w, h).unwrap();
+    // Something drawn first, so that clearing is seen to work.
+    let (values, args) = draw_into(&gpu, &rast, &tris, 3, &frame);
+    assert_eq!(args.dispatch, [1, 1, 1]);
+    assert!(values.iter().all(|&v| decode(v) == Some((0.25, 1))));
+    // No triangles: nothing drawn, no workgroups launched, whatever the buffer holds.
+    let (values, args) = draw_into(&gpu, &rast, &tris, 0, &frame);
+    assert_eq!(args.dispatch, [0, 1, 1]);
+    assert!(values.iter().all(|&v| v == EMPTY), "an empty list drew");
+    let (values, _) = draw_into(&gpu, &rast, &[], 0, &frame);
+    assert!(values.iter().all(|&v| v == EMPTY));
+    // A count past the buffer's end (an overflowing generator) draws what the buffer holds.
+    let (values, args) = draw_into(&gpu, &rast, &tris, 100_000, &frame);
+    assert_eq!(
+        args.dispatch,
+        [100_000u32.div_ceil(rast.group_size()), 1, 1]
+    );
+    assert!(values.iter().all(|&v| decode(v) == Some((0.1, 3))));
+    // Dispatch arguments at the edges of a group and of a row.
+    rast.limit_groups_x(3);
+    let g = rast.group_size();
+    for (count, expect) in [
+        (1, [1, 1, 1]),
+        (g, [1, 1, 1]),
+        (g + 1, [2, 1, 1]),
+        (3 * g, [3, 1, 1]),
+        (3 * g + 1, [3, 2, 1]),
+        (10 * g - 1, [3, 4, 1]),
+    ] {
+        let (_, args) = draw_into(&gpu, &rast, &tris, count, &frame);
+        assert_eq!(args.dispatch, expect, "{count} triangles");
+    }
+    frame.destroy(&gpu);
+    rast.destroy(&gpu);
+    assert_clean(&gpu);
+}
