@@ -8,7 +8,7 @@ use tessera::iso::direct::FrameOptions;
 use common::{assert_clean, gpu};
 use glam::Vec3;
 use std::collections::HashMap;
-use tessera::iso::direct::compute::{DirectExtract, TriangleLists};
+use tessera::iso::direct::compute::{ComputeTarget, DirectCompute, DirectExtract, TriangleLists};
 use tessera::iso::direct::cull::CullState;
 use tessera::iso::direct::{Direct, RasterTarget};
 use tessera::iso::minmax::MinMaxBuilder;
@@ -326,6 +326,81 @@ fn compute_extraction_equals_cpu_marching_cubes() {
         extract.destroy(&gpu);
         prepared.destroy(&gpu);
         builder.destroy(&gpu);
+    }
+    assert_clean(&gpu);
+}
+
+#[test]
+fn compute_path_images_match_cpu_rasterized_marching_cubes() {
+    let gpu = gpu();
+    if !gpu.caps().buffer_int64_atomics {
+        eprintln!(
+            "skipped: {} has no 64-bit buffer atomics",
+            gpu.caps().device_name
+        );
+        return;
+    }
+    let compiler = shaders::compiler();
+    let (w, h) = (120, 96);
+    let camera = OrbitCamera {
+        azimuth_deg: 50.0,
+        elevation_deg: -20.0,
+        distance: 1.7,
+        fov_y_deg: 45.0,
+    };
+    let background = tessera_data::shading::pack_rgba8(tessera_data::shading::BACKGROUND);
+    let volumes = [
+        generate(ProceduralKind::HeadPhantom, 40, ScalarType::U8).unwrap(),
+        generate(ProceduralKind::MarschnerLobb, 33, ScalarType::U16).unwrap(),
+        generate(ProceduralKind::Turbulence, 29, ScalarType::F32).unwrap(),
+    ];
+    for volume in &volumes {
+        let compute = DirectCompute::new(&gpu, &compiler, volume.scalar_type()).unwrap();
+        let builder = MinMaxBuilder::new(&gpu, &compiler, volume.scalar_type()).unwrap();
+        let prepared = PreparedVolume::new(&gpu, &builder, volume).unwrap();
+        for fraction in [0.3f32, 0.6] {
+            let iso = volume.iso_to_texel(IsoValue::Normalized(fraction));
+            let mesh = marching_cubes(volume, iso);
+            let target = ComputeTarget::new(&gpu, w, h, mesh.triangle_count() as u32 + 16).unwrap();
+            target.pixels.poison(&gpu, u32::MAX).unwrap();
+            let (image, _ms, stats) = compute
+                .render(&gpu, &prepared, &target, iso, &camera)
+                .unwrap();
+            assert_eq!(stats.triangles as usize, mesh.triangle_count());
+            assert!(!image.pixels.contains(&u32::MAX), "unwritten pixels");
+            let frame_grid = tessera_data::GridFrame::new(volume.dims(), volume.spacing());
+            let reference = rasterize_mesh(&mesh, &frame_grid, &camera, w, h);
+            let coverage = coverage_of(&image, background);
+            let iou = silhouette_iou(&coverage, &reference.coverage);
+            let both: Vec<bool> = coverage
+                .iter()
+                .zip(&reference.coverage)
+                .map(|(a, b)| *a && *b)
+                .collect();
+            let diff = image.compare_where(&reference.image, &both, 2);
+            let name = format!("direct-compute-{}-{fraction}", volume.name());
+            eprintln!(
+                "{name}: IoU {iou:.4}, {:.3}% within 2/255",
+                diff.fraction_within * 100.0
+            );
+            if iou < 0.99
+                || diff.fraction_within < 0.99
+                || both.iter().filter(|&&b| b).count() < (w * h / 20) as usize
+            {
+                let dir = common::out_dir();
+                common::write_png(&dir.join(format!("{name}-actual.png")), &image);
+                common::write_png(&dir.join(format!("{name}-expected.png")), &reference.image);
+                panic!(
+                    "{name}: IoU {iou}, within {}; images in {}",
+                    diff.fraction_within,
+                    dir.display()
+                );
+            }
+            target.destroy(&gpu);
+        }
+        prepared.destroy(&gpu);
+        builder.destroy(&gpu);
+        compute.destroy(&gpu);
     }
     assert_clean(&gpu);
 }

@@ -5,16 +5,17 @@
 
 use crate::builtin_shader;
 use crate::config::volume_defines;
-use crate::error::Result;
-use crate::iso::direct::DirectParams;
+use crate::error::{Error, Result};
+use crate::iso::direct::{Direct, DirectParams};
 use crate::iso::PreparedVolume;
-use tessera_data::ScalarType;
+use crate::raster::{ComputeRasterizer, RasterFrame, TRIANGLE_BYTES};
+use crate::target::PixelTarget;
+use bytemuck::{Pod, Zeroable};
+use tessera_data::{OrbitCamera, RgbaImage, ScalarType};
 use tessera_gpu::{
-    vk, Binding, Buffer, Gpu, MemoryLocation, Pipeline, Recorder, ShaderCompiler, Slot,
+    vk, Binding, Buffer, Gpu, MemoryLocation, Pipeline, Recorder, ShaderCompiler, Slot, Timer,
 };
 
-/// Bytes per triangle in the rasterizer's list: three clip-space corners.
-pub const TRIANGLE_BYTES: u64 = 48;
 /// Bytes per triangle of shading attributes: three world normals and three world positions.
 pub const ATTRIBUTE_BYTES: u64 = 96;
 
@@ -156,5 +157,160 @@ impl DirectExtract {
     pub fn destroy(self, gpu: &Gpu) {
         gpu.destroy_pipeline(self.extract);
         gpu.destroy_buffer(self.stats);
+    }
+}
+
+/// Push constants of `resolve.comp.glsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct ResolveParams {
+    pub eye_world: [f32; 4],
+    pub light: [f32; 4],
+    pub size: [u32; 4],
+}
+
+/// Everything a compute-path frame writes: the triangle lists, the rasterizer's depth|index
+/// frame and the shaded pixels.
+pub struct ComputeTarget {
+    pub lists: TriangleLists,
+    pub frame: RasterFrame,
+    pub pixels: PixelTarget,
+}
+
+impl ComputeTarget {
+    /// `capacity` triangles per frame; see [`TriangleLists::default_capacity`].
+    pub fn new(gpu: &Gpu, width: u32, height: u32, capacity: u32) -> Result<ComputeTarget> {
+        let lists = TriangleLists::new(gpu, capacity)?;
+        let frame = match RasterFrame::new(gpu, width, height) {
+            Ok(f) => f,
+            Err(e) => {
+                lists.destroy(gpu);
+                return Err(e);
+            }
+        };
+        match PixelTarget::new(gpu, width, height) {
+            Ok(pixels) => Ok(ComputeTarget {
+                lists,
+                frame,
+                pixels,
+            }),
+            Err(e) => {
+                lists.destroy(gpu);
+                frame.destroy(gpu);
+                Err(e)
+            }
+        }
+    }
+
+    pub fn destroy(self, gpu: &Gpu) {
+        self.lists.destroy(gpu);
+        self.frame.destroy(gpu);
+        self.pixels.destroy(gpu);
+    }
+}
+
+/// `direct` on compute alone: extraction, the shared compute rasterizer, a shading resolve.
+pub struct DirectCompute {
+    extract: DirectExtract,
+    rasterizer: ComputeRasterizer,
+    resolve: Pipeline,
+}
+
+impl DirectCompute {
+    pub fn new(gpu: &Gpu, compiler: &ShaderCompiler, scalar: ScalarType) -> Result<DirectCompute> {
+        let rasterizer = ComputeRasterizer::new(gpu, compiler)?;
+        let resolve = compiler.compile(
+            &builtin_shader!("resolve.comp.glsl"),
+            &volume_defines(scalar),
+        )?;
+        let resolve =
+            gpu.compute_pipeline("direct resolve", &resolve, &[Slot::StorageBuffer; 4])?;
+        Ok(DirectCompute {
+            extract: DirectExtract::new(gpu, compiler, scalar)?,
+            rasterizer,
+            resolve,
+        })
+    }
+
+    /// Records a frame; `params.dims[3]` must be `target.lists.capacity`.
+    pub fn record(
+        &self,
+        rec: &Recorder,
+        prepared: &PreparedVolume,
+        target: &ComputeTarget,
+        params: &DirectParams,
+    ) {
+        self.extract.record(rec, prepared, &target.lists, params);
+        rec.barrier();
+        self.rasterizer.record(
+            rec,
+            &target.lists.triangles,
+            &target.lists.counts,
+            &target.frame,
+        );
+        let resolve = ResolveParams {
+            eye_world: [
+                params.eye_world[0],
+                params.eye_world[1],
+                params.eye_world[2],
+                0.0,
+            ],
+            light: params.light,
+            size: [target.frame.width, target.frame.height, 0, 0],
+        };
+        rec.dispatch(
+            &self.resolve,
+            &[
+                Binding::Buffer(&target.frame.depth_payload),
+                Binding::Buffer(&target.lists.triangles),
+                Binding::Buffer(&target.lists.attributes),
+                Binding::Buffer(&target.pixels.pixels),
+            ],
+            bytemuck::bytes_of(&resolve),
+            [target.frame.width, target.frame.height, 1],
+        );
+    }
+
+    /// Renders one frame: the image, the GPU time in milliseconds and what extraction did.
+    pub fn render(
+        &self,
+        gpu: &Gpu,
+        prepared: &PreparedVolume,
+        target: &ComputeTarget,
+        iso: f32,
+        camera: &OrbitCamera,
+    ) -> Result<(RgbaImage, f64, ExtractStats)> {
+        let (w, h) = (target.frame.width, target.frame.height);
+        let params = Direct::params(prepared, iso, camera, w, h, target.lists.capacity);
+        let mut timer = Timer::new(gpu, 1)?;
+        timer.reset(gpu);
+        let submitted = gpu.submit("direct (compute path)", |rec| {
+            timer.scope(rec, "direct-compute", |rec| {
+                self.record(rec, prepared, target, &params)
+            });
+        });
+        let ms = submitted
+            .map_err(Error::from)
+            .and_then(|_| Ok(timer.read_ms(gpu)?.first().map(|s| s.1).unwrap_or(0.0)));
+        timer.destroy(gpu);
+        let ms = ms?;
+        let stats = self.extract.read_stats(gpu)?;
+        if stats.triangles > target.lists.capacity {
+            return Err(Error::Invalid(format!(
+                "the isosurface has {} triangles, the frame holds {}: raise the capacity",
+                stats.triangles, target.lists.capacity
+            )));
+        }
+        Ok((target.pixels.read(gpu)?, ms, stats))
+    }
+
+    pub fn read_stats(&self, gpu: &Gpu) -> Result<ExtractStats> {
+        self.extract.read_stats(gpu)
+    }
+
+    pub fn destroy(self, gpu: &Gpu) {
+        self.extract.destroy(gpu);
+        self.rasterizer.destroy(gpu);
+        gpu.destroy_pipeline(self.resolve);
     }
 }
