@@ -3,6 +3,7 @@
 use crate::bench::{bench_sizes, bench_volumes, make_volume, BenchArgs, Sink};
 use anyhow::Result;
 use tessera::bench::{time_frames, BenchRecord, FramePlan};
+use tessera::iso::direct::compute::{ComputeTarget, DirectCompute};
 use tessera::iso::direct::cull::CullState;
 use tessera::iso::direct::{Direct, RasterTarget};
 use tessera::iso::raymarch::Raymarch;
@@ -17,6 +18,7 @@ type Sweep<'a> = Option<&'a dyn Fn(u32) -> f32>;
 struct Techniques {
     raymarch: Raymarch,
     direct: Option<Direct>,
+    direct_compute: Option<DirectCompute>,
 }
 
 fn techniques(gpu: &Gpu, compiler: &ShaderCompiler, volume: &Volume) -> Result<Techniques> {
@@ -30,10 +32,32 @@ fn techniques(gpu: &Gpu, compiler: &ShaderCompiler, volume: &Volume) -> Result<T
         );
         None
     };
+    let direct_compute = if gpu.caps().buffer_int64_atomics {
+        Some(DirectCompute::new(gpu, compiler, scalar)?)
+    } else {
+        println!(
+            "note: {} has no 64-bit buffer atomics; direct's compute path is skipped",
+            gpu.caps().device_name
+        );
+        None
+    };
     Ok(Techniques {
         raymarch: Raymarch::new(gpu, compiler, scalar)?,
         direct,
+        direct_compute,
     })
+}
+
+impl Techniques {
+    fn destroy(self, gpu: &Gpu) {
+        self.raymarch.destroy(gpu);
+        if let Some(d) = self.direct {
+            d.destroy(gpu);
+        }
+        if let Some(d) = self.direct_compute {
+            d.destroy(gpu);
+        }
+    }
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -127,6 +151,45 @@ fn measure(
             sink.emit(&r)?;
         }
     }
+    if let Some(compute) = &t.direct_compute {
+        // Lists sized from the largest count over the isovalues this scenario visits.
+        let probe = ComputeTarget::new(gpu, 1, 1, 1)?;
+        let mut most = 0u32;
+        for frame in 0..64 {
+            let params = Direct::params(prepared, iso_of(frame), &camera, 1, 1, 1);
+            gpu.submit("count triangles", |rec| {
+                compute.record(rec, prepared, &probe, &params)
+            })?;
+            most = most.max(compute.read_stats(gpu)?.triangles);
+            if sweep.is_none() {
+                break;
+            }
+        }
+        probe.destroy(gpu);
+        let capacity = most + most / 4 + 1024;
+        let target = ComputeTarget::new(gpu, w, h, capacity)?;
+        let mut frame = 0u32;
+        let stages = time_frames(gpu, plan, 1, |rec, timer| {
+            let params = Direct::params(prepared, iso_of(frame), &camera, w, h, capacity);
+            frame += 1;
+            timer.scope(rec, "direct", |rec| {
+                compute.record(rec, prepared, &target, &params)
+            });
+        });
+        let stats = compute.read_stats(gpu);
+        target.destroy(gpu);
+        let stats = stats?;
+        let mut r = record("direct", "compute");
+        r.stages = stages?;
+        r.counts
+            .insert("triangles_last_frame".into(), stats.triangles as f64);
+        r.counts
+            .insert("blocks_classified".into(), stats.blocks_classified as f64);
+        if let (Some(d), Some(rm)) = (r.median_ms("direct"), raymarch_ms) {
+            r.counts.insert("speedup_over_raymarch".into(), rm / d);
+        }
+        sink.emit(&r)?;
+    }
     Ok(())
 }
 
@@ -149,10 +212,7 @@ fn run_scenario(
             )?;
         }
         prepared.destroy(gpu);
-        t.raymarch.destroy(gpu);
-        if let Some(d) = t.direct {
-            d.destroy(gpu);
-        }
+        t.destroy(gpu);
     }
     Ok(())
 }
@@ -271,10 +331,7 @@ pub fn time_varying(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sin
         for s in staged {
             gpu.destroy_buffer(s);
         }
-        t.raymarch.destroy(gpu);
-        if let Some(d) = t.direct {
-            d.destroy(gpu);
-        }
+        t.destroy(gpu);
     }
     Ok(())
 }

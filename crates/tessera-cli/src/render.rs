@@ -26,6 +26,10 @@ pub struct RenderArgs {
     /// Camera AZ,EL,DIST: azimuth and elevation in degrees, distance in units of the volume's longest side.
     #[arg(long, default_value = "30,20,1.8", value_parser = OrbitCamera::parse, allow_hyphen_values = true)]
     camera: OrbitCamera,
+    /// Pipeline for techniques that have two: graphics (task/mesh shaders), compute, or auto
+    /// (from capabilities and `tessera bench pipeline-throughput` if it ran on this device).
+    #[arg(long, default_value = "auto", value_parser = ["graphics", "compute", "auto"])]
+    path: String,
     /// Raster occlusion culling for rasterizing techniques (direct).
     #[arg(long, default_value = "on", value_parser = ["on", "off"])]
     culling: String,
@@ -47,7 +51,8 @@ pub fn run(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
     let started = Instant::now();
     let bar = data::spinner("compiling shaders, uploading, building the min-max octree".into());
     let built = (|| -> tessera::Result<_> {
-        let renderer = IsoRenderer::new(&gpu, &compiler, technique, volume.scalar_type())?;
+        let path = tessera::path::PathChoice::parse(&args.path)?;
+        let renderer = IsoRenderer::new(&gpu, &compiler, technique, volume.scalar_type(), path)?;
         let prepared = renderer.prepare(&gpu, &volume)?;
         Ok((renderer, prepared))
     })();
@@ -69,9 +74,10 @@ pub fn run(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
         .map(|t| format!(", {t} triangles"))
         .unwrap_or_default();
     println!(
-        "{}: {} iso {iso} at {w}x{h}: {:.3} ms GPU{triangles} (prepare {prepare_s:.2} s) -> {}",
+        "{}: {} ({} path) iso {iso} at {w}x{h}: {:.3} ms GPU{triangles} (prepare {prepare_s:.2} s) -> {}",
         volume.name(),
         technique.name(),
+        renderer.path().name(),
         frame.gpu_ms,
         args.output.display()
     );

@@ -1,10 +1,12 @@
 //! One front door to the isosurface techniques, for tools that pick one by name.
 
 use crate::error::{Error, Result};
+use crate::iso::direct::compute::{ComputeTarget, DirectCompute, TriangleLists};
 use crate::iso::direct::cull::CullState;
 use crate::iso::direct::{Direct, FrameOptions, RasterTarget};
 use crate::iso::raymarch::Raymarch;
 use crate::iso::PreparedVolume;
+use crate::path::{Path, PathChoice};
 use crate::target::PixelTarget;
 use tessera_data::{OrbitCamera, RgbaImage, ScalarType, Volume};
 use tessera_gpu::{Gpu, ShaderCompiler};
@@ -46,6 +48,7 @@ impl IsoTechnique {
 enum Inner {
     Raymarch(Box<Raymarch>),
     Direct(Box<Direct>),
+    DirectCompute(Box<DirectCompute>),
 }
 
 pub struct IsoRenderer {
@@ -60,12 +63,29 @@ pub struct IsoFrame {
 }
 
 impl IsoRenderer {
+    /// `path` matters for techniques with a graphics and a compute path (direct).
     pub fn new(
         gpu: &Gpu,
         compiler: &ShaderCompiler,
         technique: IsoTechnique,
         scalar: ScalarType,
+        path: PathChoice,
     ) -> Result<IsoRenderer> {
+        let technique = match technique {
+            IsoTechnique::Direct => {
+                let measured = crate::path::remembered(gpu.caps());
+                match crate::path::choose(gpu.caps(), path, measured.as_ref())? {
+                    Path::Graphics => IsoTechnique::Direct,
+                    Path::Compute => {
+                        let d = DirectCompute::new(gpu, compiler, scalar)?;
+                        return Ok(IsoRenderer {
+                            inner: Inner::DirectCompute(Box::new(d)),
+                        });
+                    }
+                }
+            }
+            t => t,
+        };
         let inner = match technique {
             IsoTechnique::Raymarch => {
                 Inner::Raymarch(Box::new(Raymarch::new(gpu, compiler, scalar)?))
@@ -79,6 +99,15 @@ impl IsoRenderer {
         match &self.inner {
             Inner::Raymarch(r) => r.prepare(gpu, volume),
             Inner::Direct(d) => d.prepare(gpu, volume),
+            Inner::DirectCompute(d) => d.prepare(gpu, volume),
+        }
+    }
+
+    /// The pipeline the frames run on.
+    pub fn path(&self) -> Path {
+        match &self.inner {
+            Inner::Direct(_) => Path::Graphics,
+            Inner::Raymarch(_) | Inner::DirectCompute(_) => Path::Compute,
         }
     }
 
@@ -126,6 +155,34 @@ impl IsoRenderer {
                     triangles: Some(frame.stats.triangles),
                 })
             }
+            Inner::DirectCompute(d) => {
+                // Try a modest list first; an overflow reports the exact count, so at most one
+                // retry with room for all of it.
+                let mut capacity = TriangleLists::default_capacity(gpu).min(1 << 20);
+                let (image, gpu_ms, stats) = loop {
+                    let target = ComputeTarget::new(gpu, size.0, size.1, capacity)?;
+                    let result = d.render(gpu, prepared, &target, iso, camera);
+                    target.destroy(gpu);
+                    match result {
+                        Ok(frame) => break frame,
+                        Err(_) if d.read_stats(gpu)?.triangles > capacity => {
+                            let needed = d.read_stats(gpu)?.triangles;
+                            if needed > TriangleLists::default_capacity(gpu) {
+                                return Err(crate::Error::Invalid(format!(
+                                    "the isosurface has {needed} triangles, more than fit in device memory"
+                                )));
+                            }
+                            capacity = needed;
+                        }
+                        Err(e) => return Err(e),
+                    }
+                };
+                Ok(IsoFrame {
+                    image,
+                    gpu_ms,
+                    triangles: Some(stats.triangles),
+                })
+            }
         }
     }
 
@@ -133,6 +190,7 @@ impl IsoRenderer {
         match self.inner {
             Inner::Raymarch(r) => r.destroy(gpu),
             Inner::Direct(d) => d.destroy(gpu),
+            Inner::DirectCompute(d) => d.destroy(gpu),
         }
     }
 }

@@ -7,6 +7,7 @@ use crate::builtin_shader;
 use crate::config::volume_defines;
 use crate::error::{Error, Result};
 use crate::iso::direct::{Direct, DirectParams};
+use crate::iso::minmax::MinMaxBuilder;
 use crate::iso::PreparedVolume;
 use crate::raster::{ComputeRasterizer, RasterFrame, TRIANGLE_BYTES};
 use crate::target::PixelTarget;
@@ -214,6 +215,7 @@ pub struct DirectCompute {
     extract: DirectExtract,
     rasterizer: ComputeRasterizer,
     resolve: Pipeline,
+    builder: MinMaxBuilder,
 }
 
 impl DirectCompute {
@@ -229,7 +231,12 @@ impl DirectCompute {
             extract: DirectExtract::new(gpu, compiler, scalar)?,
             rasterizer,
             resolve,
+            builder: MinMaxBuilder::new(gpu, compiler, scalar)?,
         })
+    }
+
+    pub fn prepare(&self, gpu: &Gpu, volume: &tessera_data::Volume) -> Result<PreparedVolume> {
+        PreparedVolume::new(gpu, &self.builder, volume)
     }
 
     /// Records a frame; `params.dims[3]` must be `target.lists.capacity`.
@@ -311,6 +318,7 @@ impl DirectCompute {
     pub fn destroy(self, gpu: &Gpu) {
         self.extract.destroy(gpu);
         self.rasterizer.destroy(gpu);
+        self.builder.destroy(gpu);
         gpu.destroy_pipeline(self.resolve);
     }
 }
