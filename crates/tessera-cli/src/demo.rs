@@ -35,6 +35,7 @@ fn scenes() -> Vec<Scene> {
         azimuth_deg: az,
         elevation_deg: el,
         distance: 1.9,
+        eye_shift: 0.0,
         fov_y_deg: 40.0,
     };
     vec![

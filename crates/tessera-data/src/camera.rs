@@ -14,6 +14,9 @@ pub struct OrbitCamera {
     /// Distance from the origin in world units (the volume's longest side is 1).
     pub distance: f32,
     pub fov_y_deg: f32,
+    /// Sideways shift of the eye along the camera's right axis, in world units, keeping the
+    /// view direction: the two eyes of a stereo pair are ±half the eye separation.
+    pub eye_shift: f32,
 }
 
 impl Default for OrbitCamera {
@@ -23,6 +26,7 @@ impl Default for OrbitCamera {
             elevation_deg: 20.0,
             distance: 1.8,
             fov_y_deg: 40.0,
+            eye_shift: 0.0,
         }
     }
 }
@@ -52,19 +56,32 @@ impl OrbitCamera {
         Ok(camera)
     }
 
-    pub fn eye(&self) -> Vec3 {
+    /// The orbit position, before any eye shift.
+    fn orbit_position(&self) -> Vec3 {
         // Straight up or down has no defined "right"; stay just short of the pole.
         let el = self.elevation_deg.clamp(-89.9, 89.9).to_radians();
         let az = self.azimuth_deg.to_radians();
         self.distance * Vec3::new(el.cos() * az.sin(), el.sin(), el.cos() * az.cos())
     }
 
-    /// Orthonormal (forward, right, up) in world space.
+    pub fn eye(&self) -> Vec3 {
+        self.orbit_position() + self.basis().1 * self.eye_shift
+    }
+
+    /// Orthonormal (forward, right, up) in world space; the eye shift does not turn it.
     pub fn basis(&self) -> (Vec3, Vec3, Vec3) {
-        let forward = (-self.eye()).normalize();
+        let forward = (-self.orbit_position()).normalize();
         let right = forward.cross(Vec3::Y).normalize();
         let up = right.cross(forward);
         (forward, right, up)
+    }
+
+    /// The left and right eyes of a stereo pair `separation` world units apart.
+    pub fn stereo_pair(&self, separation: f32) -> [OrbitCamera; 2] {
+        [-0.5, 0.5].map(|side| OrbitCamera {
+            eye_shift: self.eye_shift + side * separation,
+            ..*self
+        })
     }
 }
 
@@ -158,6 +175,8 @@ impl GridCamera {
 pub struct Projection {
     /// Grid point (homogeneous, w = 1) to clip space, column-major.
     pub grid_to_clip: glam::Mat4,
+    /// World point to clip space (for re-projecting world-space geometry to another view).
+    pub world_to_clip: glam::Mat4,
     /// Eye position in world space, for view vectors in shading.
     pub eye_world: Vec3,
     pub near: f32,
@@ -197,6 +216,7 @@ impl Projection {
         );
         Projection {
             grid_to_clip: proj * view * grid_to_world,
+            world_to_clip: proj * view,
             eye_world: eye,
             near,
             far,
@@ -228,6 +248,7 @@ mod tests {
             azimuth_deg: 70.0,
             elevation_deg: -25.0,
             distance: 2.1,
+            eye_shift: 0.0,
             fov_y_deg: 35.0,
         };
         let frame = GridFrame::new([40, 30, 20], [1.0, 1.5, 2.0]);
@@ -245,6 +266,16 @@ mod tests {
             assert!((py - (y as f32 + 0.5)).abs() < 1e-3, "y {py} for {y}");
             assert!((0.0..=1.0).contains(&ndc.z), "depth {}", ndc.z);
         }
+    }
+
+    #[test]
+    fn stereo_eyes_are_apart_along_right_and_look_the_same_way() {
+        let cam = OrbitCamera::default();
+        let [l, r] = cam.stereo_pair(0.06);
+        assert!(((r.eye() - l.eye()).length() - 0.06).abs() < 1e-6);
+        assert!((r.eye() - l.eye()).normalize().dot(cam.basis().1) > 0.99999);
+        assert_eq!(l.basis(), cam.basis());
+        assert!(((l.eye() + r.eye()) * 0.5 - cam.eye()).length() < 1e-6);
     }
 
     #[test]

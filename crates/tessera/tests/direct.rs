@@ -177,6 +177,7 @@ fn direct_images_match_cpu_rasterized_marching_cubes() {
         azimuth_deg: -40.0,
         elevation_deg: 30.0,
         distance: 1.9,
+        eye_shift: 0.0,
         fov_y_deg: 40.0,
     };
     let target = RasterTarget::new(&gpu, w, h).unwrap();
@@ -346,6 +347,7 @@ fn compute_path_images_match_cpu_rasterized_marching_cubes() {
         azimuth_deg: 50.0,
         elevation_deg: -20.0,
         distance: 1.7,
+        eye_shift: 0.0,
         fov_y_deg: 45.0,
     };
     let background = tessera_data::shading::pack_rgba8(tessera_data::shading::BACKGROUND);
@@ -402,6 +404,65 @@ fn compute_path_images_match_cpu_rasterized_marching_cubes() {
         builder.destroy(&gpu);
         compute.destroy(&gpu);
     }
+    assert_clean(&gpu);
+}
+
+#[test]
+fn compute_stereo_second_view_equals_a_mono_render_from_that_eye() {
+    let gpu = gpu();
+    if !gpu.caps().buffer_int64_atomics {
+        eprintln!(
+            "skipped: {} has no 64-bit buffer atomics",
+            gpu.caps().device_name
+        );
+        return;
+    }
+    let compiler = shaders::compiler();
+    let volume = generate(ProceduralKind::MarschnerLobb, 33, ScalarType::U8).unwrap();
+    let iso = volume.iso_to_texel(IsoValue::Normalized(0.5));
+    let compute = DirectCompute::new(&gpu, &compiler, ScalarType::U8).unwrap();
+    let prepared = compute.prepare(&gpu, &volume).unwrap();
+    let capacity = marching_cubes(&volume, iso).triangle_count() as u32;
+    let (w, h) = (96, 72);
+    let [left, right] = OrbitCamera::default().stereo_pair(0.3);
+    let first = ComputeTarget::new(&gpu, w, h, capacity).unwrap();
+    let second = ComputeTarget::new(&gpu, w, h, capacity).unwrap();
+    let params = [left, right].map(|c| Direct::params(&prepared, iso, &c, w, h, capacity));
+    let frame = tessera_data::GridFrame::new(volume.dims(), volume.spacing());
+    let right_projection = tessera_data::Projection::new(&right, &frame, w, h);
+    gpu.submit("stereo", |rec| {
+        compute.record(rec, &prepared, &first, &params[0]);
+        rec.barrier();
+        compute.record_second_view(
+            rec,
+            &first,
+            &second,
+            &params[1],
+            right_projection.world_to_clip,
+        );
+    })
+    .unwrap();
+    let left_image = first.pixels.read(&gpu).unwrap();
+    let right_image = second.pixels.read(&gpu).unwrap();
+    let mono = ComputeTarget::new(&gpu, w, h, capacity).unwrap();
+    let (mono_right, _, _) = compute.render(&gpu, &prepared, &mono, iso, &right).unwrap();
+    let (mono_left, _, _) = compute.render(&gpu, &prepared, &mono, iso, &left).unwrap();
+    assert_eq!(left_image, mono_left);
+    let diff = right_image.compare(&mono_right, 2);
+    assert!(
+        diff.fraction_within >= 0.999,
+        "{} pixels differ",
+        diff.pixels_outside
+    );
+    assert_ne!(
+        left_image, right_image,
+        "the eyes must see different images"
+    );
+    for t in [first, second, mono] {
+        t.destroy(&gpu);
+    }
+    prepared.destroy(&gpu);
+    compute.destroy(&gpu);
     assert_clean(&gpu);
 }
 

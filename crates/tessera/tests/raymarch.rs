@@ -86,6 +86,7 @@ fn raymarched_images_match_cpu_reference() {
         azimuth_deg: 35.0,
         elevation_deg: 25.0,
         distance: 1.9,
+        eye_shift: 0.0,
         fov_y_deg: 40.0,
     };
     let target = PixelTarget::new(&gpu, w, h).unwrap();

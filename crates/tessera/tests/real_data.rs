@@ -72,6 +72,7 @@ fn raymarch_mri_head_matches_cpu_reference() {
         azimuth_deg: 0.0,
         elevation_deg: 0.0,
         distance: 1.8,
+        eye_shift: 0.0,
         fov_y_deg: 40.0,
     };
     raymarch_matches_reference(&volume, &[60.0, 100.0], &camera);
@@ -90,6 +91,7 @@ fn raymarch_t1_brain_template_matches_cpu_reference() {
         azimuth_deg: 120.0,
         elevation_deg: 20.0,
         distance: 1.8,
+        eye_shift: 0.0,
         fov_y_deg: 40.0,
     };
     let (lo, hi) = volume.value_range();

@@ -215,22 +215,33 @@ pub struct DirectCompute {
     extract: DirectExtract,
     rasterizer: ComputeRasterizer,
     resolve: Pipeline,
+    reproject: Pipeline,
     builder: MinMaxBuilder,
+}
+
+/// Push constants of `reproject.comp.glsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct ReprojectParams {
+    pub world_to_clip: [[f32; 4]; 4],
+    pub capacity: [u32; 4],
 }
 
 impl DirectCompute {
     pub fn new(gpu: &Gpu, compiler: &ShaderCompiler, scalar: ScalarType) -> Result<DirectCompute> {
         let rasterizer = ComputeRasterizer::new(gpu, compiler)?;
-        let resolve = compiler.compile(
-            &builtin_shader!("resolve.comp.glsl"),
-            &volume_defines(scalar),
-        )?;
+        let defines = volume_defines(scalar);
+        let resolve = compiler.compile(&builtin_shader!("resolve.comp.glsl"), &defines)?;
         let resolve =
             gpu.compute_pipeline("direct resolve", &resolve, &[Slot::StorageBuffer; 4])?;
+        let reproject = compiler.compile(&builtin_shader!("reproject.comp.glsl"), &defines)?;
+        let reproject =
+            gpu.compute_pipeline("direct reproject", &reproject, &[Slot::StorageBuffer; 4])?;
         Ok(DirectCompute {
             extract: DirectExtract::new(gpu, compiler, scalar)?,
             rasterizer,
             resolve,
+            reproject,
             builder: MinMaxBuilder::new(gpu, compiler, scalar)?,
         })
     }
@@ -255,13 +266,56 @@ impl DirectCompute {
             &target.lists.counts,
             &target.frame,
         );
-        let resolve = ResolveParams {
-            eye_world: [
-                params.eye_world[0],
-                params.eye_world[1],
-                params.eye_world[2],
-                0.0,
+        self.record_resolve(rec, target, &target.lists.attributes, params);
+    }
+
+    /// Records the second view of a stereo pair after [`Self::record`] drew the first into
+    /// `first`: the extracted triangles are re-projected for `params` (the second eye's) into
+    /// `second`, rasterized and shaded; nothing is extracted again.
+    pub fn record_second_view(
+        &self,
+        rec: &Recorder,
+        first: &ComputeTarget,
+        second: &ComputeTarget,
+        params: &DirectParams,
+        world_to_clip: glam::Mat4,
+    ) {
+        let reproject = ReprojectParams {
+            world_to_clip: world_to_clip.to_cols_array_2d(),
+            capacity: [second.lists.capacity, 0, 0, 0],
+        };
+        rec.dispatch_indirect(
+            &self.reproject,
+            &[
+                Binding::Buffer(&first.lists.attributes),
+                Binding::Buffer(&first.lists.counts),
+                Binding::Buffer(&second.lists.triangles),
+                Binding::Buffer(&second.lists.counts),
             ],
+            bytemuck::bytes_of(&reproject),
+            &first.lists.counts,
+            4,
+        );
+        rec.barrier();
+        self.rasterizer.record(
+            rec,
+            &second.lists.triangles,
+            &second.lists.counts,
+            &second.frame,
+        );
+        self.record_resolve(rec, second, &first.lists.attributes, params);
+    }
+
+    fn record_resolve(
+        &self,
+        rec: &Recorder,
+        target: &ComputeTarget,
+        attributes: &Buffer,
+        params: &DirectParams,
+    ) {
+        let e = params.eye_world;
+        let resolve = ResolveParams {
+            eye_world: [e[0], e[1], e[2], 0.0],
             light: params.light,
             size: [target.frame.width, target.frame.height, 0, 0],
         };
@@ -270,7 +324,7 @@ impl DirectCompute {
             &[
                 Binding::Buffer(&target.frame.depth_payload),
                 Binding::Buffer(&target.lists.triangles),
-                Binding::Buffer(&target.lists.attributes),
+                Binding::Buffer(attributes),
                 Binding::Buffer(&target.pixels.pixels),
             ],
             bytemuck::bytes_of(&resolve),
@@ -320,5 +374,6 @@ impl DirectCompute {
         self.rasterizer.destroy(gpu);
         self.builder.destroy(gpu);
         gpu.destroy_pipeline(self.resolve);
+        gpu.destroy_pipeline(self.reproject);
     }
 }
