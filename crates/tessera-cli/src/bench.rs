@@ -18,12 +18,14 @@ const SCENARIOS: &[&str] = &[
     "isosurface",
     "iso-sweep",
     "time-varying",
+    "stereo",
 ];
 
 #[derive(Args)]
 pub struct BenchArgs {
     /// pipeline-throughput, raymarch, minmax-build, isosurface (raymarch against direct),
-    /// iso-sweep (isovalue changes every frame), time-varying (a new volume every frame) or all.
+    /// iso-sweep (isovalue changes every frame), time-varying (a new volume every frame),
+    /// stereo (two eyes against one) or all.
     scenario: String,
     /// Append JSON lines here.
     #[arg(long)]
@@ -133,6 +135,7 @@ pub fn run(options: &GpuOptions, args: &BenchArgs) -> Result<()> {
             "isosurface" => crate::bench_iso::isosurface(&gpu, args, plan, &mut sink)?,
             "iso-sweep" => crate::bench_iso::iso_sweep(&gpu, args, plan, &mut sink)?,
             "time-varying" => crate::bench_iso::time_varying(&gpu, args, plan, &mut sink)?,
+            "stereo" => crate::bench_iso::stereo(&gpu, args, plan, &mut sink)?,
             _ => unreachable!("scenario list checked above"),
         }
     }

@@ -6,7 +6,7 @@ use clap::Args;
 use std::path::PathBuf;
 use std::time::Instant;
 use tessera::iso::renderer::{IsoRenderer, IsoTechnique};
-use tessera_data::OrbitCamera;
+use tessera_data::{OrbitCamera, RgbaImage};
 use tessera_gpu::GpuOptions;
 
 #[derive(Args)]
@@ -33,6 +33,10 @@ pub struct RenderArgs {
     /// Raster occlusion culling for rasterizing techniques (direct).
     #[arg(long, default_value = "on", value_parser = ["on", "off"])]
     culling: String,
+    /// Render a stereo pair with this eye separation (world units; the volume's longest side
+    /// is 1), left and right eye side by side in one PNG.
+    #[arg(long)]
+    stereo: Option<f32>,
     /// Output PNG.
     #[arg(short, long, default_value = "out.png")]
     output: PathBuf,
@@ -60,14 +64,20 @@ pub fn run(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
     let (renderer, prepared) = built.with_context(|| format!("preparing {}", args.data))?;
     let prepare_s = started.elapsed().as_secs_f64();
     let (w, h) = args.size;
-    let frame = renderer.render(
-        &gpu,
-        &prepared,
-        iso,
-        &args.camera,
-        args.size,
-        args.culling == "on",
-    )?;
+    let culling = args.culling == "on";
+    let frame = match args.stereo {
+        None => renderer.render(&gpu, &prepared, iso, &args.camera, args.size, culling)?,
+        Some(separation) => {
+            let [left, right] = args.camera.stereo_pair(separation);
+            let l = renderer.render(&gpu, &prepared, iso, &left, args.size, culling)?;
+            let r = renderer.render(&gpu, &prepared, iso, &right, args.size, culling)?;
+            tessera::iso::renderer::IsoFrame {
+                image: side_by_side(&l.image, &r.image),
+                gpu_ms: l.gpu_ms + r.gpu_ms,
+                triangles: l.triangles.zip(r.triangles).map(|(a, b)| a + b),
+            }
+        }
+    };
     crate::output::write_png(&args.output, &frame.image)?;
     let triangles = frame
         .triangles
@@ -84,4 +94,16 @@ pub fn run(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
     prepared.destroy(&gpu);
     renderer.destroy(&gpu);
     crate::check_validation(&gpu)
+}
+
+fn side_by_side(left: &RgbaImage, right: &RgbaImage) -> RgbaImage {
+    let (w, h) = (left.width, left.height);
+    let mut out = RgbaImage::new(2 * w, h);
+    let w = w as usize;
+    for y in 0..h as usize {
+        let dst = &mut out.pixels[y * 2 * w..(y + 1) * 2 * w];
+        dst[..w].copy_from_slice(&left.pixels[y * w..(y + 1) * w]);
+        dst[w..].copy_from_slice(&right.pixels[y * w..(y + 1) * w]);
+    }
+    out
 }

@@ -68,6 +68,47 @@ fn renders_procedural_volume_to_png() {
 }
 
 #[test]
+fn direct_renders_on_both_paths_and_in_stereo() {
+    let dir = scratch("direct");
+    for (path, stereo, width) in [
+        ("graphics", None, 80),
+        ("compute", None, 80),
+        ("compute", Some("0.1"), 160),
+    ] {
+        let out = dir.join(format!("{path}-{width}.png"));
+        let mut args = vec![
+            "--validation",
+            "render",
+            "procedural:sphere:32",
+            "--technique",
+            "direct",
+            "--path",
+            path,
+            "--size",
+            "80x60",
+            "-o",
+            out.to_str().unwrap(),
+        ];
+        if let Some(s) = stereo {
+            args.extend(["--stereo", s]);
+        }
+        let o = tessera(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        assert!(String::from_utf8_lossy(&o.stdout).contains(&format!("{path} path")));
+        assert_eq!(png_size(&out), (width, 60));
+    }
+    let o = tessera(&[
+        "render",
+        "procedural:sphere:16",
+        "--technique",
+        "direct",
+        "--path",
+        "warp",
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+}
+
+#[test]
 fn truncated_raw_names_file_and_problem() {
     let dir = scratch("truncated");
     let file = dir.join("cut_16x16x16_uint8.raw");

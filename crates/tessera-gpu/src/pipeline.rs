@@ -57,6 +57,10 @@ pub struct RenderTargets {
     pub depth_write: bool,
     /// Whether fragments write the colour attachment at all.
     pub color_write: bool,
+    /// Let the rasterizer stop after one passing fragment per primitive
+    /// (`VK_NV_representative_fragment_test`; ignored where the device lacks it). For
+    /// visibility tests whose fragments only set a flag.
+    pub representative_fragments: bool,
 }
 
 impl RenderTargets {
@@ -68,6 +72,7 @@ impl RenderTargets {
             blend_additive: false,
             depth_write: false,
             color_write: true,
+            representative_fragments: false,
         }
     }
 
@@ -250,6 +255,11 @@ impl Gpu {
             .any(|s| s.stage == crate::shader::Stage::Vertex);
         if targets.depth_format.is_some() {
             info = info.depth_stencil_state(&depth_stencil);
+        }
+        let mut representative = vk::PipelineRepresentativeFragmentTestStateCreateInfoNV::default()
+            .representative_fragment_test_enable(true);
+        if targets.representative_fragments && self.caps().representative_fragment_test {
+            info = info.push_next(&mut representative);
         }
         if uses_vertex {
             info = info

@@ -606,6 +606,22 @@ fn isovalue_outside_range_draws_nothing() {
     assert_eq!(frame.triangles.unwrap().len(), 0);
     let background = tessera_data::shading::pack_rgba8(tessera_data::shading::BACKGROUND);
     assert!(frame.image.pixels.iter().all(|&p| p == background));
+    if gpu.caps().buffer_int64_atomics {
+        let compute = DirectCompute::new(&gpu, &compiler, ScalarType::U8).unwrap();
+        let target = ComputeTarget::new(&gpu, 40, 30, 16).unwrap();
+        target.pixels.poison(&gpu, u32::MAX).unwrap();
+        let (image, _, stats) = compute
+            .render(&gpu, &prepared, &target, 300.0, &OrbitCamera::default())
+            .unwrap();
+        assert_eq!(stats.triangles, 0);
+        assert_eq!(
+            stats.blocks_classified, 0,
+            "the min-max grid rules every block out"
+        );
+        assert!(image.pixels.iter().all(|&p| p == background));
+        target.destroy(&gpu);
+        compute.destroy(&gpu);
+    }
     target.destroy(&gpu);
     prepared.destroy(&gpu);
     direct.destroy(&gpu);

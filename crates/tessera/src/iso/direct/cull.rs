@@ -46,6 +46,7 @@ impl CullPipelines {
         let quad_targets = RenderTargets {
             depth_write: false,
             color_write: false,
+            representative_fragments: true,
             ..RenderTargets::color_depth(COLOR_FORMAT, DEPTH_FORMAT)
         };
         Ok(CullPipelines {
