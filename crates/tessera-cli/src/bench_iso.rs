@@ -430,6 +430,24 @@ pub fn stereo(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -> 
             gpu.destroy_buffer(capture);
             recorded.map_err(anyhow::Error::msg)?;
             emit("direct+roc", "mesh", mono?, pair?)?;
+            if gpu.caps().mesh_multiview {
+                multiview(
+                    gpu,
+                    &compiler,
+                    direct,
+                    &prepared,
+                    iso,
+                    (w, h),
+                    &eyes,
+                    plan,
+                    &mut emit,
+                )?;
+            } else {
+                println!(
+                    "note: {} has no multiview mesh shaders",
+                    gpu.caps().device_name
+                );
+            }
         }
 
         if let Some(compute) = &t.direct_compute {
@@ -473,4 +491,84 @@ pub fn stereo(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -> 
         t.destroy(gpu);
     }
     Ok(())
+}
+
+type Emit<'a> = dyn FnMut(
+        &str,
+        &str,
+        Vec<tessera::bench::StageStats>,
+        Vec<tessera::bench::StageStats>,
+    ) -> Result<()>
+    + 'a;
+
+/// Both eyes in one multiview pass against one eye, without culling; also checks that each
+/// layer equals a separate render of that eye.
+#[allow(clippy::too_many_arguments)]
+fn multiview(
+    gpu: &Gpu,
+    compiler: &ShaderCompiler,
+    direct: &Direct,
+    prepared: &PreparedVolume,
+    iso: f32,
+    (w, h): (u32, u32),
+    eyes: &[OrbitCamera; 2],
+    plan: FramePlan,
+    emit: &mut Emit,
+) -> Result<()> {
+    use tessera::iso::direct::stereo::DirectMultiview;
+    use tessera::iso::direct::FrameOptions;
+    let mv = DirectMultiview::new(gpu, compiler, prepared.volume.scalar)?;
+    let params = eyes.map(|c| Direct::params(prepared, iso, &c, w, h, 0));
+    let views = DirectMultiview::views_buffer(gpu, &params)?;
+    let pair_target = RasterTarget::with_views(gpu, w, h, 2)?;
+    let mono_target = RasterTarget::new(gpu, w, h)?;
+    let capture = Direct::no_capture(gpu)?;
+    let mut recorded = Ok(());
+    let mono = time_frames(gpu, plan, 1, |rec, timer| {
+        let r = timer.scope(rec, "mono", |rec| {
+            direct.record(rec, prepared, &mono_target, &params[0], &capture, None)
+        });
+        recorded = recorded.clone().and(r.map_err(|e| e.to_string()));
+    });
+    let pair = time_frames(gpu, plan, 1, |rec, timer| {
+        let r = timer.scope(rec, "stereo", |rec| {
+            mv.record(
+                rec,
+                direct,
+                prepared,
+                &pair_target,
+                &params[0],
+                &views,
+                &capture,
+            )
+        });
+        recorded = recorded.clone().and(r.map_err(|e| e.to_string()));
+    });
+    let layers = pair_target.read_views(gpu);
+    let mut matches = 1.0f64;
+    if let Ok(layers) = &layers {
+        for (e, layer) in layers.iter().enumerate() {
+            let single = direct.render(
+                gpu,
+                prepared,
+                &mono_target,
+                iso,
+                &eyes[e],
+                &FrameOptions::default(),
+            )?;
+            matches = matches.min(layer.compare(&single.image, 2).fraction_within);
+        }
+    }
+    pair_target.destroy(gpu);
+    mono_target.destroy(gpu);
+    gpu.destroy_buffer(views);
+    gpu.destroy_buffer(capture);
+    mv.destroy(gpu);
+    recorded.map_err(anyhow::Error::msg)?;
+    layers?;
+    println!(
+        "{:<20} multiview layers match single-eye renders: {:.4} of pixels",
+        "", matches
+    );
+    emit("direct-multiview", "mesh", mono?, pair?)
 }

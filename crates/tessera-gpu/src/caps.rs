@@ -20,6 +20,8 @@ pub struct Capabilities {
     pub mesh_max_payload_bytes: u32,
     pub mesh_preferred_invocations: u32,
     pub mesh_multiview: bool,
+    /// Rendering several views in one pass (`multiview`, core in Vulkan 1.1).
+    pub multiview: bool,
     pub ray_tracing_pipeline: bool,
     pub acceleration_structure: bool,
     pub ray_query: bool,
@@ -82,8 +84,11 @@ pub(crate) fn query(
     let mut rep_f = vk::PhysicalDeviceRepresentativeFragmentTestFeaturesNV::default();
     let mut bary_f = vk::PhysicalDeviceFragmentShaderBarycentricFeaturesKHR::default();
     let mut lock_f = vk::PhysicalDeviceFragmentShaderInterlockFeaturesEXT::default();
+    let mut v11_f = vk::PhysicalDeviceVulkan11Features::default();
     let mut v12_f = vk::PhysicalDeviceVulkan12Features::default();
-    let mut features = vk::PhysicalDeviceFeatures2::default().push_next(&mut v12_f);
+    let mut features = vk::PhysicalDeviceFeatures2::default()
+        .push_next(&mut v11_f)
+        .push_next(&mut v12_f);
     if has(ash::ext::mesh_shader::NAME) {
         features = features.push_next(&mut mesh_f);
     }
@@ -155,7 +160,8 @@ pub(crate) fn query(
         mesh_max_output_primitives: mesh_p.max_mesh_output_primitives,
         mesh_max_payload_bytes: mesh_p.max_task_payload_size,
         mesh_preferred_invocations: mesh_p.max_preferred_mesh_work_group_invocations,
-        mesh_multiview: mesh_f.multiview_mesh_shader != 0,
+        mesh_multiview: mesh_f.multiview_mesh_shader != 0 && v11_f.multiview != 0,
+        multiview: v11_f.multiview != 0,
         ray_tracing_pipeline: rtp_f.ray_tracing_pipeline != 0,
         acceleration_structure: as_f.acceleration_structure != 0,
         ray_query: rq_f.ray_query != 0,

@@ -52,7 +52,7 @@ impl Recorder<'_> {
             .old_layout(from)
             .new_layout(to)
             .image(image.handle)
-            .subresource_range(full_range(image.format))];
+            .subresource_range(full_range(image.format, image.layers))];
         let dep = vk::DependencyInfo::default().image_memory_barriers(&barrier);
         unsafe { self.gpu.device.cmd_pipeline_barrier2(self.cmd, &dep) };
     }
@@ -100,7 +100,7 @@ impl Recorder<'_> {
                 aspect_mask: aspect_of(src.format),
                 mip_level: 0,
                 base_array_layer: 0,
-                layer_count: 1,
+                layer_count: src.layers,
             })
             .image_extent(src.extent)];
         unsafe {
@@ -310,6 +310,12 @@ impl Recorder<'_> {
         let mut info = vk::RenderingInfo::default()
             .render_area(extent.into())
             .layer_count(1)
+            // Several layers mean one view per layer (multiview); the pipeline must match.
+            .view_mask(if target.layers > 1 {
+                (1 << target.layers) - 1
+            } else {
+                0
+            })
             .color_attachments(&attachments);
         if let Some(d) = &depth_attachment {
             info = info.depth_attachment(d);

@@ -355,7 +355,8 @@ impl Gpu {
             .maintenance4(true);
         let mut mesh = vk::PhysicalDeviceMeshShaderFeaturesEXT::default()
             .mesh_shader(true)
-            .task_shader(caps.task_shader);
+            .task_shader(caps.task_shader)
+            .multiview_mesh_shader(caps.mesh_multiview);
         let mut rtp =
             vk::PhysicalDeviceRayTracingPipelineFeaturesKHR::default().ray_tracing_pipeline(true);
         let mut accel = vk::PhysicalDeviceAccelerationStructureFeaturesKHR::default()

@@ -28,6 +28,8 @@ pub struct Image {
     pub view: vk::ImageView,
     pub format: vk::Format,
     pub extent: vk::Extent3D,
+    /// Array layers of a 2-D image (one per view when rendering with multiview).
+    pub layers: u32,
     pub name: String,
     allocation: Option<Allocation>,
 }
@@ -203,6 +205,21 @@ impl Gpu {
         usage: vk::ImageUsageFlags,
         dim3: bool,
     ) -> Result<Image> {
+        self.create_image_layers(name, extent, 1, format, usage, dim3)
+    }
+
+    /// Like [`Gpu::create_image`], with `layers` array layers (2-D images only), viewed as an
+    /// array when there are several.
+    pub fn create_image_layers(
+        &self,
+        name: &str,
+        extent: [u32; 3],
+        layers: u32,
+        format: vk::Format,
+        usage: vk::ImageUsageFlags,
+        dim3: bool,
+    ) -> Result<Image> {
+        let layers = if dim3 { 1 } else { layers.max(1) };
         let max = self.caps().max_image_dimension_3d;
         if dim3 && extent.iter().any(|&d| d > max) {
             return Err(GpuError::TooLarge {
@@ -219,6 +236,8 @@ impl Gpu {
         };
         let (image_type, view_type) = if dim3 {
             (vk::ImageType::TYPE_3D, vk::ImageViewType::TYPE_3D)
+        } else if layers > 1 {
+            (vk::ImageType::TYPE_2D, vk::ImageViewType::TYPE_2D_ARRAY)
         } else {
             (vk::ImageType::TYPE_2D, vk::ImageViewType::TYPE_2D)
         };
@@ -227,7 +246,7 @@ impl Gpu {
             .format(format)
             .extent(extent3)
             .mip_levels(1)
-            .array_layers(1)
+            .array_layers(layers)
             .samples(vk::SampleCountFlags::TYPE_1)
             .tiling(vk::ImageTiling::OPTIMAL)
             .usage(usage)
@@ -271,7 +290,7 @@ impl Gpu {
             .image(handle)
             .view_type(view_type)
             .format(format)
-            .subresource_range(full_range(format));
+            .subresource_range(full_range(format, layers));
         let view =
             unsafe { self.device.create_image_view(&view_info, None) }.call("vkCreateImageView")?;
         Ok(Image {
@@ -279,6 +298,7 @@ impl Gpu {
             view,
             format,
             extent: extent3,
+            layers,
             name: name.into(),
             allocation: Some(allocation),
         })
@@ -343,12 +363,12 @@ pub(crate) fn aspect_of(format: vk::Format) -> vk::ImageAspectFlags {
     }
 }
 
-pub(crate) fn full_range(format: vk::Format) -> vk::ImageSubresourceRange {
+pub(crate) fn full_range(format: vk::Format, layers: u32) -> vk::ImageSubresourceRange {
     vk::ImageSubresourceRange {
         aspect_mask: aspect_of(format),
         base_mip_level: 0,
         level_count: 1,
         base_array_layer: 0,
-        layer_count: 1,
+        layer_count: layers,
     }
 }

@@ -61,6 +61,9 @@ pub struct RenderTargets {
     /// (`VK_NV_representative_fragment_test`; ignored where the device lacks it). For
     /// visibility tests whose fragments only set a flag.
     pub representative_fragments: bool,
+    /// Render to this many views at once with multiview (attachments with as many layers);
+    /// 1 for ordinary rendering.
+    pub views: u32,
 }
 
 impl RenderTargets {
@@ -73,6 +76,7 @@ impl RenderTargets {
             depth_write: false,
             color_write: true,
             representative_fragments: false,
+            views: 1,
         }
     }
 
@@ -240,6 +244,9 @@ impl Gpu {
             });
         if let Some(depth) = targets.depth_format {
             rendering = rendering.depth_attachment_format(depth);
+        }
+        if targets.views > 1 {
+            rendering = rendering.view_mask((1 << targets.views) - 1);
         }
         let mut info = vk::GraphicsPipelineCreateInfo::default()
             .stages(&stages)

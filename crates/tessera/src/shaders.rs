@@ -27,6 +27,10 @@ const COMMON: &[(&str, &str)] = &[
         include_str!("iso/direct/params.glsl"),
     ),
     ("iso/direct/cull.glsl", include_str!("iso/direct/cull.glsl")),
+    (
+        "iso/direct/views.glsl",
+        include_str!("iso/direct/views.glsl"),
+    ),
     ("raster/raster.glsl", include_str!("raster/raster.glsl")),
     (
         "iso/direct/attributes.glsl",

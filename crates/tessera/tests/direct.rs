@@ -627,3 +627,64 @@ fn isovalue_outside_range_draws_nothing() {
     direct.destroy(&gpu);
     assert_clean(&gpu);
 }
+
+#[test]
+fn multiview_layers_equal_single_eye_renders() {
+    let Some(gpu) = mesh_gpu() else { return };
+    if !gpu.caps().mesh_multiview {
+        eprintln!(
+            "skipped: {} has no multiview mesh shaders",
+            gpu.caps().device_name
+        );
+        return;
+    }
+    let compiler = shaders::compiler();
+    let volume = generate(ProceduralKind::MarschnerLobb, 33, ScalarType::U8).unwrap();
+    let iso = volume.iso_to_texel(IsoValue::Normalized(0.5));
+    let direct = Direct::new(&gpu, &compiler, ScalarType::U8).unwrap();
+    let mv = tessera::iso::direct::stereo::DirectMultiview::new(&gpu, &compiler, ScalarType::U8)
+        .unwrap();
+    let prepared = direct.prepare(&gpu, &volume).unwrap();
+    let (w, h) = (96, 72);
+    let eyes = OrbitCamera::default().stereo_pair(0.3);
+    let params = eyes.map(|c| Direct::params(&prepared, iso, &c, w, h, 0));
+    let views = tessera::iso::direct::stereo::DirectMultiview::views_buffer(&gpu, &params).unwrap();
+    let pair = RasterTarget::with_views(&gpu, w, h, 2).unwrap();
+    let single = RasterTarget::new(&gpu, w, h).unwrap();
+    let capture = Direct::no_capture(&gpu).unwrap();
+    let mut recorded = Ok(());
+    gpu.submit("multiview", |rec| {
+        recorded = mv.record(rec, &direct, &prepared, &pair, &params[0], &views, &capture);
+    })
+    .unwrap();
+    recorded.unwrap();
+    let layers = pair.read_views(&gpu).unwrap();
+    for (e, layer) in layers.iter().enumerate() {
+        let one = direct
+            .render(
+                &gpu,
+                &prepared,
+                &single,
+                iso,
+                &eyes[e],
+                &FrameOptions::default(),
+            )
+            .unwrap();
+        let diff = layer.compare(&one.image, 2);
+        assert!(
+            diff.fraction_within >= 0.999,
+            "eye {e}: {} pixels differ",
+            diff.pixels_outside
+        );
+    }
+    assert_ne!(layers[0], layers[1]);
+    for t in [pair, single] {
+        t.destroy(&gpu);
+    }
+    gpu.destroy_buffer(views);
+    gpu.destroy_buffer(capture);
+    prepared.destroy(&gpu);
+    mv.destroy(&gpu);
+    direct.destroy(&gpu);
+    assert_clean(&gpu);
+}

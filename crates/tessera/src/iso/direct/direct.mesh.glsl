@@ -3,6 +3,9 @@
 // the workgroup's list runs marching cubes and writes its vertices and triangles at offsets
 // from a shared-memory scan. Vertices are per cell (not shared across cells), as in the paper.
 #extension GL_EXT_mesh_shader : require
+#if MULTIVIEW
+#extension GL_EXT_multiview : require
+#endif
 #include "common/volume.glsl"
 #include "common/mc_tables.glsl"
 #include "common/mc_cell.glsl"
@@ -14,6 +17,8 @@ layout(triangles, max_vertices = DIRECT_MAX_VERTICES, max_primitives = DIRECT_MA
 layout(binding = 0) uniform VOLUME_SAMPLER volume_tex;
 layout(binding = 2) buffer Stats { uint stats[]; };           // [mesh workgroups, triangles, vertices]
 layout(binding = 3) buffer Capture { uint captured; float capture_xyz[]; };
+
+#include "iso/direct/views.glsl"
 
 layout(location = 0) out vec3 normal_world[];
 layout(location = 1) out vec3 position_world[];
@@ -66,7 +71,7 @@ void main() {
         vec3 n;
         mc_edge_vertex(volume_tex, cell, e, iso, dims, p, n);
         uint v = v0 + bitCount(edges & ((1u << e) - 1u));
-        gl_MeshVerticesEXT[v].gl_Position = params.grid_to_clip * vec4(p, 1.0);
+        gl_MeshVerticesEXT[v].gl_Position = view_grid_to_clip() * vec4(p, 1.0);
         vec3 nw = n / params.grid_to_world.xyz;
         normal_world[v] = dot(nw, nw) > 0.0 ? normalize(nw) : nw;
         position_world[v] = (p - 0.5 * vec3(dims - 1u)) * params.grid_to_world.xyz;

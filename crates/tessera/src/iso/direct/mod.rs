@@ -10,6 +10,7 @@
 
 pub mod compute;
 pub mod cull;
+pub mod stereo;
 
 use crate::builtin_shader;
 use crate::config::volume_defines;
@@ -66,24 +67,31 @@ pub struct RasterTarget {
 
 impl RasterTarget {
     pub fn new(gpu: &Gpu, width: u32, height: u32) -> Result<RasterTarget> {
+        Self::with_views(gpu, width, height, 1)
+    }
+
+    /// Attachments with one layer per view, for multiview rendering.
+    pub fn with_views(gpu: &Gpu, width: u32, height: u32, views: u32) -> Result<RasterTarget> {
         crate::error::check_image_size(width, height)?;
-        let color = gpu.create_image(
+        let color = gpu.create_image_layers(
             "direct colour",
             [width, height, 1],
+            views,
             COLOR_FORMAT,
             vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
             false,
         )?;
-        let depth = gpu.create_image(
+        let depth = gpu.create_image_layers(
             "direct depth",
             [width, height, 1],
+            views,
             DEPTH_FORMAT,
             vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
             false,
         )?;
         let readback = gpu.create_buffer(
             "direct colour readback",
-            width as u64 * height as u64 * 4,
+            width as u64 * height as u64 * 4 * views.max(1) as u64,
             vk::BufferUsageFlags::TRANSFER_DST | vk::BufferUsageFlags::TRANSFER_SRC,
             MemoryLocation::GpuOnly,
         )?;
@@ -97,15 +105,25 @@ impl RasterTarget {
     }
 
     pub fn read(&self, gpu: &Gpu) -> Result<RgbaImage> {
+        Ok(self.read_views(gpu)?.swap_remove(0))
+    }
+
+    /// One image per view (layer).
+    pub fn read_views(&self, gpu: &Gpu) -> Result<Vec<RgbaImage>> {
         gpu.submit("copy direct colour", |rec| {
             rec.copy_image_to_buffer(&self.color, &self.readback)
         })?;
-        let bytes = gpu.read_buffer(&self.readback)?;
-        Ok(RgbaImage {
-            width: self.width,
-            height: self.height,
-            pixels: bytemuck::allocation::pod_collect_to_vec(&bytes),
-        })
+        let pixels: Vec<u32> =
+            bytemuck::allocation::pod_collect_to_vec(&gpu.read_buffer(&self.readback)?);
+        let per_view = (self.width * self.height) as usize;
+        Ok(pixels
+            .chunks_exact(per_view)
+            .map(|p| RgbaImage {
+                width: self.width,
+                height: self.height,
+                pixels: p.to_vec(),
+            })
+            .collect())
     }
 
     pub fn destroy(self, gpu: &Gpu) {
@@ -166,8 +184,10 @@ impl Direct {
         };
         let task = compiler.compile(&builtin_shader!("direct.task.glsl"), &with_list(false))?;
         let list_task = compiler.compile(&builtin_shader!("direct.task.glsl"), &with_list(true))?;
-        let mesh = compiler.compile(&builtin_shader!("direct.mesh.glsl"), &defines)?;
-        let frag = compiler.compile(&builtin_shader!("direct.frag.glsl"), &defines)?;
+        let mut one_view = defines.clone();
+        one_view.push(("MULTIVIEW".into(), "0".into()));
+        let mesh = compiler.compile(&builtin_shader!("direct.mesh.glsl"), &one_view)?;
+        let frag = compiler.compile(&builtin_shader!("direct.frag.glsl"), &one_view)?;
         let slots = [
             Slot::Texture,
             Slot::StorageBuffer,
@@ -231,7 +251,7 @@ impl Direct {
         }
     }
 
-    fn bindings<'a>(
+    pub(crate) fn bindings<'a>(
         &'a self,
         prepared: &'a PreparedVolume,
         capture: &'a Buffer,
@@ -247,6 +267,11 @@ impl Direct {
             Binding::Buffer(capture),
             Binding::Buffer(list),
         ]
+    }
+
+    pub(crate) fn record_stats_reset(&self, rec: &Recorder) {
+        rec.fill_buffer(&self.stats, 0);
+        rec.barrier();
     }
 
     /// Records one frame into `target`, with occlusion culling when `culling` is given.
