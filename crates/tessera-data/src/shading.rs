@@ -9,8 +9,9 @@ pub const GOOCH_COOL: [f32; 3] = [0.2, 0.2, 0.75];
 pub const GOOCH_WARM: [f32; 3] = [0.9, 0.75, 0.4];
 pub const SPECULAR_STRENGTH: f32 = 0.25;
 pub const SPECULAR_EXPONENT: f32 = 32.0;
-/// Colour of pixels whose ray misses the surface.
-pub const BACKGROUND: [f32; 4] = [0.08, 0.08, 0.1, 1.0];
+/// Colour of pixels whose ray misses the surface. Whole multiples of 1/255, so every path
+/// (a shader's `packUnorm4x8`, an attachment clear, the CPU) stores exactly the same bytes.
+pub const BACKGROUND: [f32; 4] = [20.0 / 255.0, 20.0 / 255.0, 26.0 / 255.0, 1.0];
 
 /// Shades a surface with unit normal `n` (any orientation: it is turned to face the viewer),
 /// unit `light` direction and unit `view` direction (from the surface towards the eye).
@@ -29,4 +30,17 @@ pub fn gooch(n: Vec3, light: Vec3, view: Vec3) -> Vec3 {
 pub fn pack_rgba8(c: [f32; 4]) -> u32 {
     let b = c.map(|v| (v.clamp(0.0, 1.0) * 255.0).round() as u32);
     b[0] | (b[1] << 8) | (b[2] << 16) | (b[3] << 24)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn background_is_exact_in_eight_bits() {
+        for v in BACKGROUND {
+            let scaled = v * 255.0;
+            assert_eq!(scaled, scaled.round(), "{v}");
+        }
+    }
 }
