@@ -338,8 +338,9 @@ impl Gpu {
                 supported.shader_storage_image_write_without_format != 0,
             )
             .pipeline_statistics_query(supported.pipeline_statistics_query != 0);
-        let mut v11 =
-            vk::PhysicalDeviceVulkan11Features::default().storage_buffer16_bit_access(true);
+        let mut v11 = vk::PhysicalDeviceVulkan11Features::default()
+            .storage_buffer16_bit_access(true)
+            .multiview(caps.multiview);
         let mut v12 = vk::PhysicalDeviceVulkan12Features::default()
             .buffer_device_address(true)
             .shader_buffer_int64_atomics(caps.buffer_int64_atomics)
