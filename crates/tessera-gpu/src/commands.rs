@@ -353,21 +353,14 @@ impl Recorder<'_> {
         push: &[u8],
         groups: [u32; 3],
     ) -> Result<()> {
-        let mesh = self
-            .gpu
-            .mesh_shader
-            .as_ref()
-            .ok_or_else(|| GpuError::Unsupported {
-                device: self.gpu.caps().device_name.clone(),
-                what: "VK_EXT_mesh_shader".into(),
-            })?;
+        let mesh = self.mesh_shader()?;
         self.bind(pipeline, bindings, push);
         unsafe { mesh.cmd_draw_mesh_tasks(self.cmd, groups[0], groups[1], groups[2]) };
         Ok(())
     }
 
-    /// Launches mesh-shader workgroups counted by a buffer: `draws` draws whose
-    /// `VkDrawMeshTasksIndirectCommandEXT` (three `u32` group counts) start at `offset`.
+    /// Launches the mesh-shader workgroups counted by a buffer: one draw whose
+    /// `VkDrawMeshTasksIndirectCommandEXT` (three `u32` group counts) starts at `offset`.
     pub fn draw_mesh_tasks_indirect(
         &self,
         pipeline: &Pipeline,
@@ -376,17 +369,20 @@ impl Recorder<'_> {
         args: &Buffer,
         offset: u64,
     ) -> Result<()> {
-        let mesh = self
-            .gpu
+        let mesh = self.mesh_shader()?;
+        self.bind(pipeline, bindings, push);
+        unsafe { mesh.cmd_draw_mesh_tasks_indirect(self.cmd, args.handle, offset, 1, 12) };
+        Ok(())
+    }
+
+    fn mesh_shader(&self) -> Result<&ash::ext::mesh_shader::Device> {
+        self.gpu
             .mesh_shader
             .as_ref()
             .ok_or_else(|| GpuError::Unsupported {
                 device: self.gpu.caps().device_name.clone(),
                 what: "VK_EXT_mesh_shader".into(),
-            })?;
-        self.bind(pipeline, bindings, push);
-        unsafe { mesh.cmd_draw_mesh_tasks_indirect(self.cmd, args.handle, offset, 1, 12) };
-        Ok(())
+            })
     }
 
     pub fn timestamp(&self, timer: &Timer, index: u32) {

@@ -18,7 +18,7 @@ use tessera_data::image::{coverage_of, silhouette_iou};
 use tessera_data::marching_cubes::marching_cubes;
 use tessera_data::procedural::{generate, ProceduralKind};
 use tessera_data::rasterize::rasterize_mesh;
-use tessera_data::{IsoValue, OrbitCamera, Samples, ScalarType, Volume};
+use tessera_data::{IsoValue, OrbitCamera, RgbaImage, Samples, ScalarType, Volume};
 use tessera_gpu::Gpu;
 
 fn mesh_gpu() -> Option<Gpu> {
@@ -97,6 +97,51 @@ fn assert_same_triangles(
         assert!(
             found,
             "{name}: GPU triangle {n} {t:?} has no CPU counterpart"
+        );
+    }
+}
+
+/// Holds a rendered isosurface to the CPU rasterization of the CPU marching-cubes mesh:
+/// silhouette IoU >= 0.99, >= 99 % of co-covered pixels within 2/255, and enough surface in
+/// view. Writes actual/expected/diff PNGs when it fails.
+fn assert_matches_cpu_raster(
+    name: &str,
+    image: &RgbaImage,
+    volume: &Volume,
+    iso: f32,
+    camera: &OrbitCamera,
+) {
+    let (w, h) = (image.width, image.height);
+    let background = tessera_data::shading::pack_rgba8(tessera_data::shading::BACKGROUND);
+    let mesh = marching_cubes(volume, iso);
+    let frame = tessera_data::GridFrame::new(volume.dims(), volume.spacing());
+    let reference = rasterize_mesh(&mesh, &frame, camera, w, h);
+    let coverage = coverage_of(image, background);
+    let iou = silhouette_iou(&coverage, &reference.coverage);
+    let both: Vec<bool> = coverage
+        .iter()
+        .zip(&reference.coverage)
+        .map(|(a, b)| *a && *b)
+        .collect();
+    let diff = image.compare_where(&reference.image, &both, 2);
+    eprintln!(
+        "{name}: IoU {iou:.4}, {:.3}% of co-covered pixels within 2/255 (max {})",
+        diff.fraction_within * 100.0,
+        diff.max_channel_diff
+    );
+    let covered = both.iter().filter(|&&b| b).count();
+    if iou < 0.99 || diff.fraction_within < 0.99 || covered < (w * h / 20) as usize {
+        let dir = common::out_dir();
+        common::write_png(&dir.join(format!("{name}-actual.png")), image);
+        common::write_png(&dir.join(format!("{name}-expected.png")), &reference.image);
+        common::write_png(
+            &dir.join(format!("{name}-diff.png")),
+            &image.diff_image(&reference.image),
+        );
+        panic!(
+            "{name}: IoU {iou}, within {}, covered {covered}; images in {}",
+            diff.fraction_within,
+            dir.display()
         );
     }
 }
@@ -202,38 +247,8 @@ fn direct_images_match_cpu_rasterized_marching_cubes() {
                     &FrameOptions::default(),
                 )
                 .unwrap();
-            let mesh = marching_cubes(volume, iso);
-            let frame_grid = tessera_data::GridFrame::new(volume.dims(), volume.spacing());
-            let reference = rasterize_mesh(&mesh, &frame_grid, &camera, w, h);
             let name = format!("direct-{}-{fraction}", volume.name());
-            let coverage = coverage_of(&frame.image, background);
-            let iou = silhouette_iou(&coverage, &reference.coverage);
-            let both: Vec<bool> = coverage
-                .iter()
-                .zip(&reference.coverage)
-                .map(|(a, b)| *a && *b)
-                .collect();
-            let diff = frame.image.compare_where(&reference.image, &both, 2);
-            eprintln!(
-                "{name}: IoU {iou:.4}, {:.3}% of co-covered pixels within 2/255 (max {})",
-                diff.fraction_within * 100.0,
-                diff.max_channel_diff
-            );
-            let covered = both.iter().filter(|&&b| b).count();
-            if iou < 0.99 || diff.fraction_within < 0.99 || covered < (w * h / 20) as usize {
-                let dir = common::out_dir();
-                common::write_png(&dir.join(format!("{name}-actual.png")), &frame.image);
-                common::write_png(&dir.join(format!("{name}-expected.png")), &reference.image);
-                common::write_png(
-                    &dir.join(format!("{name}-diff.png")),
-                    &frame.image.diff_image(&reference.image),
-                );
-                panic!(
-                    "{name}: IoU {iou}, within {}, covered {covered}; images in {}",
-                    diff.fraction_within,
-                    dir.display()
-                );
-            }
+            assert_matches_cpu_raster(&name, &frame.image, volume, iso, &camera);
         }
         prepared.destroy(&gpu);
         direct.destroy(&gpu);
@@ -370,34 +385,8 @@ fn compute_path_images_match_cpu_rasterized_marching_cubes() {
                 .unwrap();
             assert_eq!(stats.triangles as usize, mesh.triangle_count());
             assert!(!image.pixels.contains(&u32::MAX), "unwritten pixels");
-            let frame_grid = tessera_data::GridFrame::new(volume.dims(), volume.spacing());
-            let reference = rasterize_mesh(&mesh, &frame_grid, &camera, w, h);
-            let coverage = coverage_of(&image, background);
-            let iou = silhouette_iou(&coverage, &reference.coverage);
-            let both: Vec<bool> = coverage
-                .iter()
-                .zip(&reference.coverage)
-                .map(|(a, b)| *a && *b)
-                .collect();
-            let diff = image.compare_where(&reference.image, &both, 2);
             let name = format!("direct-compute-{}-{fraction}", volume.name());
-            eprintln!(
-                "{name}: IoU {iou:.4}, {:.3}% within 2/255",
-                diff.fraction_within * 100.0
-            );
-            if iou < 0.99
-                || diff.fraction_within < 0.99
-                || both.iter().filter(|&&b| b).count() < (w * h / 20) as usize
-            {
-                let dir = common::out_dir();
-                common::write_png(&dir.join(format!("{name}-actual.png")), &image);
-                common::write_png(&dir.join(format!("{name}-expected.png")), &reference.image);
-                panic!(
-                    "{name}: IoU {iou}, within {}; images in {}",
-                    diff.fraction_within,
-                    dir.display()
-                );
-            }
+            assert_matches_cpu_raster(&name, &image, volume, iso, &camera);
             target.destroy(&gpu);
         }
         prepared.destroy(&gpu);
