@@ -226,7 +226,6 @@ fn direct_images_match_cpu_rasterized_marching_cubes() {
         fov_y_deg: 40.0,
     };
     let target = RasterTarget::new(&gpu, w, h).unwrap();
-    let background = tessera_data::shading::pack_rgba8(tessera_data::shading::BACKGROUND);
     let volumes = [
         generate(ProceduralKind::HeadPhantom, 40, ScalarType::U8).unwrap(),
         generate(ProceduralKind::MarschnerLobb, 33, ScalarType::U16).unwrap(),
@@ -365,7 +364,6 @@ fn compute_path_images_match_cpu_rasterized_marching_cubes() {
         eye_shift: 0.0,
         fov_y_deg: 45.0,
     };
-    let background = tessera_data::shading::pack_rgba8(tessera_data::shading::BACKGROUND);
     let volumes = [
         generate(ProceduralKind::HeadPhantom, 40, ScalarType::U8).unwrap(),
         generate(ProceduralKind::MarschnerLobb, 33, ScalarType::U16).unwrap(),
