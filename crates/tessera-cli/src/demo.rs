@@ -4,8 +4,8 @@ use anyhow::Result;
 use clap::Args;
 use std::path::PathBuf;
 use std::time::Instant;
-use tessera::iso::raymarch::Raymarch;
-use tessera::target::PixelTarget;
+use tessera::iso::renderer::{IsoRenderer, IsoTechnique};
+use tessera::path::PathChoice;
 use tessera_data::procedural::{generate, ProceduralKind};
 use tessera_data::{IsoValue, OrbitCamera, ScalarType};
 use tessera_gpu::GpuOptions;
@@ -24,6 +24,7 @@ pub struct DemoArgs {
 }
 
 struct Scene {
+    technique: IsoTechnique,
     kind: ProceduralKind,
     scalar: ScalarType,
     iso_fraction: f32,
@@ -40,30 +41,49 @@ fn scenes() -> Vec<Scene> {
     };
     vec![
         Scene {
+            technique: IsoTechnique::Raymarch,
             kind: ProceduralKind::Sphere,
             scalar: ScalarType::U8,
             iso_fraction: 0.7,
             camera: cam(30.0, 20.0),
         },
         Scene {
+            technique: IsoTechnique::Raymarch,
             kind: ProceduralKind::MarschnerLobb,
             scalar: ScalarType::U16,
             iso_fraction: 0.5,
             camera: cam(20.0, 35.0),
         },
         Scene {
+            technique: IsoTechnique::Raymarch,
             kind: ProceduralKind::HeadPhantom,
             scalar: ScalarType::U8,
             iso_fraction: 0.2,
             camera: cam(40.0, 15.0),
         },
         Scene {
+            technique: IsoTechnique::Raymarch,
             kind: ProceduralKind::HeadPhantom,
             scalar: ScalarType::U8,
             iso_fraction: 0.8,
             camera: cam(40.0, 15.0),
         },
         Scene {
+            technique: IsoTechnique::Raymarch,
+            kind: ProceduralKind::Turbulence,
+            scalar: ScalarType::F32,
+            iso_fraction: 0.55,
+            camera: cam(25.0, 30.0),
+        },
+        Scene {
+            technique: IsoTechnique::Direct,
+            kind: ProceduralKind::MarschnerLobb,
+            scalar: ScalarType::U16,
+            iso_fraction: 0.5,
+            camera: cam(20.0, 35.0),
+        },
+        Scene {
+            technique: IsoTechnique::Direct,
             kind: ProceduralKind::Turbulence,
             scalar: ScalarType::F32,
             iso_fraction: 0.55,
@@ -81,30 +101,46 @@ pub fn run(options: &GpuOptions, args: &DemoArgs) -> Result<()> {
         gpu.caps().driver_info
     );
     let size = args.image_size;
-    let target = PixelTarget::new(&gpu, size, size)?;
     for scene in scenes() {
         let volume = generate(scene.kind, args.volume_size, scene.scalar)?;
         let iso = volume.iso_to_texel(IsoValue::Normalized(scene.iso_fraction));
         let started = Instant::now();
-        let raymarch = Raymarch::new(&gpu, &compiler, scene.scalar)?;
-        let prepared = raymarch.prepare(&gpu, &volume)?;
-        let (image, gpu_ms) = raymarch.render(&gpu, &prepared, &target, iso, &scene.camera)?;
+        let renderer = match IsoRenderer::new(
+            &gpu,
+            &compiler,
+            scene.technique,
+            scene.scalar,
+            PathChoice::Auto,
+        ) {
+            Ok(r) => r,
+            Err(e) => {
+                println!(
+                    "skipped {} on {}: {e}",
+                    scene.technique.name(),
+                    volume.name()
+                );
+                continue;
+            }
+        };
+        let prepared = renderer.prepare(&gpu, &volume)?;
+        let frame = renderer.render(&gpu, &prepared, iso, &scene.camera, (size, size), true)?;
         let wall_ms = started.elapsed().as_secs_f64() * 1e3;
+        let label = format!("{} ({})", scene.technique.name(), renderer.path().name());
         let path = args.out.join(format!(
-            "raymarch-{}-iso{:.2}.png",
+            "{}-{}-iso{:.2}.png",
+            scene.technique.name(),
             volume.name(),
             scene.iso_fraction
         ));
-        crate::output::write_png(&path, &image)?;
+        crate::output::write_png(&path, &frame.image)?;
         println!(
-            "{:<60} raymarch {:>9.2} ms GPU, {:>8.1} ms with upload and octree build",
+            "{:<60} {label:<20} {:>9.2} ms GPU, {:>8.1} ms with upload and octree build",
             path.display(),
-            gpu_ms,
+            frame.gpu_ms,
             wall_ms
         );
         prepared.destroy(&gpu);
-        raymarch.destroy(&gpu);
+        renderer.destroy(&gpu);
     }
-    target.destroy(&gpu);
     crate::check_validation(&gpu)
 }

@@ -264,7 +264,7 @@ fn demo_writes_gallery() {
         e.as_ref()
             .is_ok_and(|e| e.path().extension().is_some_and(|x| x == "png"))
     });
-    assert_eq!(pngs.count(), 5);
+    assert_eq!(pngs.count(), 7);
     let stdout = String::from_utf8_lossy(&o.stdout);
-    assert_eq!(stdout.matches("ms GPU").count(), 5, "{stdout}");
+    assert_eq!(stdout.matches("ms GPU").count(), 7, "{stdout}");
 }
