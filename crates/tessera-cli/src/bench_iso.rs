@@ -189,6 +189,14 @@ fn measure(
             r.counts.insert("speedup_over_raymarch".into(), rm / d);
         }
         sink.emit(&r)?;
+        let mut r = record("direct+hzb", "compute");
+        crate::bench_hzb::measure_compute_culled(
+            gpu, compute, prepared, capacity, plan, &iso_of, &mut r,
+        )?;
+        if let (Some(d), Some(rm)) = (r.median_ms("direct"), raymarch_ms) {
+            r.counts.insert("speedup_over_raymarch".into(), rm / d);
+        }
+        sink.emit(&r)?;
     }
     Ok(())
 }

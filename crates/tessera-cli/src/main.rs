@@ -1,6 +1,7 @@
 //! `tessera`: render, measure and export scientific data on the GPU.
 
 mod bench;
+mod bench_hzb;
 mod bench_iso;
 mod data;
 mod demo;

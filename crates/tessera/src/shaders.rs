@@ -27,6 +27,7 @@ const COMMON: &[(&str, &str)] = &[
         include_str!("iso/direct/params.glsl"),
     ),
     ("iso/direct/cull.glsl", include_str!("iso/direct/cull.glsl")),
+    ("iso/direct/hzb.glsl", include_str!("iso/direct/hzb.glsl")),
     (
         "iso/direct/views.glsl",
         include_str!("iso/direct/views.glsl"),

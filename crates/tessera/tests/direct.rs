@@ -5,7 +5,7 @@ mod common;
 
 use tessera::iso::direct::FrameOptions;
 
-use common::{assert_clean, gpu};
+use common::{assert_clean, assert_matches_cpu_raster, gpu};
 use glam::Vec3;
 use std::collections::HashMap;
 use tessera::iso::direct::compute::{ComputeTarget, DirectCompute, DirectExtract, TriangleLists};
@@ -14,11 +14,9 @@ use tessera::iso::direct::{Direct, RasterTarget};
 use tessera::iso::minmax::MinMaxBuilder;
 use tessera::iso::PreparedVolume;
 use tessera::shaders;
-use tessera_data::image::{coverage_of, silhouette_iou};
 use tessera_data::marching_cubes::marching_cubes;
 use tessera_data::procedural::{generate, ProceduralKind};
-use tessera_data::rasterize::rasterize_mesh;
-use tessera_data::{IsoValue, OrbitCamera, RgbaImage, Samples, ScalarType, Volume};
+use tessera_data::{IsoValue, OrbitCamera, Samples, ScalarType, Volume};
 use tessera_gpu::Gpu;
 
 fn mesh_gpu() -> Option<Gpu> {
@@ -97,51 +95,6 @@ fn assert_same_triangles(
         assert!(
             found,
             "{name}: GPU triangle {n} {t:?} has no CPU counterpart"
-        );
-    }
-}
-
-/// Holds a rendered isosurface to the CPU rasterization of the CPU marching-cubes mesh:
-/// silhouette IoU >= 0.99, >= 99 % of co-covered pixels within 2/255, and enough surface in
-/// view. Writes actual/expected/diff PNGs when it fails.
-fn assert_matches_cpu_raster(
-    name: &str,
-    image: &RgbaImage,
-    volume: &Volume,
-    iso: f32,
-    camera: &OrbitCamera,
-) {
-    let (w, h) = (image.width, image.height);
-    let background = tessera_data::shading::pack_rgba8(tessera_data::shading::BACKGROUND);
-    let mesh = marching_cubes(volume, iso);
-    let frame = tessera_data::GridFrame::new(volume.dims(), volume.spacing());
-    let reference = rasterize_mesh(&mesh, &frame, camera, w, h);
-    let coverage = coverage_of(image, background);
-    let iou = silhouette_iou(&coverage, &reference.coverage);
-    let both: Vec<bool> = coverage
-        .iter()
-        .zip(&reference.coverage)
-        .map(|(a, b)| *a && *b)
-        .collect();
-    let diff = image.compare_where(&reference.image, &both, 2);
-    eprintln!(
-        "{name}: IoU {iou:.4}, {:.3}% of co-covered pixels within 2/255 (max {})",
-        diff.fraction_within * 100.0,
-        diff.max_channel_diff
-    );
-    let covered = both.iter().filter(|&&b| b).count();
-    if iou < 0.99 || diff.fraction_within < 0.99 || covered < (w * h / 20) as usize {
-        let dir = common::out_dir();
-        common::write_png(&dir.join(format!("{name}-actual.png")), image);
-        common::write_png(&dir.join(format!("{name}-expected.png")), &reference.image);
-        common::write_png(
-            &dir.join(format!("{name}-diff.png")),
-            &image.diff_image(&reference.image),
-        );
-        panic!(
-            "{name}: IoU {iou}, within {}, covered {covered}; images in {}",
-            diff.fraction_within,
-            dir.display()
         );
     }
 }

@@ -660,3 +660,65 @@ fn empty_lists_and_counts_beyond_capacity() {
     rast.destroy(&gpu);
     assert_clean(&gpu);
 }
+
+#[test]
+fn index_base_lets_two_buffers_share_a_frame() {
+    let gpu = gpu();
+    let Some(rast) = rasterizer(&gpu) else {
+        return;
+    };
+    let full = |z: f32| RasterTriangle {
+        clip: [
+            [-3.0, -3.0, z, 1.0],
+            [3.0, -3.0, z, 1.0],
+            [0.0, 3.0, z, 1.0],
+        ],
+    };
+    let upload = |tris: &[RasterTriangle]| {
+        let triangles = gpu
+            .upload_buffer(
+                "test triangles",
+                bytemuck::cast_slice(tris),
+                vk::BufferUsageFlags::STORAGE_BUFFER,
+            )
+            .unwrap();
+        let counts = create_counts_buffer(&gpu, "test counts").unwrap();
+        let n = RasterCounts {
+            triangle_count: tris.len() as u32,
+            dispatch: [0; 3],
+        };
+        gpu.write_buffer(&counts, bytemuck::bytes_of(&n)).unwrap();
+        (triangles, counts)
+    };
+    let first = upload(&[full(0.5), full(0.6)]);
+    let second = upload(&[full(0.75), full(0.25)]);
+    let frame = RasterFrame::new(&gpu, 32, 24).unwrap();
+    for (near_first, expect) in [(false, (0.25, 1001)), (true, (0.25, 1))] {
+        let (a, b) = if near_first {
+            (&second, &first)
+        } else {
+            (&first, &second)
+        };
+        gpu.submit("two buffers", |rec| {
+            rast.record_clear(rec, &frame);
+            rast.record_prepare_dispatch(rec, &a.1);
+            rast.record_raster(rec, &a.0, &a.1, &frame);
+            rast.record_prepare_dispatch(rec, &b.1);
+            rast.record_raster_with_base(rec, &b.0, &b.1, &frame, 1000);
+        })
+        .unwrap();
+        let values = frame.read(&gpu).unwrap();
+        assert!(
+            values.iter().all(|&v| decode(v) == Some(expect)),
+            "{:?}",
+            decode(values[0])
+        );
+    }
+    frame.destroy(&gpu);
+    for (t, c) in [first, second] {
+        gpu.destroy_buffer(t);
+        gpu.destroy_buffer(c);
+    }
+    rast.destroy(&gpu);
+    assert_clean(&gpu);
+}

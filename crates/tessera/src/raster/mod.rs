@@ -32,7 +32,9 @@
 //! * **Frame** — [`RasterFrame`]: `uint64_t depth_payload[width * height]`, row-major from the
 //!   top-left pixel. A drawn pixel holds `floatBitsToUint(depth) << 32 | index` with `depth` the
 //!   NDC depth in `[0, 1)` (a non-negative float, so its bits order as the values do) and
-//!   `index` the triangle's position in the triangle buffer; an empty pixel holds [`EMPTY`]
+//!   `index` the triangle's position in the triangle buffer plus the raster pass's index base
+//!   (0 unless given to [`ComputeRasterizer::record_raster_with_base`], which lets triangles
+//!   from several buffers share one frame); an empty pixel holds [`EMPTY`]
 //!   (all ones). Resolve shaders `#include "raster/raster.glsl"` and bind it as
 //!   `uvec2 depth_payload[]` (x = index, y = depth bits) with the helpers there:
 //!   `raster_is_empty`, `raster_depth`, `raster_index`, `raster_pixel_centre` and
@@ -93,7 +95,7 @@ struct PrepareParams {
 struct RasterParams {
     size: [u32; 2],
     capacity: u32,
-    _pad: u32,
+    index_base: u32,
 }
 
 /// Splits a frame value into (NDC depth, triangle index); `None` for an empty pixel.
@@ -244,10 +246,25 @@ impl ComputeRasterizer {
         counts: &Buffer,
         frame: &RasterFrame,
     ) {
+        self.record_raster_with_base(rec, triangles, counts, frame, 0);
+    }
+
+    /// Like [`Self::record_raster`], with `index_base` added to every triangle's index in the
+    /// frame: triangle `i` of `triangles` is stored as `index_base + i`, so that a resolve can
+    /// tell which of several buffers drawn into one frame a pixel's triangle came from. The sum
+    /// must fit in 32 bits.
+    pub fn record_raster_with_base(
+        &self,
+        rec: &Recorder,
+        triangles: &Buffer,
+        counts: &Buffer,
+        frame: &RasterFrame,
+        index_base: u32,
+    ) {
         let params = RasterParams {
             size: [frame.width, frame.height],
             capacity: (triangles.size / TRIANGLE_BYTES).min(u32::MAX as u64) as u32,
-            _pad: 0,
+            index_base,
         };
         rec.dispatch_indirect(
             &self.raster,

@@ -24,6 +24,7 @@ layout(binding = 2) buffer Frame { uint64_t depth_payload[]; };
 layout(push_constant) uniform RasterParams {
     uvec2 size;     // frame width, height in pixels
     uint capacity;  // triangles the triangle buffer holds; later ones are never read
+    uint index_base;  // added to each triangle's index in the frame (several buffers, one frame)
 } params;
 
 // SUBPIXEL_BITS, MIN_W and GUARD_BAND come from tessera_data::rasterize as defines.
@@ -187,6 +188,7 @@ void main() {
     if (index >= min(triangle_count, params.capacity)) {
         return;
     }
+    uint payload = params.index_base + index;
     vec4 c0 = triangles[index].clip[0];
     vec4 c1 = triangles[index].clip[1];
     vec4 c2 = triangles[index].clip[2];
@@ -195,7 +197,7 @@ void main() {
         return;  // wholly outside one plane
     }
     if ((m0 | m1 | m2) == 0u) {
-        draw_triangle(to_screen(c0), to_screen(c1), to_screen(c2), index);  // the common case
+        draw_triangle(to_screen(c0), to_screen(c1), to_screen(c2), payload);  // the common case
         return;
     }
     // Clip plane by plane, as the reference does.
@@ -241,7 +243,7 @@ void main() {
     Corner previous = to_screen(polygon[1]);
     for (int k = 2; k < n; ++k) {
         Corner next = to_screen(polygon[k]);
-        draw_triangle(first, previous, next, index);
+        draw_triangle(first, previous, next, payload);
         previous = next;
     }
 }

@@ -76,3 +76,48 @@ pub fn assert_images_match(
         );
     }
 }
+
+/// Holds a rendered isosurface to the CPU rasterization of the CPU marching-cubes mesh:
+/// silhouette IoU >= 0.99, >= 99 % of co-covered pixels within 2/255, and enough surface in
+/// view. Writes actual/expected/diff PNGs when it fails.
+pub fn assert_matches_cpu_raster(
+    name: &str,
+    image: &RgbaImage,
+    volume: &tessera_data::Volume,
+    iso: f32,
+    camera: &tessera_data::OrbitCamera,
+) {
+    let (w, h) = (image.width, image.height);
+    let background = tessera_data::shading::pack_rgba8(tessera_data::shading::BACKGROUND);
+    let mesh = tessera_data::marching_cubes::marching_cubes(volume, iso);
+    let frame = tessera_data::GridFrame::new(volume.dims(), volume.spacing());
+    let reference = tessera_data::rasterize::rasterize_mesh(&mesh, &frame, camera, w, h);
+    let coverage = tessera_data::image::coverage_of(image, background);
+    let iou = tessera_data::image::silhouette_iou(&coverage, &reference.coverage);
+    let both: Vec<bool> = coverage
+        .iter()
+        .zip(&reference.coverage)
+        .map(|(a, b)| *a && *b)
+        .collect();
+    let diff = image.compare_where(&reference.image, &both, 2);
+    eprintln!(
+        "{name}: IoU {iou:.4}, {:.3}% of co-covered pixels within 2/255 (max {})",
+        diff.fraction_within * 100.0,
+        diff.max_channel_diff
+    );
+    let covered = both.iter().filter(|&&b| b).count();
+    if iou < 0.99 || diff.fraction_within < 0.99 || covered < (w * h / 20) as usize {
+        let dir = out_dir();
+        write_png(&dir.join(format!("{name}-actual.png")), image);
+        write_png(&dir.join(format!("{name}-expected.png")), &reference.image);
+        write_png(
+            &dir.join(format!("{name}-diff.png")),
+            &image.diff_image(&reference.image),
+        );
+        panic!(
+            "{name}: IoU {iou}, within {}, covered {covered}; images in {}",
+            diff.fraction_within,
+            dir.display()
+        );
+    }
+}

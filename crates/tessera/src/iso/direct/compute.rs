@@ -6,6 +6,7 @@
 use crate::builtin_shader;
 use crate::config::volume_defines;
 use crate::error::{Error, Result};
+use crate::iso::direct::compute_cull::ComputeCullPipelines;
 use crate::iso::direct::{Direct, DirectParams};
 use crate::iso::minmax::MinMaxBuilder;
 use crate::iso::PreparedVolume;
@@ -210,10 +211,12 @@ impl ComputeTarget {
     }
 }
 
-/// `direct` on compute alone: extraction, the shared compute rasterizer, a shading resolve.
+/// `direct` on compute alone: extraction, the shared compute rasterizer, a shading resolve;
+/// with occlusion culling through [`Self::record_culled`] (`compute_cull`).
 pub struct DirectCompute {
     extract: DirectExtract,
-    rasterizer: ComputeRasterizer,
+    pub(super) rasterizer: ComputeRasterizer,
+    pub(super) cull: ComputeCullPipelines,
     resolve: Pipeline,
     reproject: Pipeline,
     builder: MinMaxBuilder,
@@ -240,6 +243,7 @@ impl DirectCompute {
         Ok(DirectCompute {
             extract: DirectExtract::new(gpu, compiler, scalar)?,
             rasterizer,
+            cull: ComputeCullPipelines::new(gpu, compiler, scalar)?,
             resolve,
             reproject,
             builder: MinMaxBuilder::new(gpu, compiler, scalar)?,
@@ -372,6 +376,7 @@ impl DirectCompute {
     pub fn destroy(self, gpu: &Gpu) {
         self.extract.destroy(gpu);
         self.rasterizer.destroy(gpu);
+        self.cull.destroy(gpu);
         self.builder.destroy(gpu);
         gpu.destroy_pipeline(self.resolve);
         gpu.destroy_pipeline(self.reproject);

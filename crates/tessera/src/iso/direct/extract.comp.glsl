@@ -2,7 +2,10 @@
 // Compute path of direct isosurface extraction: the task and mesh stages' work in one compute
 // workgroup per 8×8×4 block, for GPUs whose graphics stages run on few units. Triangles go to
 // the shared compute rasterizer's list (clip-space corners) with their shading attributes
-// beside them; the workgroup reserves its slots with one atomic.
+// beside them; the workgroup reserves its slots with one atomic. Each triangle's first normal
+// carries its block's linear id in .w (as uintBitsToFloat), so a resolve knows which blocks
+// own pixels. With BLOCK_LIST defined (occlusion culling), workgroups take their blocks from a
+// list (linear ids) instead of the block grid.
 #include "common/volume.glsl"
 #include "common/mc_tables.glsl"
 #include "common/mc_cell.glsl"
@@ -20,6 +23,11 @@ layout(binding = 4) buffer Counts { uint triangle_count; };
 // [0] triangles emitted (may exceed the capacity: then the frame is incomplete), [1] blocks
 // that reached classification.
 layout(binding = 5) buffer Stats { uint stats[]; };
+#ifdef BLOCK_LIST
+// A block list: its length, the indirect dispatch arguments (a 2-D grid of workgroups when
+// one row would exceed the device's limit), then linear block ids.
+layout(binding = 6) readonly buffer Blocks { uint block_count; uint block_args[3]; uint block_list[]; };
+#endif
 
 const uint CELLS = BLOCK_X * BLOCK_Y * BLOCK_Z;
 const uint PER_THREAD = CELLS / 32u;
@@ -28,12 +36,23 @@ shared uint base;
 
 void main() {
     uint me = gl_LocalInvocationIndex;
-    uvec3 block = gl_WorkGroupID;
     uvec3 dims = params.dims.xyz;
     float iso = params.eye_world.w;
     uint capacity = params.dims.w;
     uvec3 block_dims = (dims - 2u) / uvec3(BLOCK_X, BLOCK_Y, BLOCK_Z) + 1u;
-    vec2 range = minmax_nodes[block.x + block_dims.x * (block.y + block_dims.y * block.z)];
+#ifdef BLOCK_LIST
+    uint listed = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
+    if (listed >= block_count) {
+        return;  // the last row of a 2-D grid; uniform across the workgroup
+    }
+    uint block_id = block_list[listed];
+    uvec3 block = uvec3(block_id % block_dims.x, (block_id / block_dims.x) % block_dims.y,
+                        block_id / (block_dims.x * block_dims.y));
+#else
+    uvec3 block = gl_WorkGroupID;
+    uint block_id = block.x + block_dims.x * (block.y + block_dims.y * block.z);
+#endif
+    vec2 range = minmax_nodes[block_id];
     if (iso < range.x || iso > range.y) {
         return;  // uniform across the workgroup
     }
@@ -85,7 +104,8 @@ void main() {
                 mc_edge_vertex(volume_tex, cell, mc_tri_edge(case_index, 3u * t + j), iso, dims, p, normal);
                 vec3 nw = normal / params.grid_to_world.xyz;
                 triangles[slot].clip[j] = params.grid_to_clip * vec4(p, 1.0);
-                attributes[slot].normal_world[j] = vec4(dot(nw, nw) > 0.0 ? normalize(nw) : nw, 0.0);
+                float tag = j == 0u ? uintBitsToFloat(block_id) : 0.0;  // bits kept: no arithmetic
+                attributes[slot].normal_world[j] = vec4(dot(nw, nw) > 0.0 ? normalize(nw) : nw, tag);
                 attributes[slot].position_world[j] = vec4((p - centre) * params.grid_to_world.xyz, 1.0);
             }
         }

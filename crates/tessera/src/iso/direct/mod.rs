@@ -9,6 +9,8 @@
 //! the compute path are not built yet.
 
 pub mod compute;
+pub mod compute_cull;
+mod compute_cull_frame;
 pub mod cull;
 pub mod stereo;
 

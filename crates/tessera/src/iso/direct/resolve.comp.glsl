@@ -2,6 +2,10 @@
 // Turns the compute rasterizer's depth|triangle frame into colour: each pixel interpolates its
 // triangle's attributes with perspective-correct barycentrics and is shaded like a fragment of
 // the mesh-shader path.
+//
+// With TWO_LISTS defined (occlusion culling) the frame holds triangles of two lists: indices
+// below params.size.z are the first list's, the rest the second's (drawn with that index base).
+// Each drawn pixel then also flags its triangle's block as seen (bit 0 of the block's flags).
 #include "raster/raster.glsl"
 #include "common/shading.glsl"
 #include "iso/direct/attributes.glsl"
@@ -11,11 +15,16 @@ layout(binding = 0) readonly buffer Frame { uvec2 depth_payload[]; };
 layout(binding = 1) readonly buffer Triangles { RasterTriangle triangles[]; };
 layout(binding = 2) readonly buffer Attributes { TriangleAttributes attributes[]; };
 layout(binding = 3) writeonly buffer Pixels { uint pixels[]; };
+#ifdef TWO_LISTS
+layout(binding = 4) readonly buffer SecondTriangles { RasterTriangle second_triangles[]; };
+layout(binding = 5) readonly buffer SecondAttributes { TriangleAttributes second_attributes[]; };
+layout(binding = 6) buffer BlockFlags { uint block_flags[]; };
+#endif
 
 layout(push_constant) uniform ResolveParams {
     vec4 eye_world;
     vec4 light;   // xyz towards the light, world space
-    uvec4 size;   // x width, y height
+    uvec4 size;   // x width, y height, z first index of the second list (TWO_LISTS)
 } params;
 
 void main() {
@@ -29,9 +38,25 @@ void main() {
     vec4 colour = BACKGROUND;
     if (!raster_is_empty(value)) {
         uint t = raster_index(value);
-        RasterTriangle tri = triangles[t];
+        RasterTriangle tri;
+        TriangleAttributes a;
+#ifdef TWO_LISTS
+        if (t >= params.size.z) {
+            tri = second_triangles[t - params.size.z];
+            a = second_attributes[t - params.size.z];
+        } else {
+            tri = triangles[t];
+            a = attributes[t];
+        }
+        uint block = floatBitsToUint(a.normal_world[0].w);
+        if (block < uint(block_flags.length())) {
+            block_flags[block] = 1u;  // every writer stores the same value
+        }
+#else
+        tri = triangles[t];
+        a = attributes[t];
+#endif
         vec3 b = raster_barycentrics(tri.clip[0], tri.clip[1], tri.clip[2], raster_pixel_centre(pixel), size);
-        TriangleAttributes a = attributes[t];
         vec3 normal = b.x * a.normal_world[0].xyz + b.y * a.normal_world[1].xyz + b.z * a.normal_world[2].xyz;
         vec3 position = b.x * a.position_world[0].xyz + b.y * a.position_world[1].xyz + b.z * a.position_world[2].xyz;
         colour = vec4(shade_surface(normal, position, params.eye_world.xyz, params.light.xyz), 1.0);

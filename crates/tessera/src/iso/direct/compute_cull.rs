@@ -1,0 +1,334 @@
+//! Occlusion culling for the compute path of `direct`: temporal, conservative, with a max-depth
+//! pyramid (HZB) instead of the mesh path's proxy quads. The image equals the unculled one
+//! (up to triangles tying in depth, which the rasterizer breaks by index).
+//!
+//! A culled frame:
+//! 1. **Pass A** extracts the blocks that owned a pixel last frame (a block list, one workgroup
+//!    per listed block) and rasterizes them into the frame.
+//! 2. A **max-depth pyramid** is built from the frame (`hzb.glsl`): level 0 at half resolution,
+//!    one dispatch per level.
+//! 3. The **occlusion test** visits every block: those whose (min, max) holds the isovalue are
+//!    counted; of those not drawn in pass A, a block is listed for pass B when its cell box
+//!    reaches the near plane, or when on the pyramid level where its screen rectangle (a pixel
+//!    wider on each side) spans at most 4×4 texels some texel's max depth is at or behind the
+//!    box's nearest depth. Everything pass A drew lies in the final image, so a block that fails
+//!    the test is hidden behind it.
+//! 4. **Pass B** extracts the listed blocks into a second [`TriangleLists`] (owned by the
+//!    state) and rasterizes them into the same frame with index base = pass A's capacity: a
+//!    frame index `i` refers to pass A's triangle `i` below that base, to pass B's triangle
+//!    `i - base` from it. The resolve reads the right list and flags the block of every drawn
+//!    pixel's triangle (the extraction tags each triangle with its block id). Two lists rather
+//!    than pass B appending to pass A's: where pass A ended is known only on the GPU, while an
+//!    index base known on the host needs one push constant in the rasterizer. The price is
+//!    memory: pass B's list gets the target's capacity, as the first frame (or one after
+//!    [`ComputeCullState::reset`]) draws everything in view there.
+//! 5. A **compaction** turns the flags into next frame's pass-A list.
+//!
+//! Blocks are never marked visible without owning a pixel, so the pass-A list is exactly the
+//! visible set of the last frame; a block that passes the test but owns no pixel is drawn in
+//! pass B every frame.
+//!
+//! Frames are recorded by `DirectCompute::record_culled` (in `compute_cull_frame.rs`) with a
+//! [`ComputeCullState`]; the state's statistics say what each pass drew.
+
+use crate::builtin_shader;
+use crate::config::volume_defines;
+use crate::error::Result;
+use crate::iso::direct::compute::{ComputeTarget, TriangleLists};
+use crate::iso::PreparedVolume;
+use bytemuck::{Pod, Zeroable};
+use std::cell::Cell;
+use tessera_data::ScalarType;
+use tessera_gpu::{vk, Buffer, Gpu, MemoryLocation, Pipeline, ShaderCompiler, Slot};
+
+/// Push constants of `hzb_test.comp.glsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct HzbTestParams {
+    pub grid_to_clip: [[f32; 4]; 4],
+    /// xyz samples per axis, w pyramid levels.
+    pub dims: [u32; 4],
+    /// xy frame width and height.
+    pub size: [u32; 4],
+    /// x the isovalue.
+    pub iso: [f32; 4],
+}
+
+/// The levels of the max-depth pyramid of a `width`×`height` frame: texels per axis, level 0
+/// (half resolution) first, down to 1×1 (`hzb.glsl`).
+pub fn hzb_levels(width: u32, height: u32) -> Vec<[u32; 2]> {
+    let mut d = [width.div_ceil(2), height.div_ceil(2)];
+    let mut levels = vec![d];
+    while d[0] > 1 || d[1] > 1 {
+        d = d.map(|n| n.div_ceil(2));
+        levels.push(d);
+    }
+    levels
+}
+
+/// Workgroups for `threads` invocations of a 1-D pass as a 2-D grid within the x limit.
+pub(super) fn groups_2d(threads: u32, local: u32, max_x: u32) -> [u32; 3] {
+    let groups = threads.div_ceil(local.max(1)).max(1);
+    let x = groups.min(max_x);
+    [x, groups.div_ceil(x), 1]
+}
+
+/// The culling pipelines, built with [`crate::iso::direct::compute::DirectCompute`].
+pub(crate) struct ComputeCullPipelines {
+    pub(super) extract_list: Pipeline,
+    pub(super) setup: Pipeline,
+    pub(super) hzb: Pipeline,
+    pub(super) test: Pipeline,
+    pub(super) resolve: Pipeline,
+    pub(super) compact: Pipeline,
+    pub(super) max_groups_x: u32,
+}
+
+impl ComputeCullPipelines {
+    pub(crate) fn new(
+        gpu: &Gpu,
+        compiler: &ShaderCompiler,
+        scalar: ScalarType,
+    ) -> Result<ComputeCullPipelines> {
+        let defines = volume_defines(scalar);
+        let with = |name: &str| {
+            let mut d = defines.clone();
+            d.push((name.into(), "1".into()));
+            d
+        };
+        let sb = Slot::StorageBuffer;
+        let extract =
+            compiler.compile(&builtin_shader!("extract.comp.glsl"), &with("BLOCK_LIST"))?;
+        let resolve =
+            compiler.compile(&builtin_shader!("resolve.comp.glsl"), &with("TWO_LISTS"))?;
+        let setup = compiler.compile(&builtin_shader!("hzb_setup.comp.glsl"), &defines)?;
+        let hzb = compiler.compile(&builtin_shader!("hzb_build.comp.glsl"), &defines)?;
+        let test = compiler.compile(&builtin_shader!("hzb_test.comp.glsl"), &defines)?;
+        let compact = compiler.compile(&builtin_shader!("hzb_compact.comp.glsl"), &defines)?;
+        let mut made: Vec<Pipeline> = Vec::new();
+        let built = (|| -> Result<()> {
+            let extract_slots = [Slot::Texture, sb, sb, sb, sb, sb, sb];
+            made.push(gpu.compute_pipeline(
+                "direct extract (block list)",
+                &extract,
+                &extract_slots,
+            )?);
+            made.push(gpu.compute_pipeline("hzb cull setup", &setup, &[sb; 4])?);
+            made.push(gpu.compute_pipeline("hzb build", &hzb, &[sb; 2])?);
+            made.push(gpu.compute_pipeline("hzb test", &test, &[sb; 5])?);
+            made.push(gpu.compute_pipeline("direct resolve (two lists)", &resolve, &[sb; 7])?);
+            made.push(gpu.compute_pipeline("hzb compact", &compact, &[sb; 3])?);
+            Ok(())
+        })();
+        if let Err(e) = built {
+            made.into_iter().for_each(|p| gpu.destroy_pipeline(p));
+            return Err(e);
+        }
+        let Ok([extract_list, setup, hzb, test, resolve, compact]) =
+            <[Pipeline; 6]>::try_from(made)
+        else {
+            unreachable!("six pipelines were built")
+        };
+        Ok(ComputeCullPipelines {
+            extract_list,
+            setup,
+            hzb,
+            test,
+            resolve,
+            compact,
+            max_groups_x: gpu.caps().max_compute_workgroup_count[0],
+        })
+    }
+
+    pub(crate) fn destroy(self, gpu: &Gpu) {
+        for p in [
+            self.extract_list,
+            self.setup,
+            self.hzb,
+            self.test,
+            self.resolve,
+            self.compact,
+        ] {
+            gpu.destroy_pipeline(p);
+        }
+    }
+}
+
+/// What culling did in the last frame.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct ComputeCullStats {
+    /// Blocks whose (min, max) holds the isovalue.
+    pub blocks_occupied: u32,
+    /// Blocks owning a pixel of the frame: next frame's pass A.
+    pub blocks_visible: u32,
+    /// Blocks drawn in pass A (those that owned a pixel last frame).
+    pub blocks_drawn_first: u32,
+    /// Blocks drawn in pass B (found possibly visible by the occlusion test).
+    pub blocks_drawn_new: u32,
+    /// Triangles extracted in pass A and pass B (more than a list's capacity: some were lost).
+    pub triangles_first: u32,
+    pub triangles_new: u32,
+}
+
+impl ComputeCullStats {
+    pub fn blocks_drawn(&self) -> u32 {
+        self.blocks_drawn_first + self.blocks_drawn_new
+    }
+
+    pub fn triangles(&self) -> u32 {
+        self.triangles_first + self.triangles_new
+    }
+}
+
+/// Per-volume, per-frame-size culling state carried from frame to frame: block flags and
+/// lists, the pyramid, and pass B's triangle lists.
+pub struct ComputeCullState {
+    /// Per block: bit 0 owns a pixel this frame, bit 1 drawn in pass A.
+    pub(super) flags: Buffer,
+    /// Pass-A lists, used in turn: one is drawn while the other is rebuilt for next frame.
+    pub(super) lists: [Buffer; 2],
+    pub(super) new_blocks: Buffer,
+    /// occupied, drawn first, drawn new, visible.
+    pub(super) stats: Buffer,
+    /// The extraction's (triangles, blocks classified) of pass A and pass B.
+    pub(super) extract_stats: [Buffer; 2],
+    pub(super) hzb: Buffer,
+    /// Pass B's triangles.
+    pub new_lists: TriangleLists,
+    pub(super) width: u32,
+    pub(super) height: u32,
+    pub(super) block_count: u32,
+    pub(super) frame: Cell<usize>,
+}
+
+impl ComputeCullState {
+    /// State for `prepared` drawn into frames like `target`; pass B's lists get the target's
+    /// capacity (the first frame draws everything in view in pass B).
+    pub fn new(
+        gpu: &Gpu,
+        prepared: &PreparedVolume,
+        target: &ComputeTarget,
+    ) -> Result<ComputeCullState> {
+        let b = prepared.octree.level_dims[0];
+        let blocks = b[0] * b[1] * b[2];
+        let (w, h) = (target.frame.width, target.frame.height);
+        let texels: u64 = hzb_levels(w, h)
+            .iter()
+            .map(|d| d[0] as u64 * d[1] as u64)
+            .sum();
+        let list = 16 + 4 * blocks as u64;
+        let specs = [
+            ("hzb cull block flags", 4 * blocks as u64),
+            ("hzb cull first blocks A", list),
+            ("hzb cull first blocks B", list),
+            ("hzb cull new blocks", list),
+            ("hzb cull stats", 16),
+            ("hzb cull extract stats A", 8),
+            ("hzb cull extract stats B", 8),
+            ("hzb", 4 * texels),
+        ];
+        let usage = vk::BufferUsageFlags::STORAGE_BUFFER
+            | vk::BufferUsageFlags::INDIRECT_BUFFER
+            | vk::BufferUsageFlags::TRANSFER_SRC
+            | vk::BufferUsageFlags::TRANSFER_DST;
+        let mut made: Vec<Buffer> = Vec::new();
+        let built = (|| -> Result<TriangleLists> {
+            for (name, bytes) in specs {
+                made.push(gpu.create_buffer(name, bytes, usage, MemoryLocation::GpuOnly)?);
+            }
+            TriangleLists::new(gpu, target.lists.capacity)
+        })();
+        let new_lists = match built {
+            Ok(lists) => lists,
+            Err(e) => {
+                made.into_iter().for_each(|b| gpu.destroy_buffer(b));
+                return Err(e);
+            }
+        };
+        let Ok([flags, a, b, new_blocks, stats, es_a, es_b, hzb]) = <[Buffer; 8]>::try_from(made)
+        else {
+            unreachable!("eight buffers were made")
+        };
+        let state = ComputeCullState {
+            flags,
+            lists: [a, b],
+            new_blocks,
+            stats,
+            extract_stats: [es_a, es_b],
+            hzb,
+            new_lists,
+            width: w,
+            height: h,
+            block_count: blocks,
+            frame: Cell::new(0),
+        };
+        if let Err(e) = state.reset(gpu) {
+            state.destroy(gpu);
+            return Err(e);
+        }
+        Ok(state)
+    }
+
+    /// Forgets what earlier frames saw (a cut in the camera path, a new volume): the next frame
+    /// draws nothing in pass A.
+    pub fn reset(&self, gpu: &Gpu) -> Result<()> {
+        gpu.submit("reset compute culling", |rec| {
+            for b in [
+                &self.flags,
+                &self.lists[0],
+                &self.lists[1],
+                &self.new_blocks,
+            ] {
+                rec.fill_buffer(b, 0);
+            }
+            for b in [&self.stats, &self.extract_stats[0], &self.extract_stats[1]] {
+                rec.fill_buffer(b, 0);
+            }
+        })?;
+        Ok(())
+    }
+
+    pub(super) fn first(&self) -> &Buffer {
+        &self.lists[self.frame.get() % 2]
+    }
+
+    pub(super) fn next(&self) -> &Buffer {
+        &self.lists[(self.frame.get() + 1) % 2]
+    }
+
+    /// What the last recorded frame did.
+    pub fn read_stats(&self, gpu: &Gpu) -> Result<ComputeCullStats> {
+        let words = |b: &Buffer| -> Result<Vec<u32>> {
+            Ok(bytemuck::allocation::pod_collect_to_vec(
+                &gpu.read_buffer(b)?,
+            ))
+        };
+        let s = words(&self.stats)?;
+        Ok(ComputeCullStats {
+            blocks_occupied: s[0],
+            blocks_drawn_first: s[1],
+            blocks_drawn_new: s[2],
+            blocks_visible: s[3],
+            triangles_first: words(&self.extract_stats[0])?[0],
+            triangles_new: words(&self.extract_stats[1])?[0],
+        })
+    }
+
+    pub fn destroy(self, gpu: &Gpu) {
+        let [a, b] = self.lists;
+        let [es_a, es_b] = self.extract_stats;
+        for buffer in [
+            self.flags,
+            a,
+            b,
+            self.new_blocks,
+            self.stats,
+            es_a,
+            es_b,
+            self.hzb,
+        ] {
+            gpu.destroy_buffer(buffer);
+        }
+        self.new_lists.destroy(gpu);
+    }
+}

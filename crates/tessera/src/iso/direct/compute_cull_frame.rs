@@ -1,0 +1,247 @@
+//! Recording of a culled compute-path frame (see `compute_cull` for the method).
+
+use crate::error::{Error, Result};
+use crate::iso::direct::compute::{ComputeTarget, DirectCompute, ResolveParams, TriangleLists};
+use crate::iso::direct::compute_cull::{
+    groups_2d, hzb_levels, ComputeCullState, ComputeCullStats, HzbTestParams,
+};
+use crate::iso::direct::{Direct, DirectParams};
+use crate::iso::PreparedVolume;
+use tessera_data::{OrbitCamera, RgbaImage};
+use tessera_gpu::{Binding, Buffer, Gpu, Pipeline, Recorder, Timer};
+
+impl DirectCompute {
+    /// Records a culled frame into `target` with `state` (made for this target and volume);
+    /// `params.dims[3]` must be `target.lists.capacity`. See the module's description.
+    pub fn record_culled(
+        &self,
+        rec: &Recorder,
+        prepared: &PreparedVolume,
+        target: &ComputeTarget,
+        params: &DirectParams,
+        state: &ComputeCullState,
+    ) -> Result<()> {
+        self.record_culled_timed(rec, prepared, target, params, state, None)
+    }
+
+    /// [`Self::record_culled`], timing its stages in `timer` when given (four scopes:
+    /// `cull-pass-a`, `cull-test`, `cull-pass-b`, `cull-resolve`).
+    pub fn record_culled_timed(
+        &self,
+        rec: &Recorder,
+        prepared: &PreparedVolume,
+        target: &ComputeTarget,
+        params: &DirectParams,
+        state: &ComputeCullState,
+        mut timer: Option<&mut Timer>,
+    ) -> Result<()> {
+        let mut stage = |name: &str, body: &dyn Fn(&Recorder)| match timer.as_deref_mut() {
+            Some(t) => t.scope(rec, name, body),
+            None => body(rec),
+        };
+        let b = prepared.octree.level_dims[0];
+        let (w, h) = (target.frame.width, target.frame.height);
+        if (w, h) != (state.width, state.height) || b[0] * b[1] * b[2] != state.block_count {
+            return Err(Error::Invalid(
+                "the culling state was made for another frame size or volume".into(),
+            ));
+        }
+        let base = target.lists.capacity;
+        if base.checked_add(state.new_lists.capacity).is_none() {
+            return Err(Error::Invalid(
+                "two triangle lists beyond 2^32 triangles".into(),
+            ));
+        }
+        let c = &self.cull;
+        let (first, next) = (state.first(), state.next());
+        let setup = |rec: &Recorder, mode: u32| {
+            rec.dispatch_groups(
+                &c.setup,
+                &[
+                    Binding::Buffer(first),
+                    Binding::Buffer(&state.new_blocks),
+                    Binding::Buffer(next),
+                    Binding::Buffer(&state.stats),
+                ],
+                bytemuck::bytes_of(&[mode, c.max_groups_x]),
+                [1, 1, 1],
+            );
+            rec.barrier();
+        };
+        let volume = Binding::Texture {
+            image: &prepared.volume.texture,
+            linear: false,
+        };
+        let extract = |rec: &Recorder, lists: &TriangleLists, stats: &Buffer, blocks: &Buffer| {
+            let mut p = *params;
+            p.dims[3] = lists.capacity;
+            rec.dispatch_indirect(
+                &c.extract_list,
+                &[
+                    volume,
+                    Binding::Buffer(&prepared.octree.nodes),
+                    Binding::Buffer(&lists.triangles),
+                    Binding::Buffer(&lists.attributes),
+                    Binding::Buffer(&lists.counts),
+                    Binding::Buffer(stats),
+                    Binding::Buffer(blocks),
+                ],
+                bytemuck::bytes_of(&p),
+                blocks,
+                4,
+            );
+            rec.barrier();
+        };
+
+        // Pass A: last frame's visible blocks.
+        let (a, b_lists) = (&target.lists, &state.new_lists);
+        let per_block =
+            |p: &Pipeline| groups_2d(state.block_count, p.local_size[0], c.max_groups_x);
+        stage("cull-pass-a", &|rec| {
+            setup(rec, 0);
+            for buffer in [&a.counts, &b_lists.counts] {
+                rec.fill_buffer(buffer, 0);
+            }
+            state
+                .extract_stats
+                .iter()
+                .for_each(|s| rec.fill_buffer(s, 0));
+            self.rasterizer.record_clear(rec, &target.frame);
+            extract(rec, a, &state.extract_stats[0], first);
+            self.rasterizer.record_prepare_dispatch(rec, &a.counts);
+            self.rasterizer
+                .record_raster(rec, &a.triangles, &a.counts, &target.frame);
+        });
+        // The pyramid and the occlusion test.
+        stage("cull-test", &|rec| {
+            let levels = hzb_levels(w, h);
+            for (level, d) in levels.iter().enumerate() {
+                rec.dispatch(
+                    &c.hzb,
+                    &[
+                        Binding::Buffer(&target.frame.depth_payload),
+                        Binding::Buffer(&state.hzb),
+                    ],
+                    bytemuck::bytes_of(&[w, h, level as u32, 0]),
+                    [d[0], d[1], 1],
+                );
+                rec.barrier();
+            }
+            let test = HzbTestParams {
+                grid_to_clip: params.grid_to_clip,
+                dims: [
+                    params.dims[0],
+                    params.dims[1],
+                    params.dims[2],
+                    levels.len() as u32,
+                ],
+                size: [w, h, 0, 0],
+                iso: [params.eye_world[3], 0.0, 0.0, 0.0],
+            };
+            rec.dispatch_groups(
+                &c.test,
+                &[
+                    Binding::Buffer(&prepared.octree.nodes),
+                    Binding::Buffer(&state.flags),
+                    Binding::Buffer(&state.hzb),
+                    Binding::Buffer(&state.new_blocks),
+                    Binding::Buffer(&state.stats),
+                ],
+                bytemuck::bytes_of(&test),
+                per_block(&c.test),
+            );
+            rec.barrier();
+            setup(rec, 1);
+        });
+        // Pass B: blocks that may have come into view, into the same frame.
+        stage("cull-pass-b", &|rec| {
+            extract(rec, b_lists, &state.extract_stats[1], &state.new_blocks);
+            self.rasterizer
+                .record_prepare_dispatch(rec, &b_lists.counts);
+            self.rasterizer.record_raster_with_base(
+                rec,
+                &b_lists.triangles,
+                &b_lists.counts,
+                &target.frame,
+                base,
+            );
+        });
+        // Shade, flag the blocks that own pixels, list them for next frame.
+        stage("cull-resolve", &|rec| {
+            let e = params.eye_world;
+            let resolve = ResolveParams {
+                eye_world: [e[0], e[1], e[2], 0.0],
+                light: params.light,
+                size: [w, h, base, 0],
+            };
+            rec.dispatch(
+                &c.resolve,
+                &[
+                    Binding::Buffer(&target.frame.depth_payload),
+                    Binding::Buffer(&a.triangles),
+                    Binding::Buffer(&a.attributes),
+                    Binding::Buffer(&target.pixels.pixels),
+                    Binding::Buffer(&b_lists.triangles),
+                    Binding::Buffer(&b_lists.attributes),
+                    Binding::Buffer(&state.flags),
+                ],
+                bytemuck::bytes_of(&resolve),
+                [w, h, 1],
+            );
+            rec.barrier();
+            rec.dispatch_groups(
+                &c.compact,
+                &[
+                    Binding::Buffer(&state.flags),
+                    Binding::Buffer(next),
+                    Binding::Buffer(&state.stats),
+                ],
+                bytemuck::bytes_of(&state.block_count),
+                per_block(&c.compact),
+            );
+            rec.barrier();
+        });
+        state.frame.set(state.frame.get() + 1);
+        Ok(())
+    }
+
+    /// Renders one culled frame: the image, the GPU time in milliseconds and what culling did.
+    pub fn render_culled(
+        &self,
+        gpu: &Gpu,
+        prepared: &PreparedVolume,
+        target: &ComputeTarget,
+        state: &ComputeCullState,
+        iso: f32,
+        camera: &OrbitCamera,
+    ) -> Result<(RgbaImage, f64, ComputeCullStats)> {
+        let (w, h) = (target.frame.width, target.frame.height);
+        let params = Direct::params(prepared, iso, camera, w, h, target.lists.capacity);
+        let mut timer = Timer::new(gpu, 1)?;
+        timer.reset(gpu);
+        let mut recorded = Ok(());
+        let submitted = gpu.submit("direct (compute path, culled)", |rec| {
+            recorded = timer.scope(rec, "direct-compute-culled", |rec| {
+                self.record_culled(rec, prepared, target, &params, state)
+            });
+        });
+        let ms = submitted
+            .map_err(Error::from)
+            .and(recorded)
+            .and_then(|_| Ok(timer.read_ms(gpu)?.first().map(|s| s.1).unwrap_or(0.0)));
+        timer.destroy(gpu);
+        let ms = ms?;
+        let stats = state.read_stats(gpu)?;
+        for (made, capacity) in [
+            (stats.triangles_first, target.lists.capacity),
+            (stats.triangles_new, state.new_lists.capacity),
+        ] {
+            if made > capacity {
+                return Err(Error::Invalid(format!(
+                    "a culling pass made {made} triangles, its list holds {capacity}: raise the capacity"
+                )));
+            }
+        }
+        Ok((target.pixels.read(gpu)?, ms, stats))
+    }
+}

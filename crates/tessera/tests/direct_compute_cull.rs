@@ -1,0 +1,325 @@
+//! Occlusion culling on the compute path of `direct` (max-depth pyramid, two passes): it may
+//! change how much is extracted, never the image.
+
+mod common;
+
+use common::{assert_clean, assert_matches_cpu_raster, gpu};
+use tessera::iso::direct::compute::{ComputeTarget, DirectCompute};
+use tessera::iso::direct::compute_cull::{
+    hzb_levels, ComputeCullState, ComputeCullStats, HzbTestParams,
+};
+use tessera::shaders;
+use tessera_data::marching_cubes::marching_cubes;
+use tessera_data::procedural::{generate, ProceduralKind};
+use tessera_data::{IsoValue, OrbitCamera, ScalarType, Volume};
+use tessera_gpu::Gpu;
+
+fn atomics_gpu() -> Option<Gpu> {
+    let gpu = gpu();
+    if !gpu.caps().buffer_int64_atomics {
+        eprintln!(
+            "skipped: {} has no 64-bit buffer atomics",
+            gpu.caps().device_name
+        );
+        return None;
+    }
+    Some(gpu)
+}
+
+/// One camera and isovalue path, culled frame by frame against unculled renders of the same
+/// frames (and the CPU reference). Returns (culled triangles, unculled triangles, stats) per
+/// frame.
+fn run_path(
+    gpu: &Gpu,
+    name: &str,
+    volume: &Volume,
+    (w, h): (u32, u32),
+    path: &[(f32, OrbitCamera)],
+) -> Vec<(u32, u32, ComputeCullStats)> {
+    let compiler = shaders::compiler();
+    let compute = DirectCompute::new(gpu, &compiler, volume.scalar_type()).unwrap();
+    let prepared = compute.prepare(gpu, volume).unwrap();
+    let capacity = path
+        .iter()
+        .map(|(fraction, _)| {
+            let iso = volume.iso_to_texel(IsoValue::Normalized(*fraction));
+            marching_cubes(volume, iso).triangle_count() as u32 + 16
+        })
+        .max()
+        .unwrap();
+    let plain_target = ComputeTarget::new(gpu, w, h, capacity).unwrap();
+    let target = ComputeTarget::new(gpu, w, h, capacity).unwrap();
+    let state = ComputeCullState::new(gpu, &prepared, &target).unwrap();
+    let mut frames = Vec::new();
+    for (frame, (fraction, camera)) in path.iter().enumerate() {
+        let iso = volume.iso_to_texel(IsoValue::Normalized(*fraction));
+        let (plain, _, plain_stats) = compute
+            .render(gpu, &prepared, &plain_target, iso, camera)
+            .unwrap();
+        target.pixels.poison(gpu, u32::MAX).unwrap();
+        let (culled, _, stats) = compute
+            .render_culled(gpu, &prepared, &target, &state, iso, camera)
+            .unwrap();
+        eprintln!(
+            "{name} frame {frame}: {stats:?}, {} triangles of {}",
+            stats.triangles(),
+            plain_stats.triangles
+        );
+        assert!(!culled.pixels.contains(&u32::MAX), "unwritten pixels");
+        // Depths do not depend on which of two tying triangles wins, so they must be equal at
+        // every pixel: a wrongly culled block shows here even where it would hardly change a
+        // colour.
+        let depth = |t: &ComputeTarget| -> Vec<u32> {
+            t.frame
+                .read(gpu)
+                .unwrap()
+                .iter()
+                .map(|v| (v >> 32) as u32)
+                .collect()
+        };
+        let (plain_depth, culled_depth) = (depth(&plain_target), depth(&target));
+        let wrong = plain_depth
+            .iter()
+            .zip(&culled_depth)
+            .filter(|(a, b)| a != b)
+            .count();
+        assert_eq!(
+            wrong, 0,
+            "{name} frame {frame}: {wrong} pixels' depths differ"
+        );
+        let diff = culled.compare(&plain, 2);
+        if diff.fraction_within < 0.999 {
+            let dir = common::out_dir();
+            common::write_png(&dir.join(format!("{name}-{frame}-culled.png")), &culled);
+            common::write_png(&dir.join(format!("{name}-{frame}-plain.png")), &plain);
+            panic!(
+                "{name} frame {frame}: the culled image differs from the unculled one in {} \
+                 pixels; images in {}",
+                diff.pixels_outside,
+                dir.display()
+            );
+        }
+        assert_matches_cpu_raster(
+            &format!("{name}-frame{frame}"),
+            &culled,
+            volume,
+            iso,
+            camera,
+        );
+        // The two passes draw disjoint sets of occupied blocks.
+        assert!(stats.triangles() <= plain_stats.triangles, "{stats:?}");
+        assert!(stats.blocks_drawn_new <= stats.blocks_occupied, "{stats:?}");
+        assert!(stats.blocks_visible <= stats.blocks_drawn(), "{stats:?}");
+        assert_eq!(stats.blocks_occupied, plain_stats.blocks_classified);
+        frames.push((stats.triangles(), plain_stats.triangles, stats));
+    }
+    state.destroy(gpu);
+    target.destroy(gpu);
+    plain_target.destroy(gpu);
+    prepared.destroy(gpu);
+    compute.destroy(gpu);
+    frames
+}
+
+#[test]
+fn compute_culling_changes_work_not_images() {
+    let Some(gpu) = atomics_gpu() else { return };
+    let cam = |az: f32| OrbitCamera {
+        azimuth_deg: az,
+        ..OrbitCamera::default()
+    };
+    // Still for three frames, then a turn that brings hidden blocks into view.
+    let path = [30.0, 30.0, 30.0, 75.0, 150.0, 150.0].map(|az| (0.3, cam(az)));
+    let volume = generate(ProceduralKind::HeadPhantom, 56, ScalarType::U8).unwrap();
+    let frames = run_path(&gpu, "compute-cull", &volume, (96, 80), &path);
+    let drawn: Vec<_> = frames.iter().map(|f| f.2.blocks_drawn()).collect();
+    let triangles: Vec<_> = frames.iter().map(|f| f.0).collect();
+    eprintln!(
+        "blocks drawn per frame {drawn:?} of {} occupied; triangles {triangles:?} of {}",
+        frames[0].2.blocks_occupied, frames[0].1
+    );
+    let first = frames[0].2;
+    assert_eq!(
+        first.blocks_drawn_first, 0,
+        "nothing is known before frame 0"
+    );
+    assert_eq!(first.triangles_first, 0);
+    assert!(first.blocks_visible > 0);
+    for (frame, (culled, plain, stats)) in frames.iter().enumerate() {
+        if frame >= 1 && path[frame].1.azimuth_deg == path[frame - 1].1.azimuth_deg {
+            // Pass A drew exactly last frame's visible blocks.
+            assert_eq!(stats.blocks_drawn_first, frames[frame - 1].2.blocks_visible);
+            assert!(stats.blocks_drawn_first > 0);
+            assert!(
+                culled < plain,
+                "frame {frame}: a still camera must extract less ({culled} of {plain})"
+            );
+        }
+    }
+    // Turning to 150° uncovers blocks pass A did not have.
+    assert!(frames[4].2.blocks_drawn_new > 0, "{:?}", frames[4].2);
+    assert_clean(&gpu);
+}
+
+#[test]
+fn compute_culling_with_the_eye_inside_the_volume() {
+    let Some(gpu) = atomics_gpu() else { return };
+    // The near plane cuts the volume; blocks behind the eye and off screen take the
+    // conservative and the frustum branches of the test.
+    let cam = |az: f32, distance: f32| OrbitCamera {
+        azimuth_deg: az,
+        elevation_deg: 10.0,
+        distance,
+        ..OrbitCamera::default()
+    };
+    let path = [
+        cam(20.0, 0.6),
+        cam(20.0, 0.6),
+        cam(60.0, 0.25),
+        cam(60.0, 0.25),
+        cam(90.0, 0.1),
+        cam(60.0, 1.1),
+    ]
+    .map(|c| (0.3, c));
+    let volume = generate(ProceduralKind::HeadPhantom, 56, ScalarType::U8).unwrap();
+    let frames = run_path(&gpu, "compute-cull-inside", &volume, (96, 80), &path);
+    assert!(frames[1].0 < frames[1].1, "{:?}", frames[1]);
+    assert_clean(&gpu);
+}
+
+#[test]
+fn compute_culling_follows_moves_zooms_and_other_volumes() {
+    let Some(gpu) = atomics_gpu() else { return };
+    let cam = |az: f32, el: f32, distance: f32| OrbitCamera {
+        azimuth_deg: az,
+        elevation_deg: el,
+        distance,
+        ..OrbitCamera::default()
+    };
+    // Pass A's blocks are last frame's: each move leaves some of them hidden and uncovers
+    // blocks next to them.
+    let head = generate(ProceduralKind::HeadPhantom, 96, ScalarType::U8).unwrap();
+    let path = [
+        cam(30.0, 20.0, 1.8),
+        cam(60.0, 0.0, 1.5),
+        cam(100.0, -30.0, 1.2),
+        cam(180.0, 40.0, 1.0),
+    ];
+    run_path(
+        &gpu,
+        "cull-head-moves",
+        &head,
+        (128, 112),
+        &path.map(|c| (0.3, c)),
+    );
+    let blobs = generate(ProceduralKind::Turbulence, 64, ScalarType::U8).unwrap();
+    let path = [
+        cam(0.0, 0.0, 1.8),
+        cam(40.0, 10.0, 1.6),
+        cam(80.0, 20.0, 1.4),
+        cam(120.0, 30.0, 1.2),
+    ];
+    run_path(
+        &gpu,
+        "cull-blobs-moves",
+        &blobs,
+        (128, 112),
+        &path.map(|c| (0.5, c)),
+    );
+    assert_clean(&gpu);
+}
+
+#[test]
+fn compute_culling_follows_isovalue_changes() {
+    let Some(gpu) = atomics_gpu() else { return };
+    // A still camera, a new isovalue each frame: last frame's visible blocks may now be empty
+    // or hold surfaces behind new ones.
+    let head = generate(ProceduralKind::HeadPhantom, 96, ScalarType::U8).unwrap();
+    let camera = OrbitCamera {
+        azimuth_deg: 30.0,
+        elevation_deg: 20.0,
+        ..OrbitCamera::default()
+    };
+    let path = [0.3, 0.6, 0.45, 0.2, 0.7].map(|f| (f, camera));
+    run_path(&gpu, "cull-iso-changes", &head, (128, 112), &path);
+    assert_clean(&gpu);
+}
+
+#[test]
+fn reset_forgets_what_was_seen() {
+    let Some(gpu) = atomics_gpu() else { return };
+    let compiler = shaders::compiler();
+    let volume = generate(ProceduralKind::MarschnerLobb, 33, ScalarType::U8).unwrap();
+    let iso = volume.iso_to_texel(IsoValue::Normalized(0.5));
+    let compute = DirectCompute::new(&gpu, &compiler, ScalarType::U8).unwrap();
+    let prepared = compute.prepare(&gpu, &volume).unwrap();
+    let capacity = marching_cubes(&volume, iso).triangle_count() as u32;
+    let target = ComputeTarget::new(&gpu, 64, 48, capacity).unwrap();
+    let state = ComputeCullState::new(&gpu, &prepared, &target).unwrap();
+    let camera = OrbitCamera::default();
+    let mut images = Vec::new();
+    for reset in [false, false, true] {
+        if reset {
+            state.reset(&gpu).unwrap();
+        }
+        let (image, _, stats) = compute
+            .render_culled(&gpu, &prepared, &target, &state, iso, &camera)
+            .unwrap();
+        assert_eq!(stats.blocks_drawn_first == 0, images.is_empty() || reset);
+        images.push(image);
+    }
+    assert!(images[2].compare(&images[0], 2).fraction_within >= 0.999);
+    assert!(images[1].compare(&images[0], 2).fraction_within >= 0.999);
+    // A state for another frame size is refused.
+    let other = ComputeTarget::new(&gpu, 32, 48, capacity).unwrap();
+    assert!(compute
+        .render_culled(&gpu, &prepared, &other, &state, iso, &camera)
+        .is_err());
+    other.destroy(&gpu);
+    state.destroy(&gpu);
+    target.destroy(&gpu);
+    prepared.destroy(&gpu);
+    compute.destroy(&gpu);
+    assert_clean(&gpu);
+}
+
+#[test]
+fn pyramid_levels_end_at_one_texel() {
+    assert_eq!(hzb_levels(1, 1), vec![[1, 1]]);
+    assert_eq!(
+        hzb_levels(96, 80),
+        vec![[48, 40], [24, 20], [12, 10], [6, 5], [3, 3], [2, 2], [1, 1]]
+    );
+    assert_eq!(hzb_levels(5, 1), vec![[3, 1], [2, 1], [1, 1]]);
+}
+
+#[test]
+fn hzb_test_push_constant_layout_matches_shader() {
+    let compiler = shaders::compiler();
+    let spirv = compiler
+        .compile(
+            &shaders::builtin(
+                "crates/tessera/src/iso/direct/compute_cull.rs",
+                "hzb_test.comp.glsl",
+                include_str!("../src/iso/direct/hzb_test.comp.glsl"),
+            ),
+            &tessera::config::volume_defines(ScalarType::U8),
+        )
+        .unwrap();
+    let offsets = tessera_gpu::spirv::struct_offsets(&spirv.words, "HzbTestParams").unwrap();
+    let offsets: Vec<_> = offsets
+        .iter()
+        .map(|(n, o)| (n.as_str(), *o as usize))
+        .collect();
+    let host = vec![
+        (
+            "grid_to_clip",
+            std::mem::offset_of!(HzbTestParams, grid_to_clip),
+        ),
+        ("dims", std::mem::offset_of!(HzbTestParams, dims)),
+        ("size", std::mem::offset_of!(HzbTestParams, size)),
+        ("iso", std::mem::offset_of!(HzbTestParams, iso)),
+    ];
+    assert_eq!(offsets, host);
+    assert!(std::mem::size_of::<HzbTestParams>() <= tessera_gpu::PUSH_CONSTANT_BYTES as usize);
+}
