@@ -5,8 +5,10 @@
 //! Differences from the paper: blocks the min-max grid rules out are dropped in the task
 //! shader before any cell is read; the warp-level scans are shared-memory scans, so the
 //! technique runs with any subgroup size; and a debug capture of the emitted triangles lets
-//! tests hold the GPU to the CPU marching cubes exactly. Raster occlusion culling, stereo and
-//! the compute path are not built yet.
+//! tests hold the GPU to the CPU marching cubes exactly. Raster occlusion culling is in `cull`
+//! (its occupied-region compaction is a compute pass, not a task shader), multiview stereo in
+//! `stereo`, and the compute path for GPUs with few graphics units, with its own occlusion
+//! culling, in `compute` and `compute_cull`.
 
 pub mod compute;
 pub mod compute_cull;
