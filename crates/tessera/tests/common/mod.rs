@@ -2,8 +2,11 @@
 //! leave evidence behind when they fail.
 #![allow(dead_code)]
 
+use glam::Vec3;
+use std::collections::HashMap;
 use std::path::PathBuf;
 use tessera_data::RgbaImage;
+use tessera_data::{Samples, Volume};
 use tessera_gpu::{Gpu, GpuOptions};
 
 /// Opens the default device with validation. Tests must end with [`assert_clean`].
@@ -118,6 +121,74 @@ pub fn assert_matches_cpu_raster(
             "{name}: IoU {iou}, within {}, covered {covered}; images in {}",
             diff.fraction_within,
             dir.display()
+        );
+    }
+}
+
+/// Every cell has a sign change on every edge: 12 vertices and 4 triangles per cell, so each
+/// block is fully occupied and lists are cut by the vertex limit, not the cell limit.
+pub fn checkerboard(dims: [u32; 3]) -> Volume {
+    let mut v = Vec::new();
+    for z in 0..dims[2] {
+        for y in 0..dims[1] {
+            for x in 0..dims[0] {
+                v.push(((x + y + z) % 2) as f32);
+            }
+        }
+    }
+    Volume::new("checkerboard", dims, [1.0; 3], Samples::F32(v)).unwrap()
+}
+
+/// Asserts the two triangle lists are the same multiset: each GPU triangle matches one
+/// unmatched CPU triangle in some cyclic order (orientation kept), every coordinate within `tol`.
+pub fn assert_same_triangles(
+    name: &str,
+    gpu_tris: &[[Vec3; 3]],
+    cpu: &tessera_data::mesh::TriangleMesh,
+    tol: f32,
+) {
+    let cpu_tris: Vec<[Vec3; 3]> = cpu
+        .triangles
+        .iter()
+        .map(|t| t.map(|i| cpu.positions[i as usize]))
+        .collect();
+    assert_eq!(
+        gpu_tris.len(),
+        cpu_tris.len(),
+        "{name}: triangle counts differ"
+    );
+    // Bucket CPU triangles by the cell holding their centroid (half-cell grid, searched with
+    // neighbours, so a centroid near a bucket border is still found).
+    let key = |t: &[Vec3; 3]| ((t[0] + t[1] + t[2]) / 3.0 * 2.0).floor().as_ivec3();
+    let mut buckets: HashMap<glam::IVec3, Vec<usize>> = HashMap::new();
+    for (i, t) in cpu_tris.iter().enumerate() {
+        buckets.entry(key(t)).or_default().push(i);
+    }
+    let mut used = vec![false; cpu_tris.len()];
+    let same = |a: &[Vec3; 3], b: &[Vec3; 3]| {
+        (0..3).any(|r| (0..3).all(|j| (a[(j + r) % 3] - b[j]).abs().max_element() <= tol))
+    };
+    for (n, t) in gpu_tris.iter().enumerate() {
+        let k = key(t);
+        let mut found = false;
+        'search: for dz in -1..=1 {
+            for dy in -1..=1 {
+                for dx in -1..=1 {
+                    if let Some(list) = buckets.get(&(k + glam::IVec3::new(dx, dy, dz))) {
+                        for &i in list {
+                            if !used[i] && same(t, &cpu_tris[i]) {
+                                used[i] = true;
+                                found = true;
+                                break 'search;
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        assert!(
+            found,
+            "{name}: GPU triangle {n} {t:?} has no CPU counterpart"
         );
     }
 }

@@ -1,0 +1,212 @@
+//! The compute path of direct isosurface rasterization against the CPU marching cubes: compute
+//! extraction, the shared compute rasterizer and resolve, and stereo by re-projection.
+
+mod common;
+
+use common::{assert_clean, assert_matches_cpu_raster, assert_same_triangles, checkerboard, gpu};
+use glam::Vec3;
+use tessera::iso::direct::compute::{ComputeTarget, DirectCompute, DirectExtract, TriangleLists};
+use tessera::iso::direct::Direct;
+use tessera::iso::minmax::MinMaxBuilder;
+use tessera::iso::PreparedVolume;
+use tessera::shaders;
+use tessera_data::marching_cubes::marching_cubes;
+use tessera_data::procedural::{generate, ProceduralKind};
+use tessera_data::{IsoValue, OrbitCamera, ScalarType, Volume};
+
+#[test]
+fn compute_extraction_equals_cpu_marching_cubes() {
+    let gpu = gpu();
+    let compiler = shaders::compiler();
+    let cases: Vec<(Volume, f32)> = vec![
+        (
+            generate(ProceduralKind::HeadPhantom, 26, ScalarType::U8).unwrap(),
+            0.3,
+        ),
+        (
+            generate(ProceduralKind::MarschnerLobb, 19, ScalarType::U16).unwrap(),
+            0.5,
+        ),
+        (
+            generate(ProceduralKind::Turbulence, 23, ScalarType::F32).unwrap(),
+            0.45,
+        ),
+        (checkerboard([18, 11, 9]), 0.5),
+    ];
+    for (volume, fraction) in &cases {
+        let iso = volume.iso_to_texel(IsoValue::Normalized(*fraction));
+        let cpu = marching_cubes(volume, iso);
+        let builder = MinMaxBuilder::new(&gpu, &compiler, volume.scalar_type()).unwrap();
+        let prepared = PreparedVolume::new(&gpu, &builder, volume).unwrap();
+        let extract = DirectExtract::new(&gpu, &compiler, volume.scalar_type()).unwrap();
+        let capacity = cpu.triangle_count() as u32;
+        let lists = TriangleLists::new(&gpu, capacity).unwrap();
+        let params = Direct::params(&prepared, iso, &OrbitCamera::default(), 64, 64, capacity);
+        gpu.submit("poison", |rec| {
+            rec.fill_buffer(&lists.attributes, 0x7fc0_0000)
+        })
+        .unwrap();
+        gpu.submit("extract", |rec| {
+            extract.record(rec, &prepared, &lists, &params)
+        })
+        .unwrap();
+        let stats = extract.read_stats(&gpu).unwrap();
+        assert_eq!(
+            stats.triangles as usize,
+            cpu.triangle_count(),
+            "{}",
+            volume.name()
+        );
+        let counts: Vec<u32> =
+            bytemuck::allocation::pod_collect_to_vec(&gpu.read_buffer(&lists.counts).unwrap());
+        assert_eq!(counts[0], capacity);
+        // World positions back to grid coordinates.
+        let frame = tessera_data::GridFrame::new(volume.dims(), volume.spacing());
+        let attrs: Vec<f32> =
+            bytemuck::allocation::pod_collect_to_vec(&gpu.read_buffer(&lists.attributes).unwrap());
+        let tris: Vec<[Vec3; 3]> = attrs
+            .chunks_exact(24)
+            .map(|a| {
+                [0, 1, 2].map(|j| {
+                    Vec3::from_slice(&a[12 + 4 * j..15 + 4 * j]) / frame.grid_to_world
+                        + frame.centre()
+                })
+            })
+            .collect();
+        assert_same_triangles(volume.name(), &tris, &cpu, 1e-4);
+        // One triangle short of what is needed: the count still says how many there were.
+        if capacity > 1 {
+            let small = TriangleLists::new(&gpu, capacity - 1).unwrap();
+            let params = Direct::params(
+                &prepared,
+                iso,
+                &OrbitCamera::default(),
+                64,
+                64,
+                capacity - 1,
+            );
+            gpu.submit("extract", |rec| {
+                extract.record(rec, &prepared, &small, &params)
+            })
+            .unwrap();
+            assert_eq!(extract.read_stats(&gpu).unwrap().triangles, capacity);
+            let counts: Vec<u32> =
+                bytemuck::allocation::pod_collect_to_vec(&gpu.read_buffer(&small.counts).unwrap());
+            assert_eq!(counts[0], capacity - 1);
+            small.destroy(&gpu);
+        }
+        lists.destroy(&gpu);
+        extract.destroy(&gpu);
+        prepared.destroy(&gpu);
+        builder.destroy(&gpu);
+    }
+    assert_clean(&gpu);
+}
+
+#[test]
+fn compute_path_images_match_cpu_rasterized_marching_cubes() {
+    let gpu = gpu();
+    if !gpu.caps().buffer_int64_atomics {
+        eprintln!(
+            "skipped: {} has no 64-bit buffer atomics",
+            gpu.caps().device_name
+        );
+        return;
+    }
+    let compiler = shaders::compiler();
+    let (w, h) = (120, 96);
+    let camera = OrbitCamera {
+        azimuth_deg: 50.0,
+        elevation_deg: -20.0,
+        distance: 1.7,
+        eye_shift: 0.0,
+        fov_y_deg: 45.0,
+    };
+    let volumes = [
+        generate(ProceduralKind::HeadPhantom, 40, ScalarType::U8).unwrap(),
+        generate(ProceduralKind::MarschnerLobb, 33, ScalarType::U16).unwrap(),
+        generate(ProceduralKind::Turbulence, 29, ScalarType::F32).unwrap(),
+    ];
+    for volume in &volumes {
+        let compute = DirectCompute::new(&gpu, &compiler, volume.scalar_type()).unwrap();
+        let builder = MinMaxBuilder::new(&gpu, &compiler, volume.scalar_type()).unwrap();
+        let prepared = PreparedVolume::new(&gpu, &builder, volume).unwrap();
+        for fraction in [0.3f32, 0.6] {
+            let iso = volume.iso_to_texel(IsoValue::Normalized(fraction));
+            let mesh = marching_cubes(volume, iso);
+            let target = ComputeTarget::new(&gpu, w, h, mesh.triangle_count() as u32 + 16).unwrap();
+            target.pixels.poison(&gpu, u32::MAX).unwrap();
+            let (image, _ms, stats) = compute
+                .render(&gpu, &prepared, &target, iso, &camera)
+                .unwrap();
+            assert_eq!(stats.triangles as usize, mesh.triangle_count());
+            assert!(!image.pixels.contains(&u32::MAX), "unwritten pixels");
+            let name = format!("direct-compute-{}-{fraction}", volume.name());
+            assert_matches_cpu_raster(&name, &image, volume, iso, &camera);
+            target.destroy(&gpu);
+        }
+        prepared.destroy(&gpu);
+        builder.destroy(&gpu);
+        compute.destroy(&gpu);
+    }
+    assert_clean(&gpu);
+}
+
+#[test]
+fn compute_stereo_second_view_equals_a_mono_render_from_that_eye() {
+    let gpu = gpu();
+    if !gpu.caps().buffer_int64_atomics {
+        eprintln!(
+            "skipped: {} has no 64-bit buffer atomics",
+            gpu.caps().device_name
+        );
+        return;
+    }
+    let compiler = shaders::compiler();
+    let volume = generate(ProceduralKind::MarschnerLobb, 33, ScalarType::U8).unwrap();
+    let iso = volume.iso_to_texel(IsoValue::Normalized(0.5));
+    let compute = DirectCompute::new(&gpu, &compiler, ScalarType::U8).unwrap();
+    let prepared = compute.prepare(&gpu, &volume).unwrap();
+    let capacity = marching_cubes(&volume, iso).triangle_count() as u32;
+    let (w, h) = (96, 72);
+    let [left, right] = OrbitCamera::default().stereo_pair(0.3);
+    let first = ComputeTarget::new(&gpu, w, h, capacity).unwrap();
+    let second = ComputeTarget::new(&gpu, w, h, capacity).unwrap();
+    let params = [left, right].map(|c| Direct::params(&prepared, iso, &c, w, h, capacity));
+    let frame = tessera_data::GridFrame::new(volume.dims(), volume.spacing());
+    let right_projection = tessera_data::Projection::new(&right, &frame, w, h);
+    gpu.submit("stereo", |rec| {
+        compute.record(rec, &prepared, &first, &params[0]);
+        rec.barrier();
+        compute.record_second_view(
+            rec,
+            &first,
+            &second,
+            &params[1],
+            right_projection.world_to_clip,
+        );
+    })
+    .unwrap();
+    let left_image = first.pixels.read(&gpu).unwrap();
+    let right_image = second.pixels.read(&gpu).unwrap();
+    let mono = ComputeTarget::new(&gpu, w, h, capacity).unwrap();
+    let (mono_right, _, _) = compute.render(&gpu, &prepared, &mono, iso, &right).unwrap();
+    let (mono_left, _, _) = compute.render(&gpu, &prepared, &mono, iso, &left).unwrap();
+    assert_eq!(left_image, mono_left);
+    let diff = right_image.compare(&mono_right, 2);
+    assert!(
+        diff.fraction_within >= 0.999,
+        "{} pixels differ",
+        diff.pixels_outside
+    );
+    assert_ne!(
+        left_image, right_image,
+        "the eyes must see different images"
+    );
+    for t in [first, second, mono] {
+        t.destroy(&gpu);
+    }
+    prepared.destroy(&gpu);
+    compute.destroy(&gpu);
+    assert_clean(&gpu);
+}
