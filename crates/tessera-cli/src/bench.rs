@@ -47,6 +47,9 @@ pub struct BenchArgs {
     data: Option<String>,
     #[command(flatten)]
     volume: crate::data::VolumeArgs,
+    /// Image sizes to measure, in this order (default 1280x720,1920x1080,3840x2160).
+    #[arg(long, value_delimiter = ',', value_parser = crate::data::parse_size)]
+    pub(crate) sizes: Vec<(u32, u32)>,
 }
 
 pub(crate) struct Sink {
@@ -190,8 +193,11 @@ pub(crate) fn bench_volumes(args: &BenchArgs) -> Vec<String> {
         .collect()
 }
 
-pub(crate) fn bench_sizes(quick: bool) -> Vec<(u32, u32)> {
-    if quick {
+pub(crate) fn bench_sizes(args: &BenchArgs) -> Vec<(u32, u32)> {
+    if !args.sizes.is_empty() {
+        return args.sizes.clone();
+    }
+    if args.quick {
         vec![(256, 144)]
     } else {
         vec![(1280, 720), (1920, 1080), (3840, 2160)]
@@ -215,7 +221,7 @@ fn raymarch(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -> Re
         let occupied = MinMaxOctree::build(&volume).occupied_fraction(iso);
         let rm = Raymarch::new(gpu, &compiler, scalar)?;
         let prepared = rm.prepare(gpu, &volume)?;
-        for (w, h) in bench_sizes(args.quick) {
+        for (w, h) in bench_sizes(args) {
             let target = PixelTarget::new(gpu, w, h)?;
             let params = Raymarch::params(&prepared, iso, &camera, w, h);
             let stages = time_frames(gpu, plan, 1, |rec, timer| {

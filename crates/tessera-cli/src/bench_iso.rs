@@ -214,7 +214,7 @@ fn run_scenario(
         let volume = make_volume(gpu, &spec, args)?;
         let t = techniques(gpu, &compiler, &volume)?;
         let prepared = t.raymarch.prepare(gpu, &volume)?;
-        for size in bench_sizes(args.quick) {
+        for size in bench_sizes(args) {
             measure(
                 gpu, &t, &prepared, &volume, size, scenario, args, plan, sweep, sink,
             )?;
@@ -276,7 +276,7 @@ pub fn time_varying(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sin
         let builder = tessera::iso::minmax::MinMaxBuilder::new(gpu, &compiler, scalar)?;
         let prepared = PreparedVolume::new(gpu, &builder, &steps[0])?;
         let dataset = format!("{size}^3 {} x{} steps", scalar.name(), steps.len());
-        for (w, h) in bench_sizes(args.quick) {
+        for (w, h) in bench_sizes(args) {
             let mut frame = 0usize;
             let target = PixelTarget::new(gpu, w, h)?;
             let stages = time_frames(gpu, plan, 3, |rec, timer| {
