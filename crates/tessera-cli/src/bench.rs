@@ -204,6 +204,26 @@ pub(crate) fn bench_sizes(args: &BenchArgs) -> Vec<(u32, u32)> {
     }
 }
 
+/// Renders for a while right after a volume arrives on the GPU. Measured on the H200: with
+/// only the per-measurement warm-up, the first size timed after uploading a 2 GiB volume came
+/// out 2–4× slower than the same size timed later (docs/BENCHMARKS.md, run 16).
+pub(crate) fn settle(
+    gpu: &Gpu,
+    raymarch: &Raymarch,
+    prepared: &tessera::iso::PreparedVolume,
+) -> Result<()> {
+    const SETTLE_FRAMES: u32 = 100;
+    let target = PixelTarget::new(gpu, 1280, 720)?;
+    let params = Raymarch::params(prepared, iso, &OrbitCamera::default(), 1280, 720);
+    let result = gpu.submit("settle", |rec| {
+        for _ in 0..SETTLE_FRAMES {
+            raymarch.record(rec, prepared, &target, &params);
+        }
+    });
+    target.destroy(gpu);
+    Ok(result?)
+}
+
 pub(crate) fn make_volume(gpu: &Gpu, spec: &str, args: &BenchArgs) -> Result<Volume> {
     if let Some(bytes) = args.volume.expected_bytes(spec) {
         gpu.check_fits(spec, bytes)?;
@@ -221,6 +241,7 @@ fn raymarch(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -> Re
         let occupied = MinMaxOctree::build(&volume).occupied_fraction(iso);
         let rm = Raymarch::new(gpu, &compiler, scalar)?;
         let prepared = rm.prepare(gpu, &volume)?;
+        settle(gpu, &rm, &prepared, iso)?;
         for (w, h) in bench_sizes(args) {
             let target = PixelTarget::new(gpu, w, h)?;
             let params = Raymarch::params(&prepared, iso, &camera, w, h);

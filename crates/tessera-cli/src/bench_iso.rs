@@ -214,6 +214,8 @@ fn run_scenario(
         let volume = make_volume(gpu, &spec, args)?;
         let t = techniques(gpu, &compiler, &volume)?;
         let prepared = t.raymarch.prepare(gpu, &volume)?;
+        let iso = volume.iso_to_texel(IsoValue::Normalized(args.iso_fraction));
+        crate::bench::settle(gpu, &t.raymarch, &prepared, iso)?;
         for size in bench_sizes(args) {
             measure(
                 gpu, &t, &prepared, &volume, size, scenario, args, plan, sweep, sink,
@@ -358,6 +360,7 @@ pub fn stereo(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -> 
         let iso = volume.iso_to_texel(IsoValue::Normalized(args.iso_fraction));
         let t = techniques(gpu, &compiler, &volume)?;
         let prepared = t.raymarch.prepare(gpu, &volume)?;
+        crate::bench::settle(gpu, &t.raymarch, &prepared, iso)?;
         let mut emit = |technique: &str,
                         path: &str,
                         mono: Vec<tessera::bench::StageStats>,

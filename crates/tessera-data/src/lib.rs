@@ -17,6 +17,7 @@ pub mod rasterize;
 pub mod raw;
 pub mod raycast;
 pub mod shading;
+pub mod tet;
 pub mod volume;
 
 pub use camera::{GridCamera, GridFrame, OrbitCamera, Projection};
