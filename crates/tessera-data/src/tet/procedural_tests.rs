@@ -82,5 +82,6 @@ fn exploded_separates_parts() {
     assert_eq!(two.tet_count(), plain.tet_count());
     assert!(two.regions.as_ref().expect("parts").iter().all(|&r| r < 2));
     let one = exploded(&plain, 1, 0.0);
-    assert_eq!(one.vertices, plain.vertices);
+    assert_eq!(one.vertex_count(), plain.vertex_count());
+    assert!((one.total_volume() - 8.0).abs() < 1e-4);
 }

@@ -1,1 +1,91 @@
+//! Tests of the legacy VTK loader and writer.
 use super::*;
+use crate::raw::test_path;
+use crate::tet::procedural::sphere_mesh;
+use crate::tet::tests::{load_error, two_tets, write_text};
+
+#[test]
+fn round_trip() {
+    for mesh in [two_tets(), sphere_mesh(3)] {
+        let path = test_path("rt.vtk");
+        write_vtk_legacy_ascii(&mesh, &path).expect("write");
+        let (back, report) = crate::tet::load_tet_mesh(&path).expect("load");
+        assert_eq!(report, MeshReport::default());
+        assert_eq!(back, mesh);
+    }
+}
+
+const HEAD: &str = "# vtk DataFile Version 3.0\ntest\nASCII\nDATASET UNSTRUCTURED_GRID\n\
+                    POINTS 5 double\n0 0 0 1 0 0\n0 1 0 0 0 1 1 1 1\n";
+
+#[test]
+fn mixed_cells_and_attributes() {
+    let text = format!(
+        "{HEAD}CELLS 3 13\n3 0 1 2\n4 0 1 2 3\n4 4 1 3 2\nCELL_TYPES 3\n5 10 10\n\
+         CELL_DATA 3\nSCALARS id int\nLOOKUP_TABLE default\n9 8 7\n\
+         VECTORS v float\n0 0 0 1 1 1 2 2 2\n\
+         POINT_DATA 5\nFIELD extra 1\nf 1 5 float\n1 2 3 4 5\n\
+         SCALARS vec float 2\nLOOKUP_TABLE default\n0 0 0 0 0 0 0 0 0 0\n\
+         SCALARS heat float 1\nLOOKUP_TABLE default\n1 2 3 4 5\n"
+    );
+    let path = write_text("mixed.vtk", &text);
+    let (mesh, report) = load_vtk_legacy(&path).expect("load");
+    assert_eq!(report.skipped_cells, 1);
+    assert_eq!(mesh.tets, vec![[0, 1, 2, 3], [4, 1, 3, 2]]);
+    assert_eq!(mesh.regions, Some(vec![8, 7]));
+    assert_eq!(mesh.scalar_name, "heat");
+    assert_eq!(mesh.scalars, Some(vec![1.0, 2.0, 3.0, 4.0, 5.0]));
+}
+
+#[test]
+fn version_5_1_binary() {
+    let mut bytes = b"# vtk DataFile Version 5.1\nbin\nBINARY\nDATASET UNSTRUCTURED_GRID\nPOINTS 4 float\n".to_vec();
+    for v in [0f32, 0., 0., 1., 0., 0., 0., 1., 0., 0., 0., 1.] {
+        bytes.extend(v.to_be_bytes());
+    }
+    bytes.extend(b"\nCELLS 3 7\nOFFSETS vtktypeint64\n");
+    for o in [0i64, 4, 7] {
+        bytes.extend(o.to_be_bytes());
+    }
+    bytes.extend(b"\nCONNECTIVITY vtktypeint64\n");
+    for c in [0i64, 2, 1, 3, 0, 1, 2] {
+        bytes.extend(c.to_be_bytes());
+    }
+    bytes.extend(b"\nCELL_TYPES 2\n");
+    for t in [10i32, 5] {
+        bytes.extend(t.to_be_bytes());
+    }
+    bytes.extend(b"\nPOINT_DATA 4\nSCALARS s double\nLOOKUP_TABLE default\n");
+    for s in [1f64, -1.0, 0.5, 2.0] {
+        bytes.extend(s.to_be_bytes());
+    }
+    bytes.extend(b"\nMETADATA\nINFORMATION 0\n\n");
+    let path = test_path("bin.vtk");
+    std::fs::write(&path, bytes).expect("write");
+    let (mesh, report) = load_vtk_legacy(&path).expect("load");
+    assert_eq!((report.reoriented, report.skipped_cells), (1, 1));
+    assert_eq!(mesh.tets, vec![[0, 2, 3, 1]]);
+    assert_eq!(mesh.vertices[3], [0.0, 0.0, 1.0]);
+    assert_eq!(mesh.scalars, Some(vec![1.0, -1.0, 0.5, 2.0]));
+}
+
+#[test]
+fn bad_files() {
+    let cells = "CELLS 1 5\n4 0 1 2 3\nCELL_TYPES 1\n10\n";
+    let cases = [
+        (format!("{HEAD}CELLS 1 5\n4 0 1 2\n9\nCELL_TYPES 1\n10\n"), "line 8", "out of range"),
+        (format!("{HEAD}CELLS 1 5\n4 0 1 2"), "line 8", "file ends early"),
+        (format!("{HEAD}CELLS 2 10\n4 0 1 2 3\n4 0 1 2 4\nCELL_TYPES 1\n10\n"), "line 10", "CELL_TYPES has 1"),
+        (format!("{HEAD}{cells}POINT_DATA 4\n"), "line 11", "POINT_DATA 4"),
+        ("# vtk DataFile Version 3.0\nt\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS 4 float\n0 0 0 1 0 0 0 nan 0 0 0 1\nCELLS 1 5\n4 0 1 2 3\nCELL_TYPES 1\n10\n".to_string(), "vertex 2", "non-finite"),
+        (format!("{HEAD}CELLS 1 4\n3 0 1 2\nCELL_TYPES 1\n5\n"), "", "empty mesh"),
+        (format!("{HEAD}{cells}BOGUS 3\n"), "line 11", "BOGUS"),
+        ("# vtk DataFile Version 3.0\nt\nASCII\nDATASET STRUCTURED_POINTS\n".to_string(), "line 4", "UNSTRUCTURED_GRID"),
+        ("hello\n".to_string(), "line 1", "not a legacy VTK"),
+    ];
+    for (text, place, what) in cases {
+        let path = write_text("bad.vtk", &text);
+        let message = load_error(load_vtk_legacy(&path), &path);
+        assert!(message.contains(place) && message.contains(what), "{message}");
+    }
+}
