@@ -211,6 +211,7 @@ pub(crate) fn settle(
     gpu: &Gpu,
     raymarch: &Raymarch,
     prepared: &tessera::iso::PreparedVolume,
+    iso: f32,
 ) -> Result<()> {
     const SETTLE_FRAMES: u32 = 100;
     let target = PixelTarget::new(gpu, 1280, 720)?;

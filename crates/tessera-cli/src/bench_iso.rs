@@ -335,6 +335,48 @@ pub fn time_varying(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sin
                     .insert("step_bytes".into(), steps[0].size_bytes() as f64);
                 sink.emit(&r)?;
             }
+            if let Some(compute) = &t.direct_compute {
+                // Lists sized for the largest step's isosurface.
+                let mut most = 0u32;
+                let probe = ComputeTarget::new(gpu, 1, 1, 1)?;
+                for (k, step) in staged.iter().enumerate() {
+                    let params = Direct::params(&prepared, isos[k], &camera, 1, 1, 1);
+                    gpu.submit("count triangles", |rec| {
+                        rec.copy_buffer_to_image(step, &prepared.volume.texture);
+                        rec.barrier();
+                        builder.record(rec, &prepared.volume, &prepared.octree);
+                        rec.barrier();
+                        compute.record(rec, &prepared, &probe, &params);
+                    })?;
+                    most = most.max(compute.read_stats(gpu)?.triangles);
+                }
+                probe.destroy(gpu);
+                let capacity = most + most / 8 + 1024;
+                let target = ComputeTarget::new(gpu, w, h, capacity)?;
+                let stages = time_frames(gpu, plan, 3, |rec, timer| {
+                    let k = frame % steps.len();
+                    frame += 1;
+                    timer.scope(rec, "upload", |rec| {
+                        rec.copy_buffer_to_image(&staged[k], &prepared.volume.texture)
+                    });
+                    rec.barrier();
+                    timer.scope(rec, "octree-build", |rec| {
+                        builder.record(rec, &prepared.volume, &prepared.octree)
+                    });
+                    rec.barrier();
+                    let params = Direct::params(&prepared, isos[k], &camera, w, h, capacity);
+                    timer.scope(rec, "direct", |rec| {
+                        compute.record(rec, &prepared, &target, &params)
+                    });
+                });
+                target.destroy(gpu);
+                let mut r = BenchRecord::new(gpu, "time-varying", "direct", "compute", &dataset);
+                (r.width, r.height, r.warmup, r.frames) = (w, h, plan.warmup, plan.frames);
+                r.stages = stages?;
+                r.counts
+                    .insert("step_bytes".into(), steps[0].size_bytes() as f64);
+                sink.emit(&r)?;
+            }
         }
         prepared.destroy(gpu);
         builder.destroy(gpu);
