@@ -36,6 +36,12 @@ pub fn load_msh(path: &Path) -> Result<(TetMesh, MeshReport)> {
                 format!("expected a section such as $Nodes, found {section:?}"),
             ));
         }
+        if !format_seen && section != "$MeshFormat" {
+            return Err(cur.err_at(
+                line,
+                "not a Gmsh mesh: the file must start with $MeshFormat",
+            ));
+        }
         match section {
             "$MeshFormat" => {
                 let (line, f) = cur

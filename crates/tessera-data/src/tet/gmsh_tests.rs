@@ -8,7 +8,11 @@ use crate::tet::tests::{load_error, two_tets, write_text};
 fn round_trip() {
     let mut plain = two_tets();
     plain.absorption = None;
-    for mesh in [plain, { let mut b = box_mesh(3); b.absorption = None; b }] {
+    for mesh in [plain, {
+        let mut b = box_mesh(3);
+        b.absorption = None;
+        b
+    }] {
         let path = test_path("rt.msh");
         write_msh41(&mesh, &path).expect("write");
         let (back, report) = crate::tet::load_tet_mesh(&path).expect("load");
@@ -37,21 +41,49 @@ fn blocks_tags_and_skipped() {
 
 #[test]
 fn bad_files() {
-    let elements = |body: &str| format!("{NODES}$Elements\n1 1 1 1\n3 1 4 1\n{body}\n$EndElements\n");
+    let elements =
+        |body: &str| format!("{NODES}$Elements\n1 1 1 1\n3 1 4 1\n{body}\n$EndElements\n");
     let cases = [
-        (elements("1 10 20 30 77"), "line 19", "node tag 77"),
-        (elements("1 10 20 30"), "line 19", "expected 4"),
-        (format!("{NODES}$Elements\n1 2 1 2\n3 1 4 1\n1 10 20 30 40\n$EndElements\n"), "line", "announces 2"),
-        (format!("{NODES}$Elements\n1 1 1 1\n3 1 4 1\n"), "line", "ends inside"),
-        ("$MeshFormat\n4.1 1 8\n$EndMeshFormat\n".to_string(), "line 2", "binary msh not supported"),
-        ("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n".to_string(), "line 2", "4.1"),
-        (format!("{NODES}$Elements\n1 1 1 1\n2 1 2 1\n1 10 20 30\n$EndElements\n"), "", "empty mesh"),
-        (NODES.replace("0 0 1 0.5", "0 0 nan 0.5"), "vertex 4", "non-finite"),
+        (elements("1 10 20 30 77"), "line 26", "node tag 77"),
+        (elements("1 10 20 30"), "line 26", "expected 4"),
+        (
+            format!("{NODES}$Elements\n1 2 1 2\n3 1 4 1\n1 10 20 30 40\n$EndElements\n"),
+            "line",
+            "announces 2",
+        ),
+        (
+            format!("{NODES}$Elements\n1 1 1 1\n3 1 4 1\n"),
+            "line",
+            "ends inside",
+        ),
+        (
+            "$MeshFormat\n4.1 1 8\n$EndMeshFormat\n".to_string(),
+            "line 2",
+            "binary msh not supported",
+        ),
+        (
+            "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n".to_string(),
+            "line 2",
+            "4.1",
+        ),
+        (
+            format!("{NODES}$Elements\n1 1 1 1\n2 1 2 1\n1 10 20 30\n$EndElements\n"),
+            "",
+            "empty mesh",
+        ),
+        (
+            elements("1 10 20 30 40").replace("0 0 1 0.5", "0 0 nan 0.5"),
+            "vertex 4",
+            "non-finite",
+        ),
         ("$Nodes\n".to_string(), "line 1", "$MeshFormat"),
     ];
     for (text, place, what) in cases {
         let path = write_text("bad.msh", &text);
         let message = load_error(load_msh(&path), &path);
-        assert!(message.contains(place) && message.contains(what), "{message}");
+        assert!(
+            message.contains(place) && message.contains(what),
+            "{message}"
+        );
     }
 }

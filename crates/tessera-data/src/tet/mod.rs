@@ -12,6 +12,7 @@ use glam::{DVec3, Vec3};
 
 use crate::error::{DataError, Result};
 
+mod cells;
 pub mod gmsh;
 pub mod procedural;
 pub mod tetgen;

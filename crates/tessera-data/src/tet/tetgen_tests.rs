@@ -47,19 +47,46 @@ fn zero_based_and_inverted() {
 #[test]
 fn bad_files() {
     let cases = [
-        (NODE0, "1 4 0\n0 0 1 2 4\n", "t.ele", "line 2", "out of range"),
+        (
+            NODE0,
+            "1 4 0\n0 0 1 2 4\n",
+            "t.ele",
+            "line 2",
+            "out of range",
+        ),
         (NODE0, "2 4 0\n0 0 1 2 3\n", "t.ele", "line", "found 1 of 2"),
         (NODE0, "1 4 0\n0 0 1 2\n", "t.ele", "line 2", "fields"),
-        ("4 3 0 0\n0 0 0 0\n1 1 0 0\n", "1 4 0\n0 0 1 2 3\n", "t.node", "line", "found 2 of 4"),
-        ("2 3 0 0\n0 0 0 0\n1 nan 0 0\n", "1 4 0\n0 0 1 1 1\n", "t.ele", "vertex 1", "non-finite"),
-        ("1 2 0 0\n0 0 0\n", "0 4 0\n", "t.node", "line 1", "dimension"),
+        (
+            "4 3 0 0\n0 0 0 0\n1 1 0 0\n",
+            "1 4 0\n0 0 1 2 3\n",
+            "t.node",
+            "line",
+            "found 2 of 4",
+        ),
+        (
+            "2 3 0 0\n0 0 0 0\n1 nan 0 0\n",
+            "1 4 0\n0 0 1 1 1\n",
+            "t.ele",
+            "vertex 1",
+            "non-finite",
+        ),
+        (
+            "1 2 0 0\n0 0 0\n",
+            "0 4 0\n",
+            "t.node",
+            "line 1",
+            "dimension",
+        ),
         (NODE0, "0 4 0\n", "t.ele", "", "empty mesh"),
         (NODE0, "1 4 0\n0 0 1 x 3\n", "t.ele", "line 2", "\"x\""),
     ];
     for (node, ele, file, place, what) in cases {
         let path = pair(node, ele);
         let text = load_tetgen(&path).expect_err("bad").to_string();
-        assert!(text.contains(file) && text.contains(place) && text.contains(what), "{text}");
+        assert!(
+            text.contains(file) && text.contains(place) && text.contains(what),
+            "{text}"
+        );
     }
     let path = write_text("alone.node", NODE0);
     load_error(load_tetgen(&path), &path.with_extension("ele"));

@@ -32,7 +32,7 @@ impl<'a> Cursor<'a> {
     }
 
     /// Line of the last token (or line) returned.
-    pub fn line(&self) -> usize {
+    pub fn last_line(&self) -> usize {
         self.token_line
     }
 

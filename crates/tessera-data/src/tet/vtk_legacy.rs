@@ -10,72 +10,12 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
+use super::cells::collect_tets;
 use super::text::Cursor;
 use super::{finish, integral_regions, read_file, write_file, MeshReport, TetMesh};
 use crate::error::{DataError, Result};
 
-/// VTK cell types the loaders turn into tets.
-pub const VTK_TETRA: u8 = 10;
-pub const VTK_QUADRATIC_TETRA: u8 = 24;
-
-/// Tets gathered from a VTK cell list.
-pub(crate) struct Cells {
-    pub tets: Vec<[u32; 4]>,
-    /// Index of the source cell of every tet (to pick cell data).
-    pub kept: Vec<usize>,
-    pub skipped: usize,
-}
-
-/// Turns a VTK cell list (`starts` has one entry per cell plus the end) into tets,
-/// checking point indices. `err(cell, message)` places an error.
-pub(crate) fn collect_tets(
-    connectivity: &[f64],
-    starts: &[usize],
-    types: &[f64],
-    npoints: usize,
-    err: impl Fn(usize, String) -> DataError,
-) -> Result<Cells> {
-    let mut cells = Cells {
-        tets: Vec::new(),
-        kept: Vec::new(),
-        skipped: 0,
-    };
-    for (c, &kind) in types.iter().enumerate() {
-        let ids = &connectivity[starts[c]..starts[c + 1]];
-        let want = match kind as i64 {
-            k if k == i64::from(VTK_TETRA) => 4,
-            k if k == i64::from(VTK_QUADRATIC_TETRA) => 10,
-            _ => {
-                cells.skipped += 1;
-                continue;
-            }
-        };
-        if ids.len() != want {
-            return Err(err(
-                c,
-                format!(
-                    "cell {c} of type {kind} has {} points, expected {want}",
-                    ids.len()
-                ),
-            ));
-        }
-        let mut tet = [0u32; 4];
-        for (slot, &id) in tet.iter_mut().zip(ids) {
-            if !(id >= 0.0 && id < npoints as f64) {
-                return Err(err(
-                    c,
-                    format!(
-                        "cell {c}: point index {id} out of range (the mesh has {npoints} points)"
-                    ),
-                ));
-            }
-            *slot = id as u32;
-        }
-        cells.kept.push(c);
-        cells.tets.push(tet);
-    }
-    Ok(cells)
-}
+pub use super::cells::{VTK_QUADRATIC_TETRA, VTK_TETRA};
 
 /// Loads a legacy VTK unstructured grid.
 pub fn load_vtk_legacy(path: &Path) -> Result<(TetMesh, MeshReport)> {
@@ -105,14 +45,14 @@ pub fn load_vtk_legacy(path: &Path) -> Result<(TetMesh, MeshReport)> {
     }
     let mut r = Reader { cur, binary };
     let mut points: Option<Vec<f64>> = None;
-    let mut cells: Option<(Vec<f64>, Vec<usize>, Option<Vec<usize>>)> = None;
+    let mut cells: Option<CellList> = None;
     let mut types: Option<(Vec<f64>, usize)> = None;
     let mut section = Section::None;
     let mut scalars: Option<(String, Vec<f64>)> = None;
     let mut regions: Option<Vec<f64>> = None;
     let mut absorption: Option<Vec<f64>> = None;
     while let Some(word) = r.cur.token() {
-        let line = r.cur.line();
+        let line = r.cur.last_line();
         match word.to_ascii_uppercase().as_str() {
             "POINTS" => {
                 let n: usize = r.cur.parse("the number of points")?;
@@ -232,7 +172,7 @@ pub fn load_vtk_legacy(path: &Path) -> Result<(TetMesh, MeshReport)> {
             }
             "METADATA" => {
                 while let Some((_, text)) = r.cur.next_line() {
-                    if text.trim().is_empty() && r.cur.line() > line + 1 {
+                    if text.trim().is_empty() && r.cur.last_line() > line + 1 {
                         break;
                     }
                 }
@@ -298,6 +238,9 @@ pub fn load_vtk_legacy(path: &Path) -> Result<(TetMesh, MeshReport)> {
     }
     finish(mesh, path, found.skipped)
 }
+
+/// Connectivity, cell starts and (ASCII classic layout) the line of every cell.
+type CellList = (Vec<f64>, Vec<usize>, Option<Vec<usize>>);
 
 #[derive(Clone, Copy)]
 enum Section {
@@ -366,8 +309,7 @@ impl Reader<'_> {
 
     /// A `CELLS` section: connectivity, cell starts and (for ASCII classic layout) the line
     /// of every cell.
-    #[allow(clippy::type_complexity)]
-    fn cells(&mut self) -> Result<(Vec<f64>, Vec<usize>, Option<Vec<usize>>)> {
+    fn cells(&mut self) -> Result<CellList> {
         let n: usize = self.cur.parse("the number of cells")?;
         let size: usize = self.cur.parse("the cell list size")?;
         if self
@@ -404,7 +346,7 @@ impl Reader<'_> {
             let mut list = Vec::with_capacity(size.min(1 << 26));
             for c in 0..n {
                 let k: usize = self.cur.parse("a cell's point count")?;
-                lines.as_mut().expect("ascii").push(self.cur.line());
+                lines.as_mut().expect("ascii").push(self.cur.last_line());
                 list.push(k as f64);
                 if list.len() + k > size {
                     return Err(self

@@ -21,7 +21,7 @@ const HEAD: &str = "# vtk DataFile Version 3.0\ntest\nASCII\nDATASET UNSTRUCTURE
 #[test]
 fn mixed_cells_and_attributes() {
     let text = format!(
-        "{HEAD}CELLS 3 13\n3 0 1 2\n4 0 1 2 3\n4 4 1 3 2\nCELL_TYPES 3\n5 10 10\n\
+        "{HEAD}CELLS 3 14\n3 0 1 2\n4 0 1 2 3\n4 4 1 3 2\nCELL_TYPES 3\n5 10 10\n\
          CELL_DATA 3\nSCALARS id int\nLOOKUP_TABLE default\n9 8 7\n\
          VECTORS v float\n0 0 0 1 1 1 2 2 2\n\
          POINT_DATA 5\nFIELD extra 1\nf 1 5 float\n1 2 3 4 5\n\
@@ -39,7 +39,9 @@ fn mixed_cells_and_attributes() {
 
 #[test]
 fn version_5_1_binary() {
-    let mut bytes = b"# vtk DataFile Version 5.1\nbin\nBINARY\nDATASET UNSTRUCTURED_GRID\nPOINTS 4 float\n".to_vec();
+    let mut bytes =
+        b"# vtk DataFile Version 5.1\nbin\nBINARY\nDATASET UNSTRUCTURED_GRID\nPOINTS 4 float\n"
+            .to_vec();
     for v in [0f32, 0., 0., 1., 0., 0., 0., 1., 0., 0., 0., 1.] {
         bytes.extend(v.to_be_bytes());
     }
@@ -73,19 +75,22 @@ fn version_5_1_binary() {
 fn bad_files() {
     let cells = "CELLS 1 5\n4 0 1 2 3\nCELL_TYPES 1\n10\n";
     let cases = [
-        (format!("{HEAD}CELLS 1 5\n4 0 1 2\n9\nCELL_TYPES 1\n10\n"), "line 8", "out of range"),
-        (format!("{HEAD}CELLS 1 5\n4 0 1 2"), "line 8", "file ends early"),
-        (format!("{HEAD}CELLS 2 10\n4 0 1 2 3\n4 0 1 2 4\nCELL_TYPES 1\n10\n"), "line 10", "CELL_TYPES has 1"),
-        (format!("{HEAD}{cells}POINT_DATA 4\n"), "line 11", "POINT_DATA 4"),
+        (format!("{HEAD}CELLS 1 5\n4 0 1 2\n9\nCELL_TYPES 1\n10\n"), "line 9", "out of range"),
+        (format!("{HEAD}CELLS 1 5\n4 0 1 2"), "line 9", "file ends early"),
+        (format!("{HEAD}CELLS 2 10\n4 0 1 2 3\n4 0 1 2 4\nCELL_TYPES 1\n10\n"), "line 11", "CELL_TYPES has 1"),
+        (format!("{HEAD}{cells}POINT_DATA 4\n"), "line 12", "POINT_DATA 4"),
         ("# vtk DataFile Version 3.0\nt\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS 4 float\n0 0 0 1 0 0 0 nan 0 0 0 1\nCELLS 1 5\n4 0 1 2 3\nCELL_TYPES 1\n10\n".to_string(), "vertex 2", "non-finite"),
         (format!("{HEAD}CELLS 1 4\n3 0 1 2\nCELL_TYPES 1\n5\n"), "", "empty mesh"),
-        (format!("{HEAD}{cells}BOGUS 3\n"), "line 11", "BOGUS"),
+        (format!("{HEAD}{cells}BOGUS 3\n"), "line 12", "BOGUS"),
         ("# vtk DataFile Version 3.0\nt\nASCII\nDATASET STRUCTURED_POINTS\n".to_string(), "line 4", "UNSTRUCTURED_GRID"),
         ("hello\n".to_string(), "line 1", "not a legacy VTK"),
     ];
     for (text, place, what) in cases {
         let path = write_text("bad.vtk", &text);
         let message = load_error(load_vtk_legacy(&path), &path);
-        assert!(message.contains(place) && message.contains(what), "{message}");
+        assert!(
+            message.contains(place) && message.contains(what),
+            "{message}"
+        );
     }
 }
