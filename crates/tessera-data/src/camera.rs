@@ -184,15 +184,24 @@ pub struct Projection {
 }
 
 impl Projection {
+    /// View-space depths of the near and far clip planes for `camera`. World space's unit box
+    /// (a volume's, or a mesh's placed by [`crate::tet::optical::MeshFrame`]) lies within a
+    /// sphere of radius sqrt(3)/2 around the origin; the near plane stays a small positive
+    /// distance from the eye when the camera is inside that sphere. CPU references that clip
+    /// at the near plane use this too.
+    pub fn near_far(camera: &OrbitCamera) -> (f32, f32) {
+        let radius = 0.87;
+        let far = camera.distance + radius;
+        let near = (camera.distance - radius).max(far * 1e-4);
+        (near, far)
+    }
+
     pub fn new(camera: &OrbitCamera, frame: &GridFrame, width: u32, height: u32) -> Projection {
         let (forward, right, up) = camera.basis();
         let eye = camera.eye();
         let tan_y = (camera.fov_y_deg.to_radians() * 0.5).tan();
         let tan_x = tan_y * width as f32 / height.max(1) as f32;
-        // The volume's world box lies within a sphere of radius sqrt(3)/2 around the origin.
-        let radius = 0.87;
-        let far = camera.distance + radius;
-        let near = (camera.distance - radius).max(far * 1e-4);
+        let (near, far) = Projection::near_far(camera);
         // World to view: rows are the camera axes, translated by the eye.
         let view = glam::Mat4::from_cols(
             glam::Vec4::new(right.x, up.x, forward.x, 0.0),

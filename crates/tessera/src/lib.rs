@@ -11,6 +11,7 @@ pub mod path;
 pub mod raster;
 pub mod shaders;
 pub mod target;
+pub mod tet;
 pub mod throughput;
 
 pub use error::{Error, Result};

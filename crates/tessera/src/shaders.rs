@@ -27,6 +27,10 @@ const COMMON: &[(&str, &str)] = &[
         include_str!("iso/direct/params.glsl"),
     ),
     ("iso/direct/cull.glsl", include_str!("iso/direct/cull.glsl")),
+    (
+        "tet/interval/params.glsl",
+        include_str!("tet/interval/params.glsl"),
+    ),
     ("iso/direct/hzb.glsl", include_str!("iso/direct/hzb.glsl")),
     (
         "iso/direct/views.glsl",

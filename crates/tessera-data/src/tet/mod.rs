@@ -14,6 +14,7 @@ use crate::error::{DataError, Result};
 
 mod cells;
 pub mod gmsh;
+pub mod optical;
 pub mod procedural;
 pub mod tetgen;
 mod text;

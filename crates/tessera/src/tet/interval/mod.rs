@@ -1,0 +1,235 @@
+//! Interval shading of tetrahedral meshes — paper A (Sinclair et al.): a mesh shader turns each
+//! tetrahedron into screen-space proxy triangles (3 when its projection is a triangle, 4 when it
+//! is a quad) whose vertices carry the inverse view depths of the front and back faces; every
+//! fragment then knows the interval its pixel's ray spends in the tet. Here the fragments add
+//! length × per-tet absorption into a float target (optical depth, additive blending), and the
+//! Beer–Lambert law turns that into transmittance afterwards.
+//!
+//! Not yet: near-plane clipping (tets reaching the near plane are skipped and counted), the
+//! per-vertex scalar integration, the SDF scene and the compute path.
+
+use crate::builtin_shader;
+use crate::error::{Error, Result};
+use bytemuck::{Pod, Zeroable};
+use tessera_data::tet::TetMesh;
+use tessera_data::{GridFrame, OrbitCamera, Projection};
+use tessera_gpu::{
+    vk, Binding, Buffer, Gpu, Image, MemoryLocation, Pipeline, RenderTargets, ShaderCompiler, Slot,
+    Timer,
+};
+
+const OPTICAL_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
+
+/// Push constants (`tet/interval/params.glsl`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct IntervalParams {
+    pub world_to_clip: [[f32; 4]; 4],
+    pub view: [f32; 4],
+    pub counts: [u32; 4],
+}
+
+/// A tet mesh on the GPU, placed in world space like the CPU reference places it.
+pub struct GpuTetMesh {
+    pub vertices: Buffer,
+    pub tets: Buffer,
+    pub absorption: Buffer,
+    pub tet_count: u32,
+}
+
+impl GpuTetMesh {
+    pub fn upload(gpu: &Gpu, mesh: &TetMesh) -> Result<GpuTetMesh> {
+        let frame = tessera_data::tet::optical::MeshFrame::of(mesh);
+        let vertices: Vec<[f32; 4]> = mesh
+            .vertices
+            .iter()
+            .map(|&v| frame.to_world(glam::Vec3::from(v)).extend(1.0).to_array())
+            .collect();
+        let absorption: Vec<[f32; 4]> = match &mesh.absorption {
+            Some(a) => a.iter().map(|c| [c[0], c[1], c[2], 0.0]).collect(),
+            None => vec![[1.0, 1.0, 1.0, 0.0]; mesh.tets.len()],
+        };
+        let usage = vk::BufferUsageFlags::STORAGE_BUFFER;
+        Ok(GpuTetMesh {
+            vertices: gpu.upload_buffer("tet vertices", bytemuck::cast_slice(&vertices), usage)?,
+            tets: gpu.upload_buffer("tets", bytemuck::cast_slice(&mesh.tets), usage)?,
+            absorption: gpu.upload_buffer(
+                "tet absorption",
+                bytemuck::cast_slice(&absorption),
+                usage,
+            )?,
+            tet_count: mesh.tets.len() as u32,
+        })
+    }
+
+    pub fn destroy(self, gpu: &Gpu) {
+        for b in [self.vertices, self.tets, self.absorption] {
+            gpu.destroy_buffer(b);
+        }
+    }
+}
+
+/// The float target optical depth accumulates in, with its readback buffer.
+pub struct OpticalTarget {
+    pub image: Image,
+    readback: Buffer,
+    pub width: u32,
+    pub height: u32,
+}
+
+impl OpticalTarget {
+    pub fn new(gpu: &Gpu, width: u32, height: u32) -> Result<OpticalTarget> {
+        crate::error::check_image_size(width, height)?;
+        let image = gpu.create_image(
+            "optical depth",
+            [width, height, 1],
+            OPTICAL_FORMAT,
+            vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
+            false,
+        )?;
+        let readback = gpu.create_buffer(
+            "optical depth readback",
+            width as u64 * height as u64 * 16,
+            vk::BufferUsageFlags::TRANSFER_DST | vk::BufferUsageFlags::TRANSFER_SRC,
+            MemoryLocation::GpuOnly,
+        )?;
+        Ok(OpticalTarget {
+            image,
+            readback,
+            width,
+            height,
+        })
+    }
+
+    /// Optical depth per pixel, rows top to bottom.
+    pub fn read(&self, gpu: &Gpu) -> Result<Vec<[f32; 3]>> {
+        gpu.submit("copy optical depth", |rec| {
+            rec.copy_image_to_buffer(&self.image, &self.readback)
+        })?;
+        let texels: Vec<[f32; 4]> =
+            bytemuck::allocation::pod_collect_to_vec(&gpu.read_buffer(&self.readback)?);
+        Ok(texels.into_iter().map(|t| [t[0], t[1], t[2]]).collect())
+    }
+
+    pub fn destroy(self, gpu: &Gpu) {
+        gpu.destroy_image(self.image);
+        gpu.destroy_buffer(self.readback);
+    }
+}
+
+pub struct Interval {
+    pipeline: Pipeline,
+    stats: Buffer,
+}
+
+/// One frame's optical depth, its GPU time and the tets skipped at the near plane.
+pub struct IntervalFrame {
+    pub optical_depth: Vec<[f32; 3]>,
+    pub gpu_ms: f64,
+    pub skipped_near: u32,
+}
+
+impl Interval {
+    pub fn new(gpu: &Gpu, compiler: &ShaderCompiler) -> Result<Interval> {
+        if !gpu.caps().mesh_shader {
+            return Err(Error::Invalid(format!(
+                "interval shading needs mesh shaders, which {} lacks",
+                gpu.caps().device_name
+            )));
+        }
+        let defines = crate::config::common_defines();
+        let mesh = compiler.compile(&builtin_shader!("interval.mesh.glsl"), &defines)?;
+        let frag = compiler.compile(&builtin_shader!("interval.frag.glsl"), &defines)?;
+        let targets = RenderTargets {
+            blend_additive: true,
+            ..RenderTargets::color(OPTICAL_FORMAT)
+        };
+        let pipeline = gpu.graphics_pipeline_for(
+            "interval shading",
+            &[&mesh, &frag],
+            &[Slot::StorageBuffer; 4],
+            &targets,
+        )?;
+        let stats = gpu.create_buffer(
+            "interval stats",
+            16,
+            vk::BufferUsageFlags::STORAGE_BUFFER
+                | vk::BufferUsageFlags::TRANSFER_SRC
+                | vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuOnly,
+        )?;
+        Ok(Interval { pipeline, stats })
+    }
+
+    pub fn params(
+        mesh: &GpuTetMesh,
+        camera: &OrbitCamera,
+        width: u32,
+        height: u32,
+    ) -> IntervalParams {
+        // The volume frame is irrelevant to the world-to-clip transform; any will do.
+        let projection =
+            Projection::new(camera, &GridFrame::new([2, 2, 2], [1.0; 3]), width, height);
+        let (near, _) = Projection::near_far(camera);
+        let tan_y = (camera.fov_y_deg.to_radians() * 0.5).tan();
+        let tan_x = tan_y * width as f32 / height as f32;
+        IntervalParams {
+            world_to_clip: projection.world_to_clip.to_cols_array_2d(),
+            view: [tan_x, tan_y, 0.0, near],
+            counts: [mesh.tet_count, width, height, 0],
+        }
+    }
+
+    pub fn render(
+        &self,
+        gpu: &Gpu,
+        mesh: &GpuTetMesh,
+        target: &OpticalTarget,
+        camera: &OrbitCamera,
+    ) -> Result<IntervalFrame> {
+        let params = Self::params(mesh, camera, target.width, target.height);
+        let mut timer = Timer::new(gpu, 1)?;
+        timer.reset(gpu);
+        let mut drawn = Ok(());
+        let submitted = gpu.submit("interval shading", |rec| {
+            rec.fill_buffer(&self.stats, 0);
+            rec.barrier();
+            rec.discard_to_general(&target.image);
+            drawn = timer.scope(rec, "interval", |rec| {
+                rec.begin_rendering(&target.image, [0.0; 4]);
+                let r = rec.draw_mesh_tasks(
+                    &self.pipeline,
+                    &[
+                        Binding::Buffer(&mesh.vertices),
+                        Binding::Buffer(&mesh.tets),
+                        Binding::Buffer(&mesh.absorption),
+                        Binding::Buffer(&self.stats),
+                    ],
+                    bytemuck::bytes_of(&params),
+                    [mesh.tet_count.div_ceil(32).max(1), 1, 1],
+                );
+                rec.end_rendering();
+                r
+            });
+            rec.barrier();
+        });
+        let ms = submitted
+            .map_err(Error::from)
+            .and(drawn.map_err(Error::from))
+            .and_then(|_| Ok(timer.read_ms(gpu)?.first().map(|s| s.1).unwrap_or(0.0)));
+        timer.destroy(gpu);
+        let gpu_ms = ms?;
+        let stats: Vec<u32> =
+            bytemuck::allocation::pod_collect_to_vec(&gpu.read_buffer(&self.stats)?);
+        Ok(IntervalFrame {
+            optical_depth: target.read(gpu)?,
+            gpu_ms,
+            skipped_near: stats[0],
+        })
+    }
+
+    pub fn destroy(self, gpu: &Gpu) {
+        gpu.destroy_pipeline(self.pipeline);
+        gpu.destroy_buffer(self.stats);
+    }
+}

@@ -1,0 +1,3 @@
+//! Techniques for tetrahedral meshes (paper A and B).
+
+pub mod interval;
