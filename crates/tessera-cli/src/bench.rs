@@ -19,13 +19,14 @@ const SCENARIOS: &[&str] = &[
     "iso-sweep",
     "time-varying",
     "stereo",
+    "interval",
 ];
 
 #[derive(Args)]
 pub struct BenchArgs {
     /// pipeline-throughput, raymarch, minmax-build, isosurface (raymarch against direct),
     /// iso-sweep (isovalue changes every frame), time-varying (a new volume every frame),
-    /// stereo (two eyes against one) or all.
+    /// stereo (two eyes against one), interval (tet meshes) or all.
     scenario: String,
     /// Append JSON lines here.
     #[arg(long)]
@@ -139,6 +140,7 @@ pub fn run(options: &GpuOptions, args: &BenchArgs) -> Result<()> {
             "iso-sweep" => crate::bench_iso::iso_sweep(&gpu, args, plan, &mut sink)?,
             "time-varying" => crate::bench_iso::time_varying(&gpu, args, plan, &mut sink)?,
             "stereo" => crate::bench_iso::stereo(&gpu, args, plan, &mut sink)?,
+            "interval" => crate::bench_tet::interval(&gpu, args, plan, &mut sink)?,
             _ => unreachable!("scenario list checked above"),
         }
     }

@@ -14,8 +14,8 @@ use bytemuck::{Pod, Zeroable};
 use tessera_data::tet::TetMesh;
 use tessera_data::{GridFrame, OrbitCamera, Projection};
 use tessera_gpu::{
-    vk, Binding, Buffer, Gpu, Image, MemoryLocation, Pipeline, RenderTargets, ShaderCompiler, Slot,
-    Timer,
+    vk, Binding, Buffer, Gpu, Image, MemoryLocation, Pipeline, Recorder, RenderTargets,
+    ShaderCompiler, Slot, Timer,
 };
 
 const OPTICAL_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
@@ -180,6 +180,34 @@ impl Interval {
         }
     }
 
+    /// Records one frame of optical depth into `target` (cleared first).
+    pub fn record(
+        &self,
+        rec: &Recorder,
+        mesh: &GpuTetMesh,
+        target: &OpticalTarget,
+        params: &IntervalParams,
+    ) -> Result<()> {
+        rec.fill_buffer(&self.stats, 0);
+        rec.barrier();
+        rec.discard_to_general(&target.image);
+        rec.begin_rendering(&target.image, [0.0; 4]);
+        let drawn = rec.draw_mesh_tasks(
+            &self.pipeline,
+            &[
+                Binding::Buffer(&mesh.vertices),
+                Binding::Buffer(&mesh.tets),
+                Binding::Buffer(&mesh.absorption),
+                Binding::Buffer(&self.stats),
+            ],
+            bytemuck::bytes_of(params),
+            [mesh.tet_count.div_ceil(32).max(1), 1, 1],
+        );
+        rec.end_rendering();
+        rec.barrier();
+        Ok(drawn?)
+    }
+
     pub fn render(
         &self,
         gpu: &Gpu,
@@ -192,30 +220,13 @@ impl Interval {
         timer.reset(gpu);
         let mut drawn = Ok(());
         let submitted = gpu.submit("interval shading", |rec| {
-            rec.fill_buffer(&self.stats, 0);
-            rec.barrier();
-            rec.discard_to_general(&target.image);
             drawn = timer.scope(rec, "interval", |rec| {
-                rec.begin_rendering(&target.image, [0.0; 4]);
-                let r = rec.draw_mesh_tasks(
-                    &self.pipeline,
-                    &[
-                        Binding::Buffer(&mesh.vertices),
-                        Binding::Buffer(&mesh.tets),
-                        Binding::Buffer(&mesh.absorption),
-                        Binding::Buffer(&self.stats),
-                    ],
-                    bytemuck::bytes_of(&params),
-                    [mesh.tet_count.div_ceil(32).max(1), 1, 1],
-                );
-                rec.end_rendering();
-                r
+                self.record(rec, mesh, target, &params)
             });
-            rec.barrier();
         });
         let ms = submitted
             .map_err(Error::from)
-            .and(drawn.map_err(Error::from))
+            .and(drawn)
             .and_then(|_| Ok(timer.read_ms(gpu)?.first().map(|s| s.1).unwrap_or(0.0)));
         timer.destroy(gpu);
         let gpu_ms = ms?;
