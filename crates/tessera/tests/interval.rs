@@ -133,3 +133,44 @@ fn meshes_with_absorption_colours() {
     );
     assert_matches_reference("box", &cube, &camera(-60.0, 40.0, 2.4), (80, 64));
 }
+
+#[test]
+fn beer_lambert_post_pass_matches_cpu_composite() {
+    let gpu = gpu();
+    if !gpu.caps().mesh_shader {
+        eprintln!("skipped: {} has no mesh shaders", gpu.caps().device_name);
+        return;
+    }
+    let compiler = shaders::compiler();
+    let interval = Interval::new(&gpu, &compiler).unwrap();
+    let mesh = sphere_mesh(4);
+    let gpu_mesh = GpuTetMesh::upload(&gpu, &mesh).unwrap();
+    let (w, h) = (72, 56);
+    let cam = camera(20.0, 10.0, 2.0);
+    let background = [1.0, 0.95, 0.85];
+    let target = OpticalTarget::new(&gpu, w, h).unwrap();
+    let depth = interval.render(&gpu, &gpu_mesh, &target, &cam).unwrap();
+    let (image, _ms) = interval
+        .render_image(&gpu, &gpu_mesh, &cam, (w, h), background)
+        .unwrap();
+    let expected = tessera_data::tet::optical::composite(&depth.optical_depth, w, h, background);
+    let diff = image.compare(&expected, 1);
+    assert!(
+        diff.fraction_within >= 0.999,
+        "{} pixels differ",
+        diff.pixels_outside
+    );
+    let darkened = image
+        .pixels
+        .iter()
+        .filter(|&&p| p != expected.pixels[0])
+        .count();
+    assert!(
+        darkened > (w * h / 10) as usize,
+        "the mesh must absorb light somewhere"
+    );
+    target.destroy(&gpu);
+    gpu_mesh.destroy(&gpu);
+    interval.destroy(&gpu);
+    assert_clean(&gpu);
+}

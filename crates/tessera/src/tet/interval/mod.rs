@@ -10,9 +10,10 @@
 
 use crate::builtin_shader;
 use crate::error::{Error, Result};
+use crate::target::PixelTarget;
 use bytemuck::{Pod, Zeroable};
 use tessera_data::tet::TetMesh;
-use tessera_data::{GridFrame, OrbitCamera, Projection};
+use tessera_data::{GridFrame, OrbitCamera, Projection, RgbaImage};
 use tessera_gpu::{
     vk, Binding, Buffer, Gpu, Image, MemoryLocation, Pipeline, Recorder, RenderTargets,
     ShaderCompiler, Slot, Timer,
@@ -84,7 +85,9 @@ impl OpticalTarget {
             "optical depth",
             [width, height, 1],
             OPTICAL_FORMAT,
-            vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
+            vk::ImageUsageFlags::COLOR_ATTACHMENT
+                | vk::ImageUsageFlags::TRANSFER_SRC
+                | vk::ImageUsageFlags::STORAGE,
             false,
         )?;
         let readback = gpu.create_buffer(
@@ -119,7 +122,16 @@ impl OpticalTarget {
 
 pub struct Interval {
     pipeline: Pipeline,
+    composite: Pipeline,
     stats: Buffer,
+}
+
+/// Push constants of `beer_lambert.comp.glsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct CompositeParams {
+    pub background: [f32; 4],
+    pub size: [u32; 4],
 }
 
 /// One frame's optical depth, its GPU time and the tets skipped at the near plane.
@@ -158,7 +170,17 @@ impl Interval {
                 | vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::GpuOnly,
         )?;
-        Ok(Interval { pipeline, stats })
+        let composite = compiler.compile(&builtin_shader!("beer_lambert.comp.glsl"), &defines)?;
+        let composite = gpu.compute_pipeline(
+            "beer-lambert composite",
+            &composite,
+            &[Slot::StorageImage, Slot::StorageBuffer],
+        )?;
+        Ok(Interval {
+            pipeline,
+            composite,
+            stats,
+        })
     }
 
     pub fn params(
@@ -239,8 +261,73 @@ impl Interval {
         })
     }
 
+    /// Records the Beer–Lambert post pass: `background` light through the optical depth in
+    /// `target`, packed into `pixels`.
+    pub fn record_composite(
+        &self,
+        rec: &Recorder,
+        target: &OpticalTarget,
+        pixels: &PixelTarget,
+        background: [f32; 3],
+    ) {
+        let params = CompositeParams {
+            background: [background[0], background[1], background[2], 1.0],
+            size: [target.width, target.height, 0, 0],
+        };
+        rec.dispatch(
+            &self.composite,
+            &[
+                Binding::StorageImage(&target.image),
+                Binding::Buffer(&pixels.pixels),
+            ],
+            bytemuck::bytes_of(&params),
+            [target.width, target.height, 1],
+        );
+    }
+
+    /// Renders the mesh as light absorbed on its way from a `background` of that colour.
+    pub fn render_image(
+        &self,
+        gpu: &Gpu,
+        mesh: &GpuTetMesh,
+        camera: &OrbitCamera,
+        (width, height): (u32, u32),
+        background: [f32; 3],
+    ) -> Result<(RgbaImage, f64)> {
+        let target = OpticalTarget::new(gpu, width, height)?;
+        let pixels = match PixelTarget::new(gpu, width, height) {
+            Ok(p) => p,
+            Err(e) => {
+                target.destroy(gpu);
+                return Err(e);
+            }
+        };
+        let params = Self::params(mesh, camera, width, height);
+        let mut timer = Timer::new(gpu, 1)?;
+        timer.reset(gpu);
+        let mut drawn = Ok(());
+        let submitted = gpu.submit("interval shading image", |rec| {
+            drawn = timer.scope(rec, "interval", |rec| {
+                let r = self.record(rec, mesh, &target, &params);
+                self.record_composite(rec, &target, &pixels, background);
+                r
+            });
+        });
+        let result = submitted.map_err(Error::from).and(drawn).and_then(|_| {
+            Ok((
+                pixels.read(gpu)?,
+                timer.read_ms(gpu)?.first().map(|s| s.1).unwrap_or(0.0),
+            ))
+        });
+        timer.destroy(gpu);
+        target.destroy(gpu);
+        pixels.destroy(gpu);
+        result
+    }
+
     pub fn destroy(self, gpu: &Gpu) {
         gpu.destroy_pipeline(self.pipeline);
+        gpu.destroy_pipeline(self.composite);
         gpu.destroy_buffer(self.stats);
     }
 }
