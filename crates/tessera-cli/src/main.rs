@@ -10,6 +10,7 @@ mod extract;
 mod info;
 mod output;
 mod render;
+mod render_tets;
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};

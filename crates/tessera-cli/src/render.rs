@@ -11,21 +11,24 @@ use tessera_gpu::GpuOptions;
 
 #[derive(Args)]
 pub struct RenderArgs {
-    /// A volume file (raw, .nrrd, .nhdr) or procedural:NAME:SIZE[:TYPE], e.g. procedural:marschner-lobb:128.
-    data: String,
-    /// Technique to render with: raymarch (compute) or direct (task/mesh shaders).
-    #[arg(long, default_value = "raymarch", value_parser = ["raymarch", "direct"])]
-    technique: String,
+    /// A volume file (raw, .nrrd, .nhdr, .nii[.gz]) or procedural:NAME:SIZE[:TYPE], e.g.
+    /// procedural:marschner-lobb:128; or a tetrahedral mesh (.vtu, .vtk, .node/.ele, .msh) or
+    /// tets:box:N / tets:sphere:N.
+    pub(crate) data: String,
+    /// Technique: raymarch or direct for volumes, interval for tetrahedral meshes (the default
+    /// follows the data).
+    #[arg(long, value_parser = ["raymarch", "direct", "interval"])]
+    pub(crate) technique: Option<String>,
     #[command(flatten)]
     iso: IsoArgs,
     #[command(flatten)]
     volume: VolumeArgs,
     /// Image size WxH.
     #[arg(long, default_value = "1280x720", value_parser = data::parse_size)]
-    size: (u32, u32),
+    pub(crate) size: (u32, u32),
     /// Camera AZ,EL,DIST: azimuth and elevation in degrees, distance in units of the volume's longest side.
     #[arg(long, default_value = "30,20,1.8", value_parser = OrbitCamera::parse, allow_hyphen_values = true)]
-    camera: OrbitCamera,
+    pub(crate) camera: OrbitCamera,
     /// Pipeline for techniques that have two: graphics (task/mesh shaders), compute, or auto
     /// (from capabilities and `tessera bench pipeline-throughput` if it ran on this device).
     #[arg(long, default_value = "auto", value_parser = ["graphics", "compute", "auto"])]
@@ -39,10 +42,13 @@ pub struct RenderArgs {
     stereo: Option<f32>,
     /// Output PNG.
     #[arg(short, long, default_value = "out.png")]
-    output: PathBuf,
+    pub(crate) output: PathBuf,
 }
 
 pub fn run(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
+    if crate::render_tets::is_tet_data(&args.data) {
+        return crate::render_tets::run(options, args);
+    }
     let gpu = crate::open_gpu(options)?;
     if let Some(bytes) = args.volume.expected_bytes(&args.data) {
         gpu.check_fits(&args.data, bytes)
@@ -50,7 +56,7 @@ pub fn run(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
     }
     let volume = data::load(&args.data, &args.volume)?;
     let iso = args.iso.resolve(&volume)?;
-    let technique = IsoTechnique::parse(&args.technique)?;
+    let technique = IsoTechnique::parse(args.technique.as_deref().unwrap_or("raymarch"))?;
     let compiler = tessera::shaders::compiler();
     let started = Instant::now();
     let bar = data::spinner("compiling shaders, uploading, building the min-max octree".into());

@@ -109,6 +109,53 @@ fn direct_renders_on_both_paths_and_in_stereo() {
 }
 
 #[test]
+fn renders_tet_meshes_with_interval_shading() {
+    let dir = scratch("tets");
+    let out = dir.join("sphere.png");
+    let o = tessera(&[
+        "--validation",
+        "render",
+        "tets:sphere:4",
+        "--size",
+        "64x48",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(png_size(&out), (64, 48));
+    // A mesh file written by the library, read back by the loader the CLI picks by extension.
+    let file = dir.join("box.vtu");
+    let mesh = tessera_data::tet::procedural::box_mesh(2);
+    tessera_data::tet::write_vtu_ascii(&mesh, &file).unwrap();
+    let bytes = std::fs::read(&file).unwrap();
+    let out = dir.join("box.png");
+    let o = tessera(&[
+        "--validation",
+        "render",
+        file.to_str().unwrap(),
+        "--size",
+        "64x48",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(String::from_utf8_lossy(&o.stdout).contains("48 tets"));
+    // Cut short, and asked for a volume technique: clear errors naming the file.
+    std::fs::write(&file, &bytes[..bytes.len() / 2]).unwrap();
+    let o = tessera(&[
+        "render",
+        file.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_fails_with(&o, &["box.vtu"]);
+    let o = tessera(&["render", "tets:box:2", "--technique", "raymarch"]);
+    assert_fails_with(&o, &["tets:box:2", "interval"]);
+    let o = tessera(&["render", "tets:cone:2"]);
+    assert_fails_with(&o, &["cone", "sphere"]);
+}
+
+#[test]
 fn truncated_raw_names_file_and_problem() {
     let dir = scratch("truncated");
     let file = dir.join("cut_16x16x16_uint8.raw");
@@ -264,7 +311,7 @@ fn demo_writes_gallery() {
         e.as_ref()
             .is_ok_and(|e| e.path().extension().is_some_and(|x| x == "png"))
     });
-    assert_eq!(pngs.count(), 7);
+    assert_eq!(pngs.count(), 8);
     let stdout = String::from_utf8_lossy(&o.stdout);
-    assert_eq!(stdout.matches("ms GPU").count(), 7, "{stdout}");
+    assert_eq!(stdout.matches("ms GPU").count(), 8, "{stdout}");
 }
