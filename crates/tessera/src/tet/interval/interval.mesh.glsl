@@ -1,26 +1,35 @@
 #version 460
 // Interval shading (paper A, §2): each tetrahedron becomes 3 (case 1) or 4 (case 2) screen-space
 // proxy triangles at depth 0 whose vertices carry the inverse view depth of the tet's front and
-// back faces, so the rasterizer hands every fragment its [front, back] interval. One tet per
-// invocation, 32 per workgroup. Tets reaching the near plane are not clipped yet: they are
-// skipped and counted.
+// back faces, so the rasterizer hands every fragment its [front, back] interval. A tet crossing
+// the near plane is clipped first (§2.3): one vertex in front leaves a tet, two or three leave a
+// prism cut into 3 tets. One input tet per invocation, 16 per workgroup so that 3 proxies each
+// still fit the output limits (16 × 15 vertices, 16 × 12 triangles).
 #extension GL_EXT_mesh_shader : require
 
-layout(local_size_x = 32) in;
-layout(triangles, max_vertices = 160, max_primitives = 128) out;
+layout(local_size_x = 16) in;
+layout(triangles, max_vertices = 240, max_primitives = 192) out;
 
 layout(binding = 0) readonly buffer Vertices { vec4 vertices_world[]; };
 layout(binding = 1) readonly buffer Tets { uvec4 tets[]; };
 layout(binding = 2) readonly buffer Absorption { vec4 absorption[]; };
-layout(binding = 3) buffer Stats { uint stats[]; };  // [0] tets skipped at the near plane
+layout(binding = 3) buffer Stats { uint stats[]; };  // [0] tets clipped at the near plane
 
 #include "tet/interval/params.glsl"
 
 layout(location = 0) out vec2 inverse_depths[];       // 1/z of front and back face (view space)
 layout(location = 1) flat out vec3 tet_absorption[];
 
-shared uint vertex_offsets[33];
-shared uint primitive_offsets[33];
+const uint GROUP = 16u;
+shared uint vertex_offsets[GROUP + 1u];
+shared uint primitive_offsets[GROUP + 1u];
+
+// A tet's screen-space proxy: `silhouette` outer vertices (3 or 4, 0 for none) then the inner one.
+struct Proxy {
+    vec2 p[5];
+    vec2 depths[5];
+    uint silhouette;
+};
 
 // Twice the signed area of (a, b, c): the edge function.
 float edge(vec2 a, vec2 b, vec2 c) {
@@ -34,7 +43,7 @@ bool inside(vec2 p, vec2 a, vec2 b, vec2 c) {
     return (w0 >= 0.0 && w1 >= 0.0 && w2 >= 0.0) || (w0 <= 0.0 && w1 <= 0.0 && w2 <= 0.0);
 }
 
-// Whether segments p-q and r-s cross; t and s_out are the crossing's weights along each.
+// Whether segments p-q and r-s cross; t and u are the crossing's weights along each.
 bool crossing(vec2 p, vec2 q, vec2 r, vec2 s, out float t, out float u) {
     vec2 d1 = q - p;
     vec2 d2 = s - r;
@@ -50,99 +59,155 @@ bool crossing(vec2 p, vec2 q, vec2 r, vec2 s, out float t, out float u) {
     return t >= 0.0 && t <= 1.0 && u >= 0.0 && u <= 1.0;
 }
 
-void main() {
-    uint me = gl_LocalInvocationIndex;
-    uint tet = gl_WorkGroupID.x * 32u + me;
+// The proxy of a tet whose corners (clip space) all lie beyond the near plane.
+Proxy make_proxy(vec4 c[4]) {
+    Proxy proxy;
+    proxy.silhouette = 0u;
     vec2 p[4];
     float inv_z[4];
-    uint kind = 0u;  // 0 nothing, 1 triangle silhouette, 2 quad silhouette
+    for (int i = 0; i < 4; ++i) {
+        p[i] = c[i].xy / c[i].w;
+        inv_z[i] = 1.0 / c[i].w;
+    }
     uint order[4] = uint[4](0u, 1u, 2u, 3u);
-    float t = 0.0;
-    float s = 0.0;
-    vec3 lambda = vec3(0.0);
+    for (uint d = 0u; d < 4u; ++d) {
+        uint a = (d + 1u) & 3u, b = (d + 2u) & 3u, cc = (d + 3u) & 3u;
+        if (inside(p[d], p[a], p[b], p[cc])) {
+            float area = edge(p[a], p[b], p[cc]);
+            vec3 lambda = abs(area) > 1e-20
+                ? vec3(edge(p[b], p[cc], p[d]), edge(p[cc], p[a], p[d]), edge(p[a], p[b], p[d])) / area
+                : vec3(1.0, 0.0, 0.0);
+            order = uint[4](a, b, cc, d);
+            proxy.silhouette = 3u;
+            proxy.p[3] = p[d];
+            // The inner vertex seen on the opposite face: 1/z is affine in screen space on a plane.
+            proxy.depths[3] = vec2(inv_z[d], dot(lambda, vec3(inv_z[a], inv_z[b], inv_z[cc])));
+            break;
+        }
+    }
+    if (proxy.silhouette == 0u) {
+        float t;
+        float s;
+        // The quad's diagonals are the pair of opposite edges that cross on screen.
+        if (crossing(p[0], p[2], p[1], p[3], t, s)) {
+            order = uint[4](0u, 1u, 2u, 3u);
+        } else if (crossing(p[0], p[1], p[2], p[3], t, s)) {
+            order = uint[4](0u, 2u, 1u, 3u);
+        } else if (crossing(p[0], p[3], p[1], p[2], t, s)) {
+            order = uint[4](0u, 1u, 3u, 2u);
+        } else {
+            return proxy;  // degenerate on screen: covers no pixel
+        }
+        uint a = order[0], b = order[1], cc = order[2], d = order[3];
+        proxy.silhouette = 4u;
+        proxy.p[4] = p[a] + (p[cc] - p[a]) * t;
+        proxy.depths[4] = vec2(inv_z[a] + (inv_z[cc] - inv_z[a]) * t, inv_z[b] + (inv_z[d] - inv_z[b]) * s);
+    }
+    for (uint j = 0u; j < proxy.silhouette; ++j) {
+        proxy.p[j] = p[order[j]];
+        proxy.depths[j] = vec2(inv_z[order[j]]);
+    }
+    return proxy;
+}
+
+// Where edge a–b meets the plane w = near (clip coordinates are affine along a world segment).
+vec4 cut(vec4 a, vec4 b, float near) {
+    return mix(a, b, (near - a.w) / (b.w - a.w));
+}
+
+void main() {
+    uint me = gl_LocalInvocationIndex;
+    uint tet = gl_WorkGroupID.x * GROUP + me;
+    Proxy proxies[3];
+    uint proxy_count = 0u;
     if (tet < params.counts.x) {
         uvec4 ids = tets[tet];
-        bool near = false;
-        for (int i = 0; i < 4; ++i) {
-            vec4 clip = params.world_to_clip * vec4(vertices_world[ids[i]].xyz, 1.0);
-            near = near || clip.w <= params.view.w;
-            p[i] = clip.xy / clip.w;
-            inv_z[i] = 1.0 / clip.w;
-        }
-        if (near) {
-            atomicAdd(stats[0], 1u);
-        } else {
-            kind = 2u;
-            for (uint d = 0u; d < 4u && kind == 2u; ++d) {
-                uint a = (d + 1u) & 3u, b = (d + 2u) & 3u, c = (d + 3u) & 3u;
-                if (inside(p[d], p[a], p[b], p[c])) {
-                    kind = 1u;
-                    order = uint[4](a, b, c, d);
-                    float area = edge(p[a], p[b], p[c]);
-                    lambda = abs(area) > 1e-20
-                        ? vec3(edge(p[b], p[c], p[d]), edge(p[c], p[a], p[d]), edge(p[a], p[b], p[d])) / area
-                        : vec3(1.0, 0.0, 0.0);
-                }
+        vec4 c[4];
+        uint front[4];
+        uint back[4];
+        uint n_front = 0u;
+        uint n_back = 0u;
+        float near = params.view.w;
+        for (uint i = 0u; i < 4u; ++i) {
+            c[i] = params.world_to_clip * vec4(vertices_world[ids[i]].xyz, 1.0);
+            if (c[i].w > near) {
+                front[n_front++] = i;
+            } else {
+                back[n_back++] = i;
             }
-            if (kind == 2u) {
-                // The quad's diagonals are the pair of opposite edges that cross on screen.
-                if (crossing(p[0], p[2], p[1], p[3], t, s)) {
-                    order = uint[4](0u, 1u, 2u, 3u);
-                } else if (crossing(p[0], p[1], p[2], p[3], t, s)) {
-                    order = uint[4](0u, 2u, 1u, 3u);
-                } else if (crossing(p[0], p[3], p[1], p[2], t, s)) {
-                    order = uint[4](0u, 1u, 3u, 2u);
+        }
+        if (n_front == 4u) {
+            proxies[0] = make_proxy(c);
+            proxy_count = 1u;
+        } else if (n_front > 0u) {
+            atomicAdd(stats[0], 1u);
+            vec4 prism[6];
+            if (n_front == 1u) {
+                vec4 apex = c[front[0]];
+                vec4 piece[4] = vec4[4](apex, cut(apex, c[back[0]], near), cut(apex, c[back[1]], near),
+                                        cut(apex, c[back[2]], near));
+                proxies[0] = make_proxy(piece);
+                proxy_count = 1u;
+            } else {
+                // A prism: bottom triangle i0 i1 i2, top j0 j1 j2 with jk above ik.
+                if (n_front == 3u) {
+                    vec4 o = c[back[0]];
+                    prism = vec4[6](c[front[0]], c[front[1]], c[front[2]],
+                                    cut(c[front[0]], o, near), cut(c[front[1]], o, near), cut(c[front[2]], o, near));
                 } else {
-                    kind = 0u;  // degenerate on screen: covers no pixel
+                    vec4 a = c[front[0]];
+                    vec4 b = c[front[1]];
+                    vec4 x = c[back[0]];
+                    vec4 y = c[back[1]];
+                    prism = vec4[6](a, cut(a, x, near), cut(a, y, near), b, cut(b, x, near), cut(b, y, near));
                 }
+                vec4 t0[4] = vec4[4](prism[0], prism[1], prism[2], prism[3]);
+                vec4 t1[4] = vec4[4](prism[1], prism[2], prism[3], prism[4]);
+                vec4 t2[4] = vec4[4](prism[2], prism[3], prism[4], prism[5]);
+                proxies[0] = make_proxy(t0);
+                proxies[1] = make_proxy(t1);
+                proxies[2] = make_proxy(t2);
+                proxy_count = 3u;
             }
         }
     }
-    uint vertex_count = kind == 1u ? 4u : (kind == 2u ? 5u : 0u);
-    uint primitive_count = kind == 1u ? 3u : (kind == 2u ? 4u : 0u);
+    uint vertex_count = 0u;
+    uint primitive_count = 0u;
+    for (uint k = 0u; k < proxy_count; ++k) {
+        uint s = proxies[k].silhouette;
+        vertex_count += s == 0u ? 0u : s + 1u;
+        primitive_count += s;
+    }
     vertex_offsets[me + 1u] = vertex_count;
     primitive_offsets[me + 1u] = primitive_count;
     barrier();
     if (me == 0u) {
         vertex_offsets[0] = 0u;
         primitive_offsets[0] = 0u;
-        for (uint i = 1u; i <= 32u; ++i) {
+        for (uint i = 1u; i <= GROUP; ++i) {
             vertex_offsets[i] += vertex_offsets[i - 1u];
             primitive_offsets[i] += primitive_offsets[i - 1u];
         }
     }
     barrier();
-    SetMeshOutputsEXT(vertex_offsets[32], primitive_offsets[32]);
-    if (kind == 0u) {
-        return;
-    }
-    uint v0 = vertex_offsets[me];
-    uint q0 = primitive_offsets[me];
-    vec3 colour = absorption[tet].xyz;
-    uint silhouette = kind == 1u ? 3u : 4u;
-    for (uint j = 0u; j < silhouette; ++j) {
-        uint i = order[j];
-        gl_MeshVerticesEXT[v0 + j].gl_Position = vec4(p[i], 0.0, 1.0);
-        inverse_depths[v0 + j] = vec2(inv_z[i]);
-        tet_absorption[v0 + j] = colour;
-    }
-    vec2 centre;
-    vec2 centre_depths;
-    if (kind == 1u) {
-        uint a = order[0], b = order[1], c = order[2], d = order[3];
-        centre = p[d];
-        // The inner vertex seen on the opposite face: 1/z is affine in screen space on a plane.
-        centre_depths = vec2(inv_z[d], dot(lambda, vec3(inv_z[a], inv_z[b], inv_z[c])));
-    } else {
-        uint a = order[0], b = order[1], c = order[2], d = order[3];
-        centre = p[a] + (p[c] - p[a]) * t;
-        centre_depths = vec2(inv_z[a] + (inv_z[c] - inv_z[a]) * t, inv_z[b] + (inv_z[d] - inv_z[b]) * s);
-    }
-    uint centre_index = v0 + silhouette;
-    gl_MeshVerticesEXT[centre_index].gl_Position = vec4(centre, 0.0, 1.0);
-    inverse_depths[centre_index] = centre_depths;
-    tet_absorption[centre_index] = colour;
-    for (uint j = 0u; j < silhouette; ++j) {
-        gl_PrimitiveTriangleIndicesEXT[q0 + j] = uvec3(v0 + j, v0 + (j + 1u) % silhouette, centre_index);
+    SetMeshOutputsEXT(vertex_offsets[GROUP], primitive_offsets[GROUP]);
+    uint v = vertex_offsets[me];
+    uint q = primitive_offsets[me];
+    vec3 colour = tet < params.counts.x ? absorption[tet].xyz : vec3(0.0);
+    for (uint k = 0u; k < proxy_count; ++k) {
+        uint s = proxies[k].silhouette;
+        if (s == 0u) {
+            continue;
+        }
+        for (uint j = 0u; j <= s; ++j) {
+            gl_MeshVerticesEXT[v + j].gl_Position = vec4(proxies[k].p[j], 0.0, 1.0);
+            inverse_depths[v + j] = proxies[k].depths[j];
+            tet_absorption[v + j] = colour;
+        }
+        for (uint j = 0u; j < s; ++j) {
+            gl_PrimitiveTriangleIndicesEXT[q + j] = uvec3(v + j, v + (j + 1u) % s, v + s);
+        }
+        v += s + 1u;
+        q += s;
     }
 }

@@ -5,8 +5,8 @@
 //! length × per-tet absorption into a float target (optical depth, additive blending), and the
 //! Beer–Lambert law turns that into transmittance afterwards.
 //!
-//! Not yet: near-plane clipping (tets reaching the near plane are skipped and counted), the
-//! per-vertex scalar integration, the SDF scene and the compute path.
+//! Tets crossing the near plane are clipped into 1 or 3 tets, so the camera may be inside the
+//! mesh. Not yet: the per-vertex scalar integration, the SDF scene and the compute path.
 
 use crate::builtin_shader;
 use crate::error::{Error, Result};
@@ -20,6 +20,8 @@ use tessera_gpu::{
 };
 
 const OPTICAL_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
+/// Tets per mesh workgroup (`interval.mesh.glsl`'s GROUP): 16 leave room for 3 proxies each.
+const TETS_PER_WORKGROUP: u32 = 16;
 
 /// Push constants (`tet/interval/params.glsl`).
 #[repr(C)]
@@ -134,11 +136,11 @@ pub struct CompositeParams {
     pub size: [u32; 4],
 }
 
-/// One frame's optical depth, its GPU time and the tets skipped at the near plane.
+/// One frame's optical depth, its GPU time and the tets clipped at the near plane.
 pub struct IntervalFrame {
     pub optical_depth: Vec<[f32; 3]>,
     pub gpu_ms: f64,
-    pub skipped_near: u32,
+    pub clipped_near: u32,
 }
 
 impl Interval {
@@ -223,7 +225,7 @@ impl Interval {
                 Binding::Buffer(&self.stats),
             ],
             bytemuck::bytes_of(params),
-            [mesh.tet_count.div_ceil(32).max(1), 1, 1],
+            [mesh.tet_count.div_ceil(TETS_PER_WORKGROUP).max(1), 1, 1],
         );
         rec.end_rendering();
         rec.barrier();
@@ -257,7 +259,7 @@ impl Interval {
         Ok(IntervalFrame {
             optical_depth: target.read(gpu)?,
             gpu_ms,
-            skipped_near: stats[0],
+            clipped_near: stats[0],
         })
     }
 
