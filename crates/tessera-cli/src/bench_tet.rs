@@ -9,7 +9,7 @@ use tessera_data::OrbitCamera;
 use tessera_gpu::Gpu;
 
 /// Interval shading of procedural tet boxes of about 61 k, 959 k and 2.4 M tets (the sizes of
-/// paper A's Table 1), far and close views, at 3840×2160 (`--quick`: small meshes and image).
+/// paper A's Table 1), far, close and inside views, at 3840×2160 (`--quick`: small meshes and image).
 pub fn interval(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -> Result<()> {
     let compiler = tessera::shaders::compiler();
     if !gpu.caps().mesh_shader {
@@ -23,7 +23,7 @@ pub fn interval(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -
     let (w, h) = if args.quick { (256, 144) } else { (3840, 2160) };
     // n³ cells of 6 tets each.
     let cells: &[u32] = if args.quick { &[6, 10] } else { &[22, 54, 74] };
-    let views = [("far", 2.4f32), ("close", 1.4)];
+    let views = [("far", 2.4f32), ("close", 1.4), ("inside", 0.3)];
     for &n in cells {
         let mesh = box_mesh(n);
         let gpu_mesh = GpuTetMesh::upload(gpu, &mesh)?;
