@@ -139,7 +139,7 @@ pub fn run(options: &GpuOptions, args: &BenchArgs) -> Result<()> {
             "isosurface" => crate::bench_iso::isosurface(&gpu, args, plan, &mut sink)?,
             "iso-sweep" => crate::bench_iso::iso_sweep(&gpu, args, plan, &mut sink)?,
             "time-varying" => crate::bench_iso::time_varying(&gpu, args, plan, &mut sink)?,
-            "stereo" => crate::bench_iso::stereo(&gpu, args, plan, &mut sink)?,
+            "stereo" => crate::bench_stereo::stereo(&gpu, args, plan, &mut sink)?,
             "interval" => crate::bench_tet::interval(&gpu, args, plan, &mut sink)?,
             _ => unreachable!("scenario list checked above"),
         }

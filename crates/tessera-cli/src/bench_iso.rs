@@ -15,13 +15,17 @@ use tessera_gpu::{Gpu, ShaderCompiler};
 /// Each frame's isovalue as a fraction of the value range; `None` keeps it fixed.
 type Sweep<'a> = Option<&'a dyn Fn(u32) -> f32>;
 
-struct Techniques {
-    raymarch: Raymarch,
-    direct: Option<Direct>,
-    direct_compute: Option<DirectCompute>,
+pub(crate) struct Techniques {
+    pub(crate) raymarch: Raymarch,
+    pub(crate) direct: Option<Direct>,
+    pub(crate) direct_compute: Option<DirectCompute>,
 }
 
-fn techniques(gpu: &Gpu, compiler: &ShaderCompiler, volume: &Volume) -> Result<Techniques> {
+pub(crate) fn techniques(
+    gpu: &Gpu,
+    compiler: &ShaderCompiler,
+    volume: &Volume,
+) -> Result<Techniques> {
     let scalar = volume.scalar_type();
     let direct = if gpu.caps().mesh_shader && gpu.caps().task_shader {
         Some(Direct::new(gpu, compiler, scalar)?)
@@ -49,7 +53,7 @@ fn techniques(gpu: &Gpu, compiler: &ShaderCompiler, volume: &Volume) -> Result<T
 }
 
 impl Techniques {
-    fn destroy(self, gpu: &Gpu) {
+    pub(crate) fn destroy(self, gpu: &Gpu) {
         self.raymarch.destroy(gpu);
         if let Some(d) = self.direct {
             d.destroy(gpu);
@@ -386,242 +390,4 @@ pub fn time_varying(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sin
         t.destroy(gpu);
     }
     Ok(())
-}
-
-/// Two eyes against one: how much a stereo pair costs over a single view (paper D §4.1.3).
-/// Ray marching traces both eyes; the mesh path runs twice (with occlusion culling, a state
-/// per eye); the compute path extracts once and re-projects for the second eye.
-pub fn stereo(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -> Result<()> {
-    let compiler = tessera::shaders::compiler();
-    let (w, h) = if args.quick { (256, 144) } else { (3840, 2160) };
-    let separation = 0.06;
-    let camera = OrbitCamera::default();
-    let eyes = camera.stereo_pair(separation);
-    for spec in bench_volumes(args) {
-        let volume = make_volume(gpu, &spec, args)?;
-        let iso = volume.iso_to_texel(IsoValue::Normalized(args.iso_fraction));
-        let t = techniques(gpu, &compiler, &volume)?;
-        let prepared = t.raymarch.prepare(gpu, &volume)?;
-        crate::bench::settle(gpu, &t.raymarch, &prepared, iso)?;
-        let mut emit = |technique: &str,
-                        path: &str,
-                        mono: Vec<tessera::bench::StageStats>,
-                        pair: Vec<tessera::bench::StageStats>|
-         -> Result<()> {
-            let mut r = BenchRecord::new(gpu, "stereo", technique, path, volume.name());
-            (r.width, r.height, r.warmup, r.frames) = (w, h, plan.warmup, plan.frames);
-            let (m, s) = (mono[0].median_ms, pair[0].median_ms);
-            r.stages = mono.into_iter().chain(pair).collect();
-            r.counts.insert("stereo_over_mono".into(), s / m);
-            r.counts.insert("eye_separation".into(), separation as f64);
-            sink.emit(&r)
-        };
-
-        let targets = [PixelTarget::new(gpu, w, h)?, PixelTarget::new(gpu, w, h)?];
-        let params = eyes.map(|c| Raymarch::params(&prepared, iso, &c, w, h));
-        let mono_params = Raymarch::params(&prepared, iso, &camera, w, h);
-        let mono = time_frames(gpu, plan, 1, |rec, timer| {
-            timer.scope(rec, "mono", |rec| {
-                t.raymarch.record(rec, &prepared, &targets[0], &mono_params)
-            });
-        })?;
-        let pair = time_frames(gpu, plan, 1, |rec, timer| {
-            timer.scope(rec, "stereo", |rec| {
-                t.raymarch.record(rec, &prepared, &targets[0], &params[0]);
-                t.raymarch.record(rec, &prepared, &targets[1], &params[1]);
-            });
-        })?;
-        for target in targets {
-            target.destroy(gpu);
-        }
-        emit("raymarch", "compute", mono, pair)?;
-
-        if let Some(direct) = &t.direct {
-            let targets = [RasterTarget::new(gpu, w, h)?, RasterTarget::new(gpu, w, h)?];
-            let states = [
-                CullState::new(gpu, &prepared)?,
-                CullState::new(gpu, &prepared)?,
-            ];
-            let capture = Direct::no_capture(gpu)?;
-            let params = eyes.map(|c| Direct::params(&prepared, iso, &c, w, h, 0));
-            let mono_params = Direct::params(&prepared, iso, &camera, w, h, 0);
-            let mut recorded = Ok(());
-            let mono = time_frames(gpu, plan, 1, |rec, timer| {
-                let r = timer.scope(rec, "mono", |rec| {
-                    direct.record(
-                        rec,
-                        &prepared,
-                        &targets[0],
-                        &mono_params,
-                        &capture,
-                        Some(&states[0]),
-                    )
-                });
-                recorded = recorded.clone().and(r.map_err(|e| e.to_string()));
-            });
-            let pair = time_frames(gpu, plan, 1, |rec, timer| {
-                let r = timer.scope(rec, "stereo", |rec| {
-                    (0..2).try_for_each(|e| {
-                        direct.record(
-                            rec,
-                            &prepared,
-                            &targets[e],
-                            &params[e],
-                            &capture,
-                            Some(&states[e]),
-                        )
-                    })
-                });
-                recorded = recorded.clone().and(r.map_err(|e| e.to_string()));
-            });
-            for target in targets {
-                target.destroy(gpu);
-            }
-            for state in states {
-                state.destroy(gpu);
-            }
-            gpu.destroy_buffer(capture);
-            recorded.map_err(anyhow::Error::msg)?;
-            emit("direct+roc", "mesh", mono?, pair?)?;
-            if gpu.caps().mesh_multiview {
-                multiview(
-                    gpu,
-                    &compiler,
-                    direct,
-                    &prepared,
-                    iso,
-                    (w, h),
-                    &eyes,
-                    plan,
-                    &mut emit,
-                )?;
-            } else {
-                println!(
-                    "note: {} has no multiview mesh shaders",
-                    gpu.caps().device_name
-                );
-            }
-        }
-
-        if let Some(compute) = &t.direct_compute {
-            let probe = ComputeTarget::new(gpu, 1, 1, 1)?;
-            gpu.submit("count triangles", |rec| {
-                compute.record(
-                    rec,
-                    &prepared,
-                    &probe,
-                    &Direct::params(&prepared, iso, &camera, 1, 1, 1),
-                )
-            })?;
-            probe.destroy(gpu);
-            let capacity = compute.read_stats(gpu)?.triangles + 1024;
-            let targets = [
-                ComputeTarget::new(gpu, w, h, capacity)?,
-                ComputeTarget::new(gpu, w, h, capacity)?,
-            ];
-            let frame = tessera_data::GridFrame::new(volume.dims(), volume.spacing());
-            let right = tessera_data::Projection::new(&eyes[1], &frame, w, h).world_to_clip;
-            let params = eyes.map(|c| Direct::params(&prepared, iso, &c, w, h, capacity));
-            let mono_params = Direct::params(&prepared, iso, &camera, w, h, capacity);
-            let mono = time_frames(gpu, plan, 1, |rec, timer| {
-                timer.scope(rec, "mono", |rec| {
-                    compute.record(rec, &prepared, &targets[0], &mono_params)
-                });
-            })?;
-            let pair = time_frames(gpu, plan, 1, |rec, timer| {
-                timer.scope(rec, "stereo", |rec| {
-                    compute.record(rec, &prepared, &targets[0], &params[0]);
-                    rec.barrier();
-                    compute.record_second_view(rec, &targets[0], &targets[1], &params[1], right);
-                });
-            })?;
-            for target in targets {
-                target.destroy(gpu);
-            }
-            emit("direct", "compute", mono, pair)?;
-        }
-        prepared.destroy(gpu);
-        t.destroy(gpu);
-    }
-    Ok(())
-}
-
-type Emit<'a> = dyn FnMut(
-        &str,
-        &str,
-        Vec<tessera::bench::StageStats>,
-        Vec<tessera::bench::StageStats>,
-    ) -> Result<()>
-    + 'a;
-
-/// Both eyes in one multiview pass against one eye, without culling; also checks that each
-/// layer equals a separate render of that eye.
-#[allow(clippy::too_many_arguments)]
-fn multiview(
-    gpu: &Gpu,
-    compiler: &ShaderCompiler,
-    direct: &Direct,
-    prepared: &PreparedVolume,
-    iso: f32,
-    (w, h): (u32, u32),
-    eyes: &[OrbitCamera; 2],
-    plan: FramePlan,
-    emit: &mut Emit,
-) -> Result<()> {
-    use tessera::iso::direct::stereo::DirectMultiview;
-    use tessera::iso::direct::FrameOptions;
-    let mv = DirectMultiview::new(gpu, compiler, prepared.volume.scalar)?;
-    let params = eyes.map(|c| Direct::params(prepared, iso, &c, w, h, 0));
-    let views = DirectMultiview::views_buffer(gpu, &params)?;
-    let pair_target = RasterTarget::with_views(gpu, w, h, 2)?;
-    let mono_target = RasterTarget::new(gpu, w, h)?;
-    let capture = Direct::no_capture(gpu)?;
-    let mut recorded = Ok(());
-    let mono = time_frames(gpu, plan, 1, |rec, timer| {
-        let r = timer.scope(rec, "mono", |rec| {
-            direct.record(rec, prepared, &mono_target, &params[0], &capture, None)
-        });
-        recorded = recorded.clone().and(r.map_err(|e| e.to_string()));
-    });
-    let pair = time_frames(gpu, plan, 1, |rec, timer| {
-        let r = timer.scope(rec, "stereo", |rec| {
-            mv.record(
-                rec,
-                direct,
-                prepared,
-                &pair_target,
-                &params[0],
-                &views,
-                &capture,
-            )
-        });
-        recorded = recorded.clone().and(r.map_err(|e| e.to_string()));
-    });
-    let layers = pair_target.read_views(gpu);
-    let mut matches = 1.0f64;
-    if let Ok(layers) = &layers {
-        for (e, layer) in layers.iter().enumerate() {
-            let single = direct.render(
-                gpu,
-                prepared,
-                &mono_target,
-                iso,
-                &eyes[e],
-                &FrameOptions::default(),
-            )?;
-            matches = matches.min(layer.compare(&single.image, 2).fraction_within);
-        }
-    }
-    pair_target.destroy(gpu);
-    mono_target.destroy(gpu);
-    gpu.destroy_buffer(views);
-    gpu.destroy_buffer(capture);
-    mv.destroy(gpu);
-    recorded.map_err(anyhow::Error::msg)?;
-    layers?;
-    println!(
-        "{:<20} multiview layers match single-eye renders: {:.4} of pixels",
-        "", matches
-    );
-    emit("direct-multiview", "mesh", mono?, pair?)
 }

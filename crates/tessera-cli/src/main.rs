@@ -3,6 +3,7 @@
 mod bench;
 mod bench_hzb;
 mod bench_iso;
+mod bench_stereo;
 mod bench_tet;
 mod data;
 mod demo;
