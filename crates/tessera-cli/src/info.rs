@@ -90,5 +90,26 @@ pub fn run(options: &GpuOptions, args: &InfoArgs) -> Result<()> {
     );
     println!("techniques:");
     println!("  raymarch                 compute (min-max octree + ray marching)");
+    let measured = tessera::path::remembered(caps);
+    let direct =
+        match tessera::path::choose(caps, tessera::path::PathChoice::Auto, measured.as_ref()) {
+            Ok(path) => format!(
+                "{} path by default ({})",
+                path.name(),
+                if measured.is_some() {
+                    "from this device's pipeline-throughput measurement"
+                } else {
+                    "from capabilities; run `tessera bench pipeline-throughput` to measure"
+                }
+            ),
+            Err(e) => format!("unavailable: {e}"),
+        };
+    println!("  direct                   {direct}");
+    let interval = if caps.mesh_shader {
+        "mesh shaders (graphics path)"
+    } else {
+        "unavailable: needs mesh shaders"
+    };
+    println!("  interval                 {interval}");
     crate::check_validation(&gpu)
 }
