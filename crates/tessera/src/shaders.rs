@@ -31,6 +31,14 @@ const COMMON: &[(&str, &str)] = &[
         "tet/interval/params.glsl",
         include_str!("tet/interval/params.glsl"),
     ),
+    (
+        "tet/interval/proxy.glsl",
+        include_str!("tet/interval/proxy.glsl"),
+    ),
+    (
+        "tet/interval/length.glsl",
+        include_str!("tet/interval/length.glsl"),
+    ),
     ("iso/direct/hzb.glsl", include_str!("iso/direct/hzb.glsl")),
     (
         "iso/direct/views.glsl",
