@@ -6,7 +6,8 @@ mod common;
 
 use common::{assert_clean, gpu};
 use tessera::shaders;
-use tessera::tet::interval::{GpuTetMesh, Interval, OpticalTarget};
+use tessera::tet::interval::compute::{IntervalCompute, OpticalBuffer};
+use tessera::tet::interval::{GpuTetMesh, Interval, IntervalFrame, OpticalTarget};
 use tessera_data::tet::optical::{edge_mask, optical_depth};
 use tessera_data::tet::procedural::{box_mesh, deform, sphere_mesh};
 use tessera_data::tet::TetMesh;
@@ -36,21 +37,64 @@ fn assert_matches_reference(
         return 0;
     }
     let compiler = shaders::compiler();
-    let interval = Interval::new(&gpu, &compiler).unwrap();
     let gpu_mesh = GpuTetMesh::upload(&gpu, mesh).unwrap();
+    let reference = optical_depth(mesh, cam, w, h);
+    let edges = edge_mask(mesh, cam, w, h, 1.0);
+
+    let interval = Interval::new(&gpu, &compiler).unwrap();
     let target = OpticalTarget::new(&gpu, w, h).unwrap();
     let frame = interval.render(&gpu, &gpu_mesh, &target, cam).unwrap();
+    let covered = compare(
+        &format!("{name} (mesh)"),
+        &frame,
+        &reference,
+        &edges,
+        w,
+        clipped,
+    );
+    target.destroy(&gpu);
+    interval.destroy(&gpu);
+
+    // The compute path draws the same proxies with its own rasterizer.
+    if gpu.caps().buffer_float32_atomic_add {
+        let compute = IntervalCompute::new(&gpu, &compiler).unwrap();
+        let target = OpticalBuffer::new(&gpu, w, h).unwrap();
+        let frame = compute.render(&gpu, &gpu_mesh, &target, cam).unwrap();
+        compare(
+            &format!("{name} (compute)"),
+            &frame,
+            &reference,
+            &edges,
+            w,
+            clipped,
+        );
+        target.destroy(&gpu);
+        compute.destroy(&gpu);
+    }
+    gpu_mesh.destroy(&gpu);
+    assert_clean(&gpu);
+    covered
+}
+
+/// Every pixel away from projected edges within 1e-3 relative (1e-5 absolute) of the reference;
+/// returns how many of them the mesh covers.
+fn compare(
+    name: &str,
+    frame: &IntervalFrame,
+    reference: &[[f32; 3]],
+    edges: &[bool],
+    w: u32,
+    clipped: bool,
+) -> usize {
     assert_eq!(
         frame.clipped_near > 0,
         clipped,
         "{name}: {} tets clipped at the near plane",
         frame.clipped_near
     );
-    let reference = optical_depth(mesh, cam, w, h);
-    let edges = edge_mask(mesh, cam, w, h, 1.0);
     let mut compared = 0;
     let mut covered = 0;
-    for (i, (g, r)) in frame.optical_depth.iter().zip(&reference).enumerate() {
+    for (i, (g, r)) in frame.optical_depth.iter().zip(reference).enumerate() {
         if edges[i] {
             continue;
         }
@@ -69,13 +113,9 @@ fn assert_matches_reference(
         }
     }
     assert!(
-        compared > (w * h / 4) as usize,
+        compared > reference.len() / 4,
         "{name}: only {compared} pixels away from edges"
     );
-    target.destroy(&gpu);
-    gpu_mesh.destroy(&gpu);
-    interval.destroy(&gpu);
-    assert_clean(&gpu);
     covered
 }
 

@@ -8,6 +8,8 @@
 //! Tets crossing the near plane are clipped into 1 or 3 tets, so the camera may be inside the
 //! mesh. Not yet: the per-vertex scalar integration, the SDF scene and the compute path.
 
+pub mod compute;
+
 use crate::builtin_shader;
 use crate::error::{Error, Result};
 use crate::target::PixelTarget;
