@@ -3,6 +3,7 @@
 use crate::bench::{BenchArgs, Sink};
 use anyhow::Result;
 use tessera::bench::{time_frames, BenchRecord, FramePlan};
+use tessera::tet::interval::compute::{IntervalCompute, OpticalBuffer};
 use tessera::tet::interval::{GpuTetMesh, Interval, OpticalTarget};
 use tessera_data::tet::procedural::box_mesh;
 use tessera_data::OrbitCamera;
@@ -20,6 +21,11 @@ pub fn interval(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -
         return Ok(());
     }
     let interval = Interval::new(gpu, &compiler)?;
+    let compute = if gpu.caps().buffer_float32_atomic_add {
+        Some(IntervalCompute::new(gpu, &compiler)?)
+    } else {
+        None
+    };
     let (w, h) = if args.quick { (256, 144) } else { (3840, 2160) };
     // n³ cells of 6 tets each.
     let cells: &[u32] = if args.quick { &[6, 10] } else { &[22, 54, 74] };
@@ -28,6 +34,7 @@ pub fn interval(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -
         let mesh = box_mesh(n);
         let gpu_mesh = GpuTetMesh::upload(gpu, &mesh)?;
         let target = OpticalTarget::new(gpu, w, h)?;
+        let buffer = OpticalBuffer::new(gpu, w, h)?;
         for (view, distance) in views {
             let camera = OrbitCamera {
                 distance,
@@ -52,10 +59,29 @@ pub fn interval(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -
                     .insert("mtets_per_s".into(), mesh.tets.len() as f64 / ms / 1e3);
             }
             sink.emit(&r)?;
+            if let Some(compute) = &compute {
+                let mut recorded = Ok(());
+                let stages = time_frames(gpu, plan, 1, |rec, timer| {
+                    let r = timer.scope(rec, "interval", |rec| {
+                        compute.record(rec, &gpu_mesh, &buffer, &params)
+                    });
+                    recorded = recorded.clone().and(r.map_err(|e| e.to_string()));
+                });
+                recorded.map_err(anyhow::Error::msg)?;
+                let mut r = BenchRecord::new(gpu, "interval", "interval", "compute", &dataset);
+                (r.width, r.height, r.warmup, r.frames, r.stages) =
+                    (w, h, plan.warmup, plan.frames, stages?);
+                r.counts.insert("tets".into(), mesh.tets.len() as f64);
+                sink.emit(&r)?;
+            }
         }
+        buffer.destroy(gpu);
         target.destroy(gpu);
         gpu_mesh.destroy(gpu);
     }
     interval.destroy(gpu);
+    if let Some(c) = compute {
+        c.destroy(gpu);
+    }
     Ok(())
 }
