@@ -132,6 +132,34 @@ pub fn time_frames(
         .collect())
 }
 
+/// Submits one frame that `record` records, timed as a whole; returns its GPU milliseconds.
+/// For single renders (tests, `tessera render`); benchmarks use [`time_frames`].
+pub fn time_once(
+    gpu: &Gpu,
+    pass: &str,
+    record: impl FnOnce(&Recorder) -> Result<()>,
+) -> Result<f64> {
+    let mut timer = Timer::new(gpu, 1)?;
+    timer.reset(gpu);
+    let mut recorded = Ok(());
+    let submitted = gpu.submit(pass, |rec| {
+        recorded = timer.scope(rec, pass, record);
+    });
+    let ms = submitted
+        .map_err(crate::Error::from)
+        .and(recorded)
+        .and_then(|_| Ok(timer.read_ms(gpu)?.first().map(|s| s.1).unwrap_or(0.0)));
+    timer.destroy(gpu);
+    ms
+}
+
+/// The `u32` words of a small GPU buffer (counters, statistics).
+pub fn read_words(gpu: &Gpu, buffer: &tessera_gpu::Buffer) -> Result<Vec<u32>> {
+    Ok(bytemuck::allocation::pod_collect_to_vec(
+        &gpu.read_buffer(buffer)?,
+    ))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

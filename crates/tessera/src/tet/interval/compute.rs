@@ -7,7 +7,7 @@ use crate::builtin_shader;
 use crate::error::{Error, Result};
 use tessera_data::OrbitCamera;
 use tessera_gpu::{
-    vk, Binding, Buffer, Gpu, MemoryLocation, Pipeline, Recorder, ShaderCompiler, Slot, Timer,
+    vk, Binding, Buffer, Gpu, MemoryLocation, Pipeline, Recorder, ShaderCompiler, Slot,
 };
 
 /// Tets per workgroup of `interval_raster.comp.glsl`.
@@ -121,26 +121,13 @@ impl IntervalCompute {
         camera: &OrbitCamera,
     ) -> Result<IntervalFrame> {
         let params = Interval::params(mesh, camera, target.width, target.height);
-        let mut timer = Timer::new(gpu, 1)?;
-        timer.reset(gpu);
-        let mut recorded = Ok(());
-        let submitted = gpu.submit("interval shading (compute)", |rec| {
-            recorded = timer.scope(rec, "interval", |rec| {
-                self.record(rec, mesh, target, &params)
-            });
-        });
-        let ms = submitted
-            .map_err(Error::from)
-            .and(recorded)
-            .and_then(|_| Ok(timer.read_ms(gpu)?.first().map(|s| s.1).unwrap_or(0.0)));
-        timer.destroy(gpu);
-        let gpu_ms = ms?;
-        let stats: Vec<u32> =
-            bytemuck::allocation::pod_collect_to_vec(&gpu.read_buffer(&self.stats)?);
+        let gpu_ms = crate::bench::time_once(gpu, "interval shading (compute)", |rec| {
+            self.record(rec, mesh, target, &params)
+        })?;
         Ok(IntervalFrame {
             optical_depth: target.read(gpu)?,
             gpu_ms,
-            clipped_near: stats[0],
+            clipped_near: crate::bench::read_words(gpu, &self.stats)?[0],
         })
     }
 

@@ -242,26 +242,13 @@ impl Interval {
         camera: &OrbitCamera,
     ) -> Result<IntervalFrame> {
         let params = Self::params(mesh, camera, target.width, target.height);
-        let mut timer = Timer::new(gpu, 1)?;
-        timer.reset(gpu);
-        let mut drawn = Ok(());
-        let submitted = gpu.submit("interval shading", |rec| {
-            drawn = timer.scope(rec, "interval", |rec| {
-                self.record(rec, mesh, target, &params)
-            });
-        });
-        let ms = submitted
-            .map_err(Error::from)
-            .and(drawn)
-            .and_then(|_| Ok(timer.read_ms(gpu)?.first().map(|s| s.1).unwrap_or(0.0)));
-        timer.destroy(gpu);
-        let gpu_ms = ms?;
-        let stats: Vec<u32> =
-            bytemuck::allocation::pod_collect_to_vec(&gpu.read_buffer(&self.stats)?);
+        let gpu_ms = crate::bench::time_once(gpu, "interval shading", |rec| {
+            self.record(rec, mesh, target, &params)
+        })?;
         Ok(IntervalFrame {
             optical_depth: target.read(gpu)?,
             gpu_ms,
-            clipped_near: stats[0],
+            clipped_near: crate::bench::read_words(gpu, &self.stats)?[0],
         })
     }
 
