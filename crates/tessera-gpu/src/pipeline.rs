@@ -10,6 +10,19 @@ use std::ffi::CStr;
 /// Bytes of push constants every pipeline accepts: the guaranteed minimum on all devices.
 pub const PUSH_CONSTANT_BYTES: u32 = 128;
 
+/// Workgroups per axis every device accepts (the minimum Vulkan guarantees for compute, task
+/// and mesh dispatches).
+pub const MIN_GROUPS_PER_AXIS: u32 = 65_535;
+
+/// Spreads a 1-D count of workgroups over x and y so x stays within `max_x` (a device's
+/// `maxComputeWorkGroupCount[0]`, or [`MIN_GROUPS_PER_AXIS`] where no limit is known); shaders
+/// recover the linear index as `gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x` and
+/// skip indices past their count.
+pub fn spread_groups(groups: u32, max_x: u32) -> [u32; 3] {
+    let x = groups.clamp(1, max_x.max(1));
+    [x, groups.max(1).div_ceil(x), 1]
+}
+
 /// What each binding slot holds.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Slot {
@@ -320,5 +333,24 @@ fn stage_flag(stage: crate::shader::Stage) -> vk::ShaderStageFlags {
         Miss => vk::ShaderStageFlags::MISS_KHR,
         AnyHit => vk::ShaderStageFlags::ANY_HIT_KHR,
         Intersection => vk::ShaderStageFlags::INTERSECTION_KHR,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn spread_groups_covers_the_count_within_the_axis_limit() {
+        let m = MIN_GROUPS_PER_AXIS;
+        assert_eq!(spread_groups(0, m), [1, 1, 1]);
+        assert_eq!(spread_groups(65_535, m), [65_535, 1, 1]);
+        assert_eq!(spread_groups(65_536, m), [65_535, 2, 1]);
+        assert_eq!(spread_groups(10, 4), [4, 3, 1]);
+        for n in [1u32, 1000, 200_000, 4_000_000] {
+            let [x, y, _] = spread_groups(n, m);
+            assert!(x <= MIN_GROUPS_PER_AXIS && y <= MIN_GROUPS_PER_AXIS);
+            assert!(x as u64 * y as u64 >= n as u64 && (x as u64) * (y as u64 - 1) < n as u64);
+        }
     }
 }

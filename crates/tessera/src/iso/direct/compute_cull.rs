@@ -68,9 +68,7 @@ pub fn hzb_levels(width: u32, height: u32) -> Vec<[u32; 2]> {
 
 /// Workgroups for `threads` invocations of a 1-D pass as a 2-D grid within the x limit.
 pub(super) fn groups_2d(threads: u32, local: u32, max_x: u32) -> [u32; 3] {
-    let groups = threads.div_ceil(local.max(1)).max(1);
-    let x = groups.min(max_x);
-    [x, groups.div_ceil(x), 1]
+    tessera_gpu::spread_groups(threads.div_ceil(local.max(1)), max_x)
 }
 
 /// The culling pipelines, built with [`crate::iso::direct::compute::DirectCompute`].

@@ -27,6 +27,7 @@ pub fn region_dims(volume_dims: [u32; 3]) -> [u32; 3] {
 
 /// The culling pipelines, shared by every volume.
 pub struct CullPipelines {
+    max_groups_x: u32,
     setup: Pipeline,
     occupied: Pipeline,
     quads: Pipeline,
@@ -50,6 +51,7 @@ impl CullPipelines {
             ..RenderTargets::color_depth(COLOR_FORMAT, DEPTH_FORMAT)
         };
         Ok(CullPipelines {
+            max_groups_x: gpu.caps().max_compute_workgroup_count[0],
             setup: gpu.compute_pipeline("cull setup", &setup, &[sb, sb, sb])?,
             occupied: gpu.compute_pipeline("cull occupied regions", &occupied, &[sb, sb, sb])?,
             quads: gpu.graphics_pipeline_for(
@@ -206,7 +208,7 @@ impl CullPipelines {
         );
         rec.barrier();
         let r = region_dims(prepared.volume.dims);
-        rec.dispatch(
+        rec.dispatch_groups(
             &self.occupied,
             &[
                 Binding::Buffer(&prepared.octree.nodes),
@@ -214,7 +216,7 @@ impl CullPipelines {
                 Binding::Buffer(&state.visible),
             ],
             push,
-            [r[0] * r[1] * r[2], 1, 1],
+            tessera_gpu::spread_groups((r[0] * r[1] * r[2]).div_ceil(64), self.max_groups_x),
         );
         rec.barrier();
         rec.dispatch_groups(
@@ -242,7 +244,7 @@ impl CullPipelines {
         )?;
         rec.end_rendering();
         rec.barrier();
-        rec.dispatch(
+        rec.dispatch_groups(
             &self.compact,
             &[
                 Binding::Buffer(&state.visible),
@@ -251,7 +253,7 @@ impl CullPipelines {
                 Binding::Buffer(next),
             ],
             push,
-            [r[0] * r[1] * r[2], 1, 1],
+            tessera_gpu::spread_groups((r[0] * r[1] * r[2]).div_ceil(64), self.max_groups_x),
         );
         rec.barrier();
         rec.begin_rendering_ops(color, Some(depth), None);

@@ -12,7 +12,8 @@ layout(binding = 2) buffer NewBlocks { uint new_args[3]; uint new_pad; uint new_
 layout(binding = 3) buffer NextBlocks { uint next_args[3]; uint next_pad; uint next_blocks[]; };
 
 void main() {
-    uint region = gl_GlobalInvocationID.x;
+    // Workgroups spread over x and y (tessera_gpu::spread_groups).
+    uint region = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * 64u + gl_LocalInvocationIndex;
     uvec3 dims = params.dims.xyz;
     if (region >= cull_region_count(dims)) {
         return;

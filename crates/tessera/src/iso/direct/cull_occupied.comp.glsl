@@ -18,7 +18,8 @@ bool block_holds(uint block, float iso) {
 }
 
 void main() {
-    uint region = gl_GlobalInvocationID.x;
+    // Workgroups spread over x and y (tessera_gpu::spread_groups).
+    uint region = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * 64u + gl_LocalInvocationIndex;
     uvec3 dims = params.dims.xyz;
     if (region >= cull_region_count(dims)) {
         return;

@@ -17,7 +17,7 @@ shared uint quad_slots[33];
 
 void main() {
     uint me = gl_LocalInvocationIndex;
-    uint i = gl_WorkGroupID.x * 32u + me;
+    uint i = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * 32u + me;
     uvec3 dims = params.dims.xyz;
     bool has_quad = false;
     uint region = 0u;

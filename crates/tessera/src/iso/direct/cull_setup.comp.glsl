@@ -17,6 +17,9 @@ void main() {
         new_args = uint[3](0u, 1u, 1u);
         next_args = uint[3](0u, 1u, 1u);
     } else {
-        quad_groups[0] = (occupied_count + QUADS_PER_WORKGROUP - 1u) / QUADS_PER_WORKGROUP;
+        // Spread over x and y so no axis passes the 65,535 every device accepts.
+        uint groups = max((occupied_count + QUADS_PER_WORKGROUP - 1u) / QUADS_PER_WORKGROUP, 1u);
+        quad_groups[0] = min(groups, 65535u);
+        quad_groups[1] = (groups + quad_groups[0] - 1u) / quad_groups[0];
     }
 }

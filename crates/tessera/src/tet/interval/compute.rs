@@ -52,6 +52,7 @@ impl OpticalBuffer {
 pub struct IntervalCompute {
     pipeline: Pipeline,
     stats: Buffer,
+    max_groups_x: u32,
 }
 
 impl IntervalCompute {
@@ -76,7 +77,11 @@ impl IntervalCompute {
                 | vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::GpuOnly,
         )?;
-        Ok(IntervalCompute { pipeline, stats })
+        Ok(IntervalCompute {
+            pipeline,
+            stats,
+            max_groups_x: gpu.caps().max_compute_workgroup_count[0],
+        })
     }
 
     pub fn record(
@@ -86,14 +91,10 @@ impl IntervalCompute {
         target: &OpticalBuffer,
         params: &super::IntervalParams,
     ) -> Result<()> {
-        let groups = mesh.tet_count.div_ceil(TETS_PER_WORKGROUP).max(1);
-        if groups > 65_535 {
-            return Err(Error::Invalid(format!(
-                "{} tets exceed the compute path's {} per frame",
-                mesh.tet_count,
-                65_535 * TETS_PER_WORKGROUP
-            )));
-        }
+        let groups = tessera_gpu::spread_groups(
+            mesh.tet_count.div_ceil(TETS_PER_WORKGROUP),
+            self.max_groups_x,
+        );
         rec.fill_buffer(&self.stats, 0);
         rec.fill_buffer(&target.depth, 0);
         rec.barrier();
@@ -107,7 +108,7 @@ impl IntervalCompute {
                 Binding::Buffer(&target.depth),
             ],
             bytemuck::bytes_of(params),
-            [groups, 1, 1],
+            groups,
         );
         rec.barrier();
         Ok(())

@@ -28,7 +28,8 @@ shared uint primitive_offsets[GROUP + 1u];
 
 void main() {
     uint me = gl_LocalInvocationIndex;
-    uint tet = gl_WorkGroupID.x * GROUP + me;
+    // Workgroups spread over x and y past 65,535 (tessera_gpu::spread_groups).
+    uint tet = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * GROUP + me;
     Proxy proxies[3];
     uint proxy_count = 0u;
     if (tet < params.counts.x) {

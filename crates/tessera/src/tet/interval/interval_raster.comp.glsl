@@ -64,7 +64,8 @@ void splat(vec2 ndc0, vec2 ndc1, vec2 ndc2, vec2 d0, vec2 d1, vec2 d2, vec3 colo
 }
 
 void main() {
-    uint tet = gl_GlobalInvocationID.x;
+    // Workgroups spread over x and y past 65,535 (tessera_gpu::spread_groups).
+    uint tet = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * 64u + gl_LocalInvocationIndex;
     if (tet >= params.counts.x) {
         return;
     }

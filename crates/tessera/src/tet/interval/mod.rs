@@ -227,7 +227,11 @@ impl Interval {
                 Binding::Buffer(&self.stats),
             ],
             bytemuck::bytes_of(params),
-            [mesh.tet_count.div_ceil(TETS_PER_WORKGROUP).max(1), 1, 1],
+            // Mesh dispatch limits are not in the capabilities; stay within the guaranteed minimum.
+            tessera_gpu::spread_groups(
+                mesh.tet_count.div_ceil(TETS_PER_WORKGROUP),
+                tessera_gpu::pipeline::MIN_GROUPS_PER_AXIS,
+            ),
         );
         rec.end_rendering();
         rec.barrier();
