@@ -38,7 +38,7 @@ pub struct RenderArgs {
     culling: String,
     /// Render a stereo pair with this eye separation (world units; the volume's longest side
     /// is 1), left and right eye side by side in one PNG.
-    #[arg(long)]
+    #[arg(long, value_parser = parse_separation)]
     stereo: Option<f32>,
     /// Output PNG.
     #[arg(short, long, default_value = "out.png")]
@@ -112,4 +112,11 @@ fn side_by_side(left: &RgbaImage, right: &RgbaImage) -> RgbaImage {
         dst[w..].copy_from_slice(&right.pixels[y * w..(y + 1) * w]);
     }
     out
+}
+
+fn parse_separation(text: &str) -> std::result::Result<f32, String> {
+    match text.parse::<f32>() {
+        Ok(v) if v.is_finite() && v > 0.0 => Ok(v),
+        _ => Err(format!("eye separation '{text}' must be a positive number")),
+    }
 }
