@@ -281,13 +281,11 @@ pub fn time_varying(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sin
         let t = techniques(gpu, &compiler, &steps[0])?;
         let builder = tessera::iso::minmax::MinMaxBuilder::new(gpu, &compiler, scalar)?;
         let prepared = PreparedVolume::new(gpu, &builder, &steps[0])?;
-        let dataset = format!("{size}^3 {} x{} steps", scalar.name(), steps.len());
-        for (w, h) in bench_sizes(args) {
-            let mut frame = 0usize;
-            let target = PixelTarget::new(gpu, w, h)?;
-            let stages = time_frames(gpu, plan, 3, |rec, timer| {
-                let k = frame % steps.len();
-                frame += 1;
+        // Each frame copies the next time step in and rebuilds the octree; returns its index.
+        let next_step =
+            |rec: &tessera_gpu::Recorder, timer: &mut tessera_gpu::Timer, frame: &mut usize| {
+                let k = *frame % steps.len();
+                *frame += 1;
                 timer.scope(rec, "upload", |rec| {
                     rec.copy_buffer_to_image(&staged[k], &prepared.volume.texture)
                 });
@@ -296,6 +294,14 @@ pub fn time_varying(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sin
                     builder.record(rec, &prepared.volume, &prepared.octree)
                 });
                 rec.barrier();
+                k
+            };
+        let dataset = format!("{size}^3 {} x{} steps", scalar.name(), steps.len());
+        for (w, h) in bench_sizes(args) {
+            let mut frame = 0usize;
+            let target = PixelTarget::new(gpu, w, h)?;
+            let stages = time_frames(gpu, plan, 3, |rec, timer| {
+                let k = next_step(rec, timer, &mut frame);
                 let params = Raymarch::params(&prepared, isos[k], &camera, w, h);
                 timer.scope(rec, "raymarch", |rec| {
                     t.raymarch.record(rec, &prepared, &target, &params)
@@ -313,16 +319,7 @@ pub fn time_varying(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sin
                 let capture = Direct::no_capture(gpu)?;
                 let mut recorded = Ok(());
                 let stages = time_frames(gpu, plan, 3, |rec, timer| {
-                    let k = frame % steps.len();
-                    frame += 1;
-                    timer.scope(rec, "upload", |rec| {
-                        rec.copy_buffer_to_image(&staged[k], &prepared.volume.texture)
-                    });
-                    rec.barrier();
-                    timer.scope(rec, "octree-build", |rec| {
-                        builder.record(rec, &prepared.volume, &prepared.octree)
-                    });
-                    rec.barrier();
+                    let k = next_step(rec, timer, &mut frame);
                     let params = Direct::params(&prepared, isos[k], &camera, w, h, 0);
                     let result = timer.scope(rec, "direct", |rec| {
                         direct.record(rec, &prepared, &target, &params, &capture, None)
@@ -358,16 +355,7 @@ pub fn time_varying(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sin
                 let capacity = most + most / 8 + 1024;
                 let target = ComputeTarget::new(gpu, w, h, capacity)?;
                 let stages = time_frames(gpu, plan, 3, |rec, timer| {
-                    let k = frame % steps.len();
-                    frame += 1;
-                    timer.scope(rec, "upload", |rec| {
-                        rec.copy_buffer_to_image(&staged[k], &prepared.volume.texture)
-                    });
-                    rec.barrier();
-                    timer.scope(rec, "octree-build", |rec| {
-                        builder.record(rec, &prepared.volume, &prepared.octree)
-                    });
-                    rec.barrier();
+                    let k = next_step(rec, timer, &mut frame);
                     let params = Direct::params(&prepared, isos[k], &camera, w, h, capacity);
                     timer.scope(rec, "direct", |rec| {
                         compute.record(rec, &prepared, &target, &params)
