@@ -2,6 +2,8 @@
 //! leave evidence behind when they fail.
 #![allow(dead_code)]
 
+pub mod raster;
+
 use glam::Vec3;
 use std::collections::HashMap;
 use std::path::PathBuf;
