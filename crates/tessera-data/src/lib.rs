@@ -18,6 +18,7 @@ pub mod raw;
 pub mod raycast;
 pub mod shading;
 pub mod tet;
+pub mod transfer;
 pub mod volume;
 
 pub use camera::{GridCamera, GridFrame, OrbitCamera, Projection};

@@ -16,6 +16,7 @@ mod cells;
 pub mod gmsh;
 pub mod optical;
 pub mod procedural;
+pub mod scalar_integral;
 pub mod tetgen;
 mod text;
 pub mod topology;

@@ -337,13 +337,6 @@ pub fn optical_depth(
     width: u32,
     height: u32,
 ) -> Vec<[f32; 3]> {
-    let mut out = vec![[0.0_f32; 3]; width as usize * height as usize];
-    if width == 0 || height == 0 {
-        return out;
-    }
-    let view = WorldView::new(camera, width, height);
-    let corners = world_corners(mesh);
-    let bins = Bins::build(&corners, &view, width, height);
     let absorption = |t: usize| {
         let colour = mesh
             .absorption
@@ -351,6 +344,41 @@ pub fn optical_depth(
             .map_or(DEFAULT_ABSORPTION, |a| a[t]);
         Vec3::from(colour).as_dvec3()
     };
+    accumulate(mesh, camera, width, height, |t, ray, sum| {
+        *sum += (ray.exit - ray.enter) * absorption(t);
+    })
+}
+
+/// The stretch of one pixel's ray inside one tet: unit direction `dir` from `eye`, entered at
+/// distance `enter` (at the near plane or beyond) and left at `exit > enter`.
+#[derive(Debug, Clone, Copy)]
+pub struct RayStretch {
+    pub eye: DVec3,
+    pub dir: DVec3,
+    pub enter: f64,
+    pub exit: f64,
+}
+
+/// Per pixel (row-major, rows top to bottom), `add(tet, stretch, accumulator)` for every tet
+/// the pixel's ray crosses beyond the near plane, starting from zero; the mesh is placed by
+/// [`MeshFrame::of`]. Panics on vertex indices out of range (run [`TetMesh::validate`] first).
+pub fn accumulate<F>(
+    mesh: &TetMesh,
+    camera: &OrbitCamera,
+    width: u32,
+    height: u32,
+    add: F,
+) -> Vec<[f32; 3]>
+where
+    F: Fn(usize, RayStretch, &mut DVec3) + Sync,
+{
+    let mut out = vec![[0.0_f32; 3]; width as usize * height as usize];
+    if width == 0 || height == 0 {
+        return out;
+    }
+    let view = WorldView::new(camera, width, height);
+    let corners = world_corners(mesh);
+    let bins = Bins::build(&corners, &view, width, height);
     out.par_chunks_mut(width as usize)
         .enumerate()
         .for_each(|(y, row)| {
@@ -361,9 +389,15 @@ pub fn optical_depth(
                 let mut sum = DVec3::ZERO;
                 for t in bins.at(x, y) {
                     if let Some((enter, exit)) = interval(view.eye, dir, &corners[t]) {
-                        let length = exit - enter.max(t_near);
-                        if length > 0.0 {
-                            sum += length * absorption(t);
+                        let enter = enter.max(t_near);
+                        if exit > enter {
+                            let stretch = RayStretch {
+                                eye: view.eye,
+                                dir,
+                                enter,
+                                exit,
+                            };
+                            add(t, stretch, &mut sum);
                         }
                     }
                 }
@@ -371,6 +405,15 @@ pub fn optical_depth(
             }
         });
     out
+}
+
+/// World-space corners of tet `t` in `f64`, placed as [`accumulate`] places them.
+pub fn world_tet(mesh: &TetMesh, frame: &MeshFrame, t: usize) -> [DVec3; 4] {
+    mesh.tets[t].map(|v| {
+        frame
+            .to_world(Vec3::from(mesh.vertices[v as usize]))
+            .as_dvec3()
+    })
 }
 
 /// Beer–Lambert: the fraction of light that passes, `exp(-optical_depth)` per channel.
