@@ -74,6 +74,9 @@ impl Sink {
                 s.max_ms
             );
         }
+        if !r.variant.is_empty() {
+            println!("{:<20} variant: {}", "", r.variant);
+        }
         if !r.counts.is_empty() {
             let counts: Vec<String> = r
                 .counts

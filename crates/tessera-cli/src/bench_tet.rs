@@ -3,85 +3,191 @@
 use crate::bench::{BenchArgs, Sink};
 use anyhow::Result;
 use tessera::bench::{time_frames, BenchRecord, FramePlan};
-use tessera::tet::interval::compute::{IntervalCompute, OpticalBuffer};
-use tessera::tet::interval::{GpuTetMesh, Interval, OpticalTarget};
+use tessera::path::Path;
+use tessera::tet::interval::{
+    path_support, GpuTetMesh, Integrand, Interval, IntervalOptions, OpticalTarget,
+};
 use tessera_data::tet::procedural::box_mesh;
+use tessera_data::tet::scalar_integral::normalized_scalars;
+use tessera_data::transfer::{IntegrandTable, ScalarMode, TransferFunction, TABLE_KNOTS};
 use tessera_data::OrbitCamera;
 use tessera_gpu::Gpu;
 
+/// One configuration of interval shading to time.
+struct Variant {
+    options: IntervalOptions,
+    label: String,
+}
+
+fn variants(gpu: &Gpu, view: &str, scalar: Option<&Integrand>) -> Vec<Variant> {
+    let support = path_support(gpu.caps());
+    let mut out = Vec::new();
+    let integrand = scalar.cloned().unwrap_or(Integrand::TetAbsorption);
+    let kind = if scalar.is_some() {
+        "scalar absorption"
+    } else {
+        "tet absorption"
+    };
+    if support.graphics {
+        // Several tets per mesh workgroup against one (paper A §3.2); the far view suffices.
+        let groups: &[u32] = if view == "far" && scalar.is_none() {
+            &[1, 4, 16]
+        } else {
+            &[16]
+        };
+        for &n in groups {
+            out.push(Variant {
+                options: IntervalOptions {
+                    integrand: integrand.clone(),
+                    tets_per_workgroup: n,
+                    ..IntervalOptions::new(Path::Graphics)
+                },
+                label: format!("{kind}, {n} tets/workgroup"),
+            });
+        }
+    }
+    if support.compute {
+        // The pixel limit above which a tet goes to the tile pass; u32::MAX never tiles.
+        let limits: &[u32] = if view == "far" || scalar.is_some() {
+            &[256]
+        } else {
+            &[64, 256, 4096, u32::MAX]
+        };
+        for &limit in limits {
+            out.push(Variant {
+                options: IntervalOptions {
+                    integrand: integrand.clone(),
+                    inline_pixel_limit: limit,
+                    ..IntervalOptions::new(Path::Compute)
+                },
+                label: if limit == u32::MAX {
+                    format!("{kind}, untiled")
+                } else {
+                    format!("{kind}, tiles above {limit} px")
+                },
+            });
+        }
+    }
+    out
+}
+
 /// Interval shading of procedural tet boxes of about 61 k, 959 k and 2.4 M tets (the sizes of
-/// paper A's Table 1), far, close and inside views, at 3840×2160 (`--quick`: small meshes and image).
+/// paper A's Table 1), far, close and inside views, at 3840×2160 (`--quick`: small meshes and
+/// image), on both paths with their variants, and scalar integration through a transfer
+/// function on the middle mesh.
 pub fn interval(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -> Result<()> {
     let compiler = tessera::shaders::compiler();
-    if !gpu.caps().mesh_shader {
-        println!(
-            "note: {} has no mesh shaders; interval is skipped",
-            gpu.caps().device_name
-        );
-        return Ok(());
-    }
-    let interval = Interval::new(gpu, &compiler)?;
-    let compute = if gpu.caps().buffer_float32_atomic_add {
-        Some(IntervalCompute::new(gpu, &compiler)?)
-    } else {
-        None
-    };
     let (w, h) = if args.quick { (256, 144) } else { (3840, 2160) };
     // n³ cells of 6 tets each.
     let cells: &[u32] = if args.quick { &[6, 10] } else { &[22, 54, 74] };
     let views = [("far", 2.4f32), ("close", 1.4), ("inside", 0.3)];
-    for &n in cells {
+    let tf = TransferFunction::preset("cool-warm")?;
+    let scalar = Integrand::Scalar {
+        mode: ScalarMode::Absorption,
+        table: IntegrandTable::new(&tf, ScalarMode::Absorption, 4.0, TABLE_KNOTS),
+    };
+    for (i, &n) in cells.iter().enumerate() {
         let mesh = box_mesh(n);
-        let gpu_mesh = GpuTetMesh::upload(gpu, &mesh)?;
-        let target = OpticalTarget::new(gpu, w, h)?;
-        let buffer = OpticalBuffer::new(gpu, w, h)?;
+        let normalized = normalized_scalars(&mesh, None, "box")?;
+        let gpu_mesh = GpuTetMesh::upload_with(gpu, &mesh, Some(&normalized))?;
         for (view, distance) in views {
             let camera = OrbitCamera {
                 distance,
                 ..OrbitCamera::default()
             };
-            let params = Interval::params(&gpu_mesh, &camera, w, h);
-            let mut recorded = Ok(());
-            let stages = time_frames(gpu, plan, 1, |rec, timer| {
-                let r = timer.scope(rec, "interval", |rec| {
-                    interval.record(rec, &gpu_mesh, &target, &params)
-                });
-                recorded = recorded.clone().and(r.map_err(|e| e.to_string()));
-            });
-            recorded.map_err(anyhow::Error::msg)?;
-            let dataset = format!("box {} tets, {view}", mesh.tets.len());
-            let mut r = BenchRecord::new(gpu, "interval", "interval", "mesh", &dataset);
-            (r.width, r.height, r.warmup, r.frames, r.stages) =
-                (w, h, plan.warmup, plan.frames, stages?);
-            r.counts.insert("tets".into(), mesh.tets.len() as f64);
-            if let Some(ms) = r.median_ms("interval") {
-                r.counts
-                    .insert("mtets_per_s".into(), mesh.tets.len() as f64 / ms / 1e3);
+            let mut all = variants(gpu, view, None);
+            if i == cells.len() / 2 {
+                all.extend(variants(gpu, view, Some(&scalar)));
             }
-            sink.emit(&r)?;
-            if let Some(compute) = &compute {
-                let mut recorded = Ok(());
-                let stages = time_frames(gpu, plan, 1, |rec, timer| {
-                    let r = timer.scope(rec, "interval", |rec| {
-                        compute.record(rec, &gpu_mesh, &buffer, &params)
-                    });
-                    recorded = recorded.clone().and(r.map_err(|e| e.to_string()));
-                });
-                recorded.map_err(anyhow::Error::msg)?;
-                let mut r = BenchRecord::new(gpu, "interval", "interval", "compute", &dataset);
-                (r.width, r.height, r.warmup, r.frames, r.stages) =
-                    (w, h, plan.warmup, plan.frames, stages?);
+            for variant in all {
+                let dataset = format!("box {} tets, {view}", mesh.tets.len());
+                let r = time_variant(gpu, &compiler, &variant, &gpu_mesh, &camera, (w, h), plan)?;
+                let mut r = r.into_record(gpu, &dataset, &variant, plan, (w, h));
                 r.counts.insert("tets".into(), mesh.tets.len() as f64);
+                if let Some(ms) = r.median_ms("interval") {
+                    r.counts
+                        .insert("mtets_per_s".into(), mesh.tets.len() as f64 / ms / 1e3);
+                }
                 sink.emit(&r)?;
             }
         }
-        buffer.destroy(gpu);
-        target.destroy(gpu);
         gpu_mesh.destroy(gpu);
     }
-    interval.destroy(gpu);
-    if let Some(c) = compute {
-        c.destroy(gpu);
-    }
     Ok(())
+}
+
+struct Timed {
+    stages: Vec<tessera::bench::StageStats>,
+    tiled: u32,
+    overflowed: u32,
+}
+
+impl Timed {
+    fn into_record(
+        self,
+        gpu: &Gpu,
+        dataset: &str,
+        variant: &Variant,
+        plan: FramePlan,
+        (w, h): (u32, u32),
+    ) -> BenchRecord {
+        let path = variant.options.path.name();
+        let mut r = BenchRecord::new(gpu, "interval", "interval", path, dataset);
+        (r.width, r.height, r.warmup, r.frames, r.stages) =
+            (w, h, plan.warmup, plan.frames, self.stages);
+        r.variant = variant.label.clone();
+        r.counts.insert("tiled_tets".into(), f64::from(self.tiled));
+        r.counts
+            .insert("overflowed_tets".into(), f64::from(self.overflowed));
+        r
+    }
+}
+
+fn time_variant(
+    gpu: &Gpu,
+    compiler: &tessera_gpu::ShaderCompiler,
+    variant: &Variant,
+    mesh: &GpuTetMesh,
+    camera: &OrbitCamera,
+    (w, h): (u32, u32),
+    plan: FramePlan,
+) -> Result<Timed> {
+    let interval = Interval::new(gpu, compiler, &variant.options)?;
+    let target = match interval.target(gpu, w, h) {
+        Ok(t) => t,
+        Err(e) => {
+            interval.destroy(gpu);
+            return Err(e.into());
+        }
+    };
+    let timed = run_frames(gpu, &interval, mesh, &target, camera, plan);
+    target.destroy(gpu);
+    interval.destroy(gpu);
+    timed
+}
+
+fn run_frames(
+    gpu: &Gpu,
+    interval: &Interval,
+    mesh: &GpuTetMesh,
+    target: &OpticalTarget,
+    camera: &OrbitCamera,
+    plan: FramePlan,
+) -> Result<Timed> {
+    let params = interval.params(mesh, camera, target.width, target.height);
+    let mut recorded = Ok(());
+    let stages = time_frames(gpu, plan, 1, |rec, timer| {
+        let r = timer.scope(rec, "interval", |rec| {
+            interval.record(rec, mesh, target, &params)
+        });
+        recorded = recorded.clone().and(r.map_err(|e| e.to_string()));
+    });
+    recorded.map_err(anyhow::Error::msg)?;
+    // One more frame for the counters.
+    let frame = interval.render(gpu, mesh, target, camera)?;
+    Ok(Timed {
+        stages: stages?,
+        tiled: frame.tiled,
+        overflowed: frame.overflowed,
+    })
 }

@@ -146,43 +146,76 @@ pub fn run(options: &GpuOptions, args: &DemoArgs) -> Result<()> {
     crate::check_validation(&gpu)
 }
 
-/// A tetrahedral sphere with per-tet absorption colours, seen against a light (interval shading).
+/// A tetrahedral sphere with per-tet absorption colours seen against a light, and its radius
+/// field through a transfer function as emission (interval shading, every path the device has).
 fn interval_scene(
     gpu: &tessera_gpu::Gpu,
     compiler: &tessera_gpu::ShaderCompiler,
     args: &DemoArgs,
 ) -> Result<()> {
-    use tessera::tet::interval::{GpuTetMesh, Interval};
-    let interval = match Interval::new(gpu, compiler) {
-        Ok(i) => i,
-        Err(e) => {
-            println!("skipped interval: {e}");
-            return Ok(());
-        }
-    };
+    use tessera::path::Path;
+    use tessera::tet::interval::{path_support, GpuTetMesh, Integrand, Interval, IntervalOptions};
+    use tessera_data::transfer::{IntegrandTable, ScalarMode, TransferFunction, TABLE_KNOTS};
     let mesh = tessera_data::tet::procedural::sphere_mesh((args.volume_size / 8).max(2));
-    let started = Instant::now();
-    let gpu_mesh = GpuTetMesh::upload(gpu, &mesh)?;
+    let normalized =
+        tessera_data::tet::scalar_integral::normalized_scalars(&mesh, None, "tets:sphere")?;
+    let emission = Integrand::Scalar {
+        mode: ScalarMode::Emission,
+        table: IntegrandTable::new(
+            &TransferFunction::preset("hot")?,
+            ScalarMode::Emission,
+            3.0,
+            TABLE_KNOTS,
+        ),
+    };
     let camera = OrbitCamera {
         distance: 2.2,
         ..OrbitCamera::default()
     };
-    let size = args.image_size;
-    let (image, gpu_ms) =
-        interval.render_image(gpu, &gpu_mesh, &camera, (size, size), [1.0, 0.97, 0.9])?;
-    let wall_ms = started.elapsed().as_secs_f64() * 1e3;
-    let path = args
-        .out
-        .join(format!("interval-sphere-{}tets.png", mesh.tets.len()));
-    crate::output::write_png(&path, &image)?;
-    println!(
-        "{:<60} {:<20} {:>9.2} ms GPU, {:>8.1} ms with upload",
-        path.display(),
-        "interval (mesh)",
-        gpu_ms,
-        wall_ms
-    );
-    gpu_mesh.destroy(gpu);
-    interval.destroy(gpu);
+    let support = path_support(gpu.caps());
+    let paths = [
+        (Path::Graphics, support.graphics),
+        (Path::Compute, support.compute),
+    ];
+    for (path, supported) in paths {
+        if !supported {
+            println!(
+                "skipped interval ({} path): the device lacks its features",
+                path.name()
+            );
+            continue;
+        }
+        for (name, integrand, background) in [
+            ("absorption", Integrand::TetAbsorption, [1.0, 0.97, 0.9]),
+            ("emission", emission.clone(), [0.02, 0.02, 0.03]),
+        ] {
+            let started = Instant::now();
+            let options = IntervalOptions {
+                integrand,
+                ..IntervalOptions::new(path)
+            };
+            let interval = Interval::new(gpu, compiler, &options)?;
+            let gpu_mesh = GpuTetMesh::upload_with(gpu, &mesh, Some(&normalized))?;
+            let size = args.image_size;
+            let rendered = interval.render_image(gpu, &gpu_mesh, &camera, (size, size), background);
+            gpu_mesh.destroy(gpu);
+            interval.destroy(gpu);
+            let (image, gpu_ms) = rendered?;
+            let wall_ms = started.elapsed().as_secs_f64() * 1e3;
+            let file = args.out.join(format!(
+                "interval-sphere-{}tets-{name}-{}.png",
+                mesh.tets.len(),
+                path.name()
+            ));
+            crate::output::write_png(&file, &image)?;
+            println!(
+                "{:<60} {:<20} {:>9.2} ms GPU, {:>8.1} ms with upload",
+                file.display(),
+                format!("interval ({})", path.name()),
+                gpu_ms,
+                wall_ms
+            );
+        }
+    }
     Ok(())
 }

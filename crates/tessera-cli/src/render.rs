@@ -23,6 +23,8 @@ pub struct RenderArgs {
     iso: IsoArgs,
     #[command(flatten)]
     volume: VolumeArgs,
+    #[command(flatten)]
+    tet: crate::render_tets::TetArgs,
     /// Image size WxH.
     #[arg(long, default_value = "1280x720", value_parser = data::parse_size)]
     pub(crate) size: (u32, u32),
@@ -47,7 +49,7 @@ pub struct RenderArgs {
 
 pub fn run(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
     if crate::render_tets::is_tet_data(&args.data) {
-        return crate::render_tets::run(options, args);
+        return crate::render_tets::run(options, args, &args.tet, &args.path);
     }
     let gpu = crate::open_gpu(options)?;
     if let Some(bytes) = args.volume.expected_bytes(&args.data) {

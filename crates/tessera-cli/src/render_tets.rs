@@ -2,15 +2,59 @@
 
 use crate::render::RenderArgs;
 use anyhow::{bail, Context, Result};
+use clap::Args;
 use std::path::Path;
-use tessera::tet::interval::{GpuTetMesh, Interval};
+use tessera::path::PathChoice;
+use tessera::tet::interval::{self, GpuTetMesh, Integrand, Interval, IntervalOptions};
+use tessera_data::tet::scalar_integral::normalized_scalars;
 use tessera_data::tet::{load_tet_mesh, procedural, TetMesh};
+use tessera_data::transfer::{IntegrandTable, ScalarMode, TransferFunction, TABLE_KNOTS};
 use tessera_gpu::GpuOptions;
 
 /// Light behind the mesh, which absorbs it on the way to the eye.
 const BACKLIGHT: [f32; 3] = [1.0, 0.97, 0.9];
+/// Behind emitting meshes and maximum projections.
+const DARK: [f32; 3] = [0.02, 0.02, 0.03];
 
 const MESH_EXTENSIONS: &[&str] = &["vtu", "vtk", "node", "ele", "msh"];
+
+/// Options of interval shading.
+#[derive(Args)]
+pub struct TetArgs {
+    /// What rays accumulate through a tet mesh: tet-absorption (per-tet colours, or white),
+    /// absorption / emission / mip (the vertex scalars through --tf), or auto (absorption when
+    /// the mesh has vertex scalars and no per-tet colours).
+    #[arg(long, default_value = "auto", value_parser = ["auto", "tet-absorption", "absorption", "emission", "mip"])]
+    integrate: String,
+    /// Transfer function for scalar integration: cool-warm, grey, hot, bands, or a file of
+    /// 'at r g b a' lines.
+    #[arg(long, default_value = "cool-warm")]
+    tf: String,
+    /// Absorption or emission per unit length at full opacity (the mesh's longest side is 1).
+    #[arg(long, default_value_t = 4.0)]
+    density: f32,
+    /// Scalar range LO,HI mapped onto the transfer function (default: the mesh's own).
+    #[arg(long, value_parser = parse_range, allow_hyphen_values = true)]
+    range: Option<(f32, f32)>,
+}
+
+fn parse_range(text: &str) -> Result<(f32, f32), String> {
+    let (lo, hi) = text
+        .split_once(',')
+        .ok_or_else(|| format!("'{text}': expected LO,HI"))?;
+    let parse = |s: &str| {
+        s.trim()
+            .parse::<f32>()
+            .ok()
+            .filter(|v| v.is_finite())
+            .ok_or_else(|| format!("'{s}' is not a finite number"))
+    };
+    let (lo, hi) = (parse(lo)?, parse(hi)?);
+    if hi <= lo {
+        return Err(format!("'{text}': HI must exceed LO"));
+    }
+    Ok((lo, hi))
+}
 
 pub fn is_tet_data(spec: &str) -> bool {
     spec.starts_with("tets:")
@@ -20,7 +64,7 @@ pub fn is_tet_data(spec: &str) -> bool {
             .is_some_and(|e| MESH_EXTENSIONS.contains(&e.to_ascii_lowercase().as_str()))
 }
 
-fn load(spec: &str) -> Result<TetMesh> {
+pub fn load(spec: &str) -> Result<TetMesh> {
     if let Some(rest) = spec.strip_prefix("tets:") {
         let (kind, n) = rest
             .split_once(':')
@@ -46,7 +90,27 @@ fn load(spec: &str) -> Result<TetMesh> {
     Ok(mesh)
 }
 
-pub fn run(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
+/// The integrand the options ask for, with the normalized vertex scalars it needs.
+fn integrand(spec: &str, mesh: &TetMesh, args: &TetArgs) -> Result<(Integrand, Option<Vec<f32>>)> {
+    let mode = match args.integrate.as_str() {
+        "tet-absorption" => None,
+        "auto" if mesh.scalars.is_none() || mesh.absorption.is_some() => None,
+        "auto" => Some(ScalarMode::Absorption),
+        other => Some(ScalarMode::parse(other)?),
+    };
+    let Some(mode) = mode else {
+        return Ok((Integrand::TetAbsorption, None));
+    };
+    if !(args.density.is_finite() && args.density > 0.0) {
+        bail!("--density must be a positive number, not {}", args.density);
+    }
+    let normalized = normalized_scalars(mesh, args.range, spec)?;
+    let tf = TransferFunction::load(&args.tf)?;
+    let table = IntegrandTable::new(&tf, mode, args.density, TABLE_KNOTS);
+    Ok((Integrand::Scalar { mode, table }, Some(normalized)))
+}
+
+pub fn run(options: &GpuOptions, args: &RenderArgs, tet: &TetArgs, path: &str) -> Result<()> {
     match args.technique.as_deref() {
         None | Some("interval") => {}
         Some(t) => bail!(
@@ -55,22 +119,48 @@ pub fn run(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
         ),
     }
     let mesh = load(&args.data)?;
+    let (integrand, normalized) = integrand(&args.data, &mesh, tet)?;
     let gpu = crate::open_gpu(options)?;
+    let caps = gpu.caps();
+    let path = tessera::path::choose_for(
+        caps,
+        &interval::path_support(caps),
+        PathChoice::parse(path)?,
+        tessera::path::remembered(caps).as_ref(),
+    )?;
+    let background = match &integrand {
+        Integrand::Scalar {
+            mode: ScalarMode::Emission | ScalarMode::Maximum,
+            ..
+        } => DARK,
+        _ => BACKLIGHT,
+    };
+    let what = match &integrand {
+        Integrand::TetAbsorption => "tet absorption".to_string(),
+        Integrand::Scalar { mode, .. } => {
+            format!("{mode:?} of '{}'", mesh.scalar_name).to_lowercase()
+        }
+    };
+    let options = IntervalOptions {
+        integrand,
+        ..IntervalOptions::new(path)
+    };
     let compiler = tessera::shaders::compiler();
-    let interval = Interval::new(&gpu, &compiler)?;
-    let gpu_mesh = GpuTetMesh::upload(&gpu, &mesh)?;
-    let (image, gpu_ms) =
-        interval.render_image(&gpu, &gpu_mesh, &args.camera, args.size, BACKLIGHT)?;
+    let renderer = Interval::new(&gpu, &compiler, &options)?;
+    let gpu_mesh = GpuTetMesh::upload_with(&gpu, &mesh, normalized.as_deref())?;
+    let rendered = renderer.render_image(&gpu, &gpu_mesh, &args.camera, args.size, background);
+    gpu_mesh.destroy(&gpu);
+    renderer.destroy(&gpu);
+    let (image, gpu_ms) = rendered?;
     crate::output::write_png(&args.output, &image)?;
     println!(
-        "{}: interval, {} tets at {}x{}: {gpu_ms:.3} ms GPU -> {}",
+        "{}: interval ({} path, {what}), {} tets at {}x{}: {gpu_ms:.3} ms GPU -> {}",
         args.data,
+        path.name(),
         mesh.tets.len(),
         args.size.0,
         args.size.1,
         args.output.display()
     );
-    gpu_mesh.destroy(&gpu);
-    interval.destroy(&gpu);
     crate::check_validation(&gpu)
 }

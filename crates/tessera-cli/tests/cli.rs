@@ -156,6 +156,48 @@ fn renders_tet_meshes_with_interval_shading() {
 }
 
 #[test]
+fn integrates_tet_scalars_on_both_paths() {
+    let dir = scratch("tet-scalars");
+    let out = dir.join("emission.png");
+    for path in ["graphics", "compute"] {
+        for mode in ["absorption", "emission", "mip"] {
+            let o = tessera(&[
+                "--validation",
+                "render",
+                "tets:sphere:3",
+                "--integrate",
+                mode,
+                "--tf",
+                "hot",
+                "--path",
+                path,
+                "--size",
+                "40x32",
+                "-o",
+                out.to_str().unwrap(),
+            ]);
+            assert!(o.status.success(), "{path} {mode}: {}", stderr(&o));
+            let stdout = String::from_utf8_lossy(&o.stdout);
+            assert!(
+                stdout.contains(&format!("{path} path")) && stdout.contains(mode.trim_end_matches("mip")),
+                "{stdout}"
+            );
+        }
+    }
+    // A mesh without vertex scalars, a bad range and an unknown transfer function.
+    let file = dir.join("plain.node");
+    let mut mesh = tessera_data::tet::procedural::box_mesh(1);
+    mesh.scalars = None;
+    tessera_data::tet::write_tetgen(&mesh, &file).unwrap();
+    let o = tessera(&["render", file.to_str().unwrap(), "--integrate", "emission"]);
+    assert_fails_with(&o, &["plain.node", "scalars"]);
+    let o = tessera(&["render", "tets:box:2", "--integrate", "mip", "--range", "1,0"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let o = tessera(&["render", "tets:box:2", "--integrate", "mip", "--tf", "rainbow"]);
+    assert_fails_with(&o, &["rainbow", "cool-warm"]);
+}
+
+#[test]
 fn truncated_raw_names_file_and_problem() {
     let dir = scratch("truncated");
     let file = dir.join("cut_16x16x16_uint8.raw");
@@ -311,7 +353,8 @@ fn demo_writes_gallery() {
         e.as_ref()
             .is_ok_and(|e| e.path().extension().is_some_and(|x| x == "png"))
     });
-    assert_eq!(pngs.count(), 8);
+    // 7 volume images, and the tet sphere absorbing and emitting on both paths.
+    assert_eq!(pngs.count(), 11);
     let stdout = String::from_utf8_lossy(&o.stdout);
-    assert_eq!(stdout.matches("ms GPU").count(), 8, "{stdout}");
+    assert_eq!(stdout.matches("ms GPU").count(), 11, "{stdout}");
 }

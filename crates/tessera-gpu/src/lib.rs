@@ -18,6 +18,6 @@ pub use commands::{Binding, Recorder};
 pub use context::{list_devices, DeviceListing, Gpu, GpuOptions};
 pub use error::{GpuError, Result};
 pub use memory::{Buffer, Image, MemoryLocation};
-pub use pipeline::{spread_groups, Pipeline, RenderTargets, Slot, PUSH_CONSTANT_BYTES};
+pub use pipeline::{spread_groups, Blend, Pipeline, RenderTargets, Slot, PUSH_CONSTANT_BYTES};
 pub use shader::{ShaderCompiler, Source, Spirv, Stage};
 pub use timer::Timer;

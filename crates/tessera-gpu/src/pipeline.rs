@@ -58,13 +58,23 @@ pub struct Pipeline {
 
 const ENTRY: &CStr = c"main";
 
+/// How a fragment's output combines with what the colour attachment holds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Blend {
+    Replace,
+    /// Sum per channel (order-independent accumulation).
+    Add,
+    /// Maximum per channel.
+    Max,
+}
+
 /// The attachments a graphics pipeline renders into and how it treats them.
 #[derive(Debug, Clone, Copy)]
 pub struct RenderTargets {
     pub color_format: vk::Format,
     pub depth_format: Option<vk::Format>,
-    /// Adds fragment outputs to the attachment instead of replacing it.
-    pub blend_additive: bool,
+    /// How fragment outputs combine with the attachment.
+    pub blend: Blend,
     /// With a depth format: whether passing fragments write depth (off for visibility tests
     /// against depth drawn earlier, which then also pass equal depths).
     pub depth_write: bool,
@@ -85,7 +95,7 @@ impl RenderTargets {
         RenderTargets {
             color_format,
             depth_format: None,
-            blend_additive: false,
+            blend: Blend::Replace,
             depth_write: false,
             color_write: true,
             representative_fragments: false,
@@ -185,7 +195,11 @@ impl Gpu {
         blend_additive: bool,
     ) -> Result<Pipeline> {
         let targets = RenderTargets {
-            blend_additive,
+            blend: if blend_additive {
+                Blend::Add
+            } else {
+                Blend::Replace
+            },
             ..RenderTargets::color(color_format)
         };
         self.graphics_pipeline_for(name, shaders, slots, &targets)
@@ -200,7 +214,11 @@ impl Gpu {
         slots: &[Slot],
         targets: &RenderTargets,
     ) -> Result<Pipeline> {
-        let (color_format, blend_additive) = (targets.color_format, targets.blend_additive);
+        let color_format = targets.color_format;
+        let blend_op = match targets.blend {
+            Blend::Max => vk::BlendOp::MAX,
+            _ => vk::BlendOp::ADD,
+        };
         let (set_layout, layout) = self.layout_for(slots)?;
         let mut modules = Vec::new();
         for s in shaders {
@@ -229,13 +247,13 @@ impl Gpu {
         let multisample = vk::PipelineMultisampleStateCreateInfo::default()
             .rasterization_samples(vk::SampleCountFlags::TYPE_1);
         let attachment = [vk::PipelineColorBlendAttachmentState::default()
-            .blend_enable(blend_additive)
+            .blend_enable(targets.blend != Blend::Replace)
             .src_color_blend_factor(vk::BlendFactor::ONE)
             .dst_color_blend_factor(vk::BlendFactor::ONE)
-            .color_blend_op(vk::BlendOp::ADD)
+            .color_blend_op(blend_op)
             .src_alpha_blend_factor(vk::BlendFactor::ONE)
             .dst_alpha_blend_factor(vk::BlendFactor::ONE)
-            .alpha_blend_op(vk::BlendOp::ADD)
+            .alpha_blend_op(blend_op)
             .color_write_mask(if targets.color_write {
                 vk::ColorComponentFlags::RGBA
             } else {

@@ -54,6 +54,9 @@ pub struct BenchRecord {
     pub technique: String,
     /// Which pipeline ran it: "compute", "fragment", "mesh", …
     pub path: String,
+    /// Settings that distinguish runs of one technique and path (empty when there are none).
+    #[serde(skip_serializing_if = "String::is_empty")]
+    pub variant: String,
     pub dataset: String,
     pub width: u32,
     pub height: u32,
@@ -78,6 +81,7 @@ impl BenchRecord {
             scenario: scenario.into(),
             technique: technique.into(),
             path: path.into(),
+            variant: String::new(),
             dataset: dataset.into(),
             width: 0,
             height: 0,

@@ -88,20 +88,44 @@ pub fn choose(
     choice: PathChoice,
     measured: Option<&ThroughputRecord>,
 ) -> Result<Path> {
-    let graphics = caps.mesh_shader && caps.task_shader;
-    let compute = caps.buffer_int64_atomics;
+    let support = Support {
+        graphics: caps.mesh_shader && caps.task_shader,
+        graphics_needs: "task/mesh shaders",
+        compute: caps.buffer_int64_atomics,
+        compute_needs: "64-bit buffer atomics",
+    };
+    choose_for(caps, &support, choice, measured)
+}
+
+/// Which paths a technique can run on a device, and what each needs (for messages).
+pub struct Support {
+    pub graphics: bool,
+    pub graphics_needs: &'static str,
+    pub compute: bool,
+    pub compute_needs: &'static str,
+}
+
+/// [`choose`] for a technique whose paths need other features.
+pub fn choose_for(
+    caps: &Capabilities,
+    support: &Support,
+    choice: PathChoice,
+    measured: Option<&ThroughputRecord>,
+) -> Result<Path> {
     let unsupported = |what: &str| {
         Error::Invalid(format!(
             "the {what} path needs features {} lacks",
             caps.device_name
         ))
     };
+    let graphics_what = format!("graphics ({})", support.graphics_needs);
+    let compute_what = format!("compute ({})", support.compute_needs);
     match choice {
-        PathChoice::Graphics if graphics => Ok(Path::Graphics),
-        PathChoice::Graphics => Err(unsupported("graphics (task/mesh shaders)")),
-        PathChoice::Compute if compute => Ok(Path::Compute),
-        PathChoice::Compute => Err(unsupported("compute (64-bit buffer atomics)")),
-        PathChoice::Auto => match (graphics, compute) {
+        PathChoice::Graphics if support.graphics => Ok(Path::Graphics),
+        PathChoice::Graphics => Err(unsupported(&graphics_what)),
+        PathChoice::Compute if support.compute => Ok(Path::Compute),
+        PathChoice::Compute => Err(unsupported(&compute_what)),
+        PathChoice::Auto => match (support.graphics, support.compute) {
             (true, true) => Ok(match measured {
                 Some(m) if m.mesh_over_compute < 1.0 => Path::Graphics,
                 _ => Path::Compute,

@@ -39,6 +39,26 @@ const COMMON: &[(&str, &str)] = &[
         "tet/interval/length.glsl",
         include_str!("tet/interval/length.glsl"),
     ),
+    (
+        "tet/interval/buffers.glsl",
+        include_str!("tet/interval/buffers.glsl"),
+    ),
+    (
+        "tet/interval/compute_buffers.glsl",
+        include_str!("tet/interval/compute_buffers.glsl"),
+    ),
+    (
+        "tet/interval/table.glsl",
+        include_str!("tet/interval/table.glsl"),
+    ),
+    (
+        "tet/interval/integrand.glsl",
+        include_str!("tet/interval/integrand.glsl"),
+    ),
+    (
+        "tet/interval/splat.glsl",
+        include_str!("tet/interval/splat.glsl"),
+    ),
     ("iso/direct/hzb.glsl", include_str!("iso/direct/hzb.glsl")),
     (
         "iso/direct/views.glsl",

@@ -5,13 +5,18 @@
 mod common;
 
 use common::{assert_clean, gpu};
+use tessera::path::Path;
 use tessera::shaders;
-use tessera::tet::interval::compute::{IntervalCompute, OpticalBuffer};
-use tessera::tet::interval::{GpuTetMesh, Interval, IntervalFrame, OpticalTarget};
+use tessera::tet::interval::{
+    GpuTetMesh, Integrand, Interval, IntervalFrame, IntervalOptions, TileCapacity,
+};
 use tessera_data::tet::optical::{edge_mask, optical_depth};
 use tessera_data::tet::procedural::{box_mesh, deform, sphere_mesh};
+use tessera_data::tet::scalar_integral::{integrate_scalar, normalized_scalars};
 use tessera_data::tet::TetMesh;
+use tessera_data::transfer::{IntegrandTable, ScalarMode, TransferFunction};
 use tessera_data::OrbitCamera;
+use tessera_gpu::Gpu;
 
 fn camera(az: f32, el: f32, distance: f32) -> OrbitCamera {
     OrbitCamera {
@@ -22,57 +27,136 @@ fn camera(az: f32, el: f32, distance: f32) -> OrbitCamera {
     }
 }
 
-/// Renders `mesh` and holds every pixel away from projected edges to the CPU optical depth:
-/// relative error at most 1e-3 (absolute 1e-5 where the depth is tiny).
+/// The paths this device runs: the mesh-shader path where it has mesh shaders, the compute
+/// path where it has float atomics.
+fn paths(gpu: &Gpu) -> Vec<Path> {
+    let mut paths = Vec::new();
+    if gpu.caps().mesh_shader {
+        paths.push(Path::Graphics);
+    }
+    if gpu.caps().buffer_float32_atomic_add {
+        paths.push(Path::Compute);
+    }
+    paths
+}
+
+/// The default options of every path, plus on request the variants that exercise the
+/// compute path's tile pass (every tet tiled; tile buffers too small, so some tets fall back
+/// to single invocations) and one tet per mesh workgroup.
+fn variants(gpu: &Gpu, integrand: &Integrand, all: bool) -> Vec<(String, IntervalOptions)> {
+    let mut out = Vec::new();
+    for path in paths(gpu) {
+        let base = IntervalOptions {
+            integrand: integrand.clone(),
+            ..IntervalOptions::new(path)
+        };
+        out.push((path.name().to_string(), base.clone()));
+        if !all {
+            continue;
+        }
+        match path {
+            Path::Graphics => out.push((
+                "graphics, 1 tet per workgroup".into(),
+                IntervalOptions {
+                    tets_per_workgroup: 1,
+                    ..base
+                },
+            )),
+            Path::Compute => {
+                out.push((
+                    "compute, all tiled".into(),
+                    IntervalOptions {
+                        inline_pixel_limit: 0,
+                        ..base.clone()
+                    },
+                ));
+                out.push((
+                    "compute, tile buffers full".into(),
+                    IntervalOptions {
+                        inline_pixel_limit: 0,
+                        tile_capacity: TileCapacity { tets: 3, tiles: 8 },
+                        ..base
+                    },
+                ));
+            }
+        }
+    }
+    out
+}
+
+/// Renders `mesh` with each variant and holds every pixel away from projected edges to
+/// `reference`; returns how many of those pixels the mesh covers.
+fn assert_variants_match(
+    gpu: &Gpu,
+    name: &str,
+    gpu_mesh: &GpuTetMesh,
+    variants: &[(String, IntervalOptions)],
+    cam: &OrbitCamera,
+    (w, h): (u32, u32),
+    reference: &[[f32; 3]],
+    edges: &[bool],
+    clipped: bool,
+) -> usize {
+    let compiler = shaders::compiler();
+    let mut covered = 0;
+    for (variant, options) in variants {
+        let interval = Interval::new(gpu, &compiler, options).unwrap();
+        let target = interval.target(gpu, w, h).unwrap();
+        let frame = interval.render(gpu, gpu_mesh, &target, cam).unwrap();
+        let label = format!("{name} ({variant})");
+        covered = compare(&label, &frame, reference, edges, w, clipped);
+        if options.path == Path::Compute && options.inline_pixel_limit == 0 {
+            assert!(frame.tiled > 0, "{label}: no tet reached the tile pass");
+            let full = options.tile_capacity.tets < 10;
+            assert_eq!(
+                frame.overflowed > 0,
+                full,
+                "{label}: {} overflowed",
+                frame.overflowed
+            );
+        }
+        target.destroy(gpu);
+        interval.destroy(gpu);
+    }
+    assert_clean(gpu);
+    covered
+}
+
+/// Renders `mesh`'s per-tet optical depth on every path and holds every pixel away from
+/// projected edges to the CPU reference: relative error at most 1e-3 (absolute 1e-5 where the
+/// depth is tiny).
 fn assert_matches_reference(
     name: &str,
     mesh: &TetMesh,
     cam: &OrbitCamera,
     (w, h): (u32, u32),
     clipped: bool,
+    all_variants: bool,
 ) -> usize {
     let gpu = gpu();
-    if !gpu.caps().mesh_shader {
-        eprintln!("skipped: {} has no mesh shaders", gpu.caps().device_name);
+    let variants = variants(&gpu, &Integrand::TetAbsorption, all_variants);
+    if variants.is_empty() {
+        eprintln!(
+            "skipped: {} has neither mesh shaders nor float atomics",
+            gpu.caps().device_name
+        );
         return 0;
     }
-    let compiler = shaders::compiler();
     let gpu_mesh = GpuTetMesh::upload(&gpu, mesh).unwrap();
     let reference = optical_depth(mesh, cam, w, h);
     let edges = edge_mask(mesh, cam, w, h, 1.0);
-
-    let interval = Interval::new(&gpu, &compiler).unwrap();
-    let target = OpticalTarget::new(&gpu, w, h).unwrap();
-    let frame = interval.render(&gpu, &gpu_mesh, &target, cam).unwrap();
-    let covered = compare(
-        &format!("{name} (mesh)"),
-        &frame,
+    let covered = assert_variants_match(
+        &gpu,
+        name,
+        &gpu_mesh,
+        &variants,
+        cam,
+        (w, h),
         &reference,
         &edges,
-        w,
         clipped,
     );
-    target.destroy(&gpu);
-    interval.destroy(&gpu);
-
-    // The compute path draws the same proxies with its own rasterizer.
-    if gpu.caps().buffer_float32_atomic_add {
-        let compute = IntervalCompute::new(&gpu, &compiler).unwrap();
-        let target = OpticalBuffer::new(&gpu, w, h).unwrap();
-        let frame = compute.render(&gpu, &gpu_mesh, &target, cam).unwrap();
-        compare(
-            &format!("{name} (compute)"),
-            &frame,
-            &reference,
-            &edges,
-            w,
-            clipped,
-        );
-        target.destroy(&gpu);
-        compute.destroy(&gpu);
-    }
     gpu_mesh.destroy(&gpu);
-    assert_clean(&gpu);
     covered
 }
 
@@ -94,7 +178,7 @@ fn compare(
     );
     let mut compared = 0;
     let mut covered = 0;
-    for (i, (g, r)) in frame.optical_depth.iter().zip(reference).enumerate() {
+    for (i, (g, r)) in frame.values.iter().zip(reference).enumerate() {
         if edges[i] {
             continue;
         }
@@ -134,8 +218,14 @@ fn one_tet_with_a_triangle_silhouette() {
         [0.0, 1.0, 0.0],
         [0.1, -0.2, 1.0],
     ]);
-    let covered =
-        assert_matches_reference("case 1", &mesh, &camera(0.0, 0.0, 2.5), (96, 96), false);
+    let covered = assert_matches_reference(
+        "case 1",
+        &mesh,
+        &camera(0.0, 0.0, 2.5),
+        (96, 96),
+        false,
+        false,
+    );
     assert!(
         covered > 500,
         "the tet must fill part of the image ({covered} pixels)"
@@ -152,8 +242,14 @@ fn one_tet_with_a_quad_silhouette() {
         [0.3, -1.0, 0.5],
         [-0.2, 1.0, 0.2],
     ]);
-    let covered =
-        assert_matches_reference("case 2", &mesh, &camera(0.0, 0.0, 2.5), (96, 96), false);
+    let covered = assert_matches_reference(
+        "case 2",
+        &mesh,
+        &camera(0.0, 0.0, 2.5),
+        (96, 96),
+        false,
+        true,
+    );
     assert!(
         covered > 500,
         "the tet must fill part of the image ({covered} pixels)"
@@ -171,53 +267,60 @@ fn meshes_with_absorption_colours() {
         &camera(35.0, 20.0, 2.2),
         (80, 64),
         false,
+        false,
     );
     let cube = box_mesh(3);
     assert!(
         cube.absorption.is_some(),
         "procedural box carries per-tet colours"
     );
-    assert_matches_reference("box", &cube, &camera(-60.0, 40.0, 2.4), (80, 64), false);
+    assert_matches_reference(
+        "box",
+        &cube,
+        &camera(-60.0, 40.0, 2.4),
+        (80, 64),
+        false,
+        false,
+    );
 }
 
 #[test]
 fn beer_lambert_post_pass_matches_cpu_composite() {
     let gpu = gpu();
-    if !gpu.caps().mesh_shader {
-        eprintln!("skipped: {} has no mesh shaders", gpu.caps().device_name);
-        return;
-    }
     let compiler = shaders::compiler();
-    let interval = Interval::new(&gpu, &compiler).unwrap();
     let mesh = sphere_mesh(4);
     let gpu_mesh = GpuTetMesh::upload(&gpu, &mesh).unwrap();
     let (w, h) = (72, 56);
     let cam = camera(20.0, 10.0, 2.0);
     let background = [1.0, 0.95, 0.85];
-    let target = OpticalTarget::new(&gpu, w, h).unwrap();
-    let depth = interval.render(&gpu, &gpu_mesh, &target, &cam).unwrap();
-    let (image, _ms) = interval
-        .render_image(&gpu, &gpu_mesh, &cam, (w, h), background)
-        .unwrap();
-    let expected = tessera_data::tet::optical::composite(&depth.optical_depth, w, h, background);
-    let diff = image.compare(&expected, 1);
-    assert!(
-        diff.fraction_within >= 0.999,
-        "{} pixels differ",
-        diff.pixels_outside
-    );
-    let darkened = image
-        .pixels
-        .iter()
-        .filter(|&&p| p != expected.pixels[0])
-        .count();
-    assert!(
-        darkened > (w * h / 10) as usize,
-        "the mesh must absorb light somewhere"
-    );
-    target.destroy(&gpu);
+    for path in paths(&gpu) {
+        let interval = Interval::new(&gpu, &compiler, &IntervalOptions::new(path)).unwrap();
+        let target = interval.target(&gpu, w, h).unwrap();
+        let depth = interval.render(&gpu, &gpu_mesh, &target, &cam).unwrap();
+        let (image, _ms) = interval
+            .render_image(&gpu, &gpu_mesh, &cam, (w, h), background)
+            .unwrap();
+        let expected = tessera_data::tet::optical::composite(&depth.values, w, h, background);
+        let diff = image.compare(&expected, 1);
+        assert!(
+            diff.fraction_within >= 0.999,
+            "{}: {} pixels differ",
+            path.name(),
+            diff.pixels_outside
+        );
+        let darkened = image
+            .pixels
+            .iter()
+            .filter(|&&p| p != expected.pixels[0])
+            .count();
+        assert!(
+            darkened > (w * h / 10) as usize,
+            "the mesh must absorb light somewhere"
+        );
+        target.destroy(&gpu);
+        interval.destroy(&gpu);
+    }
     gpu_mesh.destroy(&gpu);
-    interval.destroy(&gpu);
     assert_clean(&gpu);
 }
 
@@ -232,6 +335,7 @@ fn camera_inside_the_mesh_clips_tets_at_the_near_plane() {
         &camera(20.0, 15.0, 0.3),
         (80, 64),
         true,
+        true,
     );
     let mut sphere = sphere_mesh(4);
     deform(&mut sphere, 0.05);
@@ -242,6 +346,7 @@ fn camera_inside_the_mesh_clips_tets_at_the_near_plane() {
         &camera(-50.0, -30.0, 0.2),
         (80, 64),
         true,
+        false,
     );
 }
 
@@ -260,5 +365,138 @@ fn a_single_clipped_tet() {
         &camera(10.0, 5.0, 0.05),
         (64, 64),
         true,
+        true,
     );
+}
+
+/// A deformed sphere whose vertex scalar is the distance from a point off-centre, so the field
+/// varies inside every tet.
+fn scalar_sphere() -> TetMesh {
+    // Coarse, so that most covered pixels lie away from projected edges.
+    let mut mesh = sphere_mesh(2);
+    deform(&mut mesh, 0.08);
+    mesh.absorption = None;
+    mesh.scalars = Some(
+        mesh.vertices
+            .iter()
+            .map(|v| ((v[0] - 0.3).powi(2) + (v[1] + 0.2).powi(2) + v[2].powi(2)).sqrt())
+            .collect(),
+    );
+    mesh.validate("scalar sphere").unwrap();
+    mesh
+}
+
+/// `min_covered`: pixels away from edges the integrand must be non-zero on (a sparse table
+/// leaves fewer).
+fn scalar_matches_reference(
+    mode: ScalarMode,
+    tf: &str,
+    scale: f32,
+    cam: &OrbitCamera,
+    all: bool,
+    min_covered: usize,
+) {
+    let gpu = gpu();
+    let mesh = scalar_sphere();
+    let (w, h) = (96, 80);
+    let normalized = normalized_scalars(&mesh, None, "scalar sphere").unwrap();
+    let tf = TransferFunction::preset(tf).unwrap();
+    let table = IntegrandTable::new(&tf, mode, scale, 64);
+    let reference = integrate_scalar(&mesh, &normalized, cam, (w, h), &table, mode);
+    let edges = edge_mask(&mesh, cam, w, h, 1.0);
+    let gpu_mesh = GpuTetMesh::upload_with(&gpu, &mesh, Some(&normalized)).unwrap();
+    let integrand = Integrand::Scalar { mode, table };
+    let variants = variants(&gpu, &integrand, all);
+    let covered = assert_variants_match(
+        &gpu,
+        &format!("{mode:?}"),
+        &gpu_mesh,
+        &variants,
+        cam,
+        (w, h),
+        &reference,
+        &edges,
+        cam.distance < 1.0,
+    );
+    assert!(
+        variants.is_empty() || covered >= min_covered,
+        "{mode:?}: {covered} pixels covered"
+    );
+    gpu_mesh.destroy(&gpu);
+}
+
+#[test]
+fn scalar_absorption_through_a_transfer_function() {
+    // "bands" has opaque ramps two knots wide: the mean over a stretch must resolve them.
+    scalar_matches_reference(
+        ScalarMode::Absorption,
+        "bands",
+        4.0,
+        &camera(30.0, 20.0, 2.2),
+        false,
+        150,
+    );
+}
+
+#[test]
+fn scalar_emission_and_maximum_from_inside() {
+    let inside = camera(-40.0, 10.0, 0.25);
+    scalar_matches_reference(ScalarMode::Emission, "hot", 2.0, &inside, true, 1500);
+    scalar_matches_reference(ScalarMode::Maximum, "cool-warm", 1.0, &inside, false, 1500);
+}
+
+#[test]
+fn maximum_post_pass_shows_the_table_colour() {
+    let gpu = gpu();
+    let compiler = shaders::compiler();
+    let mesh = scalar_sphere();
+    let (w, h) = (64, 48);
+    let cam = camera(10.0, 30.0, 2.0);
+    let normalized = normalized_scalars(&mesh, None, "scalar sphere").unwrap();
+    let tf = TransferFunction::preset("cool-warm").unwrap();
+    let table = IntegrandTable::new(&tf, ScalarMode::Maximum, 1.0, 64);
+    let gpu_mesh = GpuTetMesh::upload_with(&gpu, &mesh, Some(&normalized)).unwrap();
+    let background = [0.1, 0.1, 0.1];
+    for path in paths(&gpu) {
+        let options = IntervalOptions {
+            integrand: Integrand::Scalar {
+                mode: ScalarMode::Maximum,
+                table: table.clone(),
+            },
+            ..IntervalOptions::new(path)
+        };
+        let interval = Interval::new(&gpu, &compiler, &options).unwrap();
+        let target = interval.target(&gpu, w, h).unwrap();
+        let maxima = interval.render(&gpu, &gpu_mesh, &target, &cam).unwrap();
+        let (image, _) = interval
+            .render_image(&gpu, &gpu_mesh, &cam, (w, h), background)
+            .unwrap();
+        let colours =
+            tessera_data::tet::scalar_integral::maximum_colours(&maxima.values, &table, background);
+        let expected = tessera_data::RgbaImage {
+            width: w,
+            height: h,
+            pixels: colours
+                .iter()
+                .map(|c| tessera_data::shading::pack_rgba8([c[0], c[1], c[2], 1.0]))
+                .collect(),
+        };
+        let diff = image.compare(&expected, 1);
+        assert!(
+            diff.fraction_within >= 0.999,
+            "{}: {} pixels differ",
+            path.name(),
+            diff.pixels_outside
+        );
+        let distinct: std::collections::HashSet<u32> = image.pixels.iter().copied().collect();
+        assert!(
+            distinct.len() > 20,
+            "{}: the colour must vary with the maximum",
+            path.name()
+        );
+        target.destroy(&gpu);
+        interval.destroy(&gpu);
+    }
+    gpu_mesh.destroy(&gpu);
+    assert_clean(&gpu);
 }

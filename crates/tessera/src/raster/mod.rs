@@ -47,6 +47,10 @@
 //! [`ComputeRasterizer::record_raster`]; or all three with [`ComputeRasterizer::record`]. Each
 //! `record_*` ends with a barrier, so the next pass sees its writes.
 
+mod indirect;
+
+pub use indirect::IndirectArgs;
+
 use crate::builtin_shader;
 use crate::error::{check_image_size, Error, Result};
 use bytemuck::{Pod, Zeroable};
@@ -78,15 +82,6 @@ pub struct RasterTriangle {
 pub struct RasterCounts {
     pub triangle_count: u32,
     pub dispatch: [u32; 3],
-}
-
-/// Push constants of `raster_prepare.comp.glsl`.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Pod, Zeroable)]
-struct PrepareParams {
-    max_groups: [u32; 2],
-    group_size: u32,
-    _pad: u32,
 }
 
 /// Push constants of `raster.comp.glsl`.
@@ -165,9 +160,8 @@ impl RasterFrame {
 }
 
 pub struct ComputeRasterizer {
-    prepare: Pipeline,
+    prepare: IndirectArgs,
     raster: Pipeline,
-    max_groups: [u32; 2],
 }
 
 impl ComputeRasterizer {
@@ -186,28 +180,22 @@ impl ComputeRasterizer {
             ("MIN_W".into(), format!("{:?}", MIN_W as f32)),
             ("GUARD_BAND".into(), format!("{:?}", GUARD_BAND as f32)),
         ];
-        let prepare = compiler.compile(&builtin_shader!("raster_prepare.comp.glsl"), &defines)?;
         let raster = compiler.compile(&builtin_shader!("raster.comp.glsl"), &defines)?;
-        let prepare = gpu.compute_pipeline("raster prepare", &prepare, &[Slot::StorageBuffer])?;
-        let raster = match gpu.compute_pipeline("raster", &raster, &[Slot::StorageBuffer; 3]) {
+        let raster = gpu.compute_pipeline("raster", &raster, &[Slot::StorageBuffer; 3])?;
+        let prepare = match IndirectArgs::new(gpu, compiler) {
             Ok(p) => p,
             Err(e) => {
-                gpu.destroy_pipeline(prepare);
-                return Err(e.into());
+                gpu.destroy_pipeline(raster);
+                return Err(e);
             }
         };
-        let limit = gpu.caps().max_compute_workgroup_count;
-        Ok(ComputeRasterizer {
-            prepare,
-            raster,
-            max_groups: [limit[0], limit[1]],
-        })
+        Ok(ComputeRasterizer { prepare, raster })
     }
 
     /// Lowers the workgroups per row of the raster dispatch (never above the device's limit),
     /// so that tests can reach the 2-D grid with few triangles.
     pub fn limit_groups_x(&mut self, groups: u32) {
-        self.max_groups[0] = groups.clamp(1, self.max_groups[0]);
+        self.prepare.max_groups[0] = groups.clamp(1, self.prepare.max_groups[0]);
     }
 
     /// Invocations (triangles) per workgroup of the raster pass.
@@ -223,18 +211,7 @@ impl ComputeRasterizer {
 
     /// Writes the raster pass's dispatch arguments into `counts` from its triangle count.
     pub fn record_prepare_dispatch(&self, rec: &Recorder, counts: &Buffer) {
-        let params = PrepareParams {
-            max_groups: self.max_groups,
-            group_size: self.group_size(),
-            _pad: 0,
-        };
-        rec.dispatch_groups(
-            &self.prepare,
-            &[Binding::Buffer(counts)],
-            bytemuck::bytes_of(&params),
-            [1, 1, 1],
-        );
-        rec.barrier();
+        self.prepare.record(rec, counts, self.group_size());
     }
 
     /// Draws the counted triangles into `frame`, keeping the nearest per pixel; `counts` must
@@ -288,7 +265,7 @@ impl ComputeRasterizer {
     }
 
     pub fn destroy(self, gpu: &Gpu) {
-        gpu.destroy_pipeline(self.prepare);
+        self.prepare.destroy(gpu);
         gpu.destroy_pipeline(self.raster);
     }
 }

@@ -1,139 +1,138 @@
-//! The compute path of interval shading: the mesh shader's proxies rasterized by compute
-//! invocations that add their pixels' interval lengths with float atomics. Same placement,
-//! proxies and clipping as the mesh-shader path (shared GLSL), so images agree.
+//! The compute path of interval shading: the mesh shader's proxies (shared GLSL) rasterized by
+//! compute invocations that add their pixels' integrands with float atomics. Small tets are
+//! drawn by one invocation each; a tet whose screen rectangle exceeds a pixel limit is split
+//! into 16 × 16-pixel tiles drawn by one workgroup each (indirect dispatch), so that the huge
+//! proxies near an eye inside the mesh spread over the GPU.
 
-use super::{GpuTetMesh, Interval, IntervalFrame};
+use super::mesh::GpuTetMesh;
+use super::IntervalParams;
 use crate::builtin_shader;
 use crate::error::{Error, Result};
-use tessera_data::OrbitCamera;
+use crate::raster::{create_counts_buffer, IndirectArgs};
 use tessera_gpu::{
     vk, Binding, Buffer, Gpu, MemoryLocation, Pipeline, Recorder, ShaderCompiler, Slot,
 };
 
 /// Tets per workgroup of `interval_raster.comp.glsl`.
 const TETS_PER_WORKGROUP: u32 = 64;
+/// Side of a tile in pixels (`TILE` in the shaders): one invocation per pixel.
+pub const TILE: u32 = 16;
 
-/// Per-pixel optical depth as four floats (rgb + unused), row-major.
-pub struct OpticalBuffer {
-    pub depth: Buffer,
-    pub width: u32,
-    pub height: u32,
+/// How much room the tile pass has; tets beyond it are drawn by single invocations.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct TileCapacity {
+    /// Large tets at once (16 bytes each).
+    pub tets: u32,
+    /// Tiles at once (4 bytes each).
+    pub tiles: u32,
 }
 
-impl OpticalBuffer {
-    pub fn new(gpu: &Gpu, width: u32, height: u32) -> Result<OpticalBuffer> {
-        crate::error::check_image_size(width, height)?;
-        let depth = gpu.create_buffer(
-            "optical depth (compute)",
-            width as u64 * height as u64 * 16,
-            vk::BufferUsageFlags::STORAGE_BUFFER
-                | vk::BufferUsageFlags::TRANSFER_SRC
-                | vk::BufferUsageFlags::TRANSFER_DST,
-            MemoryLocation::GpuOnly,
-        )?;
-        Ok(OpticalBuffer {
-            depth,
-            width,
-            height,
-        })
-    }
-
-    pub fn read(&self, gpu: &Gpu) -> Result<Vec<[f32; 3]>> {
-        let texels: Vec<[f32; 4]> =
-            bytemuck::allocation::pod_collect_to_vec(&gpu.read_buffer(&self.depth)?);
-        Ok(texels.into_iter().map(|t| [t[0], t[1], t[2]]).collect())
-    }
-
-    pub fn destroy(self, gpu: &Gpu) {
-        gpu.destroy_buffer(self.depth);
+impl Default for TileCapacity {
+    fn default() -> Self {
+        TileCapacity {
+            tets: 1 << 20,
+            tiles: 1 << 24,
+        }
     }
 }
 
 pub struct IntervalCompute {
-    pipeline: Pipeline,
-    stats: Buffer,
+    raster: Pipeline,
+    tiles: Pipeline,
+    indirect: IndirectArgs,
+    tiled_tets: Buffer,
+    tile_owner: Buffer,
+    tile_count: Buffer,
     max_groups_x: u32,
 }
 
 impl IntervalCompute {
-    pub fn new(gpu: &Gpu, compiler: &ShaderCompiler) -> Result<IntervalCompute> {
+    pub fn new(
+        gpu: &Gpu,
+        compiler: &ShaderCompiler,
+        defines: &[(String, String)],
+        capacity: TileCapacity,
+    ) -> Result<IntervalCompute> {
         if !gpu.caps().buffer_float32_atomic_add {
             return Err(Error::Invalid(format!(
                 "interval shading's compute path needs float atomics, which {} lacks",
                 gpu.caps().device_name
             )));
         }
-        let spirv = compiler.compile(
-            &builtin_shader!("interval_raster.comp.glsl"),
-            &crate::config::common_defines(),
+        let mut defines = defines.to_vec();
+        defines.extend([
+            ("TILE".into(), TILE.to_string()),
+            ("TILED_CAPACITY".into(), format!("{}u", capacity.tets)),
+            ("TILE_CAPACITY".into(), format!("{}u", capacity.tiles)),
+        ]);
+        let slots = [Slot::StorageBuffer; super::COMMON_BINDINGS + 4];
+        let raster = compiler.compile(&builtin_shader!("interval_raster.comp.glsl"), &defines)?;
+        let tiles = compiler.compile(&builtin_shader!("interval_tiles.comp.glsl"), &defines)?;
+        let raster = gpu.compute_pipeline("interval (compute)", &raster, &slots)?;
+        let tiles = gpu.compute_pipeline("interval tiles (compute)", &tiles, &slots)?;
+        let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+        // Vulkan refuses empty buffers; a capacity of 0 still needs one element.
+        let tiled_tets = gpu.create_buffer(
+            "interval tiled tets",
+            16 * u64::from(capacity.tets.max(1)),
+            storage,
+            MemoryLocation::GpuOnly,
         )?;
-        let pipeline =
-            gpu.compute_pipeline("interval (compute)", &spirv, &[Slot::StorageBuffer; 5])?;
-        let stats = gpu.create_buffer(
-            "interval compute stats",
-            16,
-            vk::BufferUsageFlags::STORAGE_BUFFER
-                | vk::BufferUsageFlags::TRANSFER_SRC
-                | vk::BufferUsageFlags::TRANSFER_DST,
+        let tile_owner = gpu.create_buffer(
+            "interval tile owners",
+            4 * u64::from(capacity.tiles.max(1)),
+            storage,
             MemoryLocation::GpuOnly,
         )?;
         Ok(IntervalCompute {
-            pipeline,
-            stats,
+            raster,
+            tiles,
+            indirect: IndirectArgs::new(gpu, compiler)?,
+            tiled_tets,
+            tile_owner,
+            tile_count: create_counts_buffer(gpu, "interval tile count")?,
             max_groups_x: gpu.caps().max_compute_workgroup_count[0],
         })
     }
 
+    /// Records one frame into `target` (cleared first); `common` are the technique's first
+    /// bindings (`buffers.glsl`).
     pub fn record(
         &self,
         rec: &Recorder,
         mesh: &GpuTetMesh,
-        target: &OpticalBuffer,
-        params: &super::IntervalParams,
-    ) -> Result<()> {
+        common: &[Binding],
+        target: &Buffer,
+        params: &IntervalParams,
+    ) {
+        let mut bindings = common.to_vec();
+        bindings.extend([
+            Binding::Buffer(target),
+            Binding::Buffer(&self.tiled_tets),
+            Binding::Buffer(&self.tile_owner),
+            Binding::Buffer(&self.tile_count),
+        ]);
+        rec.fill_buffer(target, 0);
+        rec.fill_buffer(&self.tile_count, 0);
+        rec.barrier();
         let groups = tessera_gpu::spread_groups(
             mesh.tet_count.div_ceil(TETS_PER_WORKGROUP),
             self.max_groups_x,
         );
-        rec.fill_buffer(&self.stats, 0);
-        rec.fill_buffer(&target.depth, 0);
+        let push = bytemuck::bytes_of(params);
+        rec.dispatch_groups(&self.raster, &bindings, push, groups);
         rec.barrier();
-        rec.dispatch_groups(
-            &self.pipeline,
-            &[
-                Binding::Buffer(&mesh.vertices),
-                Binding::Buffer(&mesh.tets),
-                Binding::Buffer(&mesh.absorption),
-                Binding::Buffer(&self.stats),
-                Binding::Buffer(&target.depth),
-            ],
-            bytemuck::bytes_of(params),
-            groups,
-        );
+        self.indirect.record(rec, &self.tile_count, 1);
+        rec.dispatch_indirect(&self.tiles, &bindings, push, &self.tile_count, 4);
         rec.barrier();
-        Ok(())
-    }
-
-    pub fn render(
-        &self,
-        gpu: &Gpu,
-        mesh: &GpuTetMesh,
-        target: &OpticalBuffer,
-        camera: &OrbitCamera,
-    ) -> Result<IntervalFrame> {
-        let params = Interval::params(mesh, camera, target.width, target.height);
-        let gpu_ms = crate::bench::time_once(gpu, "interval shading (compute)", |rec| {
-            self.record(rec, mesh, target, &params)
-        })?;
-        Ok(IntervalFrame {
-            optical_depth: target.read(gpu)?,
-            gpu_ms,
-            clipped_near: crate::bench::read_words(gpu, &self.stats)?[0],
-        })
     }
 
     pub fn destroy(self, gpu: &Gpu) {
-        gpu.destroy_pipeline(self.pipeline);
-        gpu.destroy_buffer(self.stats);
+        gpu.destroy_pipeline(self.raster);
+        gpu.destroy_pipeline(self.tiles);
+        self.indirect.destroy(gpu);
+        for b in [self.tiled_tets, self.tile_owner, self.tile_count] {
+            gpu.destroy_buffer(b);
+        }
     }
 }

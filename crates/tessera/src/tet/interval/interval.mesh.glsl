@@ -3,24 +3,19 @@
 // proxy triangles at depth 0 whose vertices carry the inverse view depth of the tet's front and
 // back faces, so the rasterizer hands every fragment its [front, back] interval. A tet crossing
 // the near plane is clipped first (§2.3): one vertex in front leaves a tet, two or three leave a
-// prism cut into 3 tets. One input tet per invocation, 16 per workgroup so that 3 proxies each
-// still fit the output limits (16 × 15 vertices, 16 × 12 triangles).
+// prism cut into 3 tets. One input tet per invocation, GROUP (a define: 1 to 16) per workgroup;
+// 3 proxies each fit the output limits at 16 (16 × 15 vertices, 16 × 12 triangles).
 #extension GL_EXT_mesh_shader : require
 
-layout(local_size_x = 16) in;
-layout(triangles, max_vertices = 240, max_primitives = 192) out;
+layout(local_size_x = GROUP) in;
+layout(triangles, max_vertices = 15 * GROUP, max_primitives = 12 * GROUP) out;
 
-layout(binding = 0) readonly buffer Vertices { vec4 vertices_world[]; };
-layout(binding = 1) readonly buffer Tets { uvec4 tets[]; };
-layout(binding = 2) readonly buffer Absorption { vec4 absorption[]; };
-layout(binding = 3) buffer Stats { uint stats[]; };  // [0] tets clipped at the near plane
-
+#include "tet/interval/buffers.glsl"
 #include "tet/interval/params.glsl"
 
-layout(location = 0) out vec2 inverse_depths[];       // 1/z of front and back face (view space)
+layout(location = 0) out vec4 interval_attrs[];  // 1/z and s/z of front and back face (view space)
 layout(location = 1) flat out vec3 tet_absorption[];
 
-const uint GROUP = 16u;
 shared uint vertex_offsets[GROUP + 1u];
 shared uint primitive_offsets[GROUP + 1u];
 
@@ -36,7 +31,7 @@ void main() {
         bool clipped;
         proxy_count = tet_proxies(tet, proxies, clipped);
         if (clipped) {
-            atomicAdd(stats[0], 1u);
+            atomicAdd(stats[STAT_CLIPPED], 1u);
         }
     }
     uint vertex_count = 0u;
@@ -69,7 +64,7 @@ void main() {
         }
         for (uint j = 0u; j <= s; ++j) {
             gl_MeshVerticesEXT[v + j].gl_Position = vec4(proxies[k].p[j], 0.0, 1.0);
-            inverse_depths[v + j] = proxies[k].depths[j];
+            interval_attrs[v + j] = proxies[k].attrs[j];
             tet_absorption[v + j] = colour;
         }
         for (uint j = 0u; j < s; ++j) {

@@ -1,66 +1,42 @@
 #version 460
-// Compute path of interval shading: the same proxies as the mesh shader (tet/interval/proxy.glsl),
-// rasterized in compute — one invocation per tet walks its proxies' pixels and adds each
-// pixel's interval length × absorption with float atomics. For GPUs whose graphics units are
-// few; large proxies (close views) make single invocations long, a tiled version is next.
+// Compute path of interval shading, first pass: one invocation per tet makes the mesh shader's
+// proxies (tet/interval/proxy.glsl). A tet whose screen rectangle holds at most
+// `params.counts.w` pixels is drawn here, pixel by pixel; a larger one is handed to the tile
+// pass (interval_tiles.comp.glsl) as TILE × TILE-pixel tiles, one workgroup each, so that the
+// few huge proxies near the eye do not leave one invocation walking a whole screen. Where the
+// tile buffers are full, the tet is drawn here after all (slowly, but correctly).
 #extension GL_EXT_shader_atomic_float : require
 
 layout(local_size_x = 64) in;
-layout(binding = 0) readonly buffer Vertices { vec4 vertices_world[]; };
-layout(binding = 1) readonly buffer Tets { uvec4 tets[]; };
-layout(binding = 2) readonly buffer Absorption { vec4 absorption[]; };
-layout(binding = 3) buffer Stats { uint stats[]; };  // [0] tets clipped at the near plane
-layout(binding = 4) buffer Optical { float optical[]; };  // rgba per pixel, row-major
 
+#include "tet/interval/buffers.glsl"
 #include "tet/interval/params.glsl"
+#include "tet/interval/compute_buffers.glsl"
 #include "tet/interval/proxy.glsl"
 #include "tet/interval/length.glsl"
+#include "tet/interval/table.glsl"
+#include "tet/interval/integrand.glsl"
+#include "tet/interval/splat.glsl"
 
-float edge_at(vec2 a, vec2 b, vec2 p) {
-    return (b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x);
-}
-
-// Top-left rule on a counter-clockwise triangle (y down): a pixel centre on an edge belongs to
-// exactly one of the two proxies sharing it.
-bool owns(float w, vec2 a, vec2 b) {
-    vec2 d = b - a;
-    return w > 0.0 || (w == 0.0 && ((d.y == 0.0 && d.x < 0.0) || d.y > 0.0));
-}
-
-void splat(vec2 ndc0, vec2 ndc1, vec2 ndc2, vec2 d0, vec2 d1, vec2 d2, vec3 colour) {
-    uvec2 size = params.counts.yz;
-    vec2 half_size = vec2(size) * 0.5;
-    vec2 s0 = (ndc0 + 1.0) * half_size;
-    vec2 s1 = (ndc1 + 1.0) * half_size;
-    vec2 s2 = (ndc2 + 1.0) * half_size;
-    float area = edge_at(s0, s1, s2);
-    if (area == 0.0) {
-        return;
+// Hands the tet to the tile pass; false when the buffers are full.
+bool hand_to_tiles(uint tet, uvec2 first, uvec2 last) {
+    uvec2 tiles = (last - first) / uint(TILE) + 1u;
+    uint count = tiles.x * tiles.y;
+    uint slot = atomicAdd(stats[STAT_TILED], 1u);
+    if (slot >= TILED_CAPACITY) {
+        return false;
     }
-    if (area < 0.0) {
-        vec2 ts = s1; s1 = s2; s2 = ts;
-        vec2 td = d1; d1 = d2; d2 = td;
-        area = -area;
+    uint first_tile = atomicAdd(tile_count, count);
+    uint end = min(first_tile + count, uint(TILE_CAPACITY));
+    bool fits = first_tile + count <= TILE_CAPACITY && first_tile + count >= first_tile;
+    uint owner = fits ? slot : NO_TET;
+    for (uint t = first_tile; t < end; ++t) {
+        tile_owner[t] = owner;
     }
-    vec2 lo = clamp(floor(min(s0, min(s1, s2))), vec2(0.0), vec2(size) - 1.0);
-    vec2 hi = clamp(ceil(max(s0, max(s1, s2))), vec2(0.0), vec2(size) - 1.0);
-    for (uint y = uint(lo.y); y <= uint(hi.y); ++y) {
-        for (uint x = uint(lo.x); x <= uint(hi.x); ++x) {
-            vec2 p = vec2(x, y) + 0.5;
-            float w0 = edge_at(s1, s2, p);
-            float w1 = edge_at(s2, s0, p);
-            float w2 = edge_at(s0, s1, p);
-            if (!(owns(w0, s1, s2) && owns(w1, s2, s0) && owns(w2, s0, s1))) {
-                continue;
-            }
-            vec2 depths = (w0 * d0 + w1 * d1 + w2 * d2) / area;
-            float len = interval_length(depths, p / half_size - 1.0);
-            uint i = (y * size.x + x) * 4u;
-            atomicAdd(optical[i + 0u], len * colour.r);
-            atomicAdd(optical[i + 1u], len * colour.g);
-            atomicAdd(optical[i + 2u], len * colour.b);
-        }
+    if (fits) {
+        tiled_tets[slot] = uvec4(tet, first_tile, first.x | (first.y << 16), tiles.x);
     }
+    return fits;
 }
 
 void main() {
@@ -73,16 +49,39 @@ void main() {
     bool clipped;
     uint n = tet_proxies(tet, proxies, clipped);
     if (clipped) {
-        atomicAdd(stats[0], 1u);
+        atomicAdd(stats[STAT_CLIPPED], 1u);
     }
-    vec3 colour = absorption[tet].xyz;
+    // Pixels whose centres the proxies' screen rectangle holds.
+    vec2 lo = vec2(1e30);
+    vec2 hi = vec2(-1e30);
     for (uint k = 0u; k < n; ++k) {
-        uint s = proxies[k].silhouette;
-        for (uint j = 0u; j < s; ++j) {
-            uint a = j;
-            uint b = (j + 1u) % s;
-            splat(proxies[k].p[a], proxies[k].p[b], proxies[k].p[s],
-                  proxies[k].depths[a], proxies[k].depths[b], proxies[k].depths[s], colour);
+        for (uint j = 0u; j <= proxies[k].silhouette && proxies[k].silhouette > 0u; ++j) {
+            vec2 s = to_screen(proxies[k].p[j]);
+            lo = min(lo, s);
+            hi = max(hi, s);
+        }
+    }
+    vec2 size = vec2(params.counts.yz);
+    vec2 first_f = max(ceil(lo - 0.5), vec2(0.0));
+    vec2 last_f = min(floor(hi - 0.5), size - 1.0);
+    if (any(greaterThan(first_f, last_f))) {
+        return;
+    }
+    uvec2 first = uvec2(first_f);
+    uvec2 last = uvec2(last_f);
+    uvec2 extent = last - first + 1u;
+    if (extent.x * extent.y > params.counts.w) {
+        if (hand_to_tiles(tet, first, last)) {
+            return;
+        }
+        atomicAdd(stats[STAT_OVERFLOW], 1u);
+    }
+    vec3 colour = absorption[tet].rgb;
+    for (uint y = first.y; y <= last.y; ++y) {
+        for (uint x = first.x; x <= last.x; ++x) {
+            for (uint k = 0u; k < n; ++k) {
+                shade_pixel(proxies[k], uvec2(x, y), colour);
+            }
         }
     }
 }

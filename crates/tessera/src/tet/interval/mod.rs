@@ -1,29 +1,40 @@
-//! Interval shading of tetrahedral meshes — paper A (Sinclair et al.): a mesh shader turns each
-//! tetrahedron into screen-space proxy triangles (3 when its projection is a triangle, 4 when it
-//! is a quad) whose vertices carry the inverse view depths of the front and back faces; every
-//! fragment then knows the interval its pixel's ray spends in the tet. Here the fragments add
-//! length × per-tet absorption into a float target (optical depth, additive blending), and the
-//! Beer–Lambert law turns that into transmittance afterwards.
+//! Interval shading of tetrahedral meshes — paper A (Sinclair et al.): each tetrahedron becomes
+//! screen-space proxy triangles (3 when its projection is a triangle, 4 when it is a quad) whose
+//! vertices carry the inverse view depths of the front and back faces, so every pixel knows the
+//! interval its ray spends in the tet, and a post pass turns the accumulation into colour.
 //!
-//! Tets crossing the near plane are clipped into 1 or 3 tets, so the camera may be inside the
-//! mesh. Not yet: the per-vertex scalar integration, the SDF scene and the compute path.
+//! What a pixel accumulates ([`Integrand`]): the interval's length times a per-tet absorption
+//! colour (the paper's optical depth, Beer–Lambert afterwards), or — beyond the paper — a
+//! per-vertex scalar field integrated through a transfer function: absorption, added emission,
+//! or the maximum. The proxies also carry s/z of both faces, interpolated like 1/z, so a pixel
+//! recovers the scalar where its ray enters and leaves the tet without fetching the tet again.
+//!
+//! Two paths ([`Path`]): the paper's mesh shader + rasterizer + blending ([`graphics`]), and a
+//! compute rasterization of the same proxies with float atomics ([`compute`]). Tets crossing
+//! the near plane are clipped into 1 or 3 tets, so the camera may be inside the mesh.
 
+pub mod composite;
 pub mod compute;
+pub mod graphics;
+pub mod mesh;
 
-use crate::builtin_shader;
+pub use compute::TileCapacity;
+pub use mesh::{GpuTetMesh, OpticalTarget};
+
 use crate::error::{Error, Result};
+use crate::path::Path;
 use crate::target::PixelTarget;
 use bytemuck::{Pod, Zeroable};
-use tessera_data::tet::TetMesh;
+use composite::Composite;
+use compute::IntervalCompute;
+use graphics::IntervalGraphics;
+use mesh::OpticalStore;
+use tessera_data::transfer::{IntegrandTable, ScalarMode};
 use tessera_data::{GridFrame, OrbitCamera, Projection, RgbaImage};
-use tessera_gpu::{
-    vk, Binding, Buffer, Gpu, Image, MemoryLocation, Pipeline, Recorder, RenderTargets,
-    ShaderCompiler, Slot, Timer,
-};
+use tessera_gpu::{vk, Binding, Buffer, Gpu, MemoryLocation, Recorder, ShaderCompiler, Timer};
 
-const OPTICAL_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
-/// Tets per mesh workgroup (`interval.mesh.glsl`'s GROUP): 16 leave room for 3 proxies each.
-const TETS_PER_WORKGROUP: u32 = 16;
+/// Bindings every pass shares (`buffers.glsl`): vertices, tets, absorption, table, stats.
+pub(crate) const COMMON_BINDINGS: usize = 5;
 
 /// Push constants (`tet/interval/params.glsl`).
 #[repr(C)]
@@ -31,140 +42,137 @@ const TETS_PER_WORKGROUP: u32 = 16;
 pub struct IntervalParams {
     pub world_to_clip: [[f32; 4]; 4],
     pub view: [f32; 4],
+    /// Tets, width, height, and the compute path's limit on pixels drawn by one invocation.
     pub counts: [u32; 4],
 }
 
-/// A tet mesh on the GPU, placed in world space like the CPU reference places it.
-pub struct GpuTetMesh {
-    pub vertices: Buffer,
-    pub tets: Buffer,
-    pub absorption: Buffer,
-    pub tet_count: u32,
+/// What each pixel accumulates along its ray.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Integrand {
+    /// Interval length × the tet's absorption colour (white where the mesh has none).
+    TetAbsorption,
+    /// The vertex scalars (uploaded normalized, [`GpuTetMesh::upload_with`]) through a table.
+    Scalar {
+        mode: ScalarMode,
+        table: IntegrandTable,
+    },
 }
 
-impl GpuTetMesh {
-    pub fn upload(gpu: &Gpu, mesh: &TetMesh) -> Result<GpuTetMesh> {
-        let frame = tessera_data::tet::optical::MeshFrame::of(mesh);
-        let vertices: Vec<[f32; 4]> = mesh
-            .vertices
-            .iter()
-            .map(|&v| frame.to_world(glam::Vec3::from(v)).extend(1.0).to_array())
-            .collect();
-        let absorption: Vec<[f32; 4]> = match &mesh.absorption {
-            Some(a) => a.iter().map(|c| [c[0], c[1], c[2], 0.0]).collect(),
-            None => vec![[1.0, 1.0, 1.0, 0.0]; mesh.tets.len()],
-        };
-        let usage = vk::BufferUsageFlags::STORAGE_BUFFER;
-        Ok(GpuTetMesh {
-            vertices: gpu.upload_buffer("tet vertices", bytemuck::cast_slice(&vertices), usage)?,
-            tets: gpu.upload_buffer("tets", bytemuck::cast_slice(&mesh.tets), usage)?,
-            absorption: gpu.upload_buffer(
-                "tet absorption",
-                bytemuck::cast_slice(&absorption),
-                usage,
-            )?,
-            tet_count: mesh.tets.len() as u32,
-        })
+impl Integrand {
+    fn code(&self) -> u32 {
+        match self {
+            Integrand::TetAbsorption => 0,
+            Integrand::Scalar { mode, .. } => match mode {
+                ScalarMode::Absorption => 1,
+                ScalarMode::Emission => 2,
+                ScalarMode::Maximum => 3,
+            },
+        }
     }
 
-    pub fn destroy(self, gpu: &Gpu) {
-        for b in [self.vertices, self.tets, self.absorption] {
-            gpu.destroy_buffer(b);
+    fn table_words(&self) -> Vec<[f32; 4]> {
+        match self {
+            Integrand::TetAbsorption => IntegrandTable {
+                values: vec![[0.0; 3]; 2],
+            }
+            .gpu_words(),
+            Integrand::Scalar { table, .. } => table.gpu_words(),
+        }
+    }
+
+    fn knots(&self) -> usize {
+        match self {
+            Integrand::TetAbsorption => 2,
+            Integrand::Scalar { table, .. } => table.values.len(),
         }
     }
 }
 
-/// The float target optical depth accumulates in, with its readback buffer.
-pub struct OpticalTarget {
-    pub image: Image,
-    readback: Buffer,
-    pub width: u32,
-    pub height: u32,
+#[derive(Clone, Debug)]
+pub struct IntervalOptions {
+    pub path: Path,
+    pub integrand: Integrand,
+    /// Graphics path: tets per mesh workgroup (1 to 16).
+    pub tets_per_workgroup: u32,
+    /// Compute path: tets whose screen rectangle holds more pixels go to the tile pass.
+    pub inline_pixel_limit: u32,
+    pub tile_capacity: TileCapacity,
 }
 
-impl OpticalTarget {
-    pub fn new(gpu: &Gpu, width: u32, height: u32) -> Result<OpticalTarget> {
-        crate::error::check_image_size(width, height)?;
-        let image = gpu.create_image(
-            "optical depth",
-            [width, height, 1],
-            OPTICAL_FORMAT,
-            vk::ImageUsageFlags::COLOR_ATTACHMENT
-                | vk::ImageUsageFlags::TRANSFER_SRC
-                | vk::ImageUsageFlags::STORAGE,
-            false,
-        )?;
-        let readback = gpu.create_buffer(
-            "optical depth readback",
-            width as u64 * height as u64 * 16,
-            vk::BufferUsageFlags::TRANSFER_DST | vk::BufferUsageFlags::TRANSFER_SRC,
-            MemoryLocation::GpuOnly,
-        )?;
-        Ok(OpticalTarget {
-            image,
-            readback,
-            width,
-            height,
-        })
+impl IntervalOptions {
+    pub fn new(path: Path) -> IntervalOptions {
+        IntervalOptions {
+            path,
+            integrand: Integrand::TetAbsorption,
+            tets_per_workgroup: graphics::MAX_TETS_PER_WORKGROUP,
+            inline_pixel_limit: 256,
+            tile_capacity: TileCapacity::default(),
+        }
     }
+}
 
-    /// Optical depth per pixel, rows top to bottom.
-    pub fn read(&self, gpu: &Gpu) -> Result<Vec<[f32; 3]>> {
-        gpu.submit("copy optical depth", |rec| {
-            rec.copy_image_to_buffer(&self.image, &self.readback)
-        })?;
-        let texels: Vec<[f32; 4]> =
-            bytemuck::allocation::pod_collect_to_vec(&gpu.read_buffer(&self.readback)?);
-        Ok(texels.into_iter().map(|t| [t[0], t[1], t[2]]).collect())
-    }
+/// One frame's accumulation, its GPU time and what the passes counted.
+pub struct IntervalFrame {
+    /// Per pixel, rows top to bottom: optical depth or emission (rgb), or for the maximum
+    /// `[largest scalar, coverage, 0]`.
+    pub values: Vec<[f32; 3]>,
+    pub gpu_ms: f64,
+    /// Tets clipped at the near plane.
+    pub clipped_near: u32,
+    /// Compute path: tets handed to the tile pass, and those drawn by one invocation because
+    /// the tile buffers were full.
+    pub tiled: u32,
+    pub overflowed: u32,
+}
 
-    pub fn destroy(self, gpu: &Gpu) {
-        gpu.destroy_image(self.image);
-        gpu.destroy_buffer(self.readback);
-    }
+enum Renderer {
+    Graphics(IntervalGraphics),
+    Compute(IntervalCompute),
 }
 
 pub struct Interval {
-    pipeline: Pipeline,
-    composite: Pipeline,
+    renderer: Renderer,
+    composite: Composite,
+    table: Buffer,
     stats: Buffer,
+    options: IntervalOptions,
 }
 
-/// Push constants of `beer_lambert.comp.glsl`.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Pod, Zeroable)]
-pub struct CompositeParams {
-    pub background: [f32; 4],
-    pub size: [u32; 4],
-}
-
-/// One frame's optical depth, its GPU time and the tets clipped at the near plane.
-pub struct IntervalFrame {
-    pub optical_depth: Vec<[f32; 3]>,
-    pub gpu_ms: f64,
-    pub clipped_near: u32,
+/// The paths interval shading can run on `caps`'s device: mesh shaders for the graphics path,
+/// float atomics for the compute path.
+pub fn path_support(caps: &tessera_gpu::Capabilities) -> crate::path::Support {
+    crate::path::Support {
+        graphics: caps.mesh_shader,
+        graphics_needs: "mesh shaders",
+        compute: caps.buffer_float32_atomic_add,
+        compute_needs: "32-bit float buffer atomics",
+    }
 }
 
 impl Interval {
-    pub fn new(gpu: &Gpu, compiler: &ShaderCompiler) -> Result<Interval> {
-        if !gpu.caps().mesh_shader {
-            return Err(Error::Invalid(format!(
-                "interval shading needs mesh shaders, which {} lacks",
-                gpu.caps().device_name
-            )));
-        }
-        let defines = crate::config::common_defines();
-        let mesh = compiler.compile(&builtin_shader!("interval.mesh.glsl"), &defines)?;
-        let frag = compiler.compile(&builtin_shader!("interval.frag.glsl"), &defines)?;
-        let targets = RenderTargets {
-            blend_additive: true,
-            ..RenderTargets::color(OPTICAL_FORMAT)
+    pub fn new(gpu: &Gpu, compiler: &ShaderCompiler, options: &IntervalOptions) -> Result<Self> {
+        let defines = Interval::defines(options);
+        let maximum = options.integrand.code() == 3;
+        let renderer = match options.path {
+            Path::Graphics => Renderer::Graphics(IntervalGraphics::new(
+                gpu,
+                compiler,
+                &defines,
+                options.tets_per_workgroup,
+                maximum,
+            )?),
+            Path::Compute => Renderer::Compute(IntervalCompute::new(
+                gpu,
+                compiler,
+                &defines,
+                options.tile_capacity,
+            )?),
         };
-        let pipeline = gpu.graphics_pipeline_for(
-            "interval shading",
-            &[&mesh, &frag],
-            &[Slot::StorageBuffer; 4],
-            &targets,
+        let composite = Composite::new(gpu, compiler, &defines, options.path)?;
+        let table = gpu.upload_buffer(
+            "interval integrand table",
+            bytemuck::cast_slice(&options.integrand.table_words()),
+            vk::BufferUsageFlags::STORAGE_BUFFER,
         )?;
         let stats = gpu.create_buffer(
             "interval stats",
@@ -174,20 +182,42 @@ impl Interval {
                 | vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::GpuOnly,
         )?;
-        let composite = compiler.compile(&builtin_shader!("beer_lambert.comp.glsl"), &defines)?;
-        let composite = gpu.compute_pipeline(
-            "beer-lambert composite",
-            &composite,
-            &[Slot::StorageImage, Slot::StorageBuffer],
-        )?;
         Ok(Interval {
-            pipeline,
+            renderer,
             composite,
+            table,
             stats,
+            options: options.clone(),
         })
     }
 
+    fn defines(options: &IntervalOptions) -> Vec<(String, String)> {
+        let mut defines = crate::config::common_defines();
+        defines.extend([
+            ("INTEGRAND_TET_ABSORPTION".into(), "0".into()),
+            ("INTEGRAND_ABSORPTION".into(), "1".into()),
+            ("INTEGRAND_EMISSION".into(), "2".into()),
+            ("INTEGRAND_MAXIMUM".into(), "3".into()),
+            ("INTEGRAND".into(), options.integrand.code().to_string()),
+            ("TABLE_KNOTS".into(), options.integrand.knots().to_string()),
+            ("STAT_CLIPPED".into(), "0".into()),
+            ("STAT_TILED".into(), "1".into()),
+            ("STAT_OVERFLOW".into(), "2".into()),
+        ]);
+        defines
+    }
+
+    pub fn path(&self) -> Path {
+        self.options.path
+    }
+
+    /// A target of the kind this path accumulates into.
+    pub fn target(&self, gpu: &Gpu, width: u32, height: u32) -> Result<OpticalTarget> {
+        OpticalTarget::new(gpu, width, height, self.options.path)
+    }
+
     pub fn params(
+        &self,
         mesh: &GpuTetMesh,
         camera: &OrbitCamera,
         width: u32,
@@ -202,11 +232,16 @@ impl Interval {
         IntervalParams {
             world_to_clip: projection.world_to_clip.to_cols_array_2d(),
             view: [tan_x, tan_y, 0.0, near],
-            counts: [mesh.tet_count, width, height, 0],
+            counts: [
+                mesh.tet_count,
+                width,
+                height,
+                self.options.inline_pixel_limit,
+            ],
         }
     }
 
-    /// Records one frame of optical depth into `target` (cleared first).
+    /// Records one frame into `target` (cleared first).
     pub fn record(
         &self,
         rec: &Recorder,
@@ -214,30 +249,30 @@ impl Interval {
         target: &OpticalTarget,
         params: &IntervalParams,
     ) -> Result<()> {
+        let common = [
+            Binding::Buffer(&mesh.vertices),
+            Binding::Buffer(&mesh.tets),
+            Binding::Buffer(&mesh.absorption),
+            Binding::Buffer(&self.table),
+            Binding::Buffer(&self.stats),
+        ];
         rec.fill_buffer(&self.stats, 0);
         rec.barrier();
-        rec.discard_to_general(&target.image);
-        rec.begin_rendering(&target.image, [0.0; 4]);
-        let drawn = rec.draw_mesh_tasks(
-            &self.pipeline,
-            &[
-                Binding::Buffer(&mesh.vertices),
-                Binding::Buffer(&mesh.tets),
-                Binding::Buffer(&mesh.absorption),
-                Binding::Buffer(&self.stats),
-            ],
-            bytemuck::bytes_of(params),
-            // Mesh dispatch limits are not in the capabilities; stay within the guaranteed minimum.
-            tessera_gpu::spread_groups(
-                mesh.tet_count.div_ceil(TETS_PER_WORKGROUP),
-                tessera_gpu::pipeline::MIN_GROUPS_PER_AXIS,
-            ),
-        );
-        rec.end_rendering();
-        rec.barrier();
-        Ok(drawn?)
+        match (&self.renderer, &target.store) {
+            (Renderer::Graphics(g), OpticalStore::Image { image, .. }) => {
+                g.record(rec, mesh, &common, image, params)
+            }
+            (Renderer::Compute(c), OpticalStore::Buffer(buffer)) => {
+                c.record(rec, mesh, &common, buffer, params);
+                Ok(())
+            }
+            _ => Err(Error::Invalid(
+                "interval target made for the other path (use Interval::target)".into(),
+            )),
+        }
     }
 
+    /// One frame's accumulation and counters, timed.
     pub fn render(
         &self,
         gpu: &Gpu,
@@ -245,19 +280,21 @@ impl Interval {
         target: &OpticalTarget,
         camera: &OrbitCamera,
     ) -> Result<IntervalFrame> {
-        let params = Self::params(mesh, camera, target.width, target.height);
+        let params = self.params(mesh, camera, target.width, target.height);
         let gpu_ms = crate::bench::time_once(gpu, "interval shading", |rec| {
             self.record(rec, mesh, target, &params)
         })?;
+        let stats = crate::bench::read_words(gpu, &self.stats)?;
         Ok(IntervalFrame {
-            optical_depth: target.read(gpu)?,
+            values: target.read(gpu)?,
             gpu_ms,
-            clipped_near: crate::bench::read_words(gpu, &self.stats)?[0],
+            clipped_near: stats[0],
+            tiled: stats[1].min(self.options.tile_capacity.tets),
+            overflowed: stats[2],
         })
     }
 
-    /// Records the Beer–Lambert post pass: `background` light through the optical depth in
-    /// `target`, packed into `pixels`.
+    /// Records the post pass from `target` into `pixels`.
     pub fn record_composite(
         &self,
         rec: &Recorder,
@@ -265,22 +302,12 @@ impl Interval {
         pixels: &PixelTarget,
         background: [f32; 3],
     ) {
-        let params = CompositeParams {
-            background: [background[0], background[1], background[2], 1.0],
-            size: [target.width, target.height, 0, 0],
-        };
-        rec.dispatch(
-            &self.composite,
-            &[
-                Binding::StorageImage(&target.image),
-                Binding::Buffer(&pixels.pixels),
-            ],
-            bytemuck::bytes_of(&params),
-            [target.width, target.height, 1],
-        );
+        self.composite
+            .record(rec, target, pixels, &self.table, background);
     }
 
-    /// Renders the mesh as light absorbed on its way from a `background` of that colour.
+    /// Renders the mesh in front of a `background` of that colour; returns the image and the
+    /// GPU time of the frame (accumulation and post pass).
     pub fn render_image(
         &self,
         gpu: &Gpu,
@@ -289,7 +316,7 @@ impl Interval {
         (width, height): (u32, u32),
         background: [f32; 3],
     ) -> Result<(RgbaImage, f64)> {
-        let target = OpticalTarget::new(gpu, width, height)?;
+        let target = self.target(gpu, width, height)?;
         let pixels = match PixelTarget::new(gpu, width, height) {
             Ok(p) => p,
             Err(e) => {
@@ -297,32 +324,40 @@ impl Interval {
                 return Err(e);
             }
         };
-        let params = Self::params(mesh, camera, width, height);
-        let mut timer = Timer::new(gpu, 1)?;
-        timer.reset(gpu);
-        let mut drawn = Ok(());
-        let submitted = gpu.submit("interval shading image", |rec| {
-            drawn = timer.scope(rec, "interval", |rec| {
-                let r = self.record(rec, mesh, &target, &params);
-                self.record_composite(rec, &target, &pixels, background);
-                r
+        let params = self.params(mesh, camera, width, height);
+        let result = Timer::new(gpu, 1)
+            .map_err(Error::from)
+            .and_then(|mut timer| {
+                timer.reset(gpu);
+                let mut drawn = Ok(());
+                let submitted = gpu.submit("interval shading image", |rec| {
+                    drawn = timer.scope(rec, "interval", |rec| {
+                        let r = self.record(rec, mesh, &target, &params);
+                        self.record_composite(rec, &target, &pixels, background);
+                        r
+                    });
+                });
+                let result = submitted.map_err(Error::from).and(drawn).and_then(|_| {
+                    Ok((
+                        pixels.read(gpu)?,
+                        timer.read_ms(gpu)?.first().map(|s| s.1).unwrap_or(0.0),
+                    ))
+                });
+                timer.destroy(gpu);
+                result
             });
-        });
-        let result = submitted.map_err(Error::from).and(drawn).and_then(|_| {
-            Ok((
-                pixels.read(gpu)?,
-                timer.read_ms(gpu)?.first().map(|s| s.1).unwrap_or(0.0),
-            ))
-        });
-        timer.destroy(gpu);
         target.destroy(gpu);
         pixels.destroy(gpu);
         result
     }
 
     pub fn destroy(self, gpu: &Gpu) {
-        gpu.destroy_pipeline(self.pipeline);
-        gpu.destroy_pipeline(self.composite);
+        match self.renderer {
+            Renderer::Graphics(g) => g.destroy(gpu),
+            Renderer::Compute(c) => c.destroy(gpu),
+        }
+        self.composite.destroy(gpu);
+        gpu.destroy_buffer(self.table);
         gpu.destroy_buffer(self.stats);
     }
 }

@@ -1,11 +1,16 @@
 // Shared by interval shading's mesh-shader and compute paths: the screen-space proxies of a
 // tetrahedron (paper A §2.2) and its clipping at the near plane (§2.3). Needs
-// tet/interval/params.glsl and the Vertices/Tets buffers bound as `vertices_world` and `tets`.
+// tet/interval/params.glsl and the Vertices/Tets buffers bound as `vertices_world` (xyz world
+// position, w the vertex's normalized scalar) and `tets`.
+//
+// Every proxy vertex carries the front and back faces' inverse view depths 1/z and their scalar
+// times 1/z: on a plane both are affine in screen space, so the rasterizer interpolates them
+// exactly and a pixel recovers the scalar at the entry and exit as (s/z) / (1/z).
 
 // A tet's screen-space proxy: `silhouette` outer vertices (3 or 4, 0 for none) then the inner one.
 struct Proxy {
     vec2 p[5];
-    vec2 depths[5];
+    vec4 attrs[5];  // 1/z front, 1/z back, s/z front, s/z back
     uint silhouette;
 };
 
@@ -38,14 +43,16 @@ bool crossing(vec2 p, vec2 q, vec2 r, vec2 s, out float t, out float u) {
 }
 
 // The proxy of a tet whose corners (clip space) all lie beyond the near plane.
-Proxy make_proxy(vec4 c[4]) {
+Proxy make_proxy(vec4 c[4], float s[4]) {
     Proxy proxy;
     proxy.silhouette = 0u;
     vec2 p[4];
     float inv_z[4];
+    float s_z[4];
     for (int i = 0; i < 4; ++i) {
         p[i] = c[i].xy / c[i].w;
         inv_z[i] = 1.0 / c[i].w;
+        s_z[i] = s[i] * inv_z[i];
     }
     uint order[4] = uint[4](0u, 1u, 2u, 3u);
     for (uint d = 0u; d < 4u; ++d) {
@@ -59,7 +66,8 @@ Proxy make_proxy(vec4 c[4]) {
             proxy.silhouette = 3u;
             proxy.p[3] = p[d];
             // The inner vertex seen on the opposite face: 1/z is affine in screen space on a plane.
-            proxy.depths[3] = vec2(inv_z[d], dot(lambda, vec3(inv_z[a], inv_z[b], inv_z[cc])));
+            proxy.attrs[3] = vec4(inv_z[d], dot(lambda, vec3(inv_z[a], inv_z[b], inv_z[cc])),
+                                  s_z[d], dot(lambda, vec3(s_z[a], s_z[b], s_z[cc])));
             break;
         }
     }
@@ -79,18 +87,25 @@ Proxy make_proxy(vec4 c[4]) {
         uint a = order[0], b = order[1], cc = order[2], d = order[3];
         proxy.silhouette = 4u;
         proxy.p[4] = p[a] + (p[cc] - p[a]) * t;
-        proxy.depths[4] = vec2(inv_z[a] + (inv_z[cc] - inv_z[a]) * t, inv_z[b] + (inv_z[d] - inv_z[b]) * s);
+        proxy.attrs[4] = vec4(mix(inv_z[a], inv_z[cc], t), mix(inv_z[b], inv_z[d], s),
+                              mix(s_z[a], s_z[cc], t), mix(s_z[b], s_z[d], s));
     }
     for (uint j = 0u; j < proxy.silhouette; ++j) {
-        proxy.p[j] = p[order[j]];
-        proxy.depths[j] = vec2(inv_z[order[j]]);
+        uint k = order[j];
+        proxy.p[j] = p[k];
+        proxy.attrs[j] = vec4(inv_z[k], inv_z[k], s_z[k], s_z[k]);
     }
     return proxy;
 }
 
-// Where edge a–b meets the plane w = near (clip coordinates are affine along a world segment).
+// Where edge a–b meets the plane w = near (clip coordinates and the scalar are affine along a
+// world segment): clip position in xyzw, and the scalar from sa to sb.
 vec4 cut(vec4 a, vec4 b, float near) {
     return mix(a, b, (near - a.w) / (b.w - a.w));
+}
+
+float cut_scalar(vec4 a, vec4 b, float sa, float sb, float near) {
+    return mix(sa, sb, (near - a.w) / (b.w - a.w));
 }
 
 
@@ -100,13 +115,16 @@ uint tet_proxies(uint tet, out Proxy proxies[3], out bool clipped) {
     clipped = false;
     uvec4 ids = tets[tet];
     vec4 c[4];
+    float sc[4];
     uint front[4];
     uint back[4];
     uint n_front = 0u;
     uint n_back = 0u;
     float near = params.view.w;
     for (uint i = 0u; i < 4u; ++i) {
-        c[i] = params.world_to_clip * vec4(vertices_world[ids[i]].xyz, 1.0);
+        vec4 v = vertices_world[ids[i]];
+        c[i] = params.world_to_clip * vec4(v.xyz, 1.0);
+        sc[i] = v.w;
         if (c[i].w > near) {
             front[n_front++] = i;
         } else {
@@ -114,36 +132,49 @@ uint tet_proxies(uint tet, out Proxy proxies[3], out bool clipped) {
         }
     }
     if (n_front == 4u) {
-        proxies[0] = make_proxy(c);
+        proxies[0] = make_proxy(c, sc);
         proxy_count = 1u;
     } else if (n_front > 0u) {
         clipped = true;
-        vec4 prism[6];
         if (n_front == 1u) {
-            vec4 apex = c[front[0]];
-            vec4 piece[4] = vec4[4](apex, cut(apex, c[back[0]], near), cut(apex, c[back[1]], near),
-                                    cut(apex, c[back[2]], near));
-            proxies[0] = make_proxy(piece);
+            uint f = front[0];
+            vec4 piece[4] = vec4[4](c[f], cut(c[f], c[back[0]], near), cut(c[f], c[back[1]], near),
+                                    cut(c[f], c[back[2]], near));
+            float piece_s[4] = float[4](sc[f], cut_scalar(c[f], c[back[0]], sc[f], sc[back[0]], near),
+                                        cut_scalar(c[f], c[back[1]], sc[f], sc[back[1]], near),
+                                        cut_scalar(c[f], c[back[2]], sc[f], sc[back[2]], near));
+            proxies[0] = make_proxy(piece, piece_s);
             proxy_count = 1u;
         } else {
             // A prism: bottom triangle i0 i1 i2, top j0 j1 j2 with jk above ik.
+            vec4 prism[6];
+            float prism_s[6];
             if (n_front == 3u) {
-                vec4 o = c[back[0]];
-                prism = vec4[6](c[front[0]], c[front[1]], c[front[2]],
-                                cut(c[front[0]], o, near), cut(c[front[1]], o, near), cut(c[front[2]], o, near));
+                uint o = back[0];
+                for (uint k = 0u; k < 3u; ++k) {
+                    uint f = front[k];
+                    prism[k] = c[f];
+                    prism_s[k] = sc[f];
+                    prism[k + 3u] = cut(c[f], c[o], near);
+                    prism_s[k + 3u] = cut_scalar(c[f], c[o], sc[f], sc[o], near);
+                }
             } else {
-                vec4 a = c[front[0]];
-                vec4 b = c[front[1]];
-                vec4 x = c[back[0]];
-                vec4 y = c[back[1]];
-                prism = vec4[6](a, cut(a, x, near), cut(a, y, near), b, cut(b, x, near), cut(b, y, near));
+                for (uint k = 0u; k < 2u; ++k) {
+                    uint f = front[k];
+                    prism[3u * k] = c[f];
+                    prism_s[3u * k] = sc[f];
+                    for (uint m = 0u; m < 2u; ++m) {
+                        uint b = back[m];
+                        prism[3u * k + 1u + m] = cut(c[f], c[b], near);
+                        prism_s[3u * k + 1u + m] = cut_scalar(c[f], c[b], sc[f], sc[b], near);
+                    }
+                }
             }
-            vec4 t0[4] = vec4[4](prism[0], prism[1], prism[2], prism[3]);
-            vec4 t1[4] = vec4[4](prism[1], prism[2], prism[3], prism[4]);
-            vec4 t2[4] = vec4[4](prism[2], prism[3], prism[4], prism[5]);
-            proxies[0] = make_proxy(t0);
-            proxies[1] = make_proxy(t1);
-            proxies[2] = make_proxy(t2);
+            for (uint k = 0u; k < 3u; ++k) {
+                vec4 piece[4] = vec4[4](prism[k], prism[k + 1u], prism[k + 2u], prism[k + 3u]);
+                float piece_s[4] = float[4](prism_s[k], prism_s[k + 1u], prism_s[k + 2u], prism_s[k + 3u]);
+                proxies[k] = make_proxy(piece, piece_s);
+            }
             proxy_count = 3u;
         }
     }

@@ -1,0 +1,44 @@
+#version 460
+// The post pass of interval shading: turns what the pixels accumulated into colour.
+//   absorption  background light crossing the optical depth keeps exp(-depth) per channel
+//               (Beer–Lambert)
+//   emission    background plus the emitted light
+//   maximum     the table's colour at the largest scalar, background where no tet was crossed
+// The accumulation is an RGBA32F image (graphics path) or a buffer of four floats per pixel
+// (compute path, SOURCE_BUFFER).
+layout(local_size_x = 8, local_size_y = 8) in;
+#if SOURCE_BUFFER
+layout(binding = 0) readonly buffer Accumulated { vec4 accumulated[]; };
+#else
+layout(binding = 0, rgba32f) uniform readonly image2D accumulated;
+#endif
+layout(binding = 1) writeonly buffer Pixels { uint pixels[]; };
+layout(binding = 2) readonly buffer Table { vec4 table[]; };
+
+#include "tet/interval/table.glsl"
+
+layout(push_constant) uniform CompositeParams {
+    vec4 background;
+    uvec4 size;
+} params;
+
+void main() {
+    uvec2 pixel = gl_GlobalInvocationID.xy;
+    if (any(greaterThanEqual(pixel, params.size.xy))) {
+        return;
+    }
+#if SOURCE_BUFFER
+    vec3 value = accumulated[pixel.y * params.size.x + pixel.x].rgb;
+#else
+    vec3 value = imageLoad(accumulated, ivec2(pixel)).rgb;
+#endif
+    vec3 background = params.background.rgb;
+#if INTEGRAND == INTEGRAND_MAXIMUM
+    vec3 light = value.g > 0.0 ? table_value(value.r) : background;
+#elif INTEGRAND == INTEGRAND_EMISSION
+    vec3 light = background + value;
+#else
+    vec3 light = background * exp(-value);
+#endif
+    pixels[pixel.y * params.size.x + pixel.x] = packUnorm4x8(vec4(light, 1.0));
+}

@@ -1,0 +1,151 @@
+//! A tet mesh on the GPU, and the float target interval shading accumulates into.
+
+use crate::error::Result;
+use crate::path::Path;
+use tessera_data::tet::optical::MeshFrame;
+use tessera_data::tet::TetMesh;
+use tessera_gpu::{vk, Buffer, Gpu, Image, MemoryLocation};
+
+/// A tet mesh on the GPU, placed in world space like the CPU reference places it.
+pub struct GpuTetMesh {
+    /// xyz world position, w the vertex's scalar normalized to [0, 1] (0 without scalars).
+    pub vertices: Buffer,
+    pub tets: Buffer,
+    pub absorption: Buffer,
+    pub tet_count: u32,
+}
+
+impl GpuTetMesh {
+    /// The mesh without its scalars (for per-tet absorption).
+    pub fn upload(gpu: &Gpu, mesh: &TetMesh) -> Result<GpuTetMesh> {
+        GpuTetMesh::upload_with(gpu, mesh, None)
+    }
+
+    /// The mesh with one scalar per vertex already normalized to [0, 1]
+    /// ([`tessera_data::tet::scalar_integral::normalized_scalars`]).
+    pub fn upload_with(
+        gpu: &Gpu,
+        mesh: &TetMesh,
+        normalized: Option<&[f32]>,
+    ) -> Result<GpuTetMesh> {
+        let frame = MeshFrame::of(mesh);
+        let vertices: Vec<[f32; 4]> = mesh
+            .vertices
+            .iter()
+            .enumerate()
+            .map(|(i, &v)| {
+                let s = normalized.and_then(|n| n.get(i)).copied().unwrap_or(0.0);
+                frame.to_world(glam::Vec3::from(v)).extend(s).to_array()
+            })
+            .collect();
+        let absorption: Vec<[f32; 4]> = match &mesh.absorption {
+            Some(a) => a.iter().map(|c| [c[0], c[1], c[2], 0.0]).collect(),
+            None => vec![[1.0, 1.0, 1.0, 0.0]; mesh.tets.len()],
+        };
+        let usage = vk::BufferUsageFlags::STORAGE_BUFFER;
+        Ok(GpuTetMesh {
+            vertices: gpu.upload_buffer("tet vertices", bytemuck::cast_slice(&vertices), usage)?,
+            tets: gpu.upload_buffer("tets", bytemuck::cast_slice(&mesh.tets), usage)?,
+            absorption: gpu.upload_buffer(
+                "tet absorption",
+                bytemuck::cast_slice(&absorption),
+                usage,
+            )?,
+            tet_count: mesh.tets.len() as u32,
+        })
+    }
+
+    pub fn destroy(self, gpu: &Gpu) {
+        for b in [self.vertices, self.tets, self.absorption] {
+            gpu.destroy_buffer(b);
+        }
+    }
+}
+
+pub(super) const OPTICAL_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
+
+/// Where a frame accumulates: an RGBA32F attachment the graphics path blends into, or a buffer
+/// of four floats per pixel the compute path adds to with atomics.
+pub enum OpticalStore {
+    Image { image: Image, readback: Buffer },
+    Buffer(Buffer),
+}
+
+/// The per-pixel accumulation of one frame (optical depth, emission or maximum).
+pub struct OpticalTarget {
+    pub store: OpticalStore,
+    pub width: u32,
+    pub height: u32,
+}
+
+impl OpticalTarget {
+    pub fn new(gpu: &Gpu, width: u32, height: u32, path: Path) -> Result<OpticalTarget> {
+        crate::error::check_image_size(width, height)?;
+        let bytes = width as u64 * height as u64 * 16;
+        let store = match path {
+            Path::Graphics => {
+                let image = gpu.create_image(
+                    "interval accumulation",
+                    [width, height, 1],
+                    OPTICAL_FORMAT,
+                    vk::ImageUsageFlags::COLOR_ATTACHMENT
+                        | vk::ImageUsageFlags::TRANSFER_SRC
+                        | vk::ImageUsageFlags::STORAGE,
+                    false,
+                )?;
+                let readback = match gpu.create_buffer(
+                    "interval accumulation readback",
+                    bytes,
+                    vk::BufferUsageFlags::TRANSFER_DST | vk::BufferUsageFlags::TRANSFER_SRC,
+                    MemoryLocation::GpuOnly,
+                ) {
+                    Ok(b) => b,
+                    Err(e) => {
+                        gpu.destroy_image(image);
+                        return Err(e.into());
+                    }
+                };
+                OpticalStore::Image { image, readback }
+            }
+            Path::Compute => OpticalStore::Buffer(gpu.create_buffer(
+                "interval accumulation",
+                bytes,
+                vk::BufferUsageFlags::STORAGE_BUFFER
+                    | vk::BufferUsageFlags::TRANSFER_SRC
+                    | vk::BufferUsageFlags::TRANSFER_DST,
+                MemoryLocation::GpuOnly,
+            )?),
+        };
+        Ok(OpticalTarget {
+            store,
+            width,
+            height,
+        })
+    }
+
+    /// The accumulated values per pixel, rows top to bottom (rgb; the maximum mode keeps the
+    /// largest scalar in r and coverage in g).
+    pub fn read(&self, gpu: &Gpu) -> Result<Vec<[f32; 3]>> {
+        let bytes = match &self.store {
+            OpticalStore::Image { image, readback } => {
+                gpu.submit("copy interval accumulation", |rec| {
+                    rec.copy_image_to_buffer(image, readback)
+                })?;
+                gpu.read_buffer(readback)?
+            }
+            OpticalStore::Buffer(buffer) => gpu.read_buffer(buffer)?,
+        };
+        let texels: Vec<[f32; 4]> = bytemuck::allocation::pod_collect_to_vec(&bytes);
+        Ok(texels.into_iter().map(|t| [t[0], t[1], t[2]]).collect())
+    }
+
+    pub fn destroy(self, gpu: &Gpu) {
+        match self.store {
+            OpticalStore::Image { image, readback } => {
+                gpu.destroy_image(image);
+                gpu.destroy_buffer(readback);
+            }
+            OpticalStore::Buffer(buffer) => gpu.destroy_buffer(buffer),
+        }
+    }
+}

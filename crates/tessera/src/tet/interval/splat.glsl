@@ -1,0 +1,78 @@
+// The compute path's pixel work: which proxy triangle owns a pixel centre (the top-left rule,
+// as the hardware rasterizer decides it), and adding the integrand there with atomics. Needs
+// buffers.glsl, params.glsl, proxy.glsl, length.glsl, integrand.glsl and the `optical` buffer
+// (rgba per pixel: floats to add to, or float bits to take the maximum of).
+
+float edge_at(vec2 a, vec2 b, vec2 p) {
+    return (b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x);
+}
+
+// Top-left rule on a counter-clockwise triangle (y down): a pixel centre on an edge belongs to
+// exactly one of the two triangles sharing it.
+bool owns(float w, vec2 a, vec2 b) {
+    vec2 d = b - a;
+    return w > 0.0 || (w == 0.0 && ((d.y == 0.0 && d.x < 0.0) || d.y > 0.0));
+}
+
+vec2 to_screen(vec2 ndc) {
+    return (ndc + 1.0) * 0.5 * vec2(params.counts.yz);
+}
+
+// Whether pixel centre p belongs to triangle s0 s1 s2 (either winding), with the weights of
+// its corners there.
+bool covers(vec2 s0, vec2 s1, vec2 s2, vec2 p, out vec3 weights) {
+    weights = vec3(0.0);
+    float area = edge_at(s0, s1, s2);
+    if (area == 0.0) {
+        return false;
+    }
+    bool flipped = area < 0.0;
+    if (flipped) {
+        vec2 t = s1;
+        s1 = s2;
+        s2 = t;
+        area = -area;
+    }
+    float w0 = edge_at(s1, s2, p);
+    float w1 = edge_at(s2, s0, p);
+    float w2 = edge_at(s0, s1, p);
+    if (!(owns(w0, s1, s2) && owns(w1, s2, s0) && owns(w2, s0, s1))) {
+        return false;
+    }
+    weights = (flipped ? vec3(w0, w2, w1) : vec3(w0, w1, w2)) / area;
+    return true;
+}
+
+void accumulate(uint pixel, vec3 value) {
+    uint i = pixel * 4u;
+#if INTEGRAND == INTEGRAND_MAXIMUM
+    // Non-negative floats order as their bits do.
+    atomicMax(optical[i + 0u], floatBitsToUint(value.x));
+    atomicMax(optical[i + 1u], floatBitsToUint(value.y));
+#else
+    atomicAdd(optical[i + 0u], value.x);
+    atomicAdd(optical[i + 1u], value.y);
+    atomicAdd(optical[i + 2u], value.z);
+#endif
+}
+
+// Adds the proxy's integrand at `pixel` where one of its triangles owns the pixel centre. The
+// triangles of one proxy tile its silhouette, so at most one does.
+void shade_pixel(Proxy proxy, uvec2 pixel, vec3 tet_colour) {
+    uint s = proxy.silhouette;
+    if (s == 0u) {
+        return;
+    }
+    vec2 p = vec2(pixel) + 0.5;
+    vec2 centre = to_screen(proxy.p[s]);
+    for (uint j = 0u; j < s; ++j) {
+        uint k = j + 1u == s ? 0u : j + 1u;
+        vec3 w;
+        if (covers(to_screen(proxy.p[j]), to_screen(proxy.p[k]), centre, p, w)) {
+            vec4 attrs = w.x * proxy.attrs[j] + w.y * proxy.attrs[k] + w.z * proxy.attrs[s];
+            vec2 ndc = p / (0.5 * vec2(params.counts.yz)) - 1.0;
+            accumulate(pixel.y * params.counts.y + pixel.x, integrand(attrs, ndc, tet_colour));
+            return;
+        }
+    }
+}
