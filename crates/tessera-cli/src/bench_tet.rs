@@ -74,7 +74,7 @@ fn variants(gpu: &Gpu, view: &str, scalar: Option<&Integrand>) -> Vec<Variant> {
 /// Interval shading of procedural tet boxes of about 61 k, 959 k and 2.4 M tets (the sizes of
 /// paper A's Table 1), far, close and inside views, at 3840×2160 (`--quick`: small meshes and
 /// image), on both paths with their variants, and scalar integration through a transfer
-/// function on the middle mesh.
+/// function on the middle mesh; then the asteroid field.
 pub fn interval(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -> Result<()> {
     let compiler = tessera::shaders::compiler();
     let (w, h) = if args.quick { (256, 144) } else { (3840, 2160) };
@@ -113,6 +113,59 @@ pub fn interval(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -
         }
         gpu_mesh.destroy(gpu);
     }
+    asteroids(gpu, &compiler, args, plan, sink, (w, h))
+}
+
+/// Paper A's asteroid field: 10,000 asteroids, one bounding tet each, sphere-traced along
+/// their intervals; seen from outside and from within the field.
+fn asteroids(
+    gpu: &Gpu,
+    compiler: &tessera_gpu::ShaderCompiler,
+    args: &BenchArgs,
+    plan: FramePlan,
+    sink: &mut Sink,
+    (w, h): (u32, u32),
+) -> Result<()> {
+    let count = if args.quick { 500 } else { 10_000 };
+    let mesh = tessera_data::tet::asteroids::asteroid_field(count, 1);
+    let gpu_mesh = GpuTetMesh::upload_asteroids(gpu, &mesh)?;
+    let support = path_support(gpu.caps());
+    let mut all = Vec::new();
+    if support.graphics {
+        for n in [1, 16] {
+            all.push(Variant {
+                options: IntervalOptions {
+                    integrand: Integrand::Asteroids,
+                    tets_per_workgroup: n,
+                    ..IntervalOptions::new(Path::Graphics)
+                },
+                label: format!("asteroids, {n} tets/workgroup"),
+            });
+        }
+    }
+    if support.compute && gpu.caps().buffer_int64_atomics {
+        all.push(Variant {
+            options: IntervalOptions {
+                integrand: Integrand::Asteroids,
+                ..IntervalOptions::new(Path::Compute)
+            },
+            label: "asteroids, tiles above 256 px".into(),
+        });
+    }
+    for (view, distance) in [("outside", 1.5f32), ("inside", 0.15)] {
+        let camera = OrbitCamera {
+            distance,
+            ..OrbitCamera::default()
+        };
+        for variant in &all {
+            let dataset = format!("asteroids {count}, {view}");
+            let timed = time_variant(gpu, compiler, variant, &gpu_mesh, &camera, (w, h), plan)?;
+            let mut r = timed.into_record(gpu, &dataset, variant, plan, (w, h));
+            r.counts.insert("tets".into(), f64::from(count));
+            sink.emit(&r)?;
+        }
+    }
+    gpu_mesh.destroy(gpu);
     Ok(())
 }
 

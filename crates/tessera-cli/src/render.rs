@@ -13,7 +13,8 @@ use tessera_gpu::GpuOptions;
 pub struct RenderArgs {
     /// A volume file (raw, .nrrd, .nhdr, .nii[.gz]) or procedural:NAME:SIZE[:TYPE], e.g.
     /// procedural:marschner-lobb:128; or a tetrahedral mesh (.vtu, .vtk, .node/.ele, .msh) or
-    /// tets:box:N / tets:sphere:N.
+    /// tets:box:N / tets:sphere:N (N³ cells of 6 tets) / tets:asteroids:COUNT (an SDF asteroid
+    /// field, one bounding tet per asteroid).
     pub(crate) data: String,
     /// Technique: raymarch or direct for volumes, interval for tetrahedral meshes (the default
     /// follows the data).

@@ -6,6 +6,7 @@ use clap::Args;
 use std::path::Path;
 use tessera::path::PathChoice;
 use tessera::tet::interval::{self, GpuTetMesh, Integrand, Interval, IntervalOptions};
+use tessera_data::tet::asteroids::asteroid_field;
 use tessera_data::tet::scalar_integral::normalized_scalars;
 use tessera_data::tet::{load_tet_mesh, procedural, TetMesh};
 use tessera_data::transfer::{IntegrandTable, ScalarMode, TransferFunction, TABLE_KNOTS};
@@ -66,9 +67,17 @@ pub fn is_tet_data(spec: &str) -> bool {
 
 pub fn load(spec: &str) -> Result<TetMesh> {
     if let Some(rest) = spec.strip_prefix("tets:") {
-        let (kind, n) = rest
-            .split_once(':')
-            .with_context(|| format!("'{spec}': expected tets:box:N or tets:sphere:N"))?;
+        let (kind, n) = rest.split_once(':').with_context(|| {
+            format!("'{spec}': expected tets:box:N, tets:sphere:N or tets:asteroids:COUNT")
+        })?;
+        if kind == "asteroids" {
+            let count: u32 = n
+                .parse()
+                .ok()
+                .filter(|&n| (1..=4_000_000).contains(&n))
+                .with_context(|| format!("'{spec}': COUNT must be from 1 to 4000000"))?;
+            return Ok(asteroid_field(count, 1));
+        }
         let n: u32 = n
             .parse()
             .ok()
@@ -77,7 +86,7 @@ pub fn load(spec: &str) -> Result<TetMesh> {
         return match kind {
             "box" => Ok(procedural::box_mesh(n)),
             "sphere" => Ok(procedural::sphere_mesh(n)),
-            _ => bail!("'{spec}': unknown mesh '{kind}' (box, sphere)"),
+            _ => bail!("'{spec}': unknown mesh '{kind}' (box, sphere, asteroids)"),
         };
     }
     let (mesh, report) = load_tet_mesh(Path::new(spec))?;
@@ -92,6 +101,9 @@ pub fn load(spec: &str) -> Result<TetMesh> {
 
 /// The integrand the options ask for, with the normalized vertex scalars it needs.
 fn integrand(spec: &str, mesh: &TetMesh, args: &TetArgs) -> Result<(Integrand, Option<Vec<f32>>)> {
+    if spec.starts_with("tets:asteroids:") {
+        return Ok((Integrand::Asteroids, None));
+    }
     let mode = match args.integrate.as_str() {
         "tet-absorption" => None,
         "auto" if mesh.scalars.is_none() || mesh.absorption.is_some() => None,
@@ -132,11 +144,13 @@ pub fn run(options: &GpuOptions, args: &RenderArgs, tet: &TetArgs, path: &str) -
         Integrand::Scalar {
             mode: ScalarMode::Emission | ScalarMode::Maximum,
             ..
-        } => DARK,
+        }
+        | Integrand::Asteroids => DARK,
         _ => BACKLIGHT,
     };
     let what = match &integrand {
         Integrand::TetAbsorption => "tet absorption".to_string(),
+        Integrand::Asteroids => "sphere-traced asteroids".to_string(),
         Integrand::Scalar { mode, .. } => {
             format!("{mode:?} of '{}'", mesh.scalar_name).to_lowercase()
         }
@@ -147,7 +161,10 @@ pub fn run(options: &GpuOptions, args: &RenderArgs, tet: &TetArgs, path: &str) -
     };
     let compiler = tessera::shaders::compiler();
     let renderer = Interval::new(&gpu, &compiler, &options)?;
-    let gpu_mesh = GpuTetMesh::upload_with(&gpu, &mesh, normalized.as_deref())?;
+    let gpu_mesh = match options.integrand {
+        Integrand::Asteroids => GpuTetMesh::upload_asteroids(&gpu, &mesh)?,
+        _ => GpuTetMesh::upload_with(&gpu, &mesh, normalized.as_deref())?,
+    };
     let rendered = renderer.render_image(&gpu, &gpu_mesh, &args.camera, args.size, background);
     gpu_mesh.destroy(&gpu);
     renderer.destroy(&gpu);

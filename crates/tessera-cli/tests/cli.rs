@@ -153,6 +153,24 @@ fn renders_tet_meshes_with_interval_shading() {
     assert_fails_with(&o, &["tets:box:2", "interval"]);
     let o = tessera(&["render", "tets:cone:2"]);
     assert_fails_with(&o, &["cone", "sphere"]);
+    let out = dir.join("asteroids.png");
+    for path in ["graphics", "compute"] {
+        let o = tessera(&[
+            "--validation",
+            "render",
+            "tets:asteroids:40",
+            "--path",
+            path,
+            "--size",
+            "48x40",
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{path}: {}", stderr(&o));
+        assert!(String::from_utf8_lossy(&o.stdout).contains("sphere-traced asteroids"));
+    }
+    let o = tessera(&["render", "tets:asteroids:0"]);
+    assert_fails_with(&o, &["tets:asteroids:0", "COUNT"]);
 }
 
 #[test]
@@ -179,7 +197,8 @@ fn integrates_tet_scalars_on_both_paths() {
             assert!(o.status.success(), "{path} {mode}: {}", stderr(&o));
             let stdout = String::from_utf8_lossy(&o.stdout);
             assert!(
-                stdout.contains(&format!("{path} path")) && stdout.contains(mode.trim_end_matches("mip")),
+                stdout.contains(&format!("{path} path"))
+                    && stdout.contains(mode.trim_end_matches("mip")),
                 "{stdout}"
             );
         }
@@ -191,9 +210,23 @@ fn integrates_tet_scalars_on_both_paths() {
     tessera_data::tet::write_tetgen(&mesh, &file).unwrap();
     let o = tessera(&["render", file.to_str().unwrap(), "--integrate", "emission"]);
     assert_fails_with(&o, &["plain.node", "scalars"]);
-    let o = tessera(&["render", "tets:box:2", "--integrate", "mip", "--range", "1,0"]);
+    let o = tessera(&[
+        "render",
+        "tets:box:2",
+        "--integrate",
+        "mip",
+        "--range",
+        "1,0",
+    ]);
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
-    let o = tessera(&["render", "tets:box:2", "--integrate", "mip", "--tf", "rainbow"]);
+    let o = tessera(&[
+        "render",
+        "tets:box:2",
+        "--integrate",
+        "mip",
+        "--tf",
+        "rainbow",
+    ]);
     assert_fails_with(&o, &["rainbow", "cool-warm"]);
 }
 
@@ -353,8 +386,9 @@ fn demo_writes_gallery() {
         e.as_ref()
             .is_ok_and(|e| e.path().extension().is_some_and(|x| x == "png"))
     });
-    // 7 volume images, and the tet sphere absorbing and emitting on both paths.
-    assert_eq!(pngs.count(), 11);
+    // 7 volume images; the tet sphere absorbing and emitting, and the asteroid field, on both
+    // paths.
+    assert_eq!(pngs.count(), 13);
     let stdout = String::from_utf8_lossy(&o.stdout);
-    assert_eq!(stdout.matches("ms GPU").count(), 11, "{stdout}");
+    assert_eq!(stdout.matches("ms GPU").count(), 13, "{stdout}");
 }

@@ -350,7 +350,9 @@ impl Gpu {
             .host_query_reset(true)
             .descriptor_indexing(true)
             .runtime_descriptor_array(true);
+        // Demotion is what `discard` compiles to for Vulkan 1.3 (a feature 1.3 requires).
         let mut v13 = vk::PhysicalDeviceVulkan13Features::default()
+            .shader_demote_to_helper_invocation(true)
             .dynamic_rendering(true)
             .synchronization2(true)
             .maintenance4(true);

@@ -70,3 +70,21 @@ pub fn volume_defines(scalar: ScalarType) -> Vec<(String, String)> {
     d.push(("VOLUME_SAMPLER".into(), sampler.into()));
     d
 }
+
+/// The asteroid field's constants (`tet/interval/sdf.glsl`), from its CPU reference.
+pub fn asteroid_defines() -> Vec<(String, String)> {
+    use tessera_data::tet::asteroids as a;
+    let v3 = |v: [f64; 3]| vec3(v.map(|c| c as f32));
+    vec![
+        ("SDF_AMPLITUDE".into(), float(a::AMPLITUDE as f32)),
+        ("SDF_FREQUENCY".into(), float(a::FREQUENCY as f32)),
+        ("SDF_OCTAVES".into(), a::OCTAVES.to_string()),
+        ("SDF_STEPS".into(), a::STEPS.to_string()),
+        ("SDF_STEP_SCALE".into(), float(a::STEP_SCALE as f32)),
+        ("SDF_EPSILON".into(), float(a::EPSILON as f32)),
+        ("SDF_LIGHT".into(), v3(a::LIGHT)),
+        ("SDF_AMBIENT".into(), float(a::AMBIENT as f32)),
+        ("SDF_DARK_ROCK".into(), v3(a::DARK_ROCK)),
+        ("SDF_LIGHT_ROCK".into(), v3(a::LIGHT_ROCK)),
+    ]
+}

@@ -59,6 +59,10 @@ const COMMON: &[(&str, &str)] = &[
         "tet/interval/splat.glsl",
         include_str!("tet/interval/splat.glsl"),
     ),
+    (
+        "tet/interval/sdf.glsl",
+        include_str!("tet/interval/sdf.glsl"),
+    ),
     ("iso/direct/hzb.glsl", include_str!("iso/direct/hzb.glsl")),
     (
         "iso/direct/views.glsl",

@@ -84,8 +84,16 @@ fn variants(gpu: &Gpu, integrand: &Integrand, all: bool) -> Vec<(String, Interva
     out
 }
 
-/// Renders `mesh` with each variant and holds every pixel away from projected edges to
-/// `reference`; returns how many of those pixels the mesh covers.
+/// What a view should give: the CPU reference per pixel, the pixels near projected edges (left
+/// out), and whether tets cross the near plane.
+struct Expected<'a> {
+    reference: &'a [[f32; 3]],
+    edges: &'a [bool],
+    clipped: bool,
+}
+
+/// Renders `mesh` with each variant and holds every pixel away from projected edges to the
+/// reference; returns how many of those pixels the mesh covers.
 fn assert_variants_match(
     gpu: &Gpu,
     name: &str,
@@ -93,10 +101,13 @@ fn assert_variants_match(
     variants: &[(String, IntervalOptions)],
     cam: &OrbitCamera,
     (w, h): (u32, u32),
-    reference: &[[f32; 3]],
-    edges: &[bool],
-    clipped: bool,
+    expected: &Expected,
 ) -> usize {
+    let Expected {
+        reference,
+        edges,
+        clipped,
+    } = *expected;
     let compiler = shaders::compiler();
     let mut covered = 0;
     for (variant, options) in variants {
@@ -152,9 +163,11 @@ fn assert_matches_reference(
         &variants,
         cam,
         (w, h),
-        &reference,
-        &edges,
-        clipped,
+        &Expected {
+            reference: &reference,
+            edges: &edges,
+            clipped,
+        },
     );
     gpu_mesh.destroy(&gpu);
     covered
@@ -414,9 +427,11 @@ fn scalar_matches_reference(
         &variants,
         cam,
         (w, h),
-        &reference,
-        &edges,
-        cam.distance < 1.0,
+        &Expected {
+            reference: &reference,
+            edges: &edges,
+            clipped: cam.distance < 1.0,
+        },
     );
     assert!(
         variants.is_empty() || covered >= min_covered,
@@ -498,5 +513,63 @@ fn maximum_post_pass_shows_the_table_colour() {
         interval.destroy(&gpu);
     }
     gpu_mesh.destroy(&gpu);
+    assert_clean(&gpu);
+}
+
+/// The asteroid field (paper A §3.2): each tet's asteroid sphere-traced along its interval,
+/// nearest hit by depth, against the CPU tracer of the same distance function.
+#[test]
+fn asteroid_field_matches_the_cpu_sphere_tracer() {
+    use tessera_data::image::{coverage_of, silhouette_iou};
+    use tessera_data::tet::asteroids::{asteroid_field, asteroid_spheres, render_reference};
+    let gpu = gpu();
+    let compiler = shaders::compiler();
+    let mesh = asteroid_field(60, 3);
+    let spheres = asteroid_spheres(&mesh);
+    let (w, h) = (96, 72);
+    let background = [0.0, 0.0, 0.0];
+    // Outside the field, and inside it (tets clipped at the near plane).
+    for cam in [camera(30.0, 20.0, 1.5), camera(-20.0, 10.0, 0.15)] {
+        let (expected, hits) = render_reference(&mesh, &spheres, &cam, (w, h), background);
+        let hit_count = hits.iter().filter(|&&h| h).count();
+        assert!(
+            hit_count > 500,
+            "the view must show asteroids ({hit_count} pixels)"
+        );
+        let gpu_mesh = GpuTetMesh::upload_asteroids(&gpu, &mesh).unwrap();
+        for path in paths(&gpu) {
+            if path == Path::Compute && !gpu.caps().buffer_int64_atomics {
+                continue;
+            }
+            let options = IntervalOptions {
+                integrand: Integrand::Asteroids,
+                ..IntervalOptions::new(path)
+            };
+            let interval = Interval::new(&gpu, &compiler, &options).unwrap();
+            let (image, _) = interval
+                .render_image(&gpu, &gpu_mesh, &cam, (w, h), background)
+                .unwrap();
+            let empty = expected.pixels[hits.iter().position(|&h| !h).unwrap()];
+            let covered = coverage_of(&image, empty);
+            let iou = silhouette_iou(&covered, &hits);
+            assert!(
+                iou >= 0.99,
+                "{} at {}: silhouette IoU {iou}",
+                path.name(),
+                cam.distance
+            );
+            let both: Vec<bool> = covered.iter().zip(&hits).map(|(a, b)| *a && *b).collect();
+            let diff = image.compare_where(&expected, &both, 4);
+            assert!(
+                diff.fraction_within >= 0.98,
+                "{} at {}: {} of the shared pixels differ by more than 4/255",
+                path.name(),
+                cam.distance,
+                diff.pixels_outside
+            );
+            interval.destroy(&gpu);
+        }
+        gpu_mesh.destroy(&gpu);
+    }
     assert_clean(&gpu);
 }

@@ -12,6 +12,7 @@ use glam::{DVec3, Vec3};
 
 use crate::error::{DataError, Result};
 
+pub mod asteroids;
 mod cells;
 pub mod gmsh;
 pub mod optical;

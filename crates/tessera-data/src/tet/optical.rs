@@ -372,7 +372,25 @@ pub fn accumulate<F>(
 where
     F: Fn(usize, RayStretch, &mut DVec3) + Sync,
 {
-    let mut out = vec![[0.0_f32; 3]; width as usize * height as usize];
+    accumulate_with(mesh, camera, width, height, add)
+        .into_iter()
+        .map(|sum: DVec3| sum.as_vec3().to_array())
+        .collect()
+}
+
+/// [`accumulate`] into any accumulator, starting from its default.
+pub fn accumulate_with<A, F>(
+    mesh: &TetMesh,
+    camera: &OrbitCamera,
+    width: u32,
+    height: u32,
+    add: F,
+) -> Vec<A>
+where
+    A: Default + Clone + Send,
+    F: Fn(usize, RayStretch, &mut A) + Sync,
+{
+    let mut out = vec![A::default(); width as usize * height as usize];
     if width == 0 || height == 0 {
         return out;
     }
@@ -386,7 +404,6 @@ where
             for (x, pixel) in row.iter_mut().enumerate() {
                 let x = x as u32;
                 let (dir, t_near) = view.ray(x, y);
-                let mut sum = DVec3::ZERO;
                 for t in bins.at(x, y) {
                     if let Some((enter, exit)) = interval(view.eye, dir, &corners[t]) {
                         let enter = enter.max(t_near);
@@ -397,11 +414,10 @@ where
                                 enter,
                                 exit,
                             };
-                            add(t, stretch, &mut sum);
+                            add(t, stretch, pixel);
                         }
                     }
                 }
-                *pixel = sum.as_vec3().to_array();
             }
         });
     out

@@ -4,10 +4,13 @@
 //               (Beer–Lambert)
 //   emission    background plus the emitted light
 //   maximum     the table's colour at the largest scalar, background where no tet was crossed
+//   sdf         the nearest asteroid's colour, background where none was hit
 // The accumulation is an RGBA32F image (graphics path) or a buffer of four floats per pixel
 // (compute path, SOURCE_BUFFER).
 layout(local_size_x = 8, local_size_y = 8) in;
-#if SOURCE_BUFFER
+#if SOURCE_BUFFER && INTEGRAND == INTEGRAND_SDF
+layout(binding = 0) readonly buffer Accumulated { uvec4 accumulated[]; };
+#elif SOURCE_BUFFER
 layout(binding = 0) readonly buffer Accumulated { vec4 accumulated[]; };
 #else
 layout(binding = 0, rgba32f) uniform readonly image2D accumulated;
@@ -27,18 +30,25 @@ void main() {
     if (any(greaterThanEqual(pixel, params.size.xy))) {
         return;
     }
-#if SOURCE_BUFFER
-    vec3 value = accumulated[pixel.y * params.size.x + pixel.x].rgb;
-#else
-    vec3 value = imageLoad(accumulated, ivec2(pixel)).rgb;
-#endif
     vec3 background = params.background.rgb;
-#if INTEGRAND == INTEGRAND_MAXIMUM
+#if SOURCE_BUFFER && INTEGRAND == INTEGRAND_SDF
+    uvec2 nearest = accumulated[pixel.y * params.size.x + pixel.x].xy;  // colour, depth bits
+    vec3 light = nearest.y == 0xffffffffu ? background : unpackUnorm4x8(nearest.x).rgb;
+#else
+#if SOURCE_BUFFER
+    vec4 value = accumulated[pixel.y * params.size.x + pixel.x];
+#else
+    vec4 value = imageLoad(accumulated, ivec2(pixel));
+#endif
+#if INTEGRAND == INTEGRAND_SDF
+    vec3 light = value.a > 0.0 ? value.rgb : background;
+#elif INTEGRAND == INTEGRAND_MAXIMUM
     vec3 light = value.g > 0.0 ? table_value(value.r) : background;
 #elif INTEGRAND == INTEGRAND_EMISSION
-    vec3 light = background + value;
+    vec3 light = background + value.rgb;
 #else
-    vec3 light = background * exp(-value);
+    vec3 light = background * exp(-value.rgb);
+#endif
 #endif
     pixels[pixel.y * params.size.x + pixel.x] = packUnorm4x8(vec4(light, 1.0));
 }

@@ -95,8 +95,8 @@ impl IntervalCompute {
         })
     }
 
-    /// Records one frame into `target` (cleared first); `common` are the technique's first
-    /// bindings (`buffers.glsl`).
+    /// Records one frame into `target` (cleared to words of `clear` first); `common` are the
+    /// technique's first bindings (`buffers.glsl`).
     pub fn record(
         &self,
         rec: &Recorder,
@@ -104,6 +104,7 @@ impl IntervalCompute {
         common: &[Binding],
         target: &Buffer,
         params: &IntervalParams,
+        clear: u32,
     ) {
         let mut bindings = common.to_vec();
         bindings.extend([
@@ -112,7 +113,7 @@ impl IntervalCompute {
             Binding::Buffer(&self.tile_owner),
             Binding::Buffer(&self.tile_count),
         ]);
-        rec.fill_buffer(target, 0);
+        rec.fill_buffer(target, clear);
         rec.fill_buffer(&self.tile_count, 0);
         rec.barrier();
         let groups = tessera_gpu::spread_groups(

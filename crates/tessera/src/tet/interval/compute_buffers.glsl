@@ -1,5 +1,8 @@
 // The compute path's buffers after buffers.glsl (host side: `IntervalCompute::record`).
-#if INTEGRAND == INTEGRAND_MAXIMUM
+#if INTEGRAND == INTEGRAND_SDF
+// Two 64-bit words per pixel; the first holds depth << 32 | packed colour, all ones when empty.
+layout(binding = 5) buffer Frame { uint64_t frame[]; };
+#elif INTEGRAND == INTEGRAND_MAXIMUM
 layout(binding = 5) buffer Optical { uint optical[]; };
 #else
 layout(binding = 5) buffer Optical { float optical[]; };

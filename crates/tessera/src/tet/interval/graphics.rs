@@ -1,7 +1,7 @@
 //! The graphics path of interval shading (paper A): a mesh shader emits each tet's proxies and
 //! the rasterizer hands every fragment its interval; fragments blend into a float attachment.
 
-use super::mesh::{GpuTetMesh, OPTICAL_FORMAT};
+use super::mesh::{GpuTetMesh, DEPTH_FORMAT, OPTICAL_FORMAT};
 use super::IntervalParams;
 use crate::builtin_shader;
 use crate::error::{Error, Result};
@@ -13,19 +13,28 @@ use tessera_gpu::{
 /// output limits every mesh-shader device offers (256 each).
 pub const MAX_TETS_PER_WORKGROUP: u32 = 16;
 
+/// How fragments combine in the attachment.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Combine {
+    Add,
+    Max,
+    /// Depth-tested: the nearest fragment stays (the asteroid field).
+    Nearest,
+}
+
 pub struct IntervalGraphics {
     pipeline: Pipeline,
     tets_per_workgroup: u32,
 }
 
 impl IntervalGraphics {
-    /// `defines` are the technique's; `maximum` blends by maximum instead of adding.
+    /// `defines` are the technique's.
     pub fn new(
         gpu: &Gpu,
         compiler: &ShaderCompiler,
         defines: &[(String, String)],
         tets_per_workgroup: u32,
-        maximum: bool,
+        combine: Combine,
     ) -> Result<IntervalGraphics> {
         if !gpu.caps().mesh_shader {
             return Err(Error::Invalid(format!(
@@ -42,9 +51,16 @@ impl IntervalGraphics {
         defines.push(("GROUP".into(), tets_per_workgroup.to_string()));
         let mesh = compiler.compile(&builtin_shader!("interval.mesh.glsl"), &defines)?;
         let frag = compiler.compile(&builtin_shader!("interval.frag.glsl"), &defines)?;
-        let targets = RenderTargets {
-            blend: if maximum { Blend::Max } else { Blend::Add },
-            ..RenderTargets::color(OPTICAL_FORMAT)
+        let targets = match combine {
+            Combine::Add => RenderTargets {
+                blend: Blend::Add,
+                ..RenderTargets::color(OPTICAL_FORMAT)
+            },
+            Combine::Max => RenderTargets {
+                blend: Blend::Max,
+                ..RenderTargets::color(OPTICAL_FORMAT)
+            },
+            Combine::Nearest => RenderTargets::color_depth(OPTICAL_FORMAT, DEPTH_FORMAT),
         };
         let pipeline = gpu.graphics_pipeline_for(
             "interval shading",
@@ -58,18 +74,21 @@ impl IntervalGraphics {
         })
     }
 
-    /// Records one frame into `image` (cleared first); `common` are the technique's first
-    /// bindings (`buffers.glsl`).
+    /// Records one frame into `image` and `depth` (cleared first; `depth` for
+    /// [`Combine::Nearest`] only); `common` are the technique's first bindings (`buffers.glsl`).
     pub fn record(
         &self,
         rec: &Recorder,
         mesh: &GpuTetMesh,
         common: &[Binding],
-        image: &Image,
+        (image, depth): (&Image, Option<&Image>),
         params: &IntervalParams,
     ) -> Result<()> {
         rec.discard_to_general(image);
-        rec.begin_rendering(image, [0.0; 4]);
+        if let Some(d) = depth {
+            rec.discard_to_general(d);
+        }
+        rec.begin_rendering_with_depth(image, depth, [0.0; 4]);
         let drawn = rec.draw_mesh_tasks(
             &self.pipeline,
             common,

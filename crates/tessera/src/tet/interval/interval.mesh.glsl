@@ -14,7 +14,7 @@ layout(triangles, max_vertices = 15 * GROUP, max_primitives = 12 * GROUP) out;
 #include "tet/interval/params.glsl"
 
 layout(location = 0) out vec4 interval_attrs[];  // 1/z and s/z of front and back face (view space)
-layout(location = 1) flat out vec3 tet_absorption[];
+layout(location = 1) flat out uint tet_id[];
 
 shared uint vertex_offsets[GROUP + 1u];
 shared uint primitive_offsets[GROUP + 1u];
@@ -56,7 +56,6 @@ void main() {
     SetMeshOutputsEXT(vertex_offsets[GROUP], primitive_offsets[GROUP]);
     uint v = vertex_offsets[me];
     uint q = primitive_offsets[me];
-    vec3 colour = tet < params.counts.x ? absorption[tet].xyz : vec3(0.0);
     for (uint k = 0u; k < proxy_count; ++k) {
         uint s = proxies[k].silhouette;
         if (s == 0u) {
@@ -65,7 +64,7 @@ void main() {
         for (uint j = 0u; j <= s; ++j) {
             gl_MeshVerticesEXT[v + j].gl_Position = vec4(proxies[k].p[j], 0.0, 1.0);
             interval_attrs[v + j] = proxies[k].attrs[j];
-            tet_absorption[v + j] = colour;
+            tet_id[v + j] = tet;
         }
         for (uint j = 0u; j < s; ++j) {
             gl_PrimitiveTriangleIndicesEXT[q + j] = uvec3(v + j, v + (j + 1u) % s, v + s);

@@ -6,6 +6,10 @@
 // few huge proxies near the eye do not leave one invocation walking a whole screen. Where the
 // tile buffers are full, the tet is drawn here after all (slowly, but correctly).
 #extension GL_EXT_shader_atomic_float : require
+#if INTEGRAND == INTEGRAND_SDF
+#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+#extension GL_EXT_shader_atomic_int64 : require
+#endif
 
 layout(local_size_x = 64) in;
 
@@ -16,6 +20,9 @@ layout(local_size_x = 64) in;
 #include "tet/interval/length.glsl"
 #include "tet/interval/table.glsl"
 #include "tet/interval/integrand.glsl"
+#if INTEGRAND == INTEGRAND_SDF
+#include "tet/interval/sdf.glsl"
+#endif
 #include "tet/interval/splat.glsl"
 
 // Hands the tet to the tile pass; false when the buffers are full.
@@ -76,11 +83,10 @@ void main() {
         }
         atomicAdd(stats[STAT_OVERFLOW], 1u);
     }
-    vec3 colour = absorption[tet].rgb;
     for (uint y = first.y; y <= last.y; ++y) {
         for (uint x = first.x; x <= last.x; ++x) {
             for (uint k = 0u; k < n; ++k) {
-                shade_pixel(proxies[k], uvec2(x, y), colour);
+                shade_pixel(proxies[k], uvec2(x, y), tet);
             }
         }
     }

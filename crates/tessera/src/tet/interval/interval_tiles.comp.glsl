@@ -3,6 +3,10 @@
 // large tet's screen rectangle (interval_raster.comp.glsl allots them), one invocation per
 // pixel. The first invocation remakes the tet's proxies for the whole workgroup.
 #extension GL_EXT_shader_atomic_float : require
+#if INTEGRAND == INTEGRAND_SDF
+#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+#extension GL_EXT_shader_atomic_int64 : require
+#endif
 
 layout(local_size_x = TILE, local_size_y = TILE) in;
 
@@ -13,11 +17,13 @@ layout(local_size_x = TILE, local_size_y = TILE) in;
 #include "tet/interval/length.glsl"
 #include "tet/interval/table.glsl"
 #include "tet/interval/integrand.glsl"
+#if INTEGRAND == INTEGRAND_SDF
+#include "tet/interval/sdf.glsl"
+#endif
 #include "tet/interval/splat.glsl"
 
 shared Proxy tet_proxy[3];
 shared uint tet_proxy_count;
-shared vec3 tet_colour;
 
 void main() {
     // Workgroups on a 2-D grid past the device's row limit (IndirectArgs).
@@ -34,7 +40,6 @@ void main() {
         for (uint k = 0u; k < 3u; ++k) {
             tet_proxy[k] = proxies[k];
         }
-        tet_colour = absorption[tiled.x].rgb;
     }
     barrier();
     uint index = tile - tiled.y;
@@ -44,6 +49,6 @@ void main() {
         return;
     }
     for (uint k = 0u; k < tet_proxy_count; ++k) {
-        shade_pixel(tet_proxy[k], pixel, tet_colour);
+        shade_pixel(tet_proxy[k], pixel, tiled.x);
     }
 }

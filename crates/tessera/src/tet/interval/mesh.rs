@@ -2,6 +2,7 @@
 
 use crate::error::Result;
 use crate::path::Path;
+use tessera_data::tet::asteroids::asteroid_spheres;
 use tessera_data::tet::optical::MeshFrame;
 use tessera_data::tet::TetMesh;
 use tessera_gpu::{vk, Buffer, Gpu, Image, MemoryLocation};
@@ -11,6 +12,8 @@ pub struct GpuTetMesh {
     /// xyz world position, w the vertex's scalar normalized to [0, 1] (0 without scalars).
     pub vertices: Buffer,
     pub tets: Buffer,
+    /// Per tet, a vec4: the absorption colour (rgb), or for the asteroid field the asteroid's
+    /// centre and radius.
     pub absorption: Buffer,
     pub tet_count: u32,
 }
@@ -42,13 +45,33 @@ impl GpuTetMesh {
             Some(a) => a.iter().map(|c| [c[0], c[1], c[2], 0.0]).collect(),
             None => vec![[1.0, 1.0, 1.0, 0.0]; mesh.tets.len()],
         };
+        GpuTetMesh::upload_parts(gpu, mesh, &vertices, &absorption)
+    }
+
+    /// An asteroid field: each tet carries its asteroid's sphere ([`asteroid_spheres`]).
+    pub fn upload_asteroids(gpu: &Gpu, mesh: &TetMesh) -> Result<GpuTetMesh> {
+        let frame = MeshFrame::of(mesh);
+        let vertices: Vec<[f32; 4]> = mesh
+            .vertices
+            .iter()
+            .map(|&v| frame.to_world(glam::Vec3::from(v)).extend(0.0).to_array())
+            .collect();
+        GpuTetMesh::upload_parts(gpu, mesh, &vertices, &asteroid_spheres(mesh))
+    }
+
+    fn upload_parts(
+        gpu: &Gpu,
+        mesh: &TetMesh,
+        vertices: &[[f32; 4]],
+        absorption: &[[f32; 4]],
+    ) -> Result<GpuTetMesh> {
         let usage = vk::BufferUsageFlags::STORAGE_BUFFER;
         Ok(GpuTetMesh {
-            vertices: gpu.upload_buffer("tet vertices", bytemuck::cast_slice(&vertices), usage)?,
+            vertices: gpu.upload_buffer("tet vertices", bytemuck::cast_slice(vertices), usage)?,
             tets: gpu.upload_buffer("tets", bytemuck::cast_slice(&mesh.tets), usage)?,
             absorption: gpu.upload_buffer(
                 "tet absorption",
-                bytemuck::cast_slice(&absorption),
+                bytemuck::cast_slice(absorption),
                 usage,
             )?,
             tet_count: mesh.tets.len() as u32,
@@ -63,11 +86,17 @@ impl GpuTetMesh {
 }
 
 pub(super) const OPTICAL_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
+pub(super) const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 
 /// Where a frame accumulates: an RGBA32F attachment the graphics path blends into, or a buffer
 /// of four floats per pixel the compute path adds to with atomics.
 pub enum OpticalStore {
-    Image { image: Image, readback: Buffer },
+    /// With a depth attachment for the asteroid field, whose nearest hit wins.
+    Image {
+        image: Box<Image>,
+        readback: Buffer,
+        depth: Option<Box<Image>>,
+    },
     Buffer(Buffer),
 }
 
@@ -79,7 +108,13 @@ pub struct OpticalTarget {
 }
 
 impl OpticalTarget {
-    pub fn new(gpu: &Gpu, width: u32, height: u32, path: Path) -> Result<OpticalTarget> {
+    pub fn new(
+        gpu: &Gpu,
+        width: u32,
+        height: u32,
+        path: Path,
+        with_depth: bool,
+    ) -> Result<OpticalTarget> {
         crate::error::check_image_size(width, height)?;
         let bytes = width as u64 * height as u64 * 16;
         let store = match path {
@@ -105,7 +140,29 @@ impl OpticalTarget {
                         return Err(e.into());
                     }
                 };
-                OpticalStore::Image { image, readback }
+                let depth = if with_depth {
+                    match gpu.create_image(
+                        "interval depth",
+                        [width, height, 1],
+                        DEPTH_FORMAT,
+                        vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
+                        false,
+                    ) {
+                        Ok(d) => Some(Box::new(d)),
+                        Err(e) => {
+                            gpu.destroy_image(image);
+                            gpu.destroy_buffer(readback);
+                            return Err(e.into());
+                        }
+                    }
+                } else {
+                    None
+                };
+                OpticalStore::Image {
+                    image: Box::new(image),
+                    readback,
+                    depth,
+                }
             }
             Path::Compute => OpticalStore::Buffer(gpu.create_buffer(
                 "interval accumulation",
@@ -127,7 +184,9 @@ impl OpticalTarget {
     /// largest scalar in r and coverage in g).
     pub fn read(&self, gpu: &Gpu) -> Result<Vec<[f32; 3]>> {
         let bytes = match &self.store {
-            OpticalStore::Image { image, readback } => {
+            OpticalStore::Image {
+                image, readback, ..
+            } => {
                 gpu.submit("copy interval accumulation", |rec| {
                     rec.copy_image_to_buffer(image, readback)
                 })?;
@@ -141,9 +200,16 @@ impl OpticalTarget {
 
     pub fn destroy(self, gpu: &Gpu) {
         match self.store {
-            OpticalStore::Image { image, readback } => {
-                gpu.destroy_image(image);
+            OpticalStore::Image {
+                image,
+                readback,
+                depth,
+            } => {
+                gpu.destroy_image(*image);
                 gpu.destroy_buffer(readback);
+                if let Some(d) = depth {
+                    gpu.destroy_image(*d);
+                }
             }
             OpticalStore::Buffer(buffer) => gpu.destroy_buffer(buffer),
         }

@@ -27,7 +27,7 @@ use crate::target::PixelTarget;
 use bytemuck::{Pod, Zeroable};
 use composite::Composite;
 use compute::IntervalCompute;
-use graphics::IntervalGraphics;
+use graphics::{Combine, IntervalGraphics};
 use mesh::OpticalStore;
 use tessera_data::transfer::{IntegrandTable, ScalarMode};
 use tessera_data::{GridFrame, OrbitCamera, Projection, RgbaImage};
@@ -44,6 +44,8 @@ pub struct IntervalParams {
     pub view: [f32; 4],
     /// Tets, width, height, and the compute path's limit on pixels drawn by one invocation.
     pub counts: [u32; 4],
+    /// The eye in world space (w unused).
+    pub eye: [f32; 4],
 }
 
 /// What each pixel accumulates along its ray.
@@ -56,12 +58,16 @@ pub enum Integrand {
         mode: ScalarMode,
         table: IntegrandTable,
     },
+    /// No integral: the asteroid inside each tet ([`GpuTetMesh::upload_asteroids`]),
+    /// sphere-traced along the interval; the nearest hit wins.
+    Asteroids,
 }
 
 impl Integrand {
     fn code(&self) -> u32 {
         match self {
             Integrand::TetAbsorption => 0,
+            Integrand::Asteroids => 4,
             Integrand::Scalar { mode, .. } => match mode {
                 ScalarMode::Absorption => 1,
                 ScalarMode::Emission => 2,
@@ -72,7 +78,7 @@ impl Integrand {
 
     fn table_words(&self) -> Vec<[f32; 4]> {
         match self {
-            Integrand::TetAbsorption => IntegrandTable {
+            Integrand::TetAbsorption | Integrand::Asteroids => IntegrandTable {
                 values: vec![[0.0; 3]; 2],
             }
             .gpu_words(),
@@ -82,7 +88,7 @@ impl Integrand {
 
     fn knots(&self) -> usize {
         match self {
-            Integrand::TetAbsorption => 2,
+            Integrand::TetAbsorption | Integrand::Asteroids => 2,
             Integrand::Scalar { table, .. } => table.values.len(),
         }
     }
@@ -127,7 +133,7 @@ pub struct IntervalFrame {
 
 enum Renderer {
     Graphics(IntervalGraphics),
-    Compute(IntervalCompute),
+    Compute(Box<IntervalCompute>),
 }
 
 pub struct Interval {
@@ -152,21 +158,37 @@ pub fn path_support(caps: &tessera_gpu::Capabilities) -> crate::path::Support {
 impl Interval {
     pub fn new(gpu: &Gpu, compiler: &ShaderCompiler, options: &IntervalOptions) -> Result<Self> {
         let defines = Interval::defines(options);
-        let maximum = options.integrand.code() == 3;
+        let combine = match options.integrand {
+            Integrand::Asteroids => Combine::Nearest,
+            Integrand::Scalar {
+                mode: ScalarMode::Maximum,
+                ..
+            } => Combine::Max,
+            _ => Combine::Add,
+        };
+        if options.path == Path::Compute
+            && combine == Combine::Nearest
+            && !gpu.caps().buffer_int64_atomics
+        {
+            return Err(Error::Invalid(format!(
+                "the asteroid field's compute path needs 64-bit atomics, which {} lacks",
+                gpu.caps().device_name
+            )));
+        }
         let renderer = match options.path {
             Path::Graphics => Renderer::Graphics(IntervalGraphics::new(
                 gpu,
                 compiler,
                 &defines,
                 options.tets_per_workgroup,
-                maximum,
+                combine,
             )?),
-            Path::Compute => Renderer::Compute(IntervalCompute::new(
+            Path::Compute => Renderer::Compute(Box::new(IntervalCompute::new(
                 gpu,
                 compiler,
                 &defines,
                 options.tile_capacity,
-            )?),
+            )?)),
         };
         let composite = Composite::new(gpu, compiler, &defines, options.path)?;
         let table = gpu.upload_buffer(
@@ -198,12 +220,14 @@ impl Interval {
             ("INTEGRAND_ABSORPTION".into(), "1".into()),
             ("INTEGRAND_EMISSION".into(), "2".into()),
             ("INTEGRAND_MAXIMUM".into(), "3".into()),
+            ("INTEGRAND_SDF".into(), "4".into()),
             ("INTEGRAND".into(), options.integrand.code().to_string()),
             ("TABLE_KNOTS".into(), options.integrand.knots().to_string()),
             ("STAT_CLIPPED".into(), "0".into()),
             ("STAT_TILED".into(), "1".into()),
             ("STAT_OVERFLOW".into(), "2".into()),
         ]);
+        defines.extend(crate::config::asteroid_defines());
         defines
     }
 
@@ -213,7 +237,8 @@ impl Interval {
 
     /// A target of the kind this path accumulates into.
     pub fn target(&self, gpu: &Gpu, width: u32, height: u32) -> Result<OpticalTarget> {
-        OpticalTarget::new(gpu, width, height, self.options.path)
+        let nearest = self.options.integrand == Integrand::Asteroids;
+        OpticalTarget::new(gpu, width, height, self.options.path, nearest)
     }
 
     pub fn params(
@@ -238,6 +263,7 @@ impl Interval {
                 height,
                 self.options.inline_pixel_limit,
             ],
+            eye: camera.eye().extend(1.0).to_array(),
         }
     }
 
@@ -259,11 +285,16 @@ impl Interval {
         rec.fill_buffer(&self.stats, 0);
         rec.barrier();
         match (&self.renderer, &target.store) {
-            (Renderer::Graphics(g), OpticalStore::Image { image, .. }) => {
-                g.record(rec, mesh, &common, image, params)
+            (Renderer::Graphics(g), OpticalStore::Image { image, depth, .. }) => {
+                g.record(rec, mesh, &common, (image, depth.as_deref()), params)
             }
             (Renderer::Compute(c), OpticalStore::Buffer(buffer)) => {
-                c.record(rec, mesh, &common, buffer, params);
+                // The asteroid field keeps a minimum: empty pixels start at all ones.
+                let clear = match self.options.integrand {
+                    Integrand::Asteroids => u32::MAX,
+                    _ => 0,
+                };
+                c.record(rec, mesh, &common, buffer, params, clear);
                 Ok(())
             }
             _ => Err(Error::Invalid(

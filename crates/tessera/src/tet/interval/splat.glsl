@@ -1,7 +1,8 @@
 // The compute path's pixel work: which proxy triangle owns a pixel centre (the top-left rule,
-// as the hardware rasterizer decides it), and adding the integrand there with atomics. Needs
-// buffers.glsl, params.glsl, proxy.glsl, length.glsl, integrand.glsl and the `optical` buffer
-// (rgba per pixel: floats to add to, or float bits to take the maximum of).
+// as the hardware rasterizer decides it), and adding the integrand there with atomics — or,
+// for INTEGRAND_SDF, tracing the tet's asteroid and keeping the nearest hit with a 64-bit
+// atomic minimum of depth and colour. Needs buffers.glsl, params.glsl, proxy.glsl, length.glsl,
+// integrand.glsl (and sdf.glsl for INTEGRAND_SDF) and compute_buffers.glsl.
 
 float edge_at(vec2 a, vec2 b, vec2 p) {
     return (b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x);
@@ -45,7 +46,8 @@ bool covers(vec2 s0, vec2 s1, vec2 s2, vec2 p, out vec3 weights) {
 
 void accumulate(uint pixel, vec3 value) {
     uint i = pixel * 4u;
-#if INTEGRAND == INTEGRAND_MAXIMUM
+#if INTEGRAND == INTEGRAND_SDF
+#elif INTEGRAND == INTEGRAND_MAXIMUM
     // Non-negative floats order as their bits do.
     atomicMax(optical[i + 0u], floatBitsToUint(value.x));
     atomicMax(optical[i + 1u], floatBitsToUint(value.y));
@@ -56,9 +58,22 @@ void accumulate(uint pixel, vec3 value) {
 #endif
 }
 
-// Adds the proxy's integrand at `pixel` where one of its triangles owns the pixel centre. The
-// triangles of one proxy tile its silhouette, so at most one does.
-void shade_pixel(Proxy proxy, uvec2 pixel, vec3 tet_colour) {
+void pixel_work(uint tet, uint pixel, vec4 attrs, vec2 ndc) {
+#if INTEGRAND == INTEGRAND_SDF
+    vec4 hit = asteroid_hit(tet, attrs, ndc);
+    if (hit.w >= 0.0) {
+        // Depth in the high word: non-negative floats order as their bits do.
+        uint64_t value = (uint64_t(floatBitsToUint(hit.w)) << 32) | uint64_t(packUnorm4x8(vec4(hit.rgb, 1.0)));
+        atomicMin(frame[pixel * 2u], value);
+    }
+#else
+    accumulate(pixel, integrand(attrs, ndc, absorption[tet].rgb));
+#endif
+}
+
+// The pixel work of tet `tet` at `pixel` where one of its proxy's triangles owns the pixel
+// centre. The triangles of one proxy tile its silhouette, so at most one does.
+void shade_pixel(Proxy proxy, uvec2 pixel, uint tet) {
     uint s = proxy.silhouette;
     if (s == 0u) {
         return;
@@ -71,7 +86,7 @@ void shade_pixel(Proxy proxy, uvec2 pixel, vec3 tet_colour) {
         if (covers(to_screen(proxy.p[j]), to_screen(proxy.p[k]), centre, p, w)) {
             vec4 attrs = w.x * proxy.attrs[j] + w.y * proxy.attrs[k] + w.z * proxy.attrs[s];
             vec2 ndc = p / (0.5 * vec2(params.counts.yz)) - 1.0;
-            accumulate(pixel.y * params.counts.y + pixel.x, integrand(attrs, ndc, tet_colour));
+            pixel_work(tet, pixel.y * params.counts.y + pixel.x, attrs, ndc);
             return;
         }
     }
