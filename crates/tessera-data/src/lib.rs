@@ -12,6 +12,7 @@ pub mod mesh;
 pub mod minmax;
 pub mod nifti;
 pub mod nrrd;
+pub mod param;
 pub mod procedural;
 pub mod rasterize;
 pub mod raw;

@@ -1,0 +1,23 @@
+//! CPU foundation of the parametric-objects technique (Unterguggenberger et al. 2024, "Fast
+//! Rendering of Parametric Objects on Modern GPUs", paper E).
+//!
+//! * [`sh`]: real spherical harmonics in DIPY's `descoteaux07` and `tournier07` bases.
+//! * [`functions`]: the parametric surfaces `f(u, v) -> R³` and their normals; the glyph,
+//!   seashell and knit-yarn families live in [`glyph`], [`seashell`] and [`yarn`].
+//! * [`lod`]: the PATCH SUBDIVISION stage (paper §4.1), the reference the GPU compute shader is
+//!   tested against.
+
+pub mod functions;
+pub mod glyph;
+pub mod lod;
+pub mod seashell;
+pub mod sh;
+pub mod split;
+pub mod yarn;
+
+pub use functions::{surface_normal, ParamDomain, ParamFunction};
+pub use glyph::{direction_colour, RadiusNormalization, ShGlyph};
+pub use lod::{run_lod, LodConfig, LodOutput, Patch, RenderPatch, SplitPattern};
+pub use seashell::SeashellParams;
+pub use sh::ShBasis;
+pub use yarn::{KnitCurve, KnitParams, YarnTube};
