@@ -43,9 +43,10 @@ pub struct BenchArgs {
     #[arg(long, default_value_t = 0.3)]
     pub(crate) iso_fraction: f32,
     /// Benchmark the isosurface scenarios on this volume (a file or procedural:NAME:SIZE[:TYPE])
-    /// instead of the built-in head phantoms.
+    /// instead of the built-in head phantoms; or, for `interval`, a tet mesh file to add to the
+    /// procedural meshes.
     #[arg(long)]
-    data: Option<String>,
+    pub(crate) data: Option<String>,
     #[command(flatten)]
     volume: crate::data::VolumeArgs,
     /// Image sizes to measure, in this order (default 1280x720,1920x1080,3840x2160).
@@ -180,7 +181,11 @@ fn throughput(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -> 
 
 /// The volumes of the isosurface scenarios: `--data`, or head-like phantoms of DESIGN §6's sizes.
 pub(crate) fn bench_volumes(args: &BenchArgs) -> Vec<String> {
-    if let Some(data) = &args.data {
+    if let Some(data) = args
+        .data
+        .as_ref()
+        .filter(|d| !crate::render_tets::is_tet_data(d))
+    {
         return vec![data.clone()];
     }
     let sizes: &[(u32, ScalarType)] = if args.quick {

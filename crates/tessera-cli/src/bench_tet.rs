@@ -19,7 +19,9 @@ struct Variant {
     label: String,
 }
 
-fn variants(gpu: &Gpu, view: &str, scalar: Option<&Integrand>) -> Vec<Variant> {
+/// `small`: whether the untiled compute variant is affordable (inside views of large meshes
+/// take seconds per frame without tiles).
+fn variants(gpu: &Gpu, view: &str, scalar: Option<&Integrand>, small: bool) -> Vec<Variant> {
     let support = path_support(gpu.caps());
     let mut out = Vec::new();
     let integrand = scalar.cloned().unwrap_or(Integrand::TetAbsorption);
@@ -50,8 +52,10 @@ fn variants(gpu: &Gpu, view: &str, scalar: Option<&Integrand>) -> Vec<Variant> {
         // The pixel limit above which a tet goes to the tile pass; u32::MAX never tiles.
         let limits: &[u32] = if view == "far" || scalar.is_some() {
             &[256]
-        } else {
+        } else if small {
             &[64, 256, 4096, u32::MAX]
+        } else {
+            &[64, 256, 4096]
         };
         for &limit in limits {
             out.push(Variant {
@@ -74,13 +78,26 @@ fn variants(gpu: &Gpu, view: &str, scalar: Option<&Integrand>) -> Vec<Variant> {
 /// Interval shading of procedural tet boxes of about 61 k, 959 k and 2.4 M tets (the sizes of
 /// paper A's Table 1), far, close and inside views, at 3840×2160 (`--quick`: small meshes and
 /// image), on both paths with their variants, and scalar integration through a transfer
-/// function on the middle mesh; then the asteroid field.
+/// function on the middle mesh; a mesh file given with `--data` (e.g. the tetgen bunny) far and
+/// close; then the asteroid field.
 pub fn interval(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -> Result<()> {
     let compiler = tessera::shaders::compiler();
-    let (w, h) = if args.quick { (256, 144) } else { (3840, 2160) };
+    let size = if args.quick { (256, 144) } else { (3840, 2160) };
+    let views = [("far", 2.4f32), ("close", 1.4), ("inside", 0.3)];
+    if let Some(file) = args.data.as_deref().filter(|d| crate::render_tets::is_tet_data(d)) {
+        let mesh = crate::render_tets::load(file)?;
+        let name = std::path::Path::new(file)
+            .file_name()
+            .map_or(file.to_string(), |n| n.to_string_lossy().into_owned());
+        let bench = MeshBench {
+            compiler: &compiler,
+            plan,
+            size,
+        };
+        bench.run(gpu, &mesh, &name, &views[..2], None, sink)?;
+    }
     // n³ cells of 6 tets each.
     let cells: &[u32] = if args.quick { &[6, 10] } else { &[22, 54, 74] };
-    let views = [("far", 2.4f32), ("close", 1.4), ("inside", 0.3)];
     let tf = TransferFunction::preset("cool-warm")?;
     let scalar = Integrand::Scalar {
         mode: ScalarMode::Absorption,
@@ -88,32 +105,72 @@ pub fn interval(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -
     };
     for (i, &n) in cells.iter().enumerate() {
         let mesh = box_mesh(n);
-        let normalized = normalized_scalars(&mesh, None, "box")?;
-        let gpu_mesh = GpuTetMesh::upload_with(gpu, &mesh, Some(&normalized))?;
-        for (view, distance) in views {
+        let bench = MeshBench {
+            compiler: &compiler,
+            plan,
+            size,
+        };
+        let scalar = (i == cells.len() / 2).then_some(&scalar);
+        bench.run(gpu, &mesh, "box", &views, scalar, sink)?;
+    }
+    asteroids(gpu, &compiler, args, plan, sink, size)
+}
+
+/// Times one mesh's views with every variant.
+struct MeshBench<'a> {
+    compiler: &'a tessera_gpu::ShaderCompiler,
+    plan: FramePlan,
+    size: (u32, u32),
+}
+
+impl MeshBench<'_> {
+    fn run(
+        &self,
+        gpu: &Gpu,
+        mesh: &tessera_data::tet::TetMesh,
+        name: &str,
+        views: &[(&str, f32)],
+        scalar: Option<&Integrand>,
+        sink: &mut Sink,
+    ) -> Result<()> {
+        let normalized = match scalar {
+            Some(_) => Some(normalized_scalars(mesh, None, name)?),
+            None => None,
+        };
+        let gpu_mesh = GpuTetMesh::upload_with(gpu, mesh, normalized.as_deref())?;
+        let result = views.iter().try_for_each(|&(view, distance)| {
             let camera = OrbitCamera {
                 distance,
                 ..OrbitCamera::default()
             };
-            let mut all = variants(gpu, view, None);
-            if i == cells.len() / 2 {
-                all.extend(variants(gpu, view, Some(&scalar)));
+            let small = mesh.tets.len() < 100_000;
+            let mut all = variants(gpu, view, None, small);
+            if let Some(s) = scalar {
+                all.extend(variants(gpu, view, Some(s), small));
             }
-            for variant in all {
-                let dataset = format!("box {} tets, {view}", mesh.tets.len());
-                let r = time_variant(gpu, &compiler, &variant, &gpu_mesh, &camera, (w, h), plan)?;
-                let mut r = r.into_record(gpu, &dataset, &variant, plan, (w, h));
+            all.iter().try_for_each(|variant| {
+                let dataset = format!("{name} {} tets, {view}", mesh.tets.len());
+                let timed = time_variant(
+                    gpu,
+                    self.compiler,
+                    variant,
+                    &gpu_mesh,
+                    &camera,
+                    self.size,
+                    self.plan,
+                )?;
+                let mut r = timed.into_record(gpu, &dataset, variant, self.plan, self.size);
                 r.counts.insert("tets".into(), mesh.tets.len() as f64);
                 if let Some(ms) = r.median_ms("interval") {
                     r.counts
                         .insert("mtets_per_s".into(), mesh.tets.len() as f64 / ms / 1e3);
                 }
-                sink.emit(&r)?;
-            }
-        }
+                sink.emit(&r)
+            })
+        });
         gpu_mesh.destroy(gpu);
+        result
     }
-    asteroids(gpu, &compiler, args, plan, sink, (w, h))
 }
 
 /// Paper A's asteroid field: 10,000 asteroids, one bounding tet each, sphere-traced along
