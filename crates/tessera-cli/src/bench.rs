@@ -49,6 +49,9 @@ pub struct BenchArgs {
     pub(crate) data: Option<String>,
     #[command(flatten)]
     volume: crate::data::VolumeArgs,
+    /// Paths to measure for `interval` (default: every path the device has).
+    #[arg(long, value_delimiter = ',', value_parser = ["graphics", "compute"])]
+    pub(crate) paths: Vec<String>,
     /// Image sizes to measure, in this order (default 1280x720,1920x1080,3840x2160).
     #[arg(long, value_delimiter = ',', value_parser = crate::data::parse_size)]
     pub(crate) sizes: Vec<(u32, u32)>,

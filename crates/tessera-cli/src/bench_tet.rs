@@ -19,10 +19,19 @@ struct Variant {
     label: String,
 }
 
-/// `small`: whether the untiled compute variant is affordable (inside views of large meshes
-/// take seconds per frame without tiles).
-fn variants(gpu: &Gpu, view: &str, scalar: Option<&Integrand>, small: bool) -> Vec<Variant> {
-    let support = path_support(gpu.caps());
+/// `small`: whether the untiled compute variant is affordable (it takes seconds per frame from
+/// inside meshes, and on large ones close up).
+fn variants(
+    gpu: &Gpu,
+    wanted: &[String],
+    view: &str,
+    scalar: Option<&Integrand>,
+    small: bool,
+) -> Vec<Variant> {
+    let mut support = path_support(gpu.caps());
+    let wants = |p: &str| wanted.is_empty() || wanted.iter().any(|w| w == p);
+    support.graphics &= wants("graphics");
+    support.compute &= wants("compute");
     let mut out = Vec::new();
     let integrand = scalar.cloned().unwrap_or(Integrand::TetAbsorption);
     let kind = if scalar.is_some() {
@@ -50,12 +59,12 @@ fn variants(gpu: &Gpu, view: &str, scalar: Option<&Integrand>, small: bool) -> V
     }
     if support.compute {
         // The pixel limit above which a tet goes to the tile pass; u32::MAX never tiles.
-        let limits: &[u32] = if view == "far" || scalar.is_some() {
-            &[256]
-        } else if small {
-            &[64, 256, 4096, u32::MAX]
+        let limits: &[u32] = if scalar.is_some() {
+            &[4096]
+        } else if small && view != "inside" {
+            &[256, 4096, 65536, u32::MAX]
         } else {
-            &[64, 256, 4096]
+            &[256, 4096, 65536]
         };
         for &limit in limits {
             out.push(Variant {
@@ -78,47 +87,56 @@ fn variants(gpu: &Gpu, view: &str, scalar: Option<&Integrand>, small: bool) -> V
 /// Interval shading of procedural tet boxes of about 61 k, 959 k and 2.4 M tets (the sizes of
 /// paper A's Table 1), far, close and inside views, at 3840×2160 (`--quick`: small meshes and
 /// image), on both paths with their variants, and scalar integration through a transfer
-/// function on the middle mesh; a mesh file given with `--data` (e.g. the tetgen bunny) far and
-/// close; then the asteroid field.
+/// function on the middle mesh; then the asteroid field. `--data` measures one mesh instead: a
+/// file (e.g. the tetgen bunny), `tets:box:N`, `tets:sphere:N` or `tets:asteroids:COUNT`.
 pub fn interval(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -> Result<()> {
     let compiler = tessera::shaders::compiler();
     let size = if args.quick { (256, 144) } else { (3840, 2160) };
+    let bench = MeshBench {
+        compiler: &compiler,
+        paths: &args.paths,
+        plan,
+        size,
+    };
     let views = [("far", 2.4f32), ("close", 1.4), ("inside", 0.3)];
-    if let Some(file) = args.data.as_deref().filter(|d| crate::render_tets::is_tet_data(d)) {
-        let mesh = crate::render_tets::load(file)?;
-        let name = std::path::Path::new(file)
-            .file_name()
-            .map_or(file.to_string(), |n| n.to_string_lossy().into_owned());
-        let bench = MeshBench {
-            compiler: &compiler,
-            plan,
-            size,
-        };
-        bench.run(gpu, &mesh, &name, &views[..2], None, sink)?;
-    }
-    // n³ cells of 6 tets each.
-    let cells: &[u32] = if args.quick { &[6, 10] } else { &[22, 54, 74] };
     let tf = TransferFunction::preset("cool-warm")?;
     let scalar = Integrand::Scalar {
         mode: ScalarMode::Absorption,
         table: IntegrandTable::new(&tf, ScalarMode::Absorption, 4.0, TABLE_KNOTS),
     };
+    if let Some(spec) = args
+        .data
+        .as_deref()
+        .filter(|d| crate::render_tets::is_tet_data(d))
+    {
+        if let Some(count) = spec.strip_prefix("tets:asteroids:") {
+            let count = count
+                .parse()
+                .map_err(|_| anyhow::anyhow!("'{spec}': bad COUNT"))?;
+            return asteroids(gpu, &compiler, &args.paths, count, plan, sink, size);
+        }
+        let mesh = crate::render_tets::load(spec)?;
+        let name = std::path::Path::new(spec)
+            .file_name()
+            .map_or(spec.to_string(), |n| n.to_string_lossy().into_owned());
+        let scalar = mesh.scalars.is_some().then_some(&scalar);
+        return bench.run(gpu, &mesh, &name, &views, scalar, sink);
+    }
+    // n³ cells of 6 tets each.
+    let cells: &[u32] = if args.quick { &[6, 10] } else { &[22, 54, 74] };
     for (i, &n) in cells.iter().enumerate() {
         let mesh = box_mesh(n);
-        let bench = MeshBench {
-            compiler: &compiler,
-            plan,
-            size,
-        };
         let scalar = (i == cells.len() / 2).then_some(&scalar);
         bench.run(gpu, &mesh, "box", &views, scalar, sink)?;
     }
-    asteroids(gpu, &compiler, args, plan, sink, size)
+    let count = if args.quick { 500 } else { 10_000 };
+    asteroids(gpu, &compiler, &args.paths, count, plan, sink, size)
 }
 
 /// Times one mesh's views with every variant.
 struct MeshBench<'a> {
     compiler: &'a tessera_gpu::ShaderCompiler,
+    paths: &'a [String],
     plan: FramePlan,
     size: (u32, u32),
 }
@@ -144,9 +162,9 @@ impl MeshBench<'_> {
                 ..OrbitCamera::default()
             };
             let small = mesh.tets.len() < 100_000;
-            let mut all = variants(gpu, view, None, small);
+            let mut all = variants(gpu, self.paths, view, None, small);
             if let Some(s) = scalar {
-                all.extend(variants(gpu, view, Some(s), small));
+                all.extend(variants(gpu, self.paths, view, Some(s), small));
             }
             all.iter().try_for_each(|variant| {
                 let dataset = format!("{name} {} tets, {view}", mesh.tets.len());
@@ -173,20 +191,23 @@ impl MeshBench<'_> {
     }
 }
 
-/// Paper A's asteroid field: 10,000 asteroids, one bounding tet each, sphere-traced along
+/// Paper A's asteroid field: `count` (10,000 in the paper) asteroids, one bounding tet each, sphere-traced along
 /// their intervals; seen from outside and from within the field.
 fn asteroids(
     gpu: &Gpu,
     compiler: &tessera_gpu::ShaderCompiler,
-    args: &BenchArgs,
+    paths: &[String],
+    count: u32,
     plan: FramePlan,
     sink: &mut Sink,
     (w, h): (u32, u32),
 ) -> Result<()> {
-    let count = if args.quick { 500 } else { 10_000 };
     let mesh = tessera_data::tet::asteroids::asteroid_field(count, 1);
     let gpu_mesh = GpuTetMesh::upload_asteroids(gpu, &mesh)?;
-    let support = path_support(gpu.caps());
+    let mut support = path_support(gpu.caps());
+    let wants = |p: &str| paths.is_empty() || paths.iter().any(|w| w == p);
+    support.graphics &= wants("graphics");
+    support.compute &= wants("compute");
     let mut all = Vec::new();
     if support.graphics {
         for n in [1, 16] {
@@ -206,7 +227,7 @@ fn asteroids(
                 integrand: Integrand::Asteroids,
                 ..IntervalOptions::new(Path::Compute)
             },
-            label: "asteroids, tiles above 256 px".into(),
+            label: "asteroids, tiles above 4096 px".into(),
         });
     }
     for (view, distance) in [("outside", 1.5f32), ("inside", 0.15)] {

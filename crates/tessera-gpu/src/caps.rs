@@ -39,6 +39,9 @@ pub struct Capabilities {
     pub timestamp_period_ns: f32,
     pub device_local_bytes: u64,
     pub max_image_dimension_3d: u32,
+    /// Fractional bits of rasterizer vertex positions: graphics-path attributes are exact only
+    /// for the triangle with its corners snapped to 2^-bits pixel.
+    pub sub_pixel_precision_bits: u32,
     pub max_storage_buffer_range: u64,
     pub max_compute_workgroup_invocations: u32,
     /// Most workgroups one dispatch may launch along x, y and z.
@@ -184,6 +187,7 @@ pub(crate) fn query(
         timestamp_period_ns: p.limits.timestamp_period,
         device_local_bytes,
         max_image_dimension_3d: p.limits.max_image_dimension3_d,
+        sub_pixel_precision_bits: p.limits.sub_pixel_precision_bits,
         max_storage_buffer_range: p.limits.max_storage_buffer_range as u64,
         max_compute_workgroup_invocations: p.limits.max_compute_work_group_invocations,
         max_compute_workgroup_count: p.limits.max_compute_work_group_count,

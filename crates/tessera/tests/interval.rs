@@ -103,11 +103,6 @@ fn assert_variants_match(
     (w, h): (u32, u32),
     expected: &Expected,
 ) -> usize {
-    let Expected {
-        reference,
-        edges,
-        clipped,
-    } = *expected;
     let compiler = shaders::compiler();
     let mut covered = 0;
     for (variant, options) in variants {
@@ -115,7 +110,8 @@ fn assert_variants_match(
         let target = interval.target(gpu, w, h).unwrap();
         let frame = interval.render(gpu, gpu_mesh, &target, cam).unwrap();
         let label = format!("{name} ({variant})");
-        covered = compare(&label, &frame, reference, edges, w, clipped);
+        let snap = common::interval::snap_px(gpu, options.path);
+        covered = compare(&label, &frame, expected, w, snap);
         if options.path == Path::Compute && options.inline_pixel_limit == 0 {
             assert!(frame.tiled > 0, "{label}: no tet reached the tile pass");
             let full = options.tile_capacity.tets < 10;
@@ -173,44 +169,25 @@ fn assert_matches_reference(
     covered
 }
 
-/// Every pixel away from projected edges within 1e-3 relative (1e-5 absolute) of the reference;
-/// returns how many of them the mesh covers.
-fn compare(
-    name: &str,
-    frame: &IntervalFrame,
-    reference: &[[f32; 3]],
-    edges: &[bool],
-    w: u32,
-    clipped: bool,
-) -> usize {
+/// Every pixel away from projected edges within tolerance of the reference
+/// ([`common::interval::assert_close`]); returns how many of them the mesh covers.
+fn compare(name: &str, frame: &IntervalFrame, expected: &Expected, w: u32, snap_px: f32) -> usize {
     assert_eq!(
         frame.clipped_near > 0,
-        clipped,
+        expected.clipped,
         "{name}: {} tets clipped at the near plane",
         frame.clipped_near
     );
-    let mut compared = 0;
-    let mut covered = 0;
-    for (i, (g, r)) in frame.values.iter().zip(reference).enumerate() {
-        if edges[i] {
-            continue;
-        }
-        compared += 1;
-        covered += usize::from(r[0] > 0.0);
-        for c in 0..3 {
-            let tolerance = (1e-3 * r[c].abs()).max(1e-5);
-            assert!(
-                (g[c] - r[c]).abs() <= tolerance,
-                "{name}: pixel ({}, {}) channel {c}: GPU {} vs CPU {}",
-                i as u32 % w,
-                i as u32 / w,
-                g[c],
-                r[c]
-            );
-        }
-    }
+    let (compared, covered) = common::interval::assert_close(
+        name,
+        &frame.values,
+        expected.reference,
+        expected.edges,
+        w,
+        snap_px,
+    );
     assert!(
-        compared > reference.len() / 4,
+        compared > expected.reference.len() / 4,
         "{name}: only {compared} pixels away from edges"
     );
     covered

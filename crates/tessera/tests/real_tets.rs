@@ -168,23 +168,18 @@ fn bunny_renders_like_the_reference_on_every_path() {
             let interval = Interval::new(&gpu, &compiler, &options).unwrap();
             let target = interval.target(&gpu, w, h).unwrap();
             let frame = interval.render(&gpu, &gpu_mesh, &target, &cam).unwrap();
-            let mut inside = 0;
-            for (i, (g, r)) in frame.values.iter().zip(reference.iter()).enumerate() {
-                if edges[i] {
-                    continue;
-                }
-                inside += usize::from(r[0] > 0.0);
-                for c in 0..3 {
-                    let tolerance = (1e-3 * r[c].abs()).max(1e-5);
-                    assert!(
-                        (g[c] - r[c]).abs() <= tolerance,
-                        "{}: pixel {i} channel {c}: GPU {} vs CPU {}",
-                        path.name(),
-                        g[c],
-                        r[c]
-                    );
-                }
-            }
+            // Where proxies are below a pixel the image says nothing of their slopes: the
+            // graphics path may miss by its snapping in up to 1 % of the values.
+            let outliers = if path == Path::Graphics { 0.01 } else { 0.0 };
+            let (_, inside) = common::interval::assert_mostly_close(
+                path.name(),
+                &frame.values,
+                reference,
+                &edges,
+                w,
+                common::interval::snap_px(&gpu, path),
+                outliers,
+            );
             // A dense mesh leaves few pixels away from every projected edge; some must be.
             assert!(
                 inside > 100,

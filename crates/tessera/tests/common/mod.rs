@@ -2,6 +2,7 @@
 //! leave evidence behind when they fail.
 #![allow(dead_code)]
 
+pub mod interval;
 pub mod raster;
 
 use glam::Vec3;

@@ -1,5 +1,4 @@
-// What a pixel accumulates from one tet, given the interpolated proxy attributes (1/z and s/z of
-// the front and back faces). INTEGRAND (a define from Rust) selects it:
+// What a pixel accumulates from one tet, given the interpolated proxy attributes (proxy.glsl). INTEGRAND (a define from Rust) selects it:
 //   INTEGRAND_TET_ABSORPTION  length × the tet's absorption colour (paper A's optical depth)
 //   INTEGRAND_ABSORPTION      length × the table's mean over the scalar's run (optical depth)
 //   INTEGRAND_EMISSION        the same with an emission table (added light)
@@ -10,13 +9,13 @@
 
 vec3 integrand(vec4 attrs, vec2 ndc, vec3 tet_colour) {
 #if INTEGRAND == INTEGRAND_MAXIMUM
-    return vec3(clamp(max(attrs.z / attrs.x, attrs.w / attrs.y), 0.0, 1.0), 1.0, 0.0);
+    return vec3(clamp(max(attrs.z / attrs.x, attrs.w / second_inverse_depth(attrs)), 0.0, 1.0), 1.0, 0.0);
 #else
-    float len = interval_length(attrs.xy, ndc);
+    float len = interval_length(attrs, ndc);
 #if INTEGRAND == INTEGRAND_TET_ABSORPTION
     return len * tet_colour;
 #else
-    return len * table_mean(attrs.z / attrs.x, attrs.w / attrs.y);
+    return len * table_mean(attrs.z / attrs.x, attrs.w / second_inverse_depth(attrs));
 #endif
 #endif
 }

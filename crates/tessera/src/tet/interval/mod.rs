@@ -111,7 +111,7 @@ impl IntervalOptions {
             path,
             integrand: Integrand::TetAbsorption,
             tets_per_workgroup: graphics::MAX_TETS_PER_WORKGROUP,
-            inline_pixel_limit: 256,
+            inline_pixel_limit: 4096,
             tile_capacity: TileCapacity::default(),
         }
     }

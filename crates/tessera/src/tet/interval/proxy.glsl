@@ -3,14 +3,20 @@
 // tet/interval/params.glsl and the Vertices/Tets buffers bound as `vertices_world` (xyz world
 // position, w the vertex's normalized scalar) and `tets`.
 //
-// Every proxy vertex carries the front and back faces' inverse view depths 1/z and their scalar
-// times 1/z: on a plane both are affine in screen space, so the rasterizer interpolates them
-// exactly and a pixel recovers the scalar at the entry and exit as (s/z) / (1/z).
+// Every proxy vertex carries one face's inverse view depth 1/z, the difference of the two faces'
+// 1/z, and both faces' scalar times 1/z: on a plane all are affine in screen space, so the
+// rasterizer interpolates them exactly, and a pixel recovers the scalar at the entry and exit
+// as (s/z) / (1/z). The difference is interpolated itself rather than formed from two
+// interpolated depths, which nearly cancel across thin tets.
+//
+// The graphics path's attributes are exact for the proxy with its corners snapped to the
+// rasterizer's sub-pixel grid (on an H200: up to 0.3 % of a thin proxy's length where the
+// length changes steeply); the compute path interpolates over the exact corners.
 
 // A tet's screen-space proxy: `silhouette` outer vertices (3 or 4, 0 for none) then the inner one.
 struct Proxy {
     vec2 p[5];
-    vec4 attrs[5];  // 1/z front, 1/z back, s/z front, s/z back
+    vec4 attrs[5];  // 1/z of face A, 1/z of A - 1/z of B, s/z of A, s/z of B
     uint silhouette;
 };
 
@@ -66,8 +72,9 @@ Proxy make_proxy(vec4 c[4], float s[4]) {
             proxy.silhouette = 3u;
             proxy.p[3] = p[d];
             // The inner vertex seen on the opposite face: 1/z is affine in screen space on a plane.
-            proxy.attrs[3] = vec4(inv_z[d], dot(lambda, vec3(inv_z[a], inv_z[b], inv_z[cc])),
-                                  s_z[d], dot(lambda, vec3(s_z[a], s_z[b], s_z[cc])));
+            float opposite = dot(lambda, vec3(inv_z[a], inv_z[b], inv_z[cc]));
+            proxy.attrs[3] = vec4(inv_z[d], inv_z[d] - opposite, s_z[d],
+                                  dot(lambda, vec3(s_z[a], s_z[b], s_z[cc])));
             break;
         }
     }
@@ -87,13 +94,14 @@ Proxy make_proxy(vec4 c[4], float s[4]) {
         uint a = order[0], b = order[1], cc = order[2], d = order[3];
         proxy.silhouette = 4u;
         proxy.p[4] = p[a] + (p[cc] - p[a]) * t;
-        proxy.attrs[4] = vec4(mix(inv_z[a], inv_z[cc], t), mix(inv_z[b], inv_z[d], s),
+        float on_ac = mix(inv_z[a], inv_z[cc], t);
+        proxy.attrs[4] = vec4(on_ac, on_ac - mix(inv_z[b], inv_z[d], s),
                               mix(s_z[a], s_z[cc], t), mix(s_z[b], s_z[d], s));
     }
     for (uint j = 0u; j < proxy.silhouette; ++j) {
         uint k = order[j];
         proxy.p[j] = p[k];
-        proxy.attrs[j] = vec4(inv_z[k], inv_z[k], s_z[k], s_z[k]);
+        proxy.attrs[j] = vec4(inv_z[k], 0.0, s_z[k], s_z[k]);
     }
     return proxy;
 }

@@ -1,6 +1,6 @@
 // The asteroid field of paper A §3.2: a noise-displaced sphere inside each tet, sphere-traced
 // along the pixel's interval in that tet. Mirrors tessera_data::tet::asteroids in f32, with its
-// constants as defines (SDF_*). Needs params.glsl.
+// constants as defines (SDF_*). Needs params.glsl and length.glsl.
 
 uvec3 pcg3d(uvec3 v) {
     v = v * 1664525u + 1013904223u;
@@ -94,8 +94,9 @@ vec4 asteroid_hit(uint tet, vec4 attrs, vec2 ndc) {
     vec3 dir = ray_direction(ndc);
     vec3 forward = transpose(params.world_to_clip)[3].xyz;
     float cos_view = dot(dir, forward);
-    float z_front = 1.0 / max(attrs.x, attrs.y);
-    float z_back = 1.0 / min(attrs.x, attrs.y);
+    float other = second_inverse_depth(attrs);
+    float z_front = 1.0 / max(attrs.x, other);
+    float z_back = 1.0 / min(attrs.x, other);
     vec3 eye = params.eye.xyz;
     vec4 sphere = absorption[tet];
     float t = asteroid_trace(eye, dir, z_front / cos_view, z_back / cos_view, sphere, tet);
