@@ -58,16 +58,14 @@ void main() {
     if (clipped) {
         atomicAdd(stats[STAT_CLIPPED], 1u);
     }
-    for (uint k = 0u; k < n; ++k) {
-        proxies[k] = on_screen(proxies[k]);
-    }
     // Pixels whose centres the proxies' screen rectangle holds.
     vec2 lo = vec2(1e30);
     vec2 hi = vec2(-1e30);
     for (uint k = 0u; k < n; ++k) {
         for (uint j = 0u; j <= proxies[k].silhouette && proxies[k].silhouette > 0u; ++j) {
-            lo = min(lo, proxies[k].p[j]);
-            hi = max(hi, proxies[k].p[j]);
+            vec2 s = to_screen(proxies[k].p[j]);
+            lo = min(lo, s);
+            hi = max(hi, s);
         }
     }
     vec2 size = vec2(params.counts.yz);
@@ -85,23 +83,10 @@ void main() {
         }
         atomicAdd(stats[STAT_OVERFLOW], 1u);
     }
-    // Each triangle over its own pixel rectangle.
-    for (uint k = 0u; k < n; ++k) {
-        uint s = proxies[k].silhouette;
-        for (uint j = 0u; j < s; ++j) {
-            vec2 a = proxies[k].p[j];
-            vec2 b = proxies[k].p[j + 1u == s ? 0u : j + 1u];
-            vec2 c = proxies[k].p[s];
-            uvec2 from = uvec2(max(ceil(min(a, min(b, c)) - 0.5), vec2(0.0)));
-            vec2 to_f = min(floor(max(a, max(b, c)) - 0.5), size - 1.0);
-            if (any(lessThan(to_f, vec2(from)))) {
-                continue;
-            }
-            uvec2 to = uvec2(to_f);
-            for (uint y = from.y; y <= to.y; ++y) {
-                for (uint x = from.x; x <= to.x; ++x) {
-                    shade_triangle(proxies[k], j, uvec2(x, y), tet);
-                }
+    for (uint y = first.y; y <= last.y; ++y) {
+        for (uint x = first.x; x <= last.x; ++x) {
+            for (uint k = 0u; k < n; ++k) {
+                shade_pixel(proxies[k], uvec2(x, y), tet);
             }
         }
     }

@@ -38,7 +38,7 @@ void main() {
         bool clipped;
         tet_proxy_count = tet_proxies(tiled.x, proxies, clipped);
         for (uint k = 0u; k < 3u; ++k) {
-            tet_proxy[k] = on_screen(proxies[k]);
+            tet_proxy[k] = proxies[k];
         }
     }
     barrier();

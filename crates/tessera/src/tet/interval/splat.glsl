@@ -71,36 +71,22 @@ void pixel_work(uint tet, uint pixel, vec4 attrs, vec2 ndc) {
 #endif
 }
 
-// The proxy with its corners in pixels (from NDC), so per-pixel tests skip the conversion.
-Proxy on_screen(Proxy proxy) {
-    for (uint j = 0u; j <= proxy.silhouette && proxy.silhouette > 0u; ++j) {
-        proxy.p[j] = to_screen(proxy.p[j]);
-    }
-    return proxy;
-}
-
-// The pixel work of tet `tet` at `pixel` if triangle j of `proxy` (corners in pixels:
-// on_screen) owns the pixel centre.
-bool shade_triangle(Proxy proxy, uint j, uvec2 pixel, uint tet) {
-    uint s = proxy.silhouette;
-    uint k = j + 1u == s ? 0u : j + 1u;
-    vec2 p = vec2(pixel) + 0.5;
-    vec3 w;
-    if (!covers(proxy.p[j], proxy.p[k], proxy.p[s], p, w)) {
-        return false;
-    }
-    vec4 attrs = w.x * proxy.attrs[j] + w.y * proxy.attrs[k] + w.z * proxy.attrs[s];
-    vec2 ndc = p / (0.5 * vec2(params.counts.yz)) - 1.0;
-    pixel_work(tet, pixel.y * params.counts.y + pixel.x, attrs, ndc);
-    return true;
-}
-
-// The pixel work of tet `tet` at `pixel` where one of the triangles of `proxy` (corners in
-// pixels) owns the pixel centre. The triangles of one proxy tile its silhouette, so at most
-// one does.
+// The pixel work of tet `tet` at `pixel` where one of its proxy's triangles owns the pixel
+// centre. The triangles of one proxy tile its silhouette, so at most one does.
 void shade_pixel(Proxy proxy, uvec2 pixel, uint tet) {
-    for (uint j = 0u; j < proxy.silhouette; ++j) {
-        if (shade_triangle(proxy, j, pixel, tet)) {
+    uint s = proxy.silhouette;
+    if (s == 0u) {
+        return;
+    }
+    vec2 p = vec2(pixel) + 0.5;
+    vec2 centre = to_screen(proxy.p[s]);
+    for (uint j = 0u; j < s; ++j) {
+        uint k = j + 1u == s ? 0u : j + 1u;
+        vec3 w;
+        if (covers(to_screen(proxy.p[j]), to_screen(proxy.p[k]), centre, p, w)) {
+            vec4 attrs = w.x * proxy.attrs[j] + w.y * proxy.attrs[k] + w.z * proxy.attrs[s];
+            vec2 ndc = p / (0.5 * vec2(params.counts.yz)) - 1.0;
+            pixel_work(tet, pixel.y * params.counts.y + pixel.x, attrs, ndc);
             return;
         }
     }
