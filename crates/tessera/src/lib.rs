@@ -7,6 +7,7 @@ pub mod config;
 pub mod error;
 pub mod gpu_volume;
 pub mod iso;
+pub mod param;
 pub mod path;
 pub mod raster;
 pub mod shaders;

@@ -77,6 +77,17 @@ const COMMON: &[(&str, &str)] = &[
         "common/throughput.glsl",
         include_str!("shaders/common/throughput.glsl"),
     ),
+    ("param/scene.glsl", include_str!("param/scene.glsl")),
+    ("param/sh.glsl", include_str!("param/sh.glsl")),
+    ("param/functions.glsl", include_str!("param/functions.glsl")),
+    ("param/normal.glsl", include_str!("param/normal.glsl")),
+    ("param/view.glsl", include_str!("param/view.glsl")),
+    ("param/patch.glsl", include_str!("param/patch.glsl")),
+    (
+        "param/lod_params.glsl",
+        include_str!("param/lod_params.glsl"),
+    ),
+    ("param/payload.glsl", include_str!("param/payload.glsl")),
 ];
 
 /// A built-in shader beside the Rust file that drives it: reported under its source-tree path,

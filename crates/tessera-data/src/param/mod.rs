@@ -10,6 +10,7 @@
 pub mod functions;
 pub mod glyph;
 pub mod lod;
+pub mod reference;
 pub mod seashell;
 pub mod sh;
 pub mod split;

@@ -1,0 +1,148 @@
+#version 460
+// POINT-BASED rendering (paper E §4.3): one workgroup per patch to render samples it on a
+// regular (n_u + 1) x (n_v + 1) parameter grid, n = ceil(extent * density) cells per direction
+// (about one sample per pixel of the patch's screen extent at density 1), tile by tile: the 9x9
+// points of an 8x8-cell tile go to shared memory, then each invocation draws one cell.
+//
+// FOOTPRINT_CELL: a cell is drawn as two triangles, every pixel centre inside them (edges
+// widened by EDGE_SLACK pixels so that neighbouring patches' slightly different edges leave no
+// crack) gets the depth and (u, v) interpolated there. FOOTPRINT_PIXEL (the paper's): each point
+// writes the pixel it falls in with its own depth and (u, v). Either way a 64-bit atomicMin of
+// depth bits << 32 | payload keeps the nearest.
+#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+#extension GL_EXT_shader_atomic_int64 : require
+#define PARAM_STATE_BINDING 3
+#include "param/functions.glsl"
+#include "param/view.glsl"
+#include "param/patch.glsl"
+#include "param/payload.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+layout(binding = 4, std430) readonly buffer PatchesRender { Patch patches_render[]; };
+layout(binding = 5, std430) buffer Frame { uint64_t depth_payload[]; };
+
+layout(push_constant) uniform PointsParams {
+    mat4 world_to_clip;
+    vec2 viewport;         // raster size as floats
+    float density;         // cells per pixel of extent
+    uint max_side;         // most cells per direction of one patch
+    uvec2 raster;          // raster width, height
+    uint uv_bits;          // payload bits per parameter
+    uint render_capacity;  // patches the render list holds
+    uint footprint;        // FOOTPRINT_CELL or FOOTPRINT_PIXEL
+    uint pad0;
+    uint pad1;
+    uint pad2;
+} params;
+
+const uint TILE = 8u;
+const uint POINTS = (TILE + 1u) * (TILE + 1u);
+const float EDGE_SLACK = 1.0 / 64.0;
+// A triangle whose pixel rectangle is larger than this is skipped (and counted).
+const uint MAX_TRIANGLE_PIXELS = 4096u;
+
+shared vec3 s_point[POINTS];  // pixel x, y, depth (depth < 0: unusable)
+shared vec2 s_uv[POINTS];
+
+float grid_param(vec2 r, uint i, uint n) {
+    return i == 0u ? r.x : (i == n ? r.y : r.x + (r.y - r.x) * (float(i) / float(n)));
+}
+
+void splat(uint x, uint y, float depth, uint payload) {
+    uint64_t value = (uint64_t(floatBitsToUint(depth)) << 32) | uint64_t(payload);
+    atomicMin(depth_payload[y * params.raster.x + x], value);
+}
+
+float cross2(vec2 a, vec2 b) {
+    return a.x * b.y - a.y * b.x;
+}
+
+void draw_triangle(uint object, uint ia, uint ib, uint ic) {
+    vec3 a = s_point[ia];
+    vec3 b = s_point[ib];
+    vec3 c = s_point[ic];
+    float area = cross2(b.xy - a.xy, c.xy - a.xy);
+    if (abs(area) < 1e-12) {
+        return;
+    }
+    // Barycentric slack per corner: EDGE_SLACK pixels across the opposite edge.
+    vec3 slack = EDGE_SLACK * vec3(length(c.xy - b.xy), length(a.xy - c.xy), length(b.xy - a.xy)) / abs(area);
+    vec2 lo = min(min(a.xy, b.xy), c.xy) - EDGE_SLACK;
+    vec2 hi = max(max(a.xy, b.xy), c.xy) + EDGE_SLACK;
+    ivec2 first = max(ivec2(ceil(lo - 0.5)), ivec2(0));
+    ivec2 last = min(ivec2(floor(hi - 0.5)), ivec2(params.raster) - 1);
+    if (any(lessThan(last, first))) {
+        return;
+    }
+    if (uint(last.x - first.x + 1) * uint(last.y - first.y + 1) > MAX_TRIANGLE_PIXELS) {
+        atomicAdd(skipped_cells, 1u);
+        return;
+    }
+    for (int y = first.y; y <= last.y; ++y) {
+        for (int x = first.x; x <= last.x; ++x) {
+            vec2 p = vec2(x, y) + 0.5;
+            vec3 l = vec3(cross2(c.xy - b.xy, p - b.xy), cross2(a.xy - c.xy, p - c.xy), cross2(b.xy - a.xy, p - a.xy)) / area;
+            if (any(lessThan(l, -slack))) {
+                continue;
+            }
+            l = max(l, vec3(0.0));
+            l /= l.x + l.y + l.z;
+            float depth = dot(l, vec3(a.z, b.z, c.z));
+            if (!(depth >= 0.0 && depth < 1.0)) {
+                continue;
+            }
+            vec2 uv = l.x * s_uv[ia] + l.y * s_uv[ib] + l.z * s_uv[ic];
+            splat(uint(x), uint(y), depth, param_payload(object, uv.x, uv.y, params.uv_bits));
+        }
+    }
+}
+
+void main() {
+    uint index = param_group_index();
+    if (index >= min(entries[0].count, params.render_capacity)) {
+        return;  // uniform over the workgroup
+    }
+    Patch p = patches_render[index];
+    uvec2 n = uvec2(clamp(ceil(p.extent * params.density), vec2(1.0), vec2(float(params.max_side))));
+    uvec2 tiles = (n + TILE - 1u) / TILE;
+    uint lane = gl_LocalInvocationIndex;
+    for (uint t = 0u; t < tiles.x * tiles.y; ++t) {
+        uvec2 origin = uvec2(t % tiles.x, t / tiles.x) * TILE;
+        for (uint k = lane; k < POINTS; k += TILE * TILE) {
+            uvec2 g = origin + uvec2(k % (TILE + 1u), k / (TILE + 1u));
+            if (any(greaterThan(g, n))) {
+                continue;
+            }
+            float u = grid_param(p.u, g.x, n.x);
+            float v = grid_param(p.v, g.y, n.y);
+            vec2 pixel;
+            float depth;
+            bool front = param_project(params.world_to_clip, params.viewport, param_world_position(p.object, u, v), pixel, depth);
+            bool usable = front && !any(isnan(pixel)) && depth >= 0.0 && depth < 1.0;
+            s_point[k] = vec3(pixel, usable ? depth : -1.0);
+            s_uv[k] = vec2(u, v);
+            // Each point belongs to the tile it starts, the patch's last row and column to the last.
+            uvec2 local = g - origin;
+            bool owned = all(lessThan(local, uvec2(TILE))) || (local.x == TILE && g.x == n.x && local.y < TILE)
+                      || (local.y == TILE && g.y == n.y && (local.x < TILE || g.x == n.x));
+            if (params.footprint == FOOTPRINT_PIXEL && usable && owned && all(greaterThanEqual(pixel, vec2(0.0)))
+                && all(lessThan(pixel, params.viewport))) {
+                uvec2 px = min(uvec2(pixel), params.raster - 1u);
+                splat(px.x, px.y, depth, param_payload(p.object, u, v, params.uv_bits));
+            }
+        }
+        barrier();
+        uvec2 cell = origin + gl_LocalInvocationID.xy;
+        if (params.footprint == FOOTPRINT_CELL && all(lessThan(cell, n))) {
+            uint i00 = gl_LocalInvocationID.y * (TILE + 1u) + gl_LocalInvocationID.x;
+            uint i10 = i00 + 1u;
+            uint i01 = i00 + TILE + 1u;
+            uint i11 = i01 + 1u;
+            if (s_point[i00].z >= 0.0 && s_point[i10].z >= 0.0 && s_point[i01].z >= 0.0 && s_point[i11].z >= 0.0) {
+                draw_triangle(p.object, i00, i10, i11);
+                draw_triangle(p.object, i00, i11, i01);
+            }
+        }
+        barrier();
+    }
+}

@@ -1,0 +1,68 @@
+// Real spherical harmonics of the even (antipodally symmetric) basis, mirroring
+// tessera_data::param::sh: K_l^m by the fully normalised three-term recurrence per column m,
+// combined with cos(m phi) / sin(m phi) as DIPY's descoteaux07 and tournier07 bases do (legacy
+// or not). Coefficients are DIPY-ordered (l = 0, 2, ..., L; m = -l..l) in param_values.
+//
+// sh_recurrence holds, at a * SH_TABLE_WIDTH + l (built in f64 on the CPU, param/scene.rs):
+// l == a: (K_a^a / sin^a theta, 0); l == a + 1: (sqrt(2a + 3), 0); l >= a + 2: (a_lm, b_lm) with
+// K_l^a = a_lm (cos theta K_{l-1}^a - b_lm K_{l-2}^a). cos(m phi) and sin(m phi) come from the
+// angle-addition recurrence rather than cos(m * phi), whose argument would lose ~m ulps.
+
+#ifndef PARAM_SH_GLSL
+#define PARAM_SH_GLSL
+
+#include "param/scene.glsl"
+
+// sum_j c_j Y_j(theta, phi) for the order-`order` coefficients starting at param_values[first].
+float sh_evaluate(uint first, uint order, uint basis, float theta, float phi) {
+    float s = sin(theta);
+    float x = cos(theta);
+    float s1 = sin(phi);
+    float c1 = cos(phi);
+    bool tournier = basis >= SH_TOURNIER_LEGACY;
+    bool legacy = basis == SH_DESCOTEAUX_LEGACY || basis == SH_TOURNIER_LEGACY;
+    float scale = (tournier && legacy) ? 1.0 : sqrt(2.0);
+    float cm = 1.0;    // cos(a phi)
+    float sm = 0.0;    // sin(a phi)
+    float spow = 1.0;  // sin^a theta
+    float sum = 0.0;
+    for (uint a = 0u; a <= order; ++a) {
+        if (a > 0u) {
+            float c = cm * c1 - sm * s1;
+            sm = sm * c1 + cm * s1;
+            cm = c;
+            spow *= s;
+        }
+        // Weights of K_l^a in the m = +a and m = -a functions (module table in sh.rs).
+        float w_pos = tournier ? scale * cm : scale * sm;
+        float w_neg = tournier ? scale * sm : scale * cm;
+        if (!tournier && !legacy && (a & 1u) == 1u) {
+            w_neg = -w_neg;
+        }
+        uint row = a * SH_TABLE_WIDTH;
+        float prev = 0.0;
+        float cur = sh_recurrence[row + a].x * spow;
+        for (uint l = a; l <= order; ++l) {
+            if (l == a + 1u) {
+                prev = cur;
+                cur = sh_recurrence[row + l].x * x * cur;
+            } else if (l > a + 1u) {
+                vec2 ab = sh_recurrence[row + l];
+                float next = ab.x * (x * cur - ab.y * prev);
+                prev = cur;
+                cur = next;
+            }
+            if ((l & 1u) == 0u) {
+                uint centre = first + l * (l + 1u) / 2u;  // index of (l, m = 0)
+                if (a == 0u) {
+                    sum += param_values[centre] * cur;
+                } else {
+                    sum += param_values[centre + a] * (w_pos * cur) + param_values[centre - a] * (w_neg * cur);
+                }
+            }
+        }
+    }
+    return sum;
+}
+
+#endif

@@ -1,0 +1,654 @@
+//! `param-points` (paper E) against the CPU: the SH basis and the parametric functions as the
+//! shaders evaluate them, the GPU LOD stage against `tessera_data::param::run_lod` (exactly,
+//! fed the GPU's own sample positions), and rendered images against the CPU reference of
+//! `tessera_data::param::reference`.
+
+mod common;
+
+use common::{assert_clean, gpu, out_dir, write_png};
+use glam::{Mat4, Quat, Vec2, Vec3};
+use std::collections::HashMap;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use tessera::param::lod::{LodParams, PrepareParams};
+use tessera::param::points::{points_defines, PointsParams, ResolveParams};
+use tessera::param::scene::GpuObject;
+use tessera::param::{
+    Footprint, GpuParamScene, GpuPatch, LodSample, ParamObject, ParamPoints, ParamPointsOptions,
+    ParamScene, ParamView, PointsFrame,
+};
+use tessera::shaders;
+use tessera_data::image::{coverage_of, silhouette_iou};
+use tessera_data::param::reference::{render_reference, world_position, DEFAULT_MAX_CELL_PX};
+use tessera_data::param::sh::{sh_basis, sh_coefficient_count, sh_index};
+use tessera_data::param::{
+    run_lod, LodConfig, ParamFunction, Patch, RadiusNormalization, SeashellParams, ShBasis, ShGlyph,
+};
+use tessera_data::shading::pack_rgba8;
+use tessera_data::{OrbitCamera, RgbaImage};
+use tessera_gpu::Gpu;
+
+const BACKGROUND: [f32; 3] = [20.0 / 255.0, 20.0 / 255.0, 26.0 / 255.0];
+const SIZE: (u32, u32) = (160, 160);
+const NON_LEGACY: ShBasis = ShBasis::Descoteaux07 { legacy: false };
+
+fn camera(az: f32, el: f32, distance: f32) -> OrbitCamera {
+    OrbitCamera {
+        azimuth_deg: az,
+        elevation_deg: el,
+        distance,
+        ..OrbitCamera::default()
+    }
+}
+
+/// An order-8 glyph with lobes in several directions (descoteaux07, non-legacy, min-max).
+fn glyph8() -> ParamFunction {
+    let mut c = vec![0.0; sh_coefficient_count(8).unwrap()];
+    for (l, m, value) in [
+        (0, 0, 1.0),
+        (2, 0, 0.5),
+        (2, 2, 0.4),
+        (4, -3, 0.3),
+        (6, 5, 0.25),
+        (8, 8, 0.2),
+        (8, -1, 0.15),
+    ] {
+        c[sh_index(l, m).unwrap()] = value;
+    }
+    ParamFunction::ShGlyph(ShGlyph::new(NON_LEGACY, 8, c, RadiusNormalization::MinMax).unwrap())
+}
+
+fn one(function: ParamFunction) -> ParamScene {
+    ParamScene::new(vec![ParamObject::new(function).with_colour([0.9, 0.6, 0.3])])
+}
+
+/// A sphere, a heart and a glyph side by side, turned and scaled.
+fn trio() -> ParamScene {
+    ParamScene::new(vec![
+        ParamObject::new(ParamFunction::Sphere)
+            .with_transform(Mat4::from_scale_rotation_translation(
+                Vec3::splat(0.5),
+                Quat::from_rotation_x(0.4),
+                Vec3::new(-1.1, 0.0, 0.0),
+            ))
+            .with_colour([0.3, 0.8, 0.4]),
+        ParamObject::new(ParamFunction::Heart)
+            .with_transform(Mat4::from_scale_rotation_translation(
+                Vec3::new(0.7, 0.7, 1.2),
+                Quat::from_rotation_y(0.7),
+                Vec3::new(0.1, 0.2, 0.0),
+            ))
+            .with_colour([0.9, 0.3, 0.3]),
+        ParamObject::new(glyph8()).with_transform(Mat4::from_scale_rotation_translation(
+            Vec3::splat(0.6),
+            Quat::from_rotation_z(0.3),
+            Vec3::new(1.1, -0.1, 0.2),
+        )),
+    ])
+}
+
+/// The default options with some fields changed.
+macro_rules! opts {
+    ($($field:ident: $value:expr),*) => {
+        ParamPointsOptions { $($field: $value,)* ..ParamPointsOptions::default() }
+    };
+}
+
+// ---------------------------------------------------------------------------------------------
+// Layouts
+
+#[test]
+fn host_structs_match_shader_layouts() {
+    let compiler = shaders::compiler();
+    let compile = |name: &str, text: &str, defines: &[(String, String)]| {
+        let source = shaders::builtin("crates/tessera/src/param/mod.rs", name, text);
+        compiler.compile(&source, defines).unwrap()
+    };
+    let (lod, points) = (tessera::param::lod::lod_defines(), points_defines());
+    macro_rules! shader {
+        ($file:literal, $defines:expr) => {
+            compile(
+                $file,
+                include_str!(concat!("../src/param/", $file)),
+                $defines,
+            )
+        };
+    }
+    let step = shader!("lod_step.comp.glsl", &lod);
+    let prepare = shader!("lod_prepare.comp.glsl", &lod);
+    let init = shader!("lod_init.comp.glsl", &lod);
+    let draw = shader!("points.comp.glsl", &points);
+    let resolve = shader!("resolve.comp.glsl", &points);
+    macro_rules! offsets {
+        ($t:ty, $($f:ident),*) => {
+            vec![$((stringify!($f), std::mem::offset_of!($t, $f))),*]
+        };
+    }
+    // A struct also copied into locals has a second, undecorated SPIR-V type of the same name;
+    // `init` only indexes the buffers, so its first type of each name is the buffer's.
+    let check = |spirv: &tessera_gpu::Spirv, block: &str, host: Vec<(&str, usize)>| {
+        let found = tessera_gpu::spirv::struct_offsets(&spirv.words, block).unwrap();
+        let found: Vec<(&str, usize)> = found
+            .iter()
+            .map(|(n, o)| (n.as_str(), *o as usize))
+            .filter(|(n, _)| !n.starts_with("pad"))
+            .collect();
+        let host: Vec<_> = host.into_iter().filter(|(n, _)| *n != "pad").collect();
+        assert_eq!(found, host, "{block}");
+    };
+    #[rustfmt::skip]
+    let expected = [
+        (&step, "LodParams", offsets!(LodParams, world_to_clip, viewport, thresholds, step, last,
+            eval_capacity, render_capacity, culling, capture_capacity, object_count)),
+        (&prepare, "PrepareParams", offsets!(PrepareParams, max_groups, entry, capacity, per_group)),
+        (&draw, "PointsParams", offsets!(PointsParams, world_to_clip, viewport, density, max_side,
+            raster, uv_bits, render_capacity, footprint)),
+        (&resolve, "ResolveParams", offsets!(ResolveParams, eye, light, background, size,
+            supersample, uv_bits)),
+        (&init, "ParamObject", offsets!(GpuObject, model, colour, domain, radius_map, kind, params,
+            order, flags)),
+        (&init, "Patch", offsets!(GpuPatch, u, v, extent, object, info)),
+        (&step, "LodSample", offsets!(LodSample, object, u, v, x, y)),
+    ];
+    for (spirv, block, host) in expected {
+        check(spirv, block, host);
+    }
+    for size in [
+        std::mem::size_of::<LodParams>(),
+        std::mem::size_of::<PointsParams>(),
+        std::mem::size_of::<ResolveParams>(),
+    ] {
+        assert!(size <= tessera_gpu::PUSH_CONSTANT_BYTES as usize);
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Functions
+
+/// Directions covering the sphere, both poles included.
+fn directions(n: usize) -> Vec<(f32, f32)> {
+    let mut out = Vec::new();
+    for i in 0..=n {
+        for k in 0..2 * n {
+            let u = std::f32::consts::PI * i as f32 / n as f32;
+            out.push((
+                u,
+                std::f32::consts::TAU * (k as f32 + 0.37) / (2 * n) as f32,
+            ));
+        }
+    }
+    out
+}
+
+/// Every basis function as a glyph with one unit coefficient, probed on the GPU, against the
+/// CPU basis: order 16 in the non-legacy descoteaux07 basis, order 8 in the three others.
+#[test]
+fn sh_basis_matches_the_cpu() {
+    let gpu = gpu();
+    let compiler = shaders::compiler();
+    let points = ParamPoints::new(&gpu, &compiler, opts!()).unwrap();
+    let dirs = directions(12);
+    for (basis, order) in [
+        (NON_LEGACY, 16),
+        (ShBasis::Descoteaux07 { legacy: true }, 8),
+        (ShBasis::Tournier07 { legacy: true }, 8),
+        (ShBasis::Tournier07 { legacy: false }, 8),
+    ] {
+        let count = sh_coefficient_count(order).unwrap();
+        let objects = (0..count)
+            .map(|j| {
+                let mut c = vec![0.0; count];
+                c[j] = 1.0;
+                let g = ShGlyph::new(basis, order, c, RadiusNormalization::Raw).unwrap();
+                ParamObject::new(ParamFunction::ShGlyph(g))
+            })
+            .collect();
+        let scene = GpuParamScene::upload(&gpu, &ParamScene::new(objects)).unwrap();
+        let queries: Vec<(u32, f32, f32)> = (0..count as u32)
+            .flat_map(|j| dirs.iter().map(move |&(u, v)| (j, u, v)))
+            .collect();
+        let results = points.probe(&gpu, &scene, &queries).unwrap();
+        assert_eq!(results.len(), queries.len());
+        let mut worst = 0.0f64;
+        for (i, &(u, v)) in dirs.iter().enumerate() {
+            let cpu = sh_basis(basis, order, f64::from(u), f64::from(v)).unwrap();
+            for (j, expected) in cpu.iter().enumerate() {
+                let got = f64::from(results[j * dirs.len() + i].position[3]);
+                let diff = (got - expected).abs();
+                assert!(
+                    diff <= 1e-5,
+                    "{basis:?} order {order}: Y_{j}({u}, {v}) = {got} on the GPU, {expected} on the CPU"
+                );
+                worst = worst.max(diff);
+            }
+        }
+        eprintln!("{basis:?} order {order}: largest difference {worst:.2e}");
+        scene.destroy(&gpu);
+    }
+    points.destroy(&gpu);
+    assert_clean(&gpu);
+}
+
+/// Positions, normals and colours of every family, placed by transforms, against the CPU.
+#[test]
+fn functions_match_the_cpu() {
+    let gpu = gpu();
+    let compiler = shaders::compiler();
+    let points = ParamPoints::new(&gpu, &compiler, opts!()).unwrap();
+    let scene = trio();
+    let gpu_scene = GpuParamScene::upload(&gpu, &scene).unwrap();
+    let dirs = directions(24);
+    let queries: Vec<(u32, f32, f32)> = (0..3u32)
+        .flat_map(|o| dirs.iter().map(move |&(u, v)| (o, u, v)))
+        .collect();
+    let results = points.probe(&gpu, &gpu_scene, &queries).unwrap();
+    let objects = scene.reference_objects();
+    let (mut worst_p, mut worst_n, mut unlike) = (0.0f32, 0.0f32, 0);
+    for (q, r) in queries.iter().zip(&results) {
+        let o = &objects[q.0 as usize];
+        let p = world_position(o, q.1, q.2);
+        let got = Vec3::from_slice(&r.position[..3]);
+        worst_p = worst_p.max((got - p).length());
+        assert!((got - p).length() <= 2e-6, "{q:?}: {got} vs {p}");
+        let colour = tessera_data::param::reference::base_colour(o, q.1, q.2);
+        assert!((Vec3::from_slice(&r.colour[..3]) - colour).length() <= 1e-5);
+        let n = Vec3::from_slice(&r.normal[..3]);
+        // The heart's bottom tip (u = π) is a cusp: both sides' normals there come from
+        // differences of points a rounding error apart (sin π in f32), so they are noise.
+        if matches!(o.function, ParamFunction::Heart) && q.1 == std::f32::consts::PI {
+            continue;
+        }
+        match tessera_data::param::reference::world_normal(o, q.1, q.2) {
+            Some(m) if n != Vec3::ZERO => {
+                worst_n = worst_n.max(1.0 - n.dot(m));
+                if n.dot(m).is_nan() || n.dot(m) < 0.9999 {
+                    unlike += 1;
+                    eprintln!("{q:?}: GPU normal {n}, CPU {m}");
+                }
+            }
+            None if n == Vec3::ZERO => {}
+            other => {
+                unlike += 1;
+                eprintln!("{q:?}: GPU normal {n}, CPU {other:?}");
+            }
+        }
+    }
+    eprintln!(
+        "positions within {worst_p:.2e}, normals 1 - cos up to {worst_n:.2e}, {unlike} of {} unlike",
+        queries.len()
+    );
+    assert!(unlike * 200 <= queries.len(), "{unlike} normals differ");
+    gpu_scene.destroy(&gpu);
+    points.destroy(&gpu);
+    assert_clean(&gpu);
+}
+
+// ---------------------------------------------------------------------------------------------
+// LOD
+
+/// Runs the GPU LOD stage with capture, then the CPU reference fed the captured pixel positions
+/// (so transcendental functions cannot make the two differ), and demands identical outputs.
+/// Returns (patches to render, steps that evaluated something, culled, limit hits).
+fn assert_lod_matches(
+    gpu: &Gpu,
+    name: &str,
+    scene: &ParamScene,
+    cam: &OrbitCamera,
+    options: ParamPointsOptions,
+) -> (usize, usize, u32, u32) {
+    let compiler = shaders::compiler();
+    let points = ParamPoints::new(gpu, &compiler, options).unwrap();
+    let gpu_scene = GpuParamScene::upload(gpu, scene).unwrap();
+    let view = ParamView::new(&gpu_scene.bounds, cam, SIZE, 1).unwrap();
+    points.poison(gpu).unwrap();
+    let capacity = 1 << 21;
+    let (gpu_patches, stats, samples) = points.run_lod(gpu, &gpu_scene, &view, capacity).unwrap();
+    let evaluated: u32 = stats.evaluated_per_step.iter().sum();
+    assert_eq!(stats.captured, 89 * evaluated, "{name}: capture incomplete");
+    assert_eq!(
+        samples.len(),
+        stats.captured as usize,
+        "{name}: capture full"
+    );
+    assert_eq!(stats.dropped, 0, "{name}");
+
+    // The GPU's pixel positions, and how far the on-screen ones are from the CPU functions'
+    // projections (off screen, pixel errors grow with the distance; near the eye plane a sample
+    // may fall on either side of it).
+    let mut screen: HashMap<(u32, u32, u32), Vec2> = HashMap::new();
+    let objects = scene.reference_objects();
+    let (mut worst, mut sides) = (0.0f32, 0);
+    let inside = |q: Vec2| q.cmpge(Vec2::ZERO).all() && q.cmple(view.viewport()).all();
+    for s in &samples {
+        let p = Vec2::new(s.x, s.y);
+        let key = (s.object, s.u.to_bits(), s.v.to_bits());
+        if let Some(old) = screen.insert(key, p) {
+            assert!(old == p || (old.is_nan() && p.is_nan()), "{name}: {s:?}");
+        }
+        match view.project(world_position(&objects[s.object as usize], s.u, s.v)) {
+            Some((q, _)) if !p.is_nan() && inside(q) => worst = worst.max((q - p).length()),
+            Some(_) if !p.is_nan() => {}
+            None if p.is_nan() => {}
+            _ => sides += 1,
+        }
+    }
+    assert!(worst < 0.05, "{name}: GPU positions {worst} pixels off");
+    assert!(
+        sides * 1000 <= samples.len(),
+        "{name}: {sides} samples behind on one side"
+    );
+
+    let misses = AtomicUsize::new(0);
+    let config = LodConfig {
+        viewport: view.viewport(),
+        thresholds: Vec2::from(options.thresholds),
+        max_steps: options.max_steps,
+        frustum_culling: options.frustum_culling,
+        max_patches: options.patch_capacity as usize,
+    };
+    let initial: Vec<Patch> = scene
+        .objects
+        .iter()
+        .enumerate()
+        .map(|(i, o)| Patch::from_domain(&o.function.domain(), i as u32))
+        .collect();
+    let cpu = run_lod(
+        &initial,
+        |object, u, v| match screen.get(&(object, u.to_bits(), v.to_bits())) {
+            Some(p) => p.extend(0.0),
+            None => {
+                misses.fetch_add(1, Ordering::Relaxed);
+                Vec3::NAN
+            }
+        },
+        |p| Some(p.truncate()),
+        &config,
+    )
+    .unwrap();
+    assert_eq!(misses.into_inner(), 0, "{name}: CPU samples unknown");
+
+    let bits = |r: [f32; 2]| r.map(f32::to_bits);
+    let key = |o, u, v, e, step, over: bool| (o, bits(u), bits(v), bits(e), step, over);
+    let mut g: Vec<_> = gpu_patches
+        .iter()
+        .map(|p| key(p.object, p.u, p.v, p.extent, p.step(), p.over_threshold()))
+        .collect();
+    let mut c: Vec<_> = (cpu.render.iter())
+        .map(|r| (r.patch, r.extent.to_array(), r.step, r.over_threshold))
+        .map(|(p, e, step, over)| key(p.object, p.u, p.v, e, step, over))
+        .collect();
+    g.sort();
+    c.sort();
+    assert_eq!(g.len(), c.len(), "{name}: patch counts differ");
+    assert!(g == c, "{name}: the patches to render differ");
+    let cpu_steps: Vec<u32> = cpu.evaluated_per_step.iter().map(|&n| n as u32).collect();
+    assert_eq!(stats.evaluated_per_step, cpu_steps, "{name}");
+    assert_eq!(stats.culled as usize, cpu.culled, "{name}");
+    assert_eq!(stats.limit_hits as usize, cpu.limit_hits, "{name}");
+    let hits = stats.resolution_hits as usize;
+    assert_eq!(hits, cpu.resolution_hits, "{name}");
+    let steps = cpu_steps.iter().filter(|&&n| n > 0).count();
+    eprintln!(
+        "{name}: {} patches to render, {steps} steps, evaluated {cpu_steps:?}, {} culled, \
+         {} limit hits, positions within {worst:.1e} px",
+        g.len(),
+        stats.culled,
+        stats.limit_hits
+    );
+    gpu_scene.destroy(gpu);
+    points.destroy(gpu);
+    (g.len(), steps, stats.culled, stats.limit_hits)
+}
+
+#[test]
+fn lod_matches_the_cpu() {
+    let gpu = gpu();
+    let sphere = || one(ParamFunction::Sphere);
+    // (name, scene, camera, threshold, steps, least patches, least steps, culls, hits limit)
+    #[rustfmt::skip]
+    let cases = [
+        ("sphere", sphere(), camera(30.0, 20.0, 3.5), 84.0, 12, 5, 3, false, false),
+        ("sphere close", sphere(), camera(10.0, 35.0, 1.6), 12.0, 12, 500, 6, true, false),
+        ("heart", one(ParamFunction::Heart), camera(-40.0, 10.0, 2.5), 10.0, 12, 200, 6, false, false),
+        ("glyph", one(glyph8()), camera(60.0, -25.0, 2.2), 16.0, 12, 200, 6, true, false),
+        ("trio", trio(), camera(25.0, 5.0, 1.2), 20.0, 12, 200, 6, true, false),
+        ("step limit", sphere(), camera(0.0, 0.0, 3.0), 4.0, 3, 50, 3, false, true),
+    ];
+    for (name, scene, cam, t, max_steps, patches, steps, culls, limit) in cases {
+        let options = opts!(thresholds: [t, t], max_steps: max_steps);
+        let (n, s, culled, hits) = assert_lod_matches(&gpu, name, &scene, &cam, options);
+        assert!(n >= patches && s >= steps, "{name}: {n} patches, {s} steps");
+        assert_eq!((culled > 0, hits > 0), (culls, limit), "{name}");
+    }
+    assert_clean(&gpu);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Images
+
+const POISON: u32 = 0xdead_beef;
+
+/// Renders `scene` and holds it to the CPU reference: silhouette IoU >= 0.99 and >= 98 % of the
+/// pixels both cover within 4/255, with enough surface in view. Writes PNGs when it fails.
+fn assert_image_matches(
+    gpu: &Gpu,
+    name: &str,
+    scene: &ParamScene,
+    cam: &OrbitCamera,
+    options: ParamPointsOptions,
+) -> f64 {
+    let compiler = shaders::compiler();
+    let points = ParamPoints::new(gpu, &compiler, options).unwrap();
+    let gpu_scene = GpuParamScene::upload(gpu, scene).unwrap();
+    let view = points.view(&gpu_scene, cam, SIZE).unwrap();
+    let frame = PointsFrame::new(gpu, &view).unwrap();
+    frame.pixels.poison(gpu, POISON).unwrap();
+    let info = points
+        .render_frame(gpu, &gpu_scene, &view, &frame, BACKGROUND)
+        .unwrap();
+    let image = frame.pixels.read(gpu).unwrap();
+    frame.destroy(gpu);
+    gpu_scene.destroy(gpu);
+    points.destroy(gpu);
+    assert!(
+        !image.pixels.contains(&POISON),
+        "{name}: pixels never written"
+    );
+    let objects = scene.reference_objects();
+    let reference =
+        render_reference(&objects, &view.reference(), BACKGROUND, DEFAULT_MAX_CELL_PX).unwrap();
+    let (iou, within, covered) = compare(&image, &reference);
+    eprintln!(
+        "{name}: IoU {iou:.4}, {:.2}% of co-covered pixels within 4/255, {covered} covered, \
+         {} patches, GPU {:.1} ms",
+        within * 100.0,
+        info.stats.rendered,
+        info.gpu_ms
+    );
+    let (w, h) = SIZE;
+    if std::env::var_os("TESSERA_KEEP_IMAGES").is_some() {
+        write_png(&out_dir().join(format!("param-{name}-actual.png")), &image);
+        write_png(
+            &out_dir().join(format!("param-{name}-expected.png")),
+            &reference,
+        );
+    }
+    if iou < 0.99
+        || within < 0.98
+        || covered < (w * h / 10) as usize
+        || info.stats.skipped_cells > 0
+    {
+        let dir = out_dir();
+        write_png(&dir.join(format!("param-{name}-actual.png")), &image);
+        write_png(&dir.join(format!("param-{name}-expected.png")), &reference);
+        write_png(
+            &dir.join(format!("param-{name}-diff.png")),
+            &image.diff_image(&reference),
+        );
+        panic!(
+            "{name}: IoU {iou}, within {within}, covered {covered}, skipped cells {}; images in {}",
+            info.stats.skipped_cells,
+            dir.display()
+        );
+    }
+    info.gpu_ms
+}
+
+/// (IoU, fraction of co-covered pixels within 4/255, co-covered pixels).
+fn compare(image: &RgbaImage, reference: &RgbaImage) -> (f64, f64, usize) {
+    let bg = pack_rgba8([BACKGROUND[0], BACKGROUND[1], BACKGROUND[2], 1.0]);
+    let a = coverage_of(image, bg);
+    let b = coverage_of(reference, bg);
+    let both: Vec<bool> = a.iter().zip(&b).map(|(x, y)| *x && *y).collect();
+    let diff = image.compare_where(reference, &both, 4);
+    (
+        silhouette_iou(&a, &b),
+        diff.fraction_within,
+        both.iter().filter(|&&x| x).count(),
+    )
+}
+
+#[test]
+fn sphere_image_matches_the_reference() {
+    let gpu = gpu();
+    let sphere = one(ParamFunction::Sphere);
+    assert_image_matches(&gpu, "sphere", &sphere, &camera(30.0, 20.0, 3.5), opts!());
+    assert_clean(&gpu);
+}
+
+#[test]
+fn heart_image_matches_the_reference() {
+    let gpu = gpu();
+    let heart = one(ParamFunction::Heart);
+    assert_image_matches(&gpu, "heart", &heart, &camera(-30.0, 15.0, 2.6), opts!());
+    assert_clean(&gpu);
+}
+
+#[test]
+fn glyph_image_matches_the_reference() {
+    let gpu = gpu();
+    let glyph = one(glyph8());
+    assert_image_matches(&gpu, "glyph", &glyph, &camera(60.0, -25.0, 2.4), opts!());
+    assert_clean(&gpu);
+}
+
+/// Three objects (payload with object bits), close enough that some patches are off screen,
+/// supersampled 2x2 on both sides.
+#[test]
+fn scene_and_supersampling_match_the_reference() {
+    let gpu = gpu();
+    assert_image_matches(&gpu, "trio", &trio(), &camera(25.0, 10.0, 3.2), opts!());
+    let ss = opts!(supersample: 2);
+    assert_image_matches(
+        &gpu,
+        "sphere-ss2",
+        &one(ParamFunction::Sphere),
+        &camera(-50.0, 40.0, 3.5),
+        ss,
+    );
+    assert_clean(&gpu);
+}
+
+/// The paper's own footprint (each sample writes its pixel) at twice the density: no holes
+/// inside the reference's silhouette, nothing beyond a pixel outside it.
+#[test]
+fn pixel_footprint_covers_the_silhouette() {
+    let gpu = gpu();
+    let compiler = shaders::compiler();
+    let opts = opts!(footprint: Footprint::Pixel, density: 2.0);
+    let points = ParamPoints::new(&gpu, &compiler, opts).unwrap();
+    let scene = one(glyph8());
+    let gpu_scene = GpuParamScene::upload(&gpu, &scene).unwrap();
+    let cam = camera(60.0, -25.0, 2.4);
+    let (image, ms) = points
+        .render_image(&gpu, &gpu_scene, &cam, SIZE, BACKGROUND)
+        .unwrap();
+    let view = points.view(&gpu_scene, &cam, SIZE).unwrap();
+    let reference = render_reference(
+        &scene.reference_objects(),
+        &view.reference(),
+        BACKGROUND,
+        DEFAULT_MAX_CELL_PX,
+    )
+    .unwrap();
+    let bg = pack_rgba8([BACKGROUND[0], BACKGROUND[1], BACKGROUND[2], 1.0]);
+    let (a, b) = (coverage_of(&image, bg), coverage_of(&reference, bg));
+    let (w, h) = (SIZE.0 as i32, SIZE.1 as i32);
+    let around = |mask: &[bool], x: i32, y: i32, want: bool| {
+        (-1..=1).any(|dy| {
+            (-1..=1).any(|dx| {
+                let (px, py) = (x + dx, y + dy);
+                px >= 0 && py >= 0 && px < w && py < h && mask[(py * w + px) as usize] == want
+            })
+        })
+    };
+    let (mut holes, mut outside) = (0, 0);
+    for y in 0..h {
+        for x in 0..w {
+            let i = (y * w + x) as usize;
+            holes += usize::from(b[i] && !a[i] && !around(&b, x, y, false));
+            outside += usize::from(a[i] && !around(&b, x, y, true));
+        }
+    }
+    let (iou, within, covered) = compare(&image, &reference);
+    eprintln!(
+        "pixel footprint: {holes} holes, {outside} pixels outside, IoU {iou:.4}, {:.1}% within \
+         4/255, {covered} covered, GPU {ms:.1} ms",
+        within * 100.0
+    );
+    assert!(covered > (w * h / 10) as usize);
+    assert_eq!((holes, outside), (0, 0));
+    gpu_scene.destroy(&gpu);
+    points.destroy(&gpu);
+    assert_clean(&gpu);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Bad input
+
+#[test]
+fn bad_input_is_refused() {
+    let gpu = gpu();
+    let compiler = shaders::compiler();
+    for bad in [
+        opts!(supersample: 0),
+        opts!(density: 0.0),
+        opts!(max_steps: 0),
+        opts!(thresholds: [f32::NAN, 4.0]),
+        opts!(patch_capacity: 0),
+    ] {
+        assert!(ParamPoints::new(&gpu, &compiler, bad).is_err(), "{bad:?}");
+    }
+    assert!(GpuParamScene::upload(&gpu, &ParamScene::default()).is_err());
+    let shell = ParamScene::new(vec![ParamObject::new(ParamFunction::Seashell(
+        SeashellParams::default(),
+    ))]);
+    assert!(GpuParamScene::upload(&gpu, &shell).is_err());
+    let flat = ParamScene::new(vec![
+        ParamObject::new(ParamFunction::Sphere).with_transform(Mat4::from_scale(Vec3::ZERO))
+    ]);
+    assert!(GpuParamScene::upload(&gpu, &flat).is_err());
+
+    // Lists of 8 patches cannot hold a close sphere's LOD: the frame is refused, not drawn.
+    let small = opts!(patch_capacity: 8);
+    let points = ParamPoints::new(&gpu, &compiler, small).unwrap();
+    let scene = GpuParamScene::upload(&gpu, &one(ParamFunction::Sphere)).unwrap();
+    let cam = camera(0.0, 0.0, 2.0);
+    for size in [SIZE, (0, 10)] {
+        assert!(points
+            .render_image(&gpu, &scene, &cam, size, BACKGROUND)
+            .is_err());
+    }
+    assert!(points.probe(&gpu, &scene, &[(1, 0.0, 0.0)]).is_err());
+    // More objects than a list holds: refused too.
+    let two = ParamPoints::new(&gpu, &compiler, opts!(patch_capacity: 2)).unwrap();
+    let three = GpuParamScene::upload(&gpu, &trio()).unwrap();
+    let far = camera(0.0, 0.0, 20.0);
+    assert!(two
+        .render_image(&gpu, &three, &far, SIZE, BACKGROUND)
+        .is_err());
+    three.destroy(&gpu);
+    two.destroy(&gpu);
+    scene.destroy(&gpu);
+    points.destroy(&gpu);
+    assert_clean(&gpu);
+}
