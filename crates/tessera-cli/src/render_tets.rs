@@ -34,6 +34,10 @@ pub struct TetArgs {
     /// Absorption or emission per unit length at full opacity (the mesh's longest side is 1).
     #[arg(long, default_value_t = 4.0)]
     density: f32,
+    /// One absorption colour R,G,B (per unit length) for every tet, in place of the mesh's
+    /// per-tet colours (tet-absorption).
+    #[arg(long, value_parser = parse_colour)]
+    absorption: Option<[f32; 3]>,
     /// Scalar range LO,HI mapped onto the transfer function (default: the mesh's own).
     #[arg(long, value_parser = parse_range, allow_hyphen_values = true)]
     range: Option<(f32, f32)>,
@@ -55,6 +59,20 @@ fn parse_range(text: &str) -> Result<(f32, f32), String> {
         return Err(format!("'{text}': HI must exceed LO"));
     }
     Ok((lo, hi))
+}
+
+fn parse_colour(text: &str) -> Result<[f32; 3], String> {
+    let values: Vec<f32> = text
+        .split(',')
+        .map(|v| v.trim().parse::<f32>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| format!("'{text}': expected R,G,B"))?;
+    match values[..] {
+        [r, g, b] if values.iter().all(|v| v.is_finite() && *v >= 0.0) => Ok([r, g, b]),
+        _ => Err(format!(
+            "'{text}': expected three non-negative numbers R,G,B"
+        )),
+    }
 }
 
 pub fn is_tet_data(spec: &str) -> bool {
@@ -130,7 +148,10 @@ pub fn run(options: &GpuOptions, args: &RenderArgs, tet: &TetArgs, path: &str) -
             args.data
         ),
     }
-    let mesh = load(&args.data)?;
+    let mut mesh = load(&args.data)?;
+    if let Some(colour) = tet.absorption {
+        mesh.absorption = Some(vec![colour; mesh.tets.len()]);
+    }
     let (integrand, normalized) = integrand(&args.data, &mesh, tet)?;
     let gpu = crate::open_gpu(options)?;
     let caps = gpu.caps();

@@ -169,6 +169,20 @@ fn renders_tet_meshes_with_interval_shading() {
         assert!(o.status.success(), "{path}: {}", stderr(&o));
         assert!(String::from_utf8_lossy(&o.stdout).contains("sphere-traced asteroids"));
     }
+    // One absorption colour for every tet; a bad colour is refused by the argument parser.
+    let o = tessera(&[
+        "render",
+        "tets:box:2",
+        "--absorption",
+        "0.5,1,2",
+        "--size",
+        "32x32",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = tessera(&["render", "tets:box:2", "--absorption", "1,nan,1"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     let o = tessera(&["render", "tets:asteroids:0"]);
     assert_fails_with(&o, &["tets:asteroids:0", "COUNT"]);
 }
