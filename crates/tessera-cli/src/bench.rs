@@ -20,13 +20,15 @@ const SCENARIOS: &[&str] = &[
     "time-varying",
     "stereo",
     "interval",
+    "param",
 ];
 
 #[derive(Args)]
 pub struct BenchArgs {
     /// pipeline-throughput, raymarch, minmax-build, isosurface (raymarch against direct),
     /// iso-sweep (isovalue changes every frame), time-varying (a new volume every frame),
-    /// stereo (two eyes against one), interval (tet meshes) or all.
+    /// stereo (two eyes against one), interval (tet meshes), param (parametric objects: SH
+    /// glyphs) or all.
     scenario: String,
     /// Append JSON lines here.
     #[arg(long)]
@@ -148,6 +150,7 @@ pub fn run(options: &GpuOptions, args: &BenchArgs) -> Result<()> {
             "time-varying" => crate::bench_iso::time_varying(&gpu, args, plan, &mut sink)?,
             "stereo" => crate::bench_stereo::stereo(&gpu, args, plan, &mut sink)?,
             "interval" => crate::bench_tet::interval(&gpu, args, plan, &mut sink)?,
+            "param" => crate::bench_param::param(&gpu, args, plan, &mut sink)?,
             _ => unreachable!("scenario list checked above"),
         }
     }

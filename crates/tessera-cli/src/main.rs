@@ -3,6 +3,7 @@
 mod bench;
 mod bench_hzb;
 mod bench_iso;
+mod bench_param;
 mod bench_stereo;
 mod bench_tet;
 mod data;
@@ -11,6 +12,7 @@ mod extract;
 mod info;
 mod output;
 mod render;
+mod render_param;
 mod render_tets;
 
 use anyhow::Result;

@@ -14,11 +14,12 @@ pub struct RenderArgs {
     /// A volume file (raw, .nrrd, .nhdr, .nii[.gz]) or procedural:NAME:SIZE[:TYPE], e.g.
     /// procedural:marschner-lobb:128; or a tetrahedral mesh (.vtu, .vtk, .node/.ele, .msh) or
     /// tets:box:N / tets:sphere:N (N³ cells of 6 tets) / tets:asteroids:COUNT (an SDF asteroid
-    /// field, one bounding tet per asteroid).
+    /// field, one bounding tet per asteroid); or a parametric scene: param:sphere, param:heart,
+    /// param:sh-glyph:orderN, param:sh-glyphs:WxH:orderN (= procedural:sh-glyphs:…).
     pub(crate) data: String,
     /// Technique: raymarch or direct for volumes, interval for tetrahedral meshes (the default
     /// follows the data).
-    #[arg(long, value_parser = ["raymarch", "direct", "interval"])]
+    #[arg(long, value_parser = ["raymarch", "direct", "interval", "param-points"])]
     pub(crate) technique: Option<String>,
     #[command(flatten)]
     iso: IsoArgs,
@@ -26,6 +27,8 @@ pub struct RenderArgs {
     volume: VolumeArgs,
     #[command(flatten)]
     tet: crate::render_tets::TetArgs,
+    #[command(flatten)]
+    param: crate::render_param::ParamArgs,
     /// Image size WxH.
     #[arg(long, default_value = "1280x720", value_parser = data::parse_size)]
     pub(crate) size: (u32, u32),
@@ -49,6 +52,9 @@ pub struct RenderArgs {
 }
 
 pub fn run(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
+    if crate::render_param::is_param_data(&args.data) {
+        return crate::render_param::run(options, args, &args.param);
+    }
     if crate::render_tets::is_tet_data(&args.data) {
         return crate::render_tets::run(options, args, &args.tet, &args.path);
     }

@@ -406,3 +406,35 @@ fn demo_writes_gallery() {
     let stdout = String::from_utf8_lossy(&o.stdout);
     assert_eq!(stdout.matches("ms GPU").count(), 13, "{stdout}");
 }
+
+#[test]
+fn renders_parametric_scenes() {
+    let dir = scratch("param");
+    let out = dir.join("param.png");
+    for spec in [
+        "param:heart",
+        "param:sh-glyph:order8",
+        "procedural:sh-glyphs:3x2:order4",
+    ] {
+        let o = tessera(&[
+            "--validation",
+            "render",
+            spec,
+            "--size",
+            "48x40",
+            "--supersample",
+            "2",
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{spec}: {}", stderr(&o));
+        assert_eq!(png_size(&out), (48, 40));
+        assert!(String::from_utf8_lossy(&o.stdout).contains("param-points"));
+    }
+    let o = tessera(&["render", "param:sh-glyph:order7"]);
+    assert_fails_with(&o, &["param:sh-glyph:order7"]);
+    let o = tessera(&["render", "param:torus"]);
+    assert_fails_with(&o, &["torus", "param:heart"]);
+    let o = tessera(&["render", "param:heart", "--technique", "raymarch"]);
+    assert_fails_with(&o, &["param:heart", "param-points"]);
+}

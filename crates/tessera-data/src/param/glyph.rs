@@ -128,22 +128,49 @@ impl ShGlyph {
     }
 
     fn sample_extremes(&self) -> (f64, f64) {
-        let n_theta = 8 * self.order as usize + 17;
-        let n_phi = 16 * self.order as usize + 32;
-        let mut lo = f64::INFINITY;
-        let mut hi = f64::NEG_INFINITY;
-        for i in 0..n_theta {
-            let theta = PI * i as f64 / (n_theta - 1) as f64;
-            // One azimuth suffices at the poles, where every azimuth is the same direction.
-            let count = if i == 0 || i == n_theta - 1 { 1 } else { n_phi };
-            for k in 0..count {
-                let r = self.raw_radius(theta, 2.0 * PI * k as f64 / n_phi as f64);
-                lo = lo.min(r);
-                hi = hi.max(r);
-            }
-        }
-        (lo, hi)
+        extreme_directions(self.order)
+            .into_iter()
+            .map(|(theta, phi)| self.raw_radius(theta, phi))
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), r| {
+                (lo.min(r), hi.max(r))
+            })
     }
+
+    /// [`ShGlyph::new`] with the raw radius range already known (e.g. from a basis table shared
+    /// by many glyphs over [`extreme_directions`]), skipping the per-glyph sampling.
+    pub fn with_raw_range(
+        basis: ShBasis,
+        order: u32,
+        coeffs: Vec<f64>,
+        normalization: RadiusNormalization,
+        (raw_min, raw_max): (f64, f64),
+    ) -> Result<ShGlyph> {
+        check_coefficients(order, &coeffs)?;
+        Ok(ShGlyph {
+            basis,
+            order,
+            coeffs,
+            normalization,
+            raw_min,
+            raw_max,
+        })
+    }
+}
+
+/// The directions (θ, φ) at which [`ShGlyph::new`] samples a glyph of `order` for its radius
+/// range: a grid about π / (8 order) apart, one azimuth at each pole (where all are the same).
+pub fn extreme_directions(order: u32) -> Vec<(f64, f64)> {
+    let n_theta = 8 * order as usize + 17;
+    let n_phi = 16 * order as usize + 32;
+    let mut out = Vec::with_capacity(n_theta * n_phi);
+    for i in 0..n_theta {
+        let theta = PI * i as f64 / (n_theta - 1) as f64;
+        let count = if i == 0 || i == n_theta - 1 { 1 } else { n_phi };
+        for k in 0..count {
+            out.push((theta, 2.0 * PI * k as f64 / n_phi as f64));
+        }
+    }
+    out
 }
 
 /// `(sin θ cos φ, sin θ sin φ, cos θ)`.

@@ -9,6 +9,7 @@
 
 pub mod functions;
 pub mod glyph;
+pub mod glyph_field;
 pub mod lod;
 pub mod reference;
 pub mod seashell;

@@ -177,6 +177,33 @@ impl ParamPoints {
         ParamView::new(&scene.bounds, camera, size, self.options.supersample)
     }
 
+    /// [`Self::record`] with the LOD stage and the drawing (points and resolve) in timer scopes
+    /// "lod" and "draw".
+    pub fn record_timed(
+        &self,
+        rec: &Recorder,
+        timer: &mut tessera_gpu::Timer,
+        scene: &GpuParamScene,
+        view: &ParamView,
+        frame: &PointsFrame,
+        background: [f32; 3],
+    ) {
+        timer.scope(rec, "lod", |rec| self.lod.record(rec, scene, view, None));
+        timer.scope(rec, "draw", |rec| {
+            self.passes.record(
+                rec,
+                &self.lod,
+                scene,
+                view,
+                frame,
+                self.options.footprint,
+                self.options.density,
+                self.options.max_side,
+                background,
+            )
+        });
+    }
+
     /// Records a whole frame (LOD, points, resolve) into `frame`, for benchmarks.
     pub fn record(
         &self,

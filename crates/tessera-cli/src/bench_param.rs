@@ -1,0 +1,105 @@
+//! Parametric-object benchmark scenarios (paper E §5): one SH glyph of orders 2…12, and a
+//! 140 × 140 field of order-12 glyphs at several distances (Figures 8–10), at 1920×1080 with and
+//! without 2×2 supersampling; the LOD stage and the drawing timed apart.
+
+use crate::bench::{BenchArgs, Sink};
+use anyhow::Result;
+use tessera::bench::{time_frames, BenchRecord, FramePlan};
+use tessera::param::scene::{GpuParamScene, ParamScene};
+use tessera::param::{ParamPoints, ParamPointsOptions, PointsFrame};
+use tessera_data::OrbitCamera;
+use tessera_gpu::Gpu;
+
+pub fn param(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -> Result<()> {
+    let compiler = tessera::shaders::compiler();
+    let size = if args.quick { (320, 180) } else { (1920, 1080) };
+    let basis = crate::render_param::parse_basis("descoteaux07");
+    let orders: &[u32] = if args.quick {
+        &[2, 8]
+    } else {
+        &[2, 4, 6, 8, 10, 12]
+    };
+    for &order in orders {
+        let spec = format!("param:sh-glyph:order{order}");
+        let scene = crate::render_param::load(&spec, basis)?;
+        let camera = OrbitCamera {
+            distance: 3.0,
+            ..OrbitCamera::default()
+        };
+        measure(
+            gpu,
+            &compiler,
+            &scene,
+            &spec,
+            &[("single", camera)],
+            size,
+            plan,
+            sink,
+        )?;
+    }
+    let grid = if args.quick { "20x20" } else { "140x140" };
+    let spec = format!("param:sh-glyphs:{grid}:order12");
+    let scene = crate::render_param::load(&spec, basis)?;
+    let at = |distance: f32| OrbitCamera {
+        azimuth_deg: 0.0,
+        elevation_deg: 0.0,
+        distance,
+        ..OrbitCamera::default()
+    };
+    let views = [("far", at(1.2)), ("mid", at(0.5)), ("close", at(0.15))];
+    measure(gpu, &compiler, &scene, &spec, &views, size, plan, sink)
+}
+
+#[allow(clippy::too_many_arguments)]
+fn measure(
+    gpu: &Gpu,
+    compiler: &tessera_gpu::ShaderCompiler,
+    scene: &ParamScene,
+    name: &str,
+    views: &[(&str, OrbitCamera)],
+    size: (u32, u32),
+    plan: FramePlan,
+    sink: &mut Sink,
+) -> Result<()> {
+    let gpu_scene = GpuParamScene::upload(gpu, scene)?;
+    let result = (|| -> Result<()> {
+        for supersample in [1, 2] {
+            let options = ParamPointsOptions {
+                supersample,
+                ..ParamPointsOptions::default()
+            };
+            let points = ParamPoints::new(gpu, compiler, options)?;
+            let measured = views.iter().try_for_each(|(view_name, camera)| {
+                let view = points.view(&gpu_scene, camera, size)?;
+                let frame = PointsFrame::new(gpu, &view)?;
+                let background = [0.1, 0.1, 0.12];
+                let stages = time_frames(gpu, plan, 2, |rec, timer| {
+                    points.record_timed(rec, timer, &gpu_scene, &view, &frame, background)
+                });
+                let info = points.render_frame(gpu, &gpu_scene, &view, &frame, background);
+                frame.destroy(gpu);
+                let info = info?;
+                let dataset = format!("{name}, {view_name}");
+                let mut r = BenchRecord::new(gpu, "param", "param-points", "compute", &dataset);
+                r.variant = format!("{supersample}x{supersample} samples per pixel");
+                (r.width, r.height, r.warmup, r.frames, r.stages) =
+                    (size.0, size.1, plan.warmup, plan.frames, stages?);
+                r.counts
+                    .insert("objects".into(), scene.objects.len() as f64);
+                r.counts
+                    .insert("patches".into(), f64::from(info.stats.rendered));
+                let lod = r.median_ms("lod").unwrap_or(0.0);
+                let draw = r.median_ms("draw").unwrap_or(0.0);
+                if lod + draw > 0.0 {
+                    r.counts.insert("lod_share".into(), lod / (lod + draw));
+                }
+                sink.emit(&r)
+            });
+            points.destroy(gpu);
+            measured?;
+        }
+        Ok(())
+    })();
+    gpu_scene.destroy(gpu);
+    result
+}
