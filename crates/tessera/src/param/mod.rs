@@ -190,18 +190,30 @@ impl ParamPoints {
     ) {
         timer.scope(rec, "lod", |rec| self.lod.record(rec, scene, view, None));
         timer.scope(rec, "draw", |rec| {
-            self.passes.record(
-                rec,
-                &self.lod,
-                scene,
-                view,
-                frame,
-                self.options.footprint,
-                self.options.density,
-                self.options.max_side,
-                background,
-            )
+            self.record_draw(rec, scene, view, frame, background)
         });
+    }
+
+    /// The points and the resolve of the patches the LOD stage left.
+    fn record_draw(
+        &self,
+        rec: &Recorder,
+        scene: &GpuParamScene,
+        view: &ParamView,
+        frame: &PointsFrame,
+        background: [f32; 3],
+    ) {
+        self.passes.record(
+            rec,
+            &self.lod,
+            scene,
+            view,
+            frame,
+            self.options.footprint,
+            self.options.density,
+            self.options.max_side,
+            background,
+        );
     }
 
     /// Records a whole frame (LOD, points, resolve) into `frame`, for benchmarks.
@@ -214,17 +226,7 @@ impl ParamPoints {
         background: [f32; 3],
     ) {
         self.lod.record(rec, scene, view, None);
-        self.passes.record(
-            rec,
-            &self.lod,
-            scene,
-            view,
-            frame,
-            self.options.footprint,
-            self.options.density,
-            self.options.max_side,
-            background,
-        );
+        self.record_draw(rec, scene, view, frame, background);
     }
 
     /// Renders `scene` from `camera` at `size` in front of `background`: the image and the GPU
