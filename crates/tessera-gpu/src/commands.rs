@@ -276,6 +276,30 @@ impl Recorder<'_> {
         depth: Option<&Image>,
         clear: Option<[f32; 4]>,
     ) {
+        self.begin_rendering_inner(target, depth, clear, None);
+    }
+
+    /// Begins dynamic rendering into multisampled attachments (in `GENERAL` layout), cleared as
+    /// [`Recorder::begin_rendering_with_depth`] does; at the end of rendering the colour
+    /// samples are averaged into `resolve`, a single-sample image of the same size and format
+    /// in `GENERAL` layout.
+    pub fn begin_rendering_resolved(
+        &self,
+        target: &Image,
+        depth: Option<&Image>,
+        resolve: &Image,
+        clear: [f32; 4],
+    ) {
+        self.begin_rendering_inner(target, depth, Some(clear), Some(resolve));
+    }
+
+    fn begin_rendering_inner(
+        &self,
+        target: &Image,
+        depth: Option<&Image>,
+        clear: Option<[f32; 4]>,
+        resolve: Option<&Image>,
+    ) {
         let load = if clear.is_some() {
             vk::AttachmentLoadOp::CLEAR
         } else {
@@ -286,14 +310,21 @@ impl Recorder<'_> {
             width: target.extent.width,
             height: target.extent.height,
         };
-        let attachments = [vk::RenderingAttachmentInfo::default()
+        let mut color = vk::RenderingAttachmentInfo::default()
             .image_view(target.view)
             .image_layout(vk::ImageLayout::GENERAL)
             .load_op(load)
             .store_op(vk::AttachmentStoreOp::STORE)
             .clear_value(vk::ClearValue {
                 color: vk::ClearColorValue { float32: clear },
-            })];
+            });
+        if let Some(r) = resolve {
+            color = color
+                .resolve_mode(vk::ResolveModeFlags::AVERAGE)
+                .resolve_image_view(r.view)
+                .resolve_image_layout(vk::ImageLayout::GENERAL);
+        }
+        let attachments = [color];
         let depth_attachment = depth.map(|d| {
             vk::RenderingAttachmentInfo::default()
                 .image_view(d.view)
@@ -343,6 +374,24 @@ impl Recorder<'_> {
     pub fn draw(&self, pipeline: &Pipeline, bindings: &[Binding], push: &[u8], vertices: u32) {
         self.bind(pipeline, bindings, push);
         unsafe { self.gpu.device.cmd_draw(self.cmd, vertices, 1, 0, 0) };
+    }
+
+    /// One draw whose `VkDrawIndirectCommand` (vertex count, instance count, first vertex,
+    /// first instance: four `u32`s) starts at `offset` in `args`, written by an earlier pass.
+    pub fn draw_indirect(
+        &self,
+        pipeline: &Pipeline,
+        bindings: &[Binding],
+        push: &[u8],
+        args: &Buffer,
+        offset: u64,
+    ) {
+        self.bind(pipeline, bindings, push);
+        unsafe {
+            self.gpu
+                .device
+                .cmd_draw_indirect(self.cmd, args.handle, offset, 1, 16)
+        };
     }
 
     /// Launches mesh-shader workgroups; the device must have `VK_EXT_mesh_shader`.

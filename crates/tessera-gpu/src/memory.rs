@@ -219,6 +219,40 @@ impl Gpu {
         usage: vk::ImageUsageFlags,
         dim3: bool,
     ) -> Result<Image> {
+        self.create_image_inner(name, extent, layers, format, usage, dim3, 1)
+    }
+
+    /// A 2-D attachment with `samples` samples per pixel (a multisampled colour or depth
+    /// target; see [`Gpu::attachment_sample_counts`]).
+    pub fn create_image_multisampled(
+        &self,
+        name: &str,
+        size: [u32; 2],
+        format: vk::Format,
+        usage: vk::ImageUsageFlags,
+        samples: u32,
+    ) -> Result<Image> {
+        let extent = [size[0], size[1], 1];
+        self.create_image_inner(name, extent, 1, format, usage, false, samples)
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn create_image_inner(
+        &self,
+        name: &str,
+        extent: [u32; 3],
+        layers: u32,
+        format: vk::Format,
+        usage: vk::ImageUsageFlags,
+        dim3: bool,
+        samples: u32,
+    ) -> Result<Image> {
+        let samples = crate::pipeline::sample_count_flag(samples)
+            .filter(|&f| samples == 1 || self.attachment_sample_counts().contains(f))
+            .ok_or_else(|| GpuError::Unsupported {
+                device: self.caps().device_name.clone(),
+                what: format!("{samples} samples per pixel for '{name}'"),
+            })?;
         let layers = if dim3 { 1 } else { layers.max(1) };
         let max = self.caps().max_image_dimension_3d;
         if dim3 && extent.iter().any(|&d| d > max) {
@@ -247,7 +281,7 @@ impl Gpu {
             .extent(extent3)
             .mip_levels(1)
             .array_layers(layers)
-            .samples(vk::SampleCountFlags::TYPE_1)
+            .samples(samples)
             .tiling(vk::ImageTiling::OPTIMAL)
             .usage(usage)
             .initial_layout(vk::ImageLayout::UNDEFINED);

@@ -2,7 +2,7 @@
 //! order (binding i = entry i), which keeps call sites free of descriptor bookkeeping.
 
 use crate::context::Gpu;
-use crate::error::{Result, VkContext};
+use crate::error::{GpuError, Result, VkContext};
 use crate::shader::Spirv;
 use ash::vk;
 use std::ffi::CStr;
@@ -87,6 +87,12 @@ pub struct RenderTargets {
     /// Render to this many views at once with multiview (attachments with as many layers);
     /// 1 for ordinary rendering.
     pub views: u32,
+    /// Rasterization samples per pixel (1 = no multisampling); the attachments must have as
+    /// many, and the count must be one of [`Gpu::attachment_sample_counts`].
+    pub samples: u32,
+    /// Control points per patch when the shaders include tessellation stages (the topology is
+    /// then `PATCH_LIST`); ignored otherwise.
+    pub patch_control_points: u32,
 }
 
 impl RenderTargets {
@@ -100,6 +106,8 @@ impl RenderTargets {
             color_write: true,
             representative_fragments: false,
             views: 1,
+            samples: 1,
+            patch_control_points: 1,
         }
     }
 
@@ -113,7 +121,23 @@ impl RenderTargets {
     }
 }
 
+/// `count` samples as Vulkan's flag, `None` unless a power of two from 1 to 64.
+pub fn sample_count_flag(count: u32) -> Option<vk::SampleCountFlags> {
+    (count.is_power_of_two() && count <= 64).then(|| vk::SampleCountFlags::from_raw(count))
+}
+
 impl Gpu {
+    /// Sample counts usable for a colour attachment together with a depth attachment (the
+    /// device's framebuffer limits for both), as a flag set.
+    pub fn attachment_sample_counts(&self) -> vk::SampleCountFlags {
+        let limits = unsafe {
+            self.instance
+                .get_physical_device_properties(self.physical_device())
+        }
+        .limits;
+        limits.framebuffer_color_sample_counts & limits.framebuffer_depth_sample_counts
+    }
+
     fn layout_for(&self, slots: &[Slot]) -> Result<(vk::DescriptorSetLayout, vk::PipelineLayout)> {
         let bindings: Vec<_> = slots
             .iter()
@@ -206,7 +230,8 @@ impl Gpu {
     }
 
     /// A graphics pipeline for the attachments described by `targets`; with a depth format it
-    /// tests and writes depth with LESS.
+    /// tests and writes depth with LESS. `shaders` is vertex(+tessellation control and
+    /// evaluation)+fragment or (task+)mesh+fragment.
     pub fn graphics_pipeline_for(
         &self,
         name: &str,
@@ -214,6 +239,13 @@ impl Gpu {
         slots: &[Slot],
         targets: &RenderTargets,
     ) -> Result<Pipeline> {
+        // Checked before any object is made, so that a refusal leaks nothing.
+        let samples = sample_count_flag(targets.samples)
+            .filter(|&f| self.attachment_sample_counts().contains(f))
+            .ok_or_else(|| GpuError::Unsupported {
+                device: self.caps().device_name.clone(),
+                what: format!("{} samples per pixel for '{name}'", targets.samples),
+            })?;
         let color_format = targets.color_format;
         let blend_op = match targets.blend {
             Blend::Max => vk::BlendOp::MAX,
@@ -244,8 +276,8 @@ impl Gpu {
             .polygon_mode(vk::PolygonMode::FILL)
             .cull_mode(vk::CullModeFlags::NONE)
             .line_width(1.0);
-        let multisample = vk::PipelineMultisampleStateCreateInfo::default()
-            .rasterization_samples(vk::SampleCountFlags::TYPE_1);
+        let multisample =
+            vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(samples);
         let attachment = [vk::PipelineColorBlendAttachmentState::default()
             .blend_enable(targets.blend != Blend::Replace)
             .src_color_blend_factor(vk::BlendFactor::ONE)
@@ -291,6 +323,13 @@ impl Gpu {
         let uses_vertex = shaders
             .iter()
             .any(|s| s.stage == crate::shader::Stage::Vertex);
+        let tessellated = shaders
+            .iter()
+            .any(|s| s.stage == crate::shader::Stage::TessControl);
+        let patch_assembly = vk::PipelineInputAssemblyStateCreateInfo::default()
+            .topology(vk::PrimitiveTopology::PATCH_LIST);
+        let tessellation = vk::PipelineTessellationStateCreateInfo::default()
+            .patch_control_points(targets.patch_control_points);
         if targets.depth_format.is_some() {
             info = info.depth_stencil_state(&depth_stencil);
         }
@@ -302,7 +341,14 @@ impl Gpu {
         if uses_vertex {
             info = info
                 .vertex_input_state(&vertex_input)
-                .input_assembly_state(&assembly);
+                .input_assembly_state(if tessellated {
+                    &patch_assembly
+                } else {
+                    &assembly
+                });
+        }
+        if tessellated {
+            info = info.tessellation_state(&tessellation);
         }
         let result = unsafe {
             self.device

@@ -88,6 +88,11 @@ const COMMON: &[(&str, &str)] = &[
         include_str!("param/lod_params.glsl"),
     ),
     ("param/payload.glsl", include_str!("param/payload.glsl")),
+    ("param/shade.glsl", include_str!("param/shade.glsl")),
+    (
+        "param/tess_params.glsl",
+        include_str!("param/tess_params.glsl"),
+    ),
 ];
 
 /// A built-in shader beside the Rust file that drives it: reported under its source-tree path,
