@@ -1,12 +1,13 @@
 //! Parametric-object benchmark scenarios (paper E §5): one SH glyph of orders 2…12, and a
 //! 140 × 140 field of order-12 glyphs at several distances (Figures 8–10), at 1920×1080 with and
-//! without 2×2 supersampling; the LOD stage and the drawing timed apart.
+//! without 2×2 supersampling, by the point and the tessellation variants; the LOD stage and the
+//! drawing timed apart.
 
 use crate::bench::{BenchArgs, Sink};
+use crate::render_param::ParamRenderer;
 use anyhow::Result;
 use tessera::bench::{time_frames, BenchRecord, FramePlan};
 use tessera::param::scene::{GpuParamScene, ParamScene};
-use tessera::param::{ParamPoints, ParamPointsOptions, PointsFrame};
 use tessera_data::OrbitCamera;
 use tessera_gpu::Gpu;
 
@@ -63,40 +64,41 @@ fn measure(
 ) -> Result<()> {
     let gpu_scene = GpuParamScene::upload(gpu, scene)?;
     let result = (|| -> Result<()> {
-        for supersample in [1, 2] {
-            let options = ParamPointsOptions {
-                supersample,
-                ..ParamPointsOptions::default()
-            };
-            let points = ParamPoints::new(gpu, compiler, options)?;
-            let measured = views.iter().try_for_each(|(view_name, camera)| {
-                let view = points.view(&gpu_scene, camera, size)?;
-                let frame = PointsFrame::new(gpu, &view)?;
-                let background = [0.1, 0.1, 0.12];
-                let stages = time_frames(gpu, plan, 2, |rec, timer| {
-                    points.record_timed(rec, timer, &gpu_scene, &view, &frame, background)
+        for technique in ["param-points", "param-tess"] {
+            for supersample in [1, 2] {
+                let renderer = ParamRenderer::new(gpu, compiler, technique, supersample, 1)?;
+                let measured = views.iter().try_for_each(|(view_name, camera)| {
+                    let view = renderer.view(&gpu_scene, camera, size)?;
+                    let frame = renderer.frame(gpu, &view)?;
+                    let background = [0.1, 0.1, 0.12];
+                    let stages = time_frames(gpu, plan, 2, |rec, timer| {
+                        renderer.record_timed(rec, timer, &gpu_scene, &view, &frame, background)
+                    });
+                    let patches = renderer.patches(gpu, &gpu_scene, &view, &frame, background);
+                    frame.destroy(gpu);
+                    let patches = patches?;
+                    let dataset = format!("{name}, {view_name}");
+                    let path = match technique {
+                        "param-tess" => "tessellation",
+                        _ => "compute",
+                    };
+                    let mut r = BenchRecord::new(gpu, "param", renderer.name(), path, &dataset);
+                    r.variant = format!("{supersample}x{supersample} samples per pixel");
+                    (r.width, r.height, r.warmup, r.frames, r.stages) =
+                        (size.0, size.1, plan.warmup, plan.frames, stages?);
+                    r.counts
+                        .insert("objects".into(), scene.objects.len() as f64);
+                    r.counts.insert("patches".into(), f64::from(patches));
+                    let lod = r.median_ms("lod").unwrap_or(0.0);
+                    let draw = r.median_ms("draw").unwrap_or(0.0);
+                    if lod + draw > 0.0 {
+                        r.counts.insert("lod_share".into(), lod / (lod + draw));
+                    }
+                    sink.emit(&r)
                 });
-                let info = points.render_frame(gpu, &gpu_scene, &view, &frame, background);
-                frame.destroy(gpu);
-                let info = info?;
-                let dataset = format!("{name}, {view_name}");
-                let mut r = BenchRecord::new(gpu, "param", "param-points", "compute", &dataset);
-                r.variant = format!("{supersample}x{supersample} samples per pixel");
-                (r.width, r.height, r.warmup, r.frames, r.stages) =
-                    (size.0, size.1, plan.warmup, plan.frames, stages?);
-                r.counts
-                    .insert("objects".into(), scene.objects.len() as f64);
-                r.counts
-                    .insert("patches".into(), f64::from(info.stats.rendered));
-                let lod = r.median_ms("lod").unwrap_or(0.0);
-                let draw = r.median_ms("draw").unwrap_or(0.0);
-                if lod + draw > 0.0 {
-                    r.counts.insert("lod_share".into(), lod / (lod + draw));
-                }
-                sink.emit(&r)
-            });
-            points.destroy(gpu);
-            measured?;
+                renderer.destroy(gpu);
+                measured?;
+            }
         }
         Ok(())
     })();

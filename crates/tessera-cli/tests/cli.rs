@@ -431,6 +431,23 @@ fn renders_parametric_scenes() {
         assert_eq!(png_size(&out), (48, 40));
         assert!(String::from_utf8_lossy(&o.stdout).contains("param-points"));
     }
+    let o = tessera(&[
+        "--validation",
+        "render",
+        "param:heart",
+        "--technique",
+        "param-tess",
+        "--msaa",
+        "4",
+        "--size",
+        "48x40",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "param-tess: {}", stderr(&o));
+    assert!(String::from_utf8_lossy(&o.stdout).contains("param-tess"));
+    let o = tessera(&["render", "param:heart", "--msaa", "4"]);
+    assert_fails_with(&o, &["msaa", "param-tess"]);
     let o = tessera(&["render", "param:sh-glyph:order7"]);
     assert_fails_with(&o, &["param:sh-glyph:order7"]);
     let o = tessera(&["render", "param:torus"]);
