@@ -5,8 +5,10 @@ use crate::render::RenderArgs;
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use glam::{Mat4, Vec3};
+use std::path::Path;
 use tessera::param::scene::{GpuParamScene, ParamObject, ParamScene};
 use tessera::param::tess::{ParamTess, ParamTessOptions, TessFrame};
+use tessera::param::user::UserFunction;
 use tessera::param::{ParamPoints, ParamPointsOptions, ParamView, PointsFrame};
 use tessera_data::param::glyph_field::sh_glyph_grid;
 use tessera_data::param::{ParamFunction, ShBasis};
@@ -25,14 +27,33 @@ pub struct ParamArgs {
     /// Multisampling of param-tess: 1, 2, 4 or 8 samples per pixel.
     #[arg(long, default_value_t = 1)]
     msaa: u32,
+    /// Parameter range FROM,TO of u for a user function file (numbers, or multiples of pi/tau:
+    /// 0,2pi); overrides the file's '// u: FROM TO' line.
+    #[arg(long, value_parser = parse_range, allow_hyphen_values = true)]
+    u_range: Option<[f32; 2]>,
+    /// Parameter range of v for a user function file, like --u-range.
+    #[arg(long, value_parser = parse_range, allow_hyphen_values = true)]
+    v_range: Option<[f32; 2]>,
     /// SH basis of glyphs: descoteaux07 or tournier07 (DIPY's non-legacy forms).
     #[arg(long, default_value = "descoteaux07", value_parser = ["descoteaux07", "tournier07"])]
     basis: String,
 }
 
-/// Whether `spec` names a parametric scene.
+/// Whether `spec` names a parametric scene (or a GLSL file of a user function).
 pub fn is_param_data(spec: &str) -> bool {
-    spec.starts_with("param:") || spec.starts_with("procedural:sh-glyphs:")
+    spec.starts_with("param:")
+        || spec.starts_with("procedural:sh-glyphs:")
+        || spec.to_ascii_lowercase().ends_with(".glsl")
+}
+
+fn parse_range(text: &str) -> std::result::Result<[f32; 2], String> {
+    let (a, b) = text
+        .split_once(',')
+        .ok_or_else(|| format!("'{text}': expected FROM,TO"))?;
+    let end = |t: &str| {
+        tessera::param::user::parse_end(t).ok_or_else(|| format!("'{t}' is not a number"))
+    };
+    Ok([end(a)?, end(b)?])
 }
 
 fn parse_order(text: &str, spec: &str) -> Result<u32> {
@@ -251,11 +272,28 @@ pub fn run(options: &GpuOptions, args: &RenderArgs, param: &ParamArgs) -> Result
     if !(1..=8).contains(&param.supersample) {
         bail!("--supersample must be 1 to 8, not {}", param.supersample);
     }
-    let scene = load(&args.data, parse_basis(&param.basis))?;
+    let mut compiler = tessera::shaders::compiler();
+    let user = if args.data.to_ascii_lowercase().ends_with(".glsl") {
+        let f = UserFunction::load(Path::new(&args.data), param.u_range, param.v_range)?;
+        f.register(&mut compiler);
+        Some(f)
+    } else {
+        None
+    };
+    let scene = match &user {
+        Some(f) => ParamScene::new(vec![ParamObject::new(ParamFunction::User(f.domain))]),
+        None => load(&args.data, parse_basis(&param.basis))?,
+    };
     let gpu = crate::open_gpu(options)?;
-    let compiler = tessera::shaders::compiler();
     let renderer = ParamRenderer::new(&gpu, &compiler, technique, param.supersample, param.msaa)?;
-    let gpu_scene = GpuParamScene::upload(&gpu, &scene)?;
+    let mut gpu_scene = GpuParamScene::upload(&gpu, &scene)?;
+    if let Some(f) = &user {
+        // The CPU cannot evaluate the user's GLSL: its extent is measured on the GPU.
+        let probe = ParamPoints::new(&gpu, &compiler, ParamPointsOptions::default())?;
+        let measured = f.measure_bounds(&gpu, &probe, &mut gpu_scene, 0);
+        probe.destroy(&gpu);
+        measured?;
+    }
     let rendered = renderer.render_image(&gpu, &gpu_scene, &args.camera, args.size, BACKGROUND);
     gpu_scene.destroy(&gpu);
     renderer.destroy(&gpu);

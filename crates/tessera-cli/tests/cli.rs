@@ -455,3 +455,68 @@ fn renders_parametric_scenes() {
     let o = tessera(&["render", "param:heart", "--technique", "raymarch"]);
     assert_fails_with(&o, &["param:heart", "param-points"]);
 }
+
+#[test]
+fn renders_user_functions_and_names_their_errors() {
+    let dir = scratch("user-function");
+    let file = dir.join("torus.glsl");
+    std::fs::write(
+        &file,
+        "// u: 0 2pi\n// v: 0 tau\nvec3 f(float u, float v) {\n    float r = 0.3;\n    \
+         return vec3((1.0 + r * cos(v)) * cos(u), (1.0 + r * cos(v)) * sin(u), r * sin(v));\n}\n",
+    )
+    .unwrap();
+    let out = dir.join("torus.png");
+    let o = tessera(&[
+        "--validation",
+        "render",
+        file.to_str().unwrap(),
+        "--size",
+        "48x40",
+        "--camera",
+        "20,40,4",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    // Something was drawn: not every pixel is the background.
+    let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(&out).unwrap()));
+    let mut reader = decoder.read_info().unwrap();
+    let mut bytes = vec![0; reader.output_buffer_size().unwrap()];
+    reader.next_frame(&mut bytes).unwrap();
+    let pixels: Vec<&[u8]> = bytes.chunks(4).collect();
+    assert!(pixels.iter().filter(|&&p| p != pixels[0]).count() > 100);
+    // A syntax error names the file and its line; a missing or wrong f, and a missing range,
+    // are refused before compiling.
+    let bad = dir.join("bad.glsl");
+    let cases = [
+        (
+            "// u: 0 1\n// v: 0 1\nvec3 f(float u, float v) {\n    return vec3(u, v, );\n}\n",
+            "bad.glsl:4",
+        ),
+        (
+            "// u: 0 1\n// v: 0 1\nvec3 g(float u, float v) { return vec3(u); }\n",
+            "no function",
+        ),
+        (
+            "// u: 0 1\n// v: 0 1\nvec3 f(float u) { return vec3(u); }\n",
+            "line 3",
+        ),
+        (
+            "// u: 0 1\nvec3 f(float u, float v) { return vec3(u); }\n",
+            "--v-range",
+        ),
+    ];
+    for (text, expected) in cases {
+        std::fs::write(&bad, text).unwrap();
+        let o = tessera(&[
+            "render",
+            bad.to_str().unwrap(),
+            "--size",
+            "16x16",
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        assert_fails_with(&o, &["bad.glsl", expected]);
+    }
+}

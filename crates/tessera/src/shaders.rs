@@ -88,6 +88,10 @@ const COMMON: &[(&str, &str)] = &[
         include_str!("param/lod_params.glsl"),
     ),
     ("param/payload.glsl", include_str!("param/payload.glsl")),
+    (
+        crate::param::user::USER_HEADER,
+        crate::param::user::NO_USER_FUNCTION,
+    ),
     ("param/shade.glsl", include_str!("param/shade.glsl")),
     (
         "param/tess_params.glsl",

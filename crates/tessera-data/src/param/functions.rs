@@ -52,6 +52,9 @@ pub enum ParamFunction {
     Seashell(SeashellParams),
     /// Tube around a plain-knit yarn or fibre curve, `u` along the curve, `v` around it.
     Yarn(YarnTube),
+    /// A user's GLSL function over this domain, compiled into the GPU passes at run time; the
+    /// CPU cannot evaluate it, so [`ParamFunction::position`] gives NaN.
+    User(ParamDomain),
 }
 
 impl ParamFunction {
@@ -65,6 +68,7 @@ impl ParamFunction {
             }
             ParamFunction::Seashell(p) => p.domain(),
             ParamFunction::Yarn(t) => t.domain(),
+            ParamFunction::User(d) => *d,
         }
     }
 
@@ -77,6 +81,7 @@ impl ParamFunction {
             ParamFunction::ShGlyph(g) => g.position(u, v),
             ParamFunction::Seashell(p) => p.position(u, v),
             ParamFunction::Yarn(t) => t.position(u, v),
+            ParamFunction::User(_) => Vec3::NAN,
         }
     }
 

@@ -6,6 +6,9 @@
 
 #include "param/scene.glsl"
 #include "param/sh.glsl"
+// The user's `vec3 f(float u, float v)` as param_user_function (param/user.rs); a stub
+// returning the origin where there is none.
+#include "param/user_function.glsl"
 
 const float PARAM_PI = 3.14159265358979;
 
@@ -49,6 +52,8 @@ vec3 param_position(uint object, float u, float v) {
         return param_heart(u, v);
     case PARAM_KIND_SH_GLYPH:
         return param_sh_glyph(o, u, v);
+    case PARAM_KIND_USER:
+        return param_user_function(u, v);
     default:
         return vec3(0.0);
     }

@@ -23,6 +23,7 @@ pub mod lod;
 pub mod points;
 pub mod scene;
 pub mod tess;
+pub mod user;
 pub mod view;
 
 pub use lod::{GpuPatch, LodSample, LodSettings, LodStats};

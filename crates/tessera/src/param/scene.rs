@@ -32,6 +32,8 @@ pub enum GpuKind {
     Sphere = 0,
     Heart = 1,
     ShGlyph = 2,
+    /// The user's GLSL function (`param/user.rs`).
+    User = 3,
 }
 
 /// `PARAM_FLAG_DIRECTION_COLOUR`: colour by direction from the object's centre.
@@ -173,6 +175,7 @@ pub fn encode_function(
     match function {
         ParamFunction::Sphere => Ok((GpuKind::Sphere, 0, 0, identity)),
         ParamFunction::Heart => Ok((GpuKind::Heart, 0, 0, identity)),
+        ParamFunction::User(_) => Ok((GpuKind::User, 0, 0, identity)),
         ParamFunction::ShGlyph(g) => {
             if g.order() > GPU_MAX_SH_ORDER {
                 return Err(Error::Invalid(format!(
@@ -251,6 +254,7 @@ pub fn scene_defines() -> Vec<(String, String)> {
         ("PARAM_KIND_SPHERE".into(), u(GpuKind::Sphere as u32)),
         ("PARAM_KIND_HEART".into(), u(GpuKind::Heart as u32)),
         ("PARAM_KIND_SH_GLYPH".into(), u(GpuKind::ShGlyph as u32)),
+        ("PARAM_KIND_USER".into(), u(GpuKind::User as u32)),
         (
             "PARAM_FLAG_DIRECTION_COLOUR".into(),
             u(FLAG_DIRECTION_COLOUR),
