@@ -122,7 +122,7 @@ pub enum ParamRenderer {
 /// A frame of the matching technique.
 pub enum ParamFrame {
     Points(PointsFrame),
-    Tess(TessFrame),
+    Tess(Box<TessFrame>),
 }
 
 impl ParamRenderer {
@@ -182,7 +182,7 @@ impl ParamRenderer {
     pub fn frame(&self, gpu: &Gpu, view: &ParamView) -> Result<ParamFrame> {
         Ok(match self {
             ParamRenderer::Points(_) => ParamFrame::Points(PointsFrame::new(gpu, view)?),
-            ParamRenderer::Tess(t) => ParamFrame::Tess(t.frame(gpu, view)?),
+            ParamRenderer::Tess(t) => ParamFrame::Tess(Box::new(t.frame(gpu, view)?)),
         })
     }
 
@@ -254,7 +254,7 @@ impl ParamFrame {
     pub fn destroy(self, gpu: &Gpu) {
         match self {
             ParamFrame::Points(f) => f.destroy(gpu),
-            ParamFrame::Tess(f) => f.destroy(gpu),
+            ParamFrame::Tess(f) => (*f).destroy(gpu),
         }
     }
 }
