@@ -121,7 +121,7 @@ pub enum ParamRenderer {
 
 /// A frame of the matching technique.
 pub enum ParamFrame {
-    Points(PointsFrame),
+    Points(Box<PointsFrame>),
     Tess(Box<TessFrame>),
 }
 
@@ -181,7 +181,7 @@ impl ParamRenderer {
 
     pub fn frame(&self, gpu: &Gpu, view: &ParamView) -> Result<ParamFrame> {
         Ok(match self {
-            ParamRenderer::Points(_) => ParamFrame::Points(PointsFrame::new(gpu, view)?),
+            ParamRenderer::Points(_) => ParamFrame::Points(Box::new(PointsFrame::new(gpu, view)?)),
             ParamRenderer::Tess(t) => ParamFrame::Tess(Box::new(t.frame(gpu, view)?)),
         })
     }
@@ -253,7 +253,7 @@ impl ParamRenderer {
 impl ParamFrame {
     pub fn destroy(self, gpu: &Gpu) {
         match self {
-            ParamFrame::Points(f) => f.destroy(gpu),
+            ParamFrame::Points(f) => (*f).destroy(gpu),
             ParamFrame::Tess(f) => (*f).destroy(gpu),
         }
     }
