@@ -92,6 +92,14 @@ const COMMON: &[(&str, &str)] = &[
         crate::param::user::USER_HEADER,
         crate::param::user::NO_USER_FUNCTION,
     ),
+    (
+        "param/raytrace_glyph.glsl",
+        include_str!("param/raytrace_glyph.glsl"),
+    ),
+    (
+        "param/raytrace_trace.glsl",
+        include_str!("param/raytrace_trace.glsl"),
+    ),
     ("param/shade.glsl", include_str!("param/shade.glsl")),
     (
         "param/tess_params.glsl",

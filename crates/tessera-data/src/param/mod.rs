@@ -11,6 +11,7 @@ pub mod functions;
 pub mod glyph;
 pub mod glyph_field;
 pub mod lod;
+pub mod raytrace;
 pub mod reference;
 pub mod seashell;
 pub mod sh;

@@ -21,6 +21,7 @@
 
 pub mod lod;
 pub mod points;
+pub mod raytrace;
 pub mod scene;
 pub mod tess;
 pub mod user;

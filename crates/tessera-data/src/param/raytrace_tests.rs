@@ -1,0 +1,208 @@
+//! Tests of `raytrace`: the polynomial method against marching the glyphs' radius functions in
+//! f64, the inverse Vandermonde matrices, and grid traversal against testing every glyph.
+use super::*;
+use crate::param::sh::sh_coefficient_count;
+use crate::param::ShBasis;
+
+/// xorshift64*: deterministic numbers in [-1, 1).
+struct Rng(u64);
+impl Rng {
+    fn next(&mut self) -> f64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        (self.0.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+    }
+    fn vec(&mut self) -> DVec3 {
+        DVec3::new(self.next(), self.next(), self.next())
+    }
+}
+
+fn glyph(rng: &mut Rng, order: u32, norm: RadiusNormalization) -> ShGlyph {
+    let n = sh_coefficient_count(order).unwrap();
+    let c = (0..n)
+        .map(|j| if j == 0 { 2.0 } else { 0.4 * rng.next() })
+        .collect();
+    ShGlyph::new(ShBasis::Descoteaux07 { legacy: false }, order, c, norm).unwrap()
+}
+
+/// The first `t >= 0` where `|p| < min(|r(p̂)|, B)` (the surface the polynomial describes)
+/// changes from its value at the start, by marching 4000 steps over the bounding sphere
+/// and bisecting.
+fn march(g: &ShGlyph, o: DVec3, d: DVec3) -> Option<f64> {
+    let (bound, (scale, offset)) = (glyph_bound(g), radius_scale_offset(g));
+    let inside = |t: f64| {
+        let p = o + t * d;
+        let (theta, phi) = angles(p);
+        p.length() < (g.raw_radius(theta, phi) * scale + offset).abs().min(bound)
+    };
+    let (q, h2) = (d.dot(o), (o - d.dot(o) * d).length_squared());
+    let half = (bound * bound - h2).max(0.0).sqrt();
+    let (t0, t1) = ((-q - half).max(0.0), -q + half);
+    let start = inside(t0);
+    if start && t0 > 0.0 {
+        return Some(t0); // entering the bounding sphere inside the glyph
+    }
+    let mut prev = t0;
+    for i in 1..=4000 {
+        let t = t0 + (t1 - t0) * f64::from(i) / 4000.0;
+        if inside(t) != start {
+            let (mut a, mut b) = (prev, t);
+            for _ in 0..60 {
+                let m = 0.5 * (a + b);
+                if inside(m) == start {
+                    a = m
+                } else {
+                    b = m
+                }
+            }
+            return Some(b);
+        }
+        prev = t;
+    }
+    start.then_some(t1)
+}
+
+#[test]
+fn inverse_vandermonde_recovers_homogeneous_polynomials() {
+    let mut rng = Rng(7);
+    for k in (0..=MAX_RAYTRACE_ORDER).step_by(2) {
+        let n = k as usize + 1;
+        let a: Vec<f64> = (0..n).map(|_| rng.next()).collect();
+        let r: Vec<f64> = (0..n)
+            .map(|i| {
+                let (s, c) = (i as f64 * std::f64::consts::PI / n as f64).sin_cos();
+                (0..n)
+                    .map(|j| a[j] * c.powi(j as i32) * s.powi((n - 1 - j) as i32))
+                    .sum()
+            })
+            .collect();
+        let m = inverse_vandermonde(k);
+        for j in 0..n {
+            let got: f64 = (0..n).map(|i| m[j * n + i] * r[i]).sum();
+            assert!(
+                (got - a[j]).abs() < 1e-9,
+                "order {k}: a_{j} = {got}, not {}",
+                a[j]
+            );
+        }
+    }
+    let table = vandermonde_table(4);
+    assert_eq!(table.len(), 3 * 30);
+    assert_eq!(table[30 + 2 * 3 + 2], inverse_vandermonde(2)[8] as f32);
+    assert_eq!(table[30 + 25..30 + 28], [1.0, 0.5, 1.0]);
+}
+
+/// The polynomial's first root against marching the glyph's own radius function, for every
+/// order, each normalisation, rays through the centre and rays starting inside.
+#[test]
+fn first_roots_match_marching() {
+    let mut rng = Rng(11);
+    let (mut hits, mut mismatched, mut worst) = (0, 0, 0.0f64);
+    for k in (0..=MAX_RAYTRACE_ORDER).step_by(2) {
+        for norm in [
+            RadiusNormalization::MinMax,
+            RadiusNormalization::MaxAbs,
+            RadiusNormalization::Raw,
+        ] {
+            let g = glyph(&mut rng, k, norm);
+            let b = glyph_bound(&g);
+            for ray in 0..40 {
+                let o = rng.vec().normalize() * 3.0 * b;
+                let target = if ray == 0 {
+                    DVec3::ZERO
+                } else {
+                    rng.vec() * 0.6 * b
+                };
+                let d = (target - o).normalize();
+                let got = intersect_glyph(&g, o, d, 0.0, f64::INFINITY);
+                match (got, march(&g, o, d)) {
+                    (Some(t), Some(m)) => {
+                        hits += 1;
+                        worst = worst.max((t - m).abs() / b);
+                        assert!((t - m).abs() <= 1e-7 * b, "order {k} {norm:?}: {t} vs {m}");
+                    }
+                    (None, None) => {}
+                    _ => mismatched += 1,
+                }
+            }
+            // From inside outwards: the first root is the way out. The start is halfway
+            // out along the longest of a few directions: near the centre of a glyph much
+            // smaller than its coefficients, `F` cancels to noise (cameras are not there).
+            let (s, c) = radius_scale_offset(&g);
+            let radius = |d: DVec3| {
+                let (theta, phi) = angles(d);
+                (g.raw_radius(theta, phi) * s + c).abs().min(b)
+            };
+            let start = (0..8)
+                .map(|_| rng.vec().normalize())
+                .max_by(|x, y| radius(*x).total_cmp(&radius(*y)))
+                .unwrap();
+            let o = start * 0.5 * radius(start);
+            let d = rng.vec().normalize();
+            let t = intersect_glyph(&g, o, d, 0.0, f64::INFINITY);
+            let m = march(&g, o, d);
+            assert!(
+                t.zip(m).is_some_and(|(t, m)| (t - m).abs() < 1e-7 * b),
+                "order {k} {norm:?} from inside: {t:?} vs {m:?}, |o| {}, B {b}",
+                o.length()
+            );
+        }
+    }
+    eprintln!("{hits} hits, {mismatched} grazing mismatches, worst |Δt| / B = {worst:.1e}");
+    assert!(
+        hits > 600 && mismatched * 100 <= hits,
+        "{hits} hits, {mismatched} mismatched"
+    );
+}
+
+fn field(nx: u32, ny: u32) -> Vec<ParamFunction> {
+    let mut rng = Rng(3);
+    (0..nx * ny)
+        .map(|i| ParamFunction::ShGlyph(glyph(&mut rng, 2 * (i % 7), RadiusNormalization::MinMax)))
+        .collect()
+}
+
+/// Traversal through a fine grid finds what testing every glyph finds (a single cell).
+#[test]
+fn grid_walk_matches_testing_every_glyph() {
+    let (nx, ny) = (6u32, 5u32);
+    let functions = field(nx, ny);
+    let objects: Vec<ReferenceObject> = functions
+        .iter()
+        .enumerate()
+        .map(|(i, f)| ReferenceObject {
+            function: f,
+            object_to_world: Mat4::from_scale_rotation_translation(
+                Vec3::splat(0.45),
+                glam::Quat::from_rotation_z(i as f32),
+                Vec3::new((i as u32 % nx) as f32, (i as u32 / nx) as f32, 0.0),
+            ),
+            colour: Vec3::ONE,
+        })
+        .collect();
+    let spheres: Vec<(Vec3, f32)> = objects
+        .iter()
+        .map(|o| (o.object_to_world.w_axis.truncate(), 0.45 * 3f32.sqrt()))
+        .collect();
+    let fine = GlyphGrid::build(&spheres, 0.5).unwrap();
+    let single = GlyphGrid::build(&spheres, 1e6).unwrap();
+    assert!(fine.dims.iter().product::<u32>() >= 30, "{:?}", fine.dims);
+    assert_eq!(single.dims, [1, 1, 1]);
+    let mut rng = Rng(5);
+    let mut hits = 0;
+    for _ in 0..300 {
+        let eye = Vec3::new(2.5, 2.0, 6.0) + rng.vec().as_vec3() * Vec3::new(4.0, 4.0, 1.0);
+        let target = Vec3::new(2.5, 2.0, 0.0) + rng.vec().as_vec3() * Vec3::new(3.0, 2.5, 0.3);
+        let dir = (target - eye).normalize();
+        let a = trace_glyphs(&objects, &fine, eye, dir);
+        let b = trace_glyphs(&objects, &single, eye, dir);
+        hits += usize::from(a.is_some());
+        assert_eq!(a.map(|h| h.0), b.map(|h| h.0));
+        assert!(a.zip(b).is_none_or(|(a, b)| (a.1 - b.1).abs() < 1e-9));
+    }
+    assert!(hits > 100, "{hits} hits");
+    assert!(GlyphGrid::build(&[], 1.0).is_err());
+    assert!(GlyphGrid::build(&spheres, 0.0).is_err());
+    assert!(GlyphGrid::build(&[(Vec3::NAN, 1.0)], 1.0).is_err());
+}
