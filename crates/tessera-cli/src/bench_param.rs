@@ -1,13 +1,13 @@
 //! Parametric-object benchmark scenarios (paper E §5): one SH glyph of orders 2…12, and a
 //! 140 × 140 field of order-12 glyphs at several distances (Figures 8–10), at 1920×1080 with and
-//! without 2×2 supersampling, by the point and the tessellation variants; the LOD stage and the
-//! drawing timed apart.
+//! without 2×2 supersampling, by the point and the tessellation variants and by ray tracing
+//! (Peters et al.); the LOD stage and the drawing timed apart.
 
 use crate::bench::{BenchArgs, Sink};
-use crate::render_param::ParamRenderer;
+use crate::param_renderer::ParamRenderer;
 use anyhow::Result;
 use tessera::bench::{time_frames, BenchRecord, FramePlan};
-use tessera::param::scene::{GpuParamScene, ParamScene};
+use tessera::param::scene::ParamScene;
 use tessera_data::OrbitCamera;
 use tessera_gpu::Gpu;
 
@@ -62,14 +62,20 @@ fn measure(
     plan: FramePlan,
     sink: &mut Sink,
 ) -> Result<()> {
-    let gpu_scene = GpuParamScene::upload(gpu, scene)?;
     let result = (|| -> Result<()> {
-        for technique in ["param-points", "param-tess"] {
+        for technique in ["param-points", "param-tess", "sh-raytrace"] {
             for supersample in [1, 2] {
                 let renderer = ParamRenderer::new(gpu, compiler, technique, supersample, 1)?;
+                let gpu_scene = match renderer.prepare(gpu, scene) {
+                    Ok(s) => s,
+                    Err(e) => {
+                        renderer.destroy(gpu);
+                        return Err(e);
+                    }
+                };
                 let measured = views.iter().try_for_each(|(view_name, camera)| {
                     let view = renderer.view(&gpu_scene, camera, size)?;
-                    let frame = renderer.frame(gpu, &view)?;
+                    let frame = renderer.frame(gpu, &view, size)?;
                     let background = [0.1, 0.1, 0.12];
                     let stages = time_frames(gpu, plan, 2, |rec, timer| {
                         renderer.record_timed(rec, timer, &gpu_scene, &view, &frame, background)
@@ -78,10 +84,7 @@ fn measure(
                     frame.destroy(gpu);
                     let patches = patches?;
                     let dataset = format!("{name}, {view_name}");
-                    let path = match technique {
-                        "param-tess" => "tessellation",
-                        _ => "compute",
-                    };
+                    let path = renderer.path();
                     let mut r = BenchRecord::new(gpu, "param", renderer.name(), path, &dataset);
                     r.variant = format!("{supersample}x{supersample} samples per pixel");
                     (r.width, r.height, r.warmup, r.frames, r.stages) =
@@ -96,12 +99,12 @@ fn measure(
                     }
                     sink.emit(&r)
                 });
+                gpu_scene.destroy(gpu);
                 renderer.destroy(gpu);
                 measured?;
             }
         }
         Ok(())
     })();
-    gpu_scene.destroy(gpu);
     result
 }

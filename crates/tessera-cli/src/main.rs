@@ -11,6 +11,7 @@ mod demo;
 mod extract;
 mod info;
 mod output;
+mod param_renderer;
 mod render;
 mod render_param;
 mod render_tets;

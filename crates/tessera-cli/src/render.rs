@@ -20,7 +20,7 @@ pub struct RenderArgs {
     pub(crate) data: String,
     /// Technique: raymarch or direct for volumes, interval for tetrahedral meshes (the default
     /// follows the data).
-    #[arg(long, value_parser = ["raymarch", "direct", "interval", "param-points", "param-tess"])]
+    #[arg(long, value_parser = ["raymarch", "direct", "interval", "param-points", "param-tess", "sh-raytrace"])]
     pub(crate) technique: Option<String>,
     #[command(flatten)]
     iso: IsoArgs,

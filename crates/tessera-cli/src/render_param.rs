@@ -1,20 +1,18 @@
-//! `tessera render` for parametric objects (paper E): a named surface or a field of SH glyphs,
-//! drawn by the point variant.
+//! `tessera render` for parametric objects (paper E): a named surface, a field of SH glyphs or a
+//! user's GLSL function, drawn by param-points, param-tess or (glyphs only) sh-raytrace.
 
+use crate::param_renderer::{ParamRenderer, PreparedScene};
 use crate::render::RenderArgs;
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use glam::{Mat4, Vec3};
 use std::path::Path;
-use tessera::param::scene::{GpuParamScene, ParamObject, ParamScene};
-use tessera::param::tess::{ParamTess, ParamTessOptions, TessFrame};
+use tessera::param::scene::{ParamObject, ParamScene};
 use tessera::param::user::UserFunction;
-use tessera::param::{ParamPoints, ParamPointsOptions, ParamView, PointsFrame};
+use tessera::param::{ParamPoints, ParamPointsOptions};
 use tessera_data::param::glyph_field::sh_glyph_grid;
 use tessera_data::param::{ParamFunction, ShBasis};
-use tessera_data::OrbitCamera;
 use tessera_gpu::GpuOptions;
-use tessera_gpu::{Gpu, Recorder, ShaderCompiler, Timer};
 
 const BACKGROUND: [f32; 3] = [0.1, 0.1, 0.12];
 
@@ -113,159 +111,14 @@ pub fn parse_basis(name: &str) -> ShBasis {
     }
 }
 
-/// One of the parametric techniques, so that `render` and `bench` drive them alike.
-pub enum ParamRenderer {
-    Points(ParamPoints),
-    Tess(ParamTess),
-}
-
-/// A frame of the matching technique.
-pub enum ParamFrame {
-    Points(Box<PointsFrame>),
-    Tess(Box<TessFrame>),
-}
-
-impl ParamRenderer {
-    /// `technique` is param-points or param-tess; `msaa` applies to param-tess only.
-    pub fn new(
-        gpu: &Gpu,
-        compiler: &ShaderCompiler,
-        technique: &str,
-        supersample: u32,
-        msaa: u32,
-    ) -> Result<ParamRenderer> {
-        Ok(match technique {
-            "param-tess" => ParamRenderer::Tess(ParamTess::new(
-                gpu,
-                compiler,
-                ParamTessOptions {
-                    supersample,
-                    msaa,
-                    ..ParamTessOptions::default()
-                },
-            )?),
-            _ => {
-                if msaa != 1 {
-                    bail!("--msaa applies to param-tess; param-points supersamples instead");
-                }
-                ParamRenderer::Points(ParamPoints::new(
-                    gpu,
-                    compiler,
-                    ParamPointsOptions {
-                        supersample,
-                        ..ParamPointsOptions::default()
-                    },
-                )?)
-            }
-        })
-    }
-
-    pub fn name(&self) -> &'static str {
-        match self {
-            ParamRenderer::Points(_) => "param-points",
-            ParamRenderer::Tess(_) => "param-tess",
-        }
-    }
-
-    pub fn view(
-        &self,
-        scene: &GpuParamScene,
-        camera: &OrbitCamera,
-        size: (u32, u32),
-    ) -> Result<ParamView> {
-        Ok(match self {
-            ParamRenderer::Points(p) => p.view(scene, camera, size)?,
-            ParamRenderer::Tess(t) => t.view(scene, camera, size)?,
-        })
-    }
-
-    pub fn frame(&self, gpu: &Gpu, view: &ParamView) -> Result<ParamFrame> {
-        Ok(match self {
-            ParamRenderer::Points(_) => ParamFrame::Points(Box::new(PointsFrame::new(gpu, view)?)),
-            ParamRenderer::Tess(t) => ParamFrame::Tess(Box::new(t.frame(gpu, view)?)),
-        })
-    }
-
-    /// Records a frame with the LOD stage and the drawing in timer scopes "lod" and "draw".
-    pub fn record_timed(
-        &self,
-        rec: &Recorder,
-        timer: &mut Timer,
-        scene: &GpuParamScene,
-        view: &ParamView,
-        frame: &ParamFrame,
-        background: [f32; 3],
-    ) {
-        match (self, frame) {
-            (ParamRenderer::Points(p), ParamFrame::Points(f)) => {
-                p.record_timed(rec, timer, scene, view, f, background)
-            }
-            (ParamRenderer::Tess(t), ParamFrame::Tess(f)) => {
-                t.record_timed(rec, timer, scene, view, f, background)
-            }
-            _ => unreachable!("frames come from their renderer's `frame`"),
-        }
-    }
-
-    /// Patches the LOD stage handed to the drawing in one untimed frame.
-    pub fn patches(
-        &self,
-        gpu: &Gpu,
-        scene: &GpuParamScene,
-        view: &ParamView,
-        frame: &ParamFrame,
-        background: [f32; 3],
-    ) -> Result<u32> {
-        let info = match (self, frame) {
-            (ParamRenderer::Points(p), ParamFrame::Points(f)) => {
-                p.render_frame(gpu, scene, view, f, background)?
-            }
-            (ParamRenderer::Tess(t), ParamFrame::Tess(f)) => {
-                t.render_frame(gpu, scene, view, f, background)?
-            }
-            _ => unreachable!("frames come from their renderer's `frame`"),
-        };
-        Ok(info.stats.rendered)
-    }
-
-    pub fn render_image(
-        &self,
-        gpu: &Gpu,
-        scene: &GpuParamScene,
-        camera: &OrbitCamera,
-        size: (u32, u32),
-        background: [f32; 3],
-    ) -> Result<(tessera_data::RgbaImage, f64)> {
-        Ok(match self {
-            ParamRenderer::Points(p) => p.render_image(gpu, scene, camera, size, background)?,
-            ParamRenderer::Tess(t) => t.render_image(gpu, scene, camera, size, background)?,
-        })
-    }
-
-    pub fn destroy(self, gpu: &Gpu) {
-        match self {
-            ParamRenderer::Points(p) => p.destroy(gpu),
-            ParamRenderer::Tess(t) => t.destroy(gpu),
-        }
-    }
-}
-
-impl ParamFrame {
-    pub fn destroy(self, gpu: &Gpu) {
-        match self {
-            ParamFrame::Points(f) => (*f).destroy(gpu),
-            ParamFrame::Tess(f) => (*f).destroy(gpu),
-        }
-    }
-}
-
 pub fn run(options: &GpuOptions, args: &RenderArgs, param: &ParamArgs) -> Result<()> {
     let technique = match args.technique.as_deref() {
         None | Some("param-points") => "param-points",
         Some("param-tess") => "param-tess",
+        Some("sh-raytrace") => "sh-raytrace",
         Some(t) => bail!(
-            "{}: technique '{t}' does not draw parametric objects; use --technique param-points \
-             or param-tess",
+            "{}: technique '{t}' does not draw parametric objects; use --technique param-points, \
+             param-tess or sh-raytrace",
             args.data
         ),
     };
@@ -286,16 +139,16 @@ pub fn run(options: &GpuOptions, args: &RenderArgs, param: &ParamArgs) -> Result
     };
     let gpu = crate::open_gpu(options)?;
     let renderer = ParamRenderer::new(&gpu, &compiler, technique, param.supersample, param.msaa)?;
-    let mut gpu_scene = GpuParamScene::upload(&gpu, &scene)?;
-    if let Some(f) = &user {
+    let mut prepared = renderer.prepare(&gpu, &scene)?;
+    if let (Some(f), PreparedScene::Plain(gpu_scene)) = (&user, &mut prepared) {
         // The CPU cannot evaluate the user's GLSL: its extent is measured on the GPU.
         let probe = ParamPoints::new(&gpu, &compiler, ParamPointsOptions::default())?;
-        let measured = f.measure_bounds(&gpu, &probe, &mut gpu_scene, 0);
+        let measured = f.measure_bounds(&gpu, &probe, gpu_scene, 0);
         probe.destroy(&gpu);
         measured?;
     }
-    let rendered = renderer.render_image(&gpu, &gpu_scene, &args.camera, args.size, BACKGROUND);
-    gpu_scene.destroy(&gpu);
+    let rendered = renderer.render_image(&gpu, &prepared, &args.camera, args.size, BACKGROUND);
+    prepared.destroy(&gpu);
     renderer.destroy(&gpu);
     let (image, gpu_ms) = rendered?;
     crate::output::write_png(&args.output, &image)?;

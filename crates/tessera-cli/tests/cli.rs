@@ -446,6 +446,20 @@ fn renders_parametric_scenes() {
     ]);
     assert!(o.status.success(), "param-tess: {}", stderr(&o));
     assert!(String::from_utf8_lossy(&o.stdout).contains("param-tess"));
+    let o = tessera(&[
+        "--validation",
+        "render",
+        "param:sh-glyphs:2x2:order6",
+        "--technique",
+        "sh-raytrace",
+        "--size",
+        "48x40",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "sh-raytrace: {}", stderr(&o));
+    let o = tessera(&["render", "param:heart", "--technique", "sh-raytrace"]);
+    assert_fails_with(&o, &["SH glyphs"]);
     let o = tessera(&["render", "param:heart", "--msaa", "4"]);
     assert_fails_with(&o, &["msaa", "param-tess"]);
     let o = tessera(&["render", "param:sh-glyph:order7"]);
