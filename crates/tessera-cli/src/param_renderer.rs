@@ -19,7 +19,7 @@ pub enum ParamRenderer {
 
 /// A scene on the GPU as its technique needs it.
 pub enum PreparedScene {
-    Plain(GpuParamScene),
+    Plain(Box<GpuParamScene>),
     Raytrace(Box<RaytraceScene>),
 }
 
@@ -90,7 +90,7 @@ impl ParamRenderer {
     pub fn prepare(&self, gpu: &Gpu, scene: &ParamScene) -> Result<PreparedScene> {
         Ok(match self {
             ParamRenderer::Raytrace(r) => PreparedScene::Raytrace(Box::new(r.prepare(gpu, scene)?)),
-            _ => PreparedScene::Plain(GpuParamScene::upload(gpu, scene)?),
+            _ => PreparedScene::Plain(Box::new(GpuParamScene::upload(gpu, scene)?)),
         })
     }
 
@@ -198,7 +198,7 @@ impl ParamRenderer {
 impl PreparedScene {
     pub fn destroy(self, gpu: &Gpu) {
         match self {
-            PreparedScene::Plain(s) => s.destroy(gpu),
+            PreparedScene::Plain(s) => (*s).destroy(gpu),
             PreparedScene::Raytrace(s) => (*s).destroy(gpu),
         }
     }
