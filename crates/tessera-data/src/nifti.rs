@@ -50,6 +50,8 @@ struct Header {
     endian: Endian,
     source: SourceType,
     dims: [u32; 3],
+    /// Values per voxel: the product of dim[4..] (1 for scalar volumes).
+    components: u32,
     spacing: [f32; 3],
     vox_offset: u64,
     /// `(slope, intercept)`, present only when it changes the values.
@@ -71,26 +73,7 @@ struct RawHeader {
 /// Loads a single-file NIfTI-1 or NIfTI-2 volume, gzip-compressed or not. See the module
 /// documentation for type conversion, intensity scaling and what is ignored.
 pub fn load_nifti(path: &Path, nan_policy: NanPolicy) -> Result<Volume> {
-    let io_err = |e| DataError::io(path, e);
-    let mut file = File::open(path).map_err(io_err)?;
-    let mut magic = [0u8; 2];
-    let got = fill(&mut file, &mut magic).map_err(io_err)?;
-    file.seek(SeekFrom::Start(0)).map_err(io_err)?;
-
-    let (header, samples) = if got == magic.len() && magic == GZIP_MAGIC {
-        let mut decoder = MultiGzDecoder::new(BufReader::new(file));
-        read_nifti(&mut decoder, path, None).map_err(|e| match e {
-            DataError::Io { path, source } => gzip_error(&path, source),
-            other => other,
-        })?
-    } else {
-        let len = file.metadata().map_err(io_err)?.len();
-        read_nifti(&mut BufReader::new(file), path, Some(len))?
-    };
-    let samples = match header.scaling {
-        Some((slope, inter)) => rescale(samples, slope, inter),
-        None => samples,
-    };
+    let (header, samples) = open_nifti(path, false)?;
     Volume::with_nan_policy(
         volume_name(path),
         header.dims,
@@ -101,15 +84,88 @@ pub fn load_nifti(path: &Path, nan_policy: NanPolicy) -> Result<Volume> {
     .map_err(|e| e.in_file(path))
 }
 
+/// A volume of several values per voxel (e.g. SH coefficients): component `c` of voxel
+/// `(x, y, z)` is `values[((c * nz + z) * ny + y) * nx + x]`, NIfTI's own order.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ComponentVolume {
+    pub dims: [u32; 3],
+    pub spacing: [f32; 3],
+    pub components: u32,
+    pub values: Vec<f32>,
+}
+
+impl ComponentVolume {
+    /// The components of voxel `(x, y, z)`.
+    pub fn voxel(&self, x: u32, y: u32, z: u32) -> Vec<f32> {
+        let [nx, ny, nz] = self.dims.map(|d| d as usize);
+        let at = (z as usize * ny + y as usize) * nx + x as usize;
+        (0..self.components as usize)
+            .map(|c| self.values[c * nx * ny * nz + at])
+            .collect()
+    }
+}
+
+/// Loads a NIfTI file whose dimensions past the third hold several values per voxel; values
+/// are converted to `f32` (with the header's scaling). Non-finite values are errors naming the
+/// file.
+pub fn load_nifti_components(path: &Path) -> Result<ComponentVolume> {
+    let (header, samples) = open_nifti(path, true)?;
+    let values: Vec<f32> = match samples {
+        Samples::U8(v) => v.into_iter().map(f32::from).collect(),
+        Samples::U16(v) => v.into_iter().map(f32::from).collect(),
+        Samples::F32(v) => v,
+    };
+    if let Some(i) = values.iter().position(|v| !v.is_finite()) {
+        return Err(DataError::format(
+            path,
+            format!("value {i} is not finite ({})", values[i]),
+        ));
+    }
+    Ok(ComponentVolume {
+        dims: header.dims,
+        spacing: header.spacing,
+        components: header.components,
+        values,
+    })
+}
+
+/// Header and (scaled) samples of a single-file NIfTI, gzip-compressed or not.
+fn open_nifti(path: &Path, components: bool) -> Result<(Header, Samples)> {
+    let io_err = |e| DataError::io(path, e);
+    let mut file = File::open(path).map_err(io_err)?;
+    let mut magic = [0u8; 2];
+    let got = fill(&mut file, &mut magic).map_err(io_err)?;
+    file.seek(SeekFrom::Start(0)).map_err(io_err)?;
+
+    let (header, samples) = if got == magic.len() && magic == GZIP_MAGIC {
+        let mut decoder = MultiGzDecoder::new(BufReader::new(file));
+        read_nifti(&mut decoder, path, None, components).map_err(|e| match e {
+            DataError::Io { path, source } => gzip_error(&path, source),
+            other => other,
+        })?
+    } else {
+        let len = file.metadata().map_err(io_err)?.len();
+        read_nifti(&mut BufReader::new(file), path, Some(len), components)?
+    };
+    let samples = match header.scaling {
+        Some((slope, inter)) => rescale(samples, slope, inter),
+        None => samples,
+    };
+    Ok((header, samples))
+}
+
 /// Reads header and samples from the (decompressed) stream. `file_len` is the size of an
 /// uncompressed file, which lets a short file be reported before anything is allocated.
 fn read_nifti(
     reader: &mut impl Read,
     path: &Path,
     file_len: Option<u64>,
+    components: bool,
 ) -> Result<(Header, Samples)> {
-    let header = read_header(reader, path)?;
-    let count = sample_count(path, header.dims)?;
+    let header = read_header(reader, path, components)?;
+    let count = sample_count(path, header.dims)?
+        .checked_mul(header.components as usize)
+        .ok_or_else(|| DataError::format(path, "too many values".to_string()))?;
     let need = count as u64 * header.source.size_bytes() as u64;
     let [nx, ny, nz] = header.dims;
     let what = if file_len.is_some() {
@@ -146,7 +202,7 @@ fn read_nifti(
 }
 
 /// Reads the NIfTI-1 or NIfTI-2 header, leaving `reader` just after it.
-fn read_header(reader: &mut impl Read, path: &Path) -> Result<Header> {
+fn read_header(reader: &mut impl Read, path: &Path, components: bool) -> Result<Header> {
     let mut buf = [0u8; NIFTI2_HEADER];
     let got = fill(reader, &mut buf[..4]).map_err(|e| DataError::io(path, e))?;
     if got < 4 {
@@ -184,7 +240,7 @@ fn read_header(reader: &mut impl Read, path: &Path) -> Result<Header> {
     } else {
         parse_nifti2(&fields, path)?
     };
-    validate(raw, len as u64, endian, path)
+    validate(raw, len as u64, endian, path, components)
 }
 
 fn parse_nifti1(f: &Fields, path: &Path) -> Result<RawHeader> {
@@ -236,7 +292,13 @@ fn check_magic(bytes: &[u8], at: usize, version: u8, path: &Path) -> Result<()> 
     Err(DataError::format(path, msg))
 }
 
-fn validate(raw: RawHeader, header_len: u64, endian: Endian, path: &Path) -> Result<Header> {
+fn validate(
+    raw: RawHeader,
+    header_len: u64,
+    endian: Endian,
+    path: &Path,
+    allow_components: bool,
+) -> Result<Header> {
     let fail = |msg: String| DataError::format(path, msg);
     let dim = raw.dim;
     let ndim = dim[0];
@@ -246,7 +308,15 @@ fn validate(raw: RawHeader, header_len: u64, endian: Endian, path: &Path) -> Res
              dim[4..] all 1)"
         )));
     }
+    let mut components = 1u32;
     for (i, &d) in dim.iter().enumerate().take(ndim as usize + 1).skip(4) {
+        if allow_components && d >= 1 {
+            components = u32::try_from(d)
+                .ok()
+                .and_then(|d| components.checked_mul(d))
+                .ok_or_else(|| fail(format!("dim[{i}]={d} is too large")))?;
+            continue;
+        }
         if d != 1 {
             let what = match i {
                 4 => format!("has {d} volumes (dim[4]={d})"),
@@ -254,7 +324,8 @@ fn validate(raw: RawHeader, header_len: u64, endian: Endian, path: &Path) -> Res
                 _ => format!("has dim[{i}]={d}"),
             };
             return Err(fail(format!(
-                "{what}; only 3-D scalar volumes are supported"
+                "{what}; only 3-D scalar volumes are supported here (SH coefficient volumes \
+                 render as glyphs with sh:FILE)"
             )));
         }
     }
@@ -308,6 +379,7 @@ fn validate(raw: RawHeader, header_len: u64, endian: Endian, path: &Path) -> Res
         endian,
         source,
         dims,
+        components,
         spacing,
         vox_offset,
         scaling,

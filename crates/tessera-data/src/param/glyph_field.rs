@@ -8,6 +8,7 @@ use rayon::prelude::*;
 use super::glyph::{extreme_directions, RadiusNormalization, ShGlyph};
 use super::sh::{sh_basis, sh_basis_dir, sh_coefficient_count, ShBasis};
 use crate::error::{DataError, Result};
+use crate::nifti::ComponentVolume;
 
 /// Lobe sharpness: large enough that crossing fibres stay apart at order 8 and up.
 const SHARPNESS: f64 = 12.0;
@@ -39,13 +40,7 @@ pub fn sh_glyph_grid(
         .iter()
         .map(|&d| sh_basis_dir(basis, order, d))
         .collect::<Result<_>>()?;
-    // The basis at the directions the radius range is sampled at, shared by every glyph (the
-    // range would otherwise cost each glyph thousands of basis evaluations).
-    let range_basis: Vec<Vec<f64>> = extreme_directions(order)
-        .into_par_iter()
-        .map(|(theta, phi)| sh_basis(basis, order, theta, phi))
-        .collect::<Result<_>>()?;
-    (0..nx * ny)
+    let shapes: Vec<(Vec3, Vec<f64>)> = (0..nx * ny)
         .into_par_iter()
         .map(|i| {
             let (x, y) = (i % nx, i / nx);
@@ -63,19 +58,87 @@ pub fn sh_glyph_grid(
             }
             let scale = 4.0 * std::f64::consts::PI / points.len() as f64;
             coeffs.iter_mut().for_each(|c| *c *= scale);
-            let range = range_basis
-                .iter()
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |r, row| {
-                    let v: f64 = row.iter().zip(&coeffs).map(|(y, c)| y * c).sum();
-                    (r.0.min(v), r.1.max(v))
-                });
-            let glyph =
-                ShGlyph::with_raw_range(basis, order, coeffs, RadiusNormalization::MinMax, range)?;
             let centre = Vec3::new(
                 x as f32 - (nx - 1) as f32 * 0.5,
                 y as f32 - (ny - 1) as f32 * 0.5,
                 0.0,
             );
+            (centre, coeffs)
+        })
+        .collect();
+    min_max_glyphs(shapes, basis, order)
+}
+
+/// The glyphs of an SH coefficient volume (e.g. DIPY's `shm_coeff` saved as NIfTI): one per
+/// voxel whose coefficients are not all zero, of the order the component count implies, centred
+/// on the volume's middle in voxel units; only slice `z` if given. `what` names the file.
+pub fn sh_glyph_volume(
+    volume: &ComponentVolume,
+    basis: ShBasis,
+    z_slice: Option<u32>,
+    what: &str,
+) -> Result<Vec<FieldGlyph>> {
+    let n = volume.components as usize;
+    let order = (0..=32u32)
+        .step_by(2)
+        .find(|&l| sh_coefficient_count(l).is_ok_and(|c| c == n))
+        .ok_or_else(|| {
+            DataError::Invalid(format!(
+                "{what}: {n} values per voxel is no SH coefficient count ((L+1)(L+2)/2 for an \
+                 even order L: 1, 6, 15, 28, 45, 66, 91, ...)"
+            ))
+        })?;
+    let [nx, ny, nz] = volume.dims;
+    if let Some(z) = z_slice.filter(|&z| z >= nz) {
+        return Err(DataError::Invalid(format!(
+            "{what}: slice {z} is outside the volume's {nz} slices"
+        )));
+    }
+    let middle = Vec3::new(nx as f32 - 1.0, ny as f32 - 1.0, nz as f32 - 1.0) * 0.5;
+    let slices = z_slice.map_or(0..nz, |z| z..z + 1);
+    let shapes: Vec<(Vec3, Vec<f64>)> = slices
+        .flat_map(|z| (0..ny).flat_map(move |y| (0..nx).map(move |x| (x, y, z))))
+        .filter_map(|(x, y, z)| {
+            let coeffs: Vec<f64> = volume.voxel(x, y, z).into_iter().map(f64::from).collect();
+            coeffs
+                .iter()
+                .any(|&c| c != 0.0)
+                .then(|| (Vec3::new(x as f32, y as f32, z as f32) - middle, coeffs))
+        })
+        .collect();
+    if shapes.is_empty() {
+        return Err(DataError::Invalid(format!(
+            "{what}: every voxel's coefficients are zero: nothing to draw"
+        )));
+    }
+    min_max_glyphs(shapes, basis, order)
+}
+
+/// Min-max normalized glyphs, their radius ranges from one basis table shared by all (sampling
+/// each glyph's range on its own would cost thousands of basis evaluations per glyph).
+fn min_max_glyphs(
+    shapes: Vec<(Vec3, Vec<f64>)>,
+    basis: ShBasis,
+    order: u32,
+) -> Result<Vec<FieldGlyph>> {
+    let range_basis: Vec<Vec<f64>> = extreme_directions(order)
+        .into_par_iter()
+        .map(|(theta, phi)| sh_basis(basis, order, theta, phi))
+        .collect::<Result<_>>()?;
+    shapes
+        .into_par_iter()
+        .map(|(centre, coeffs)| {
+            let range = range_basis.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |r, row| {
+                let v: f64 = row.iter().zip(&coeffs).map(|(y, c)| y * c).sum();
+                (r.0.min(v), r.1.max(v))
+            });
+            let glyph = ShGlyph::with_raw_range(
+                basis,
+                order,
+                coeffs,
+                RadiusNormalization::MinMax,
+                range,
+            )?;
             Ok(FieldGlyph { centre, glyph })
         })
         .collect()
