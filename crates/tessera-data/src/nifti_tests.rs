@@ -598,6 +598,8 @@ fn several_values_per_voxel() {
     let mut bad = values.clone();
     bad[7] = f32::NAN;
     let bytes: Vec<u8> = bad.iter().flat_map(|v| v.to_le_bytes()).collect();
-    let err = load_nifti_components(&nii.write("nan.nii", &bytes)).unwrap_err().to_string();
+    let err = load_nifti_components(&nii.write("nan.nii", &bytes))
+        .unwrap_err()
+        .to_string();
     assert!(err.contains("nan.nii") && err.contains("value 7"), "{err}");
 }

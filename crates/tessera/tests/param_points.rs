@@ -619,8 +619,12 @@ fn bad_input_is_refused() {
         assert!(ParamPoints::new(&gpu, &compiler, bad).is_err(), "{bad:?}");
     }
     assert!(GpuParamScene::upload(&gpu, &ParamScene::default()).is_err());
+    // A seashell without turns is no surface.
     let shell = ParamScene::new(vec![ParamObject::new(ParamFunction::Seashell(
-        SeashellParams::default(),
+        SeashellParams {
+            turns: 0.0,
+            ..SeashellParams::default()
+        },
     ))]);
     assert!(GpuParamScene::upload(&gpu, &shell).is_err());
     let flat = ParamScene::new(vec![

@@ -128,17 +128,14 @@ fn min_max_glyphs(
     shapes
         .into_par_iter()
         .map(|(centre, coeffs)| {
-            let range = range_basis.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |r, row| {
-                let v: f64 = row.iter().zip(&coeffs).map(|(y, c)| y * c).sum();
-                (r.0.min(v), r.1.max(v))
-            });
-            let glyph = ShGlyph::with_raw_range(
-                basis,
-                order,
-                coeffs,
-                RadiusNormalization::MinMax,
-                range,
-            )?;
+            let range = range_basis
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |r, row| {
+                    let v: f64 = row.iter().zip(&coeffs).map(|(y, c)| y * c).sum();
+                    (r.0.min(v), r.1.max(v))
+                });
+            let glyph =
+                ShGlyph::with_raw_range(basis, order, coeffs, RadiusNormalization::MinMax, range)?;
             Ok(FieldGlyph { centre, glyph })
         })
         .collect()

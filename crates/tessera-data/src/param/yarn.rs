@@ -15,7 +15,8 @@
 //! smooth wherever the tangent is not parallel to z, which holds for Crane's curves since
 //! `γ'.x = 1 + 2a cos 2t` and `γ'.y = -h sin t` cannot vanish together unless `a = -1/2`.
 //! Everything is computed in `f64` and rounded to `f32` at the end, so the tube radius is exact
-//! to `f32` precision.
+//! to `f32` precision. Tangents are analytic (fibres: [`KnitParams::fiber_velocity`]), so the
+//! GPU (`tessera::param`, `functions.glsl`) can evaluate the same formulas in `f32`.
 
 use std::f64::consts::TAU;
 
@@ -76,17 +77,32 @@ impl KnitParams {
         )
     }
 
+    /// `γ''(t)`.
+    pub fn yarn_acceleration(&self, t: f64) -> DVec3 {
+        let (a, h, d) = (self.roundness, self.height, self.depth);
+        DVec3::new(
+            -4.0 * a * (2.0 * t).sin(),
+            -h * t.cos(),
+            -4.0 * d * (2.0 * t).cos(),
+        )
+    }
+
+    /// `γ'''(t)`.
+    pub fn yarn_jerk(&self, t: f64) -> DVec3 {
+        let (a, h, d) = (self.roundness, self.height, self.depth);
+        DVec3::new(
+            -8.0 * a * (2.0 * t).cos(),
+            h * t.sin(),
+            8.0 * d * (2.0 * t).sin(),
+        )
+    }
+
     /// Frenet frame `(T, N, B)` of the yarn curve. `N` is the normalised derivative of the unit
     /// tangent, `T'·|γ'| = γ'' - γ'(γ'·γ'')/|γ'|²`; where the curvature vanishes `N` is undefined,
     /// and the tube's orthogonal vector is used instead so that fibres stay finite.
     pub fn frenet_frame(&self, t: f64) -> [DVec3; 3] {
-        let (a, h, d) = (self.roundness, self.height, self.depth);
         let v = self.yarn_velocity(t);
-        let acc = DVec3::new(
-            -4.0 * a * (2.0 * t).sin(),
-            -h * t.cos(),
-            -4.0 * d * (2.0 * t).cos(),
-        );
+        let acc = self.yarn_acceleration(t);
         let tangent = v.try_normalize().unwrap_or(DVec3::X);
         let bend = acc - v * (v.dot(acc) / v.length_squared());
         let normal = bend.try_normalize().unwrap_or_else(|| orthogonal(tangent));
@@ -98,6 +114,34 @@ impl KnitParams {
         let [_, n, b] = self.frenet_frame(t);
         let angle = t * self.twist - 2.0 * t.cos() + phase;
         self.yarn_curve(t) + (n * angle.cos() + b * angle.sin()) * self.yarn_radius
+    }
+
+    /// `η'(t)`, analytically, so that the GPU can evaluate the same formula in `f32` (a
+    /// difference quotient needs `f64` to be accurate). With speed `s = |γ'|`, curvature `κ` and
+    /// torsion `τ`, Frenet–Serret gives `N' = s(τB - κT)` and `B' = -sτN`, hence
+    /// `η' = s(1 - rκ cos θ) T + r(θ' + sτ)(cos θ B - sin θ N)` with `θ' = ω + 2 sin t`,
+    /// `sκ = |γ'×γ''|/s²` and `sτ = s (γ'×γ'')·γ'''/|γ'×γ''|²`. Where the curvature vanishes
+    /// (the frame's fallback) `κ = τ = 0`, which keeps `η'` finite.
+    pub fn fiber_velocity(&self, t: f64, phase: f64) -> DVec3 {
+        let [tangent, normal, binormal] = self.frenet_frame(t);
+        let v = self.yarn_velocity(t);
+        let bend = v.cross(self.yarn_acceleration(t));
+        let bend2 = bend.length_squared();
+        let speed = v.length();
+        let (curving, twisting) = if bend2 > 0.0 && bend2.is_finite() {
+            (
+                bend2.sqrt() / v.length_squared(),
+                speed * bend.dot(self.yarn_jerk(t)) / bend2,
+            )
+        } else {
+            (0.0, 0.0)
+        };
+        let angle = t * self.twist - 2.0 * t.cos() + phase;
+        let (sin_a, cos_a) = angle.sin_cos();
+        let turn = self.twist + 2.0 * t.sin();
+        let r = self.yarn_radius;
+        tangent * (speed - r * curving * cos_a)
+            + (binormal * cos_a - normal * sin_a) * (r * (turn + twisting))
     }
 
     fn validate(&self) -> Result<()> {
@@ -196,15 +240,11 @@ impl YarnTube {
         }
     }
 
-    /// Unit tangent of the followed curve: analytic for the yarn; a central difference for
-    /// fibres (step 1e-5: truncation and rounding errors both stay near 1e-10).
+    /// Unit tangent of the followed curve, from its analytic velocity.
     pub fn tangent(&self, t: f64) -> DVec3 {
         let d = match self.curve {
             KnitCurve::Yarn => self.knit.yarn_velocity(t),
-            KnitCurve::Fiber { .. } => {
-                const H: f64 = 1e-5;
-                (self.centre(t + H) - self.centre(t - H)) / (2.0 * H)
-            }
+            KnitCurve::Fiber { phase } => self.knit.fiber_velocity(t, phase),
         };
         d.try_normalize().unwrap_or(DVec3::X)
     }

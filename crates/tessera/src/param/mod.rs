@@ -23,6 +23,7 @@ pub mod lod;
 pub mod points;
 pub mod raytrace;
 pub mod scene;
+pub mod scenes;
 pub mod tess;
 pub mod user;
 pub mod view;

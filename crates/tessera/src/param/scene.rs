@@ -5,19 +5,22 @@
 //! * `ParamObject param_objects[]` ([`GpuObject`], 112 bytes): object-to-world rows, colour,
 //!   domain, the SH radius map, the function's kind, the offset of its parameters, SH order and
 //!   flags (direction colouring, SH basis).
-//! * `float param_values[]`: the objects' parameters (SH coefficients as f32), at least one.
+//! * `float param_values[]`: the objects' parameters (SH coefficients as f32, the seashell's and
+//!   the yarn tube's constants), at least one.
 //! * `vec2 sh_recurrence[]`: the SH recurrence factors, built once per device
 //!   ([`sh_recurrence_table`]).
 //!
-//! Adding a function: its GLSL in `functions.glsl` (plus a case in `param_position`) and one
-//! arm in [`encode_function`].
+//! Adding a function: its GLSL in `functions.glsl` (plus a case in `param_position`), one arm in
+//! [`encode_function`] and a bound in `ParamObject::object_radius`.
 
 use crate::error::{Error, Result};
 use bytemuck::{Pod, Zeroable};
-use glam::{Mat4, Vec3};
+use glam::{Mat3, Mat4, Vec3};
 use tessera_data::param::reference::ReferenceObject;
 use tessera_data::param::sh::sh_degrees_and_orders;
-use tessera_data::param::{ParamFunction, RadiusNormalization, ShBasis};
+use tessera_data::param::{
+    KnitCurve, ParamFunction, RadiusNormalization, SeashellParams, ShBasis, YarnTube,
+};
 use tessera_gpu::{vk, Buffer, Gpu};
 
 /// Largest SH order the GPU evaluates (size of the recurrence table; the CPU goes further).
@@ -34,7 +37,15 @@ pub enum GpuKind {
     ShGlyph = 2,
     /// The user's GLSL function (`param/user.rs`).
     User = 3,
+    Seashell = 4,
+    /// A tube around a knit yarn or fibre curve.
+    Yarn = 5,
 }
+
+/// Relative margin on the seashell's and the yarn's bounds for f32 evaluation: the bounds hold
+/// for the exact surfaces, and f32 arithmetic strays from them by about 3e-7 of the size on
+/// lavapipe; `tests/param_shapes.rs` accepts GPUs up to 1e-4 off, and this covers ten times that.
+const EVALUATION_MARGIN: f64 = 1e-3;
 
 /// `PARAM_FLAG_DIRECTION_COLOUR`: colour by direction from the object's centre.
 pub const FLAG_DIRECTION_COLOUR: u32 = 1;
@@ -81,7 +92,7 @@ impl ParamObject {
     }
 
     /// A sphere around the origin of object space that holds the whole surface.
-    fn object_radius(&self) -> f32 {
+    pub fn object_radius(&self) -> f32 {
         match &self.function {
             // |f| <= 1 for both: the heart only shrinks the unit sphere's coordinates.
             ParamFunction::Sphere | ParamFunction::Heart => 1.0,
@@ -102,8 +113,10 @@ impl ParamObject {
                     })
                     .unwrap_or(f32::INFINITY),
             },
-            // Not drawn on the GPU yet (encode_function refuses them).
-            _ => f32::INFINITY,
+            ParamFunction::Seashell(p) => seashell_radius(p),
+            ParamFunction::Yarn(t) => yarn_radius(t),
+            // Unknown until measured on the GPU (`UserFunction::measure_bounds`).
+            ParamFunction::User(_) => f32::INFINITY,
         }
     }
 
@@ -117,6 +130,39 @@ impl ParamObject {
         .sqrt();
         (m.w_axis.truncate(), self.object_radius() * stretch)
     }
+}
+
+/// Bound on `|f(u, v)|` of a seashell over its domain. With `R = A·exp(θ cot α)`, the centre
+/// `R·scale·(sin β sin θ, sin β cos θ, -cos β)` has length `R·scale`; the opening
+/// `(0, b cos s, a sin s)` has length at most `max(|a|, |b|)` and keeps it under the rotations;
+/// it is scaled by `R/A·scale·(1 + bump)` with `bump = (H_s/20)(H_θ/20)·G_s·G_θ` and
+/// `0 ≤ G ≤ 1` (the exponent `-(W/N)^k f²` is never positive, as widths are not negative). So
+/// `|f| ≤ R·scale·(1 + max(|a|, |b|)·(1 + |H_s H_θ|/400)/A)`, and `R` is largest at an end of
+/// the domain `θ ∈ [0, 2π·turns]`.
+fn seashell_radius(p: &SeashellParams) -> f32 {
+    let f = f64::from;
+    let end = f(p.domain().u[1]);
+    let growth = 1.0 / f(p.alpha_deg).to_radians().tan();
+    let radius = f(p.spiral_start) * (end * growth).exp().max(1.0);
+    let opening = f(p.ellipse_a.abs().max(p.ellipse_b.abs()));
+    let bump = (f(p.nodule_height_around) * f(p.nodule_height_along)).abs() / 400.0;
+    let bound = radius * f(p.scale) * (1.0 + opening * (1.0 + bump) / f(p.spiral_start));
+    (bound * (1.0 + EVALUATION_MARGIN)) as f32
+}
+
+/// Bound on `|f(u, v)|` of a yarn tube over its domain `t ∈ [0, T]`, `T = 2π·loops`: Crane's
+/// curve `(t + a sin 2t, h cos t, d cos 2t)` has `x ∈ [-|a|, T + |a|]`, `|y| ≤ |h|`,
+/// `|z| ≤ |d|`; a fibre lies `r` from it (along the orthonormal `N`, `B`), and the tube adds
+/// its radius (unit spokes).
+fn yarn_radius(t: &YarnTube) -> f32 {
+    let k = t.knit();
+    let reach = f64::from(t.domain().u[1]) + k.roundness.abs();
+    let curve = (reach * reach + k.height * k.height + k.depth * k.depth).sqrt();
+    let fibre = match t.curve() {
+        KnitCurve::Yarn => 0.0,
+        KnitCurve::Fiber { .. } => k.yarn_radius,
+    };
+    ((curve + fibre + t.tube_radius()) * (1.0 + EVALUATION_MARGIN)) as f32
 }
 
 /// The objects of one frame.
@@ -187,14 +233,85 @@ pub fn encode_function(
             let flags = FLAG_DIRECTION_COLOUR | (basis_code(g.basis()) << BASIS_SHIFT);
             Ok((GpuKind::ShGlyph, g.order(), flags, radius_map(g)))
         }
-        other => Err(Error::Invalid(format!(
-            "{} is not drawn on the GPU yet",
-            match other {
-                ParamFunction::Seashell(_) => "a seashell",
-                _ => "a yarn tube",
-            }
-        ))),
+        ParamFunction::Seashell(p) => {
+            p.validate()
+                .map_err(|e| Error::Invalid(format!("cannot draw this seashell: {e}")))?;
+            values.extend(seashell_values(p));
+            Ok((GpuKind::Seashell, 0, 0, identity))
+        }
+        ParamFunction::Yarn(t) => {
+            values.extend(yarn_values(t)?);
+            Ok((GpuKind::Yarn, 0, 0, identity))
+        }
     }
+}
+
+/// The seashell's parameters as `param_seashell` reads them. Everything that does not depend
+/// on `(u, v)` is computed here with the CPU's own f32 expressions
+/// (`SeashellParams::position`), so these values are the CPU's bit for bit.
+fn seashell_values(p: &SeashellParams) -> Vec<f32> {
+    let beta = p.beta_deg.to_radians();
+    let tilt = Mat3::from_rotation_z(-p.omega_deg.to_radians())
+        * Mat3::from_rotation_y(-p.mu_deg.to_radians())
+        * Mat3::from_rotation_x(-p.phi_deg.to_radians());
+    let nodule = |count: f32, offset_deg: f32, width: f32, spikiness: f32| {
+        [
+            offset_deg.to_radians(),
+            std::f32::consts::TAU / count,
+            -(width / count).powf(spikiness),
+        ]
+    };
+    let mut out = vec![
+        p.alpha_deg.to_radians().tan().recip(),
+        p.spiral_start,
+        beta.sin(),
+        -beta.cos(),
+        p.scale,
+        p.ellipse_a,
+        p.ellipse_b,
+    ];
+    out.extend(tilt.to_cols_array());
+    out.extend(nodule(
+        p.nodules_around,
+        p.nodule_offset_around_deg,
+        p.nodule_width_around,
+        p.nodule_spikiness_around,
+    ));
+    out.extend(nodule(
+        p.nodules_along,
+        p.nodule_offset_along_deg,
+        p.nodule_width_along,
+        p.nodule_spikiness_along,
+    ));
+    out.push((p.nodule_height_around / 20.0) * (p.nodule_height_along / 20.0));
+    out
+}
+
+/// The tube's parameters as `param_yarn` reads them, rounded from the CPU's f64.
+fn yarn_values(t: &YarnTube) -> Result<[f32; 8]> {
+    let k = t.knit();
+    // Only the phase modulo 2π matters; reduced in f64 it keeps its precision in f32.
+    let (fibre, phase) = match t.curve() {
+        KnitCurve::Yarn => (0.0, 0.0),
+        KnitCurve::Fiber { phase } => (1.0, phase.rem_euclid(std::f64::consts::TAU)),
+    };
+    let values = [
+        k.roundness,
+        k.height,
+        k.depth,
+        k.yarn_radius,
+        k.twist,
+        fibre,
+        phase,
+        t.tube_radius(),
+    ]
+    .map(|x| x as f32);
+    if values.iter().any(|x| !x.is_finite()) {
+        return Err(Error::Invalid(format!(
+            "yarn tube parameters {values:?} do not fit in f32"
+        )));
+    }
+    Ok(values)
 }
 
 /// `radius' = clamp(r · x + y, z, w)`, the glyph's normalisation from its CPU-estimated range.
@@ -255,6 +372,8 @@ pub fn scene_defines() -> Vec<(String, String)> {
         ("PARAM_KIND_HEART".into(), u(GpuKind::Heart as u32)),
         ("PARAM_KIND_SH_GLYPH".into(), u(GpuKind::ShGlyph as u32)),
         ("PARAM_KIND_USER".into(), u(GpuKind::User as u32)),
+        ("PARAM_KIND_SEASHELL".into(), u(GpuKind::Seashell as u32)),
+        ("PARAM_KIND_YARN".into(), u(GpuKind::Yarn as u32)),
         (
             "PARAM_FLAG_DIRECTION_COLOUR".into(),
             u(FLAG_DIRECTION_COLOUR),
