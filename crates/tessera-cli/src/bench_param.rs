@@ -1,7 +1,8 @@
 //! Parametric-object benchmark scenarios (paper E §5): one SH glyph of orders 2…12, and a
 //! 140 × 140 field of order-12 glyphs at several distances (Figures 8–10), at 1920×1080 with and
 //! without 2×2 supersampling, by the point and the tessellation variants and by ray tracing
-//! (Peters et al.); the LOD stage and the drawing timed apart.
+//! (Peters et al.); a knitted curtain of 59,690 yarn curves and a seashell (§5.3); the LOD
+//! stage and the drawing timed apart.
 
 use crate::bench::{BenchArgs, Sink};
 use crate::param_renderer::ParamRenderer;
@@ -33,6 +34,7 @@ pub fn param(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -> R
             &scene,
             &spec,
             &[("single", camera)],
+            ALL,
             size,
             plan,
             sink,
@@ -48,8 +50,42 @@ pub fn param(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -> R
         ..OrbitCamera::default()
     };
     let views = [("far", at(1.2)), ("mid", at(0.5)), ("close", at(0.15))];
-    measure(gpu, &compiler, &scene, &spec, &views, size, plan, sink)
+    measure(gpu, &compiler, &scene, &spec, &views, ALL, size, plan, sink)?;
+    // Paper E §5.3: a knitted curtain of 235 × 254 loops (59,690 yarn curves), and a seashell.
+    let shapes = ["param-points", "param-tess"];
+    let yarn = if args.quick {
+        "param:yarn:10x10"
+    } else {
+        "param:yarn:235x254"
+    };
+    let scene = crate::render_param::load(yarn, basis)?;
+    let views = [("whole", at(1.3)), ("close", at(0.3))];
+    measure(
+        gpu, &compiler, &scene, yarn, &views, &shapes, size, plan, sink,
+    )?;
+    let scene = crate::render_param::load("param:seashell", basis)?;
+    let views = [(
+        "whole",
+        OrbitCamera {
+            distance: 2.0,
+            ..OrbitCamera::default()
+        },
+    )];
+    measure(
+        gpu,
+        &compiler,
+        &scene,
+        "param:seashell",
+        &views,
+        &shapes,
+        size,
+        plan,
+        sink,
+    )
 }
+
+/// Every parametric technique; ray tracing draws SH glyphs only.
+const ALL: &[&str] = &["param-points", "param-tess", "sh-raytrace"];
 
 #[allow(clippy::too_many_arguments)]
 fn measure(
@@ -58,12 +94,13 @@ fn measure(
     scene: &ParamScene,
     name: &str,
     views: &[(&str, OrbitCamera)],
+    techniques: &[&str],
     size: (u32, u32),
     plan: FramePlan,
     sink: &mut Sink,
 ) -> Result<()> {
     let result = (|| -> Result<()> {
-        for technique in ["param-points", "param-tess", "sh-raytrace"] {
+        for &technique in techniques {
             for supersample in [1, 2] {
                 let renderer = ParamRenderer::new(gpu, compiler, technique, supersample, 1)?;
                 let gpu_scene = match renderer.prepare(gpu, scene) {

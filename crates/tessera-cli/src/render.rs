@@ -15,7 +15,7 @@ pub struct RenderArgs {
     /// procedural:marschner-lobb:128; or a tetrahedral mesh (.vtu, .vtk, .node/.ele, .msh) or
     /// tets:box:N / tets:sphere:N (N³ cells of 6 tets) / tets:asteroids:COUNT (an SDF asteroid
     /// field, one bounding tet per asteroid); or a parametric scene: param:sphere, param:heart,
-    /// param:sh-glyph:orderN, param:sh-glyphs:WxH:orderN (= procedural:sh-glyphs:…), glyphs of
+    /// param:seashell, param:yarn:ROWSxLOOPS[:fibres], param:sh-glyph:orderN, param:sh-glyphs:WxH:orderN (= procedural:sh-glyphs:…), glyphs of
     /// an SH coefficient NIfTI sh:FILE[:zN], or a GLSL file defining `vec3 f(float u, float v)`.
     pub(crate) data: String,
     /// Technique: raymarch or direct for volumes, interval for tetrahedral meshes (the default

@@ -8,10 +8,11 @@ use clap::Args;
 use glam::{Mat4, Vec3};
 use std::path::Path;
 use tessera::param::scene::{ParamObject, ParamScene};
+use tessera::param::scenes;
 use tessera::param::user::UserFunction;
 use tessera::param::{ParamPoints, ParamPointsOptions};
 use tessera_data::param::glyph_field::sh_glyph_grid;
-use tessera_data::param::{ParamFunction, ShBasis};
+use tessera_data::param::{ParamFunction, SeashellParams, ShBasis};
 use tessera_gpu::GpuOptions;
 
 const BACKGROUND: [f32; 3] = [0.1, 0.1, 0.12];
@@ -62,9 +63,11 @@ fn parse_order(text: &str, spec: &str) -> Result<u32> {
         .with_context(|| format!("'{spec}': expected orderN (even N, 2 to 16), found '{text}'"))
 }
 
-/// The scene `spec` names: `param:sphere`, `param:heart`, `param:sh-glyph:orderN`, or
-/// `param:sh-glyphs:WxH:orderN` (also `procedural:sh-glyphs:…`), scaled into the unit box the
-/// other data sets are shown in.
+/// The scene `spec` names: `param:sphere`, `param:heart`, `param:seashell`,
+/// `param:yarn:ROWSxLOOPS[:fibres]` (a knitted curtain; 235x254 is the paper's 59,690 yarn
+/// curves), `param:sh-glyph:orderN`, or `param:sh-glyphs:WxH:orderN` (also
+/// `procedural:sh-glyphs:…`), glyph scenes scaled into the unit box the other data sets are
+/// shown in; or `sh:FILE[:zN]`.
 pub fn load(spec: &str, basis: ShBasis) -> Result<ParamScene> {
     if let Some(file) = spec.strip_prefix("sh:") {
         return load_coefficients(spec, file, basis);
@@ -78,6 +81,14 @@ pub fn load(spec: &str, basis: ShBasis) -> Result<ParamScene> {
     match parts[..] {
         ["sphere"] => Ok(single(ParamFunction::Sphere)),
         ["heart"] => Ok(single(ParamFunction::Heart)),
+        ["seashell"] => Ok(scenes::seashell(SeashellParams::default())?),
+        ["yarn", grid] | ["yarn", grid, "fibres"] => {
+            let (rows, loops) = grid
+                .split_once('x')
+                .and_then(|(a, b)| Some((a.parse::<u32>().ok()?, b.parse::<u32>().ok()?)))
+                .with_context(|| format!("'{spec}': expected ROWSxLOOPS, found '{grid}'"))?;
+            Ok(scenes::yarn_curtain(rows, loops, parts.len() == 3)?)
+        }
         ["sh-glyph", order] => {
             let order = parse_order(order, spec)?;
             let field = sh_glyph_grid(1, 1, order, basis, 1).with_context(|| spec.to_string())?;
@@ -94,8 +105,8 @@ pub fn load(spec: &str, basis: ShBasis) -> Result<ParamScene> {
             Ok(glyph_scene(field, 1.0 / nx.max(ny) as f32))
         }
         _ => bail!(
-            "'{spec}': unknown parametric scene (param:sphere, param:heart, param:sh-glyph:orderN, \
-             param:sh-glyphs:WxH:orderN)"
+            "'{spec}': unknown parametric scene (param:sphere, param:heart, param:seashell, \
+             param:yarn:ROWSxLOOPS[:fibres], param:sh-glyph:orderN, param:sh-glyphs:WxH:orderN)"
         ),
     }
 }
