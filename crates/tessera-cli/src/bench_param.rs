@@ -102,7 +102,7 @@ fn measure(
     let result = (|| -> Result<()> {
         for &technique in techniques {
             for supersample in [1, 2] {
-                let renderer = ParamRenderer::new(gpu, compiler, technique, supersample, 1)?;
+                let renderer = ParamRenderer::new(gpu, compiler, technique, supersample, 1, 1)?;
                 let gpu_scene = match renderer.prepare(gpu, scene) {
                     Ok(s) => s,
                     Err(e) => {

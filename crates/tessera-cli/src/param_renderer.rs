@@ -31,13 +31,15 @@ pub enum ParamFrame {
 }
 
 impl ParamRenderer {
-    /// `technique`: param-points, param-tess or sh-raytrace; `msaa` applies to param-tess only.
+    /// `technique`: param-points, param-tess or sh-raytrace; `msaa` applies to param-tess only,
+    /// `pre_split` (k × k patches per object to start from) to the two patch techniques.
     pub fn new(
         gpu: &Gpu,
         compiler: &ShaderCompiler,
         technique: &str,
         supersample: u32,
         msaa: u32,
+        pre_split: u32,
     ) -> Result<ParamRenderer> {
         if msaa != 1 && technique != "param-tess" {
             bail!("--msaa applies to param-tess; {technique} supersamples instead");
@@ -49,6 +51,7 @@ impl ParamRenderer {
                 ParamTessOptions {
                     supersample,
                     msaa,
+                    pre_split,
                     ..ParamTessOptions::default()
                 },
             )?),
@@ -65,6 +68,7 @@ impl ParamRenderer {
                 compiler,
                 ParamPointsOptions {
                     supersample,
+                    pre_split,
                     ..ParamPointsOptions::default()
                 },
             )?),

@@ -23,6 +23,9 @@ pub struct ParamArgs {
     /// Render at K×K samples per pixel and average (supersampling).
     #[arg(long, default_value_t = 1)]
     supersample: u32,
+    /// Start each object as K×K patches (a power of two up to 16) before the LOD stage.
+    #[arg(long, default_value_t = 1)]
+    pre_split: u32,
     /// Multisampling of param-tess: 1, 2, 4 or 8 samples per pixel.
     #[arg(long, default_value_t = 1)]
     msaa: u32,
@@ -184,7 +187,14 @@ pub fn run(options: &GpuOptions, args: &RenderArgs, param: &ParamArgs) -> Result
         None => load(&args.data, parse_basis(param.basis.as_deref(), &args.data))?,
     };
     let gpu = crate::open_gpu(options)?;
-    let renderer = ParamRenderer::new(&gpu, &compiler, technique, param.supersample, param.msaa)?;
+    let renderer = ParamRenderer::new(
+        &gpu,
+        &compiler,
+        technique,
+        param.supersample,
+        param.msaa,
+        param.pre_split,
+    )?;
     let mut prepared = renderer.prepare(&gpu, &scene)?;
     if let (Some(f), PreparedScene::Plain(gpu_scene)) = (&user, &mut prepared) {
         // The CPU cannot evaluate the user's GLSL: its extent is measured on the GPU.

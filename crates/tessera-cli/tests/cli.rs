@@ -439,6 +439,8 @@ fn renders_parametric_scenes() {
         "param-tess",
         "--msaa",
         "4",
+        "--pre-split",
+        "2",
         "--size",
         "48x40",
         "-o",

@@ -349,7 +349,11 @@ fn assert_lod_matches(
         .objects
         .iter()
         .enumerate()
-        .map(|(i, o)| Patch::from_domain(&o.function.domain(), i as u32))
+        .flat_map(|(i, o)| {
+            Patch::from_domain(&o.function.domain(), i as u32)
+                .pre_split(options.pre_split)
+                .unwrap()
+        })
         .collect();
     let cpu = run_lod(
         &initial,
@@ -418,6 +422,28 @@ fn lod_matches_the_cpu() {
         let (n, s, culled, hits) = assert_lod_matches(&gpu, name, &scene, &cam, options);
         assert!(n >= patches && s >= steps, "{name}: {n} patches, {s} steps");
         assert_eq!((culled > 0, hits > 0), (culls, limit), "{name}");
+    }
+    assert_clean(&gpu);
+}
+
+#[test]
+fn pre_split_lod_matches_the_cpu() {
+    let gpu = gpu();
+    let options = opts!(thresholds: [20.0, 20.0], pre_split: 4);
+    let (n, _, _, _) = assert_lod_matches(
+        &gpu,
+        "trio pre-split",
+        &trio(),
+        &camera(25.0, 5.0, 1.2),
+        options,
+    );
+    assert!(n >= 3 * 16, "{n} patches: every object starts as 16");
+    let compiler = shaders::compiler();
+    for bad in [0, 3, 32] {
+        assert!(
+            ParamPoints::new(&gpu, &compiler, opts!(pre_split: bad)).is_err(),
+            "{bad}"
+        );
     }
     assert_clean(&gpu);
 }

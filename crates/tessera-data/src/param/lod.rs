@@ -91,6 +91,9 @@ pub struct Patch {
     pub object: u32,
 }
 
+/// Largest pre-split per side ([`Patch::pre_split`]).
+pub const MAX_PRE_SPLIT: u32 = 16;
+
 impl Patch {
     pub fn new(u: [f32; 2], v: [f32; 2], object: u32) -> Patch {
         Patch { u, v, object }
@@ -99,6 +102,34 @@ impl Patch {
     /// The whole domain of an object: PATCH INITIALIZATION for one object.
     pub fn from_domain(domain: &ParamDomain, object: u32) -> Patch {
         Patch::new(domain.u, domain.v, object)
+    }
+
+    /// The patch cut into `k × k` equal patches (PATCH INITIALIZATION's optional uniform
+    /// pre-split for objects known to be detailed), `k` a power of two up to
+    /// [`MAX_PRE_SPLIT`] so that the cut points `u0 + (u1 - u0) · (i · (1/k))` are computed
+    /// alike by any IEEE f32 arithmetic (1/k and i/k exact; no fused multiply-add). Neighbours
+    /// share their cut exactly and the outer ends are the patch's own.
+    pub fn pre_split(&self, k: u32) -> Result<Vec<Patch>> {
+        if !k.is_power_of_two() || k > MAX_PRE_SPLIT {
+            return Err(DataError::Invalid(format!(
+                "pre-split {k}: must be a power of two from 1 to {MAX_PRE_SPLIT}"
+            )));
+        }
+        let cut = |r: [f32; 2], i: u32| match i {
+            0 => r[0],
+            i if i == k => r[1],
+            i => r[0] + (r[1] - r[0]) * (i as f32 * (1.0 / k as f32)),
+        };
+        Ok((0..k * k)
+            .map(|c| {
+                let (i, j) = (c % k, c / k);
+                Patch::new(
+                    [cut(self.u, i), cut(self.u, i + 1)],
+                    [cut(self.v, j), cut(self.v, j + 1)],
+                    self.object,
+                )
+            })
+            .collect())
     }
 
     pub fn area(&self) -> f64 {

@@ -102,7 +102,8 @@ pub struct LodParams {
     pub culling: u32,
     pub capture_capacity: u32,
     pub object_count: u32,
-    pub pad: u32,
+    /// Each object starts as `pre_split × pre_split` patches.
+    pub pre_split: u32,
 }
 
 /// Push constants of `lod_prepare.comp.glsl`.
@@ -125,6 +126,8 @@ pub struct LodSettings {
     pub frustum_culling: bool,
     /// Patches each list holds.
     pub capacity: u32,
+    /// Each object starts as `k × k` patches ([`tessera_data::param::Patch::pre_split`]).
+    pub pre_split: u32,
 }
 
 /// Defines of the LOD shaders: the scene layout and the split tables.
@@ -223,6 +226,13 @@ impl LodStage {
                 "patch capacity must be 1 to {}, got {}",
                 u32::MAX / 32,
                 settings.capacity
+            )));
+        }
+        let max_split = tessera_data::param::lod::MAX_PRE_SPLIT;
+        if !settings.pre_split.is_power_of_two() || settings.pre_split > max_split {
+            return Err(Error::Invalid(format!(
+                "pre-split {}: must be a power of two from 1 to {max_split}",
+                settings.pre_split
             )));
         }
         let defines = lod_defines();
@@ -324,13 +334,13 @@ impl LodStage {
             culling: u32::from(s.frustum_culling),
             capture_capacity: capture.map_or(0, |c| c.1),
             object_count: scene.object_count,
-            pad: 0,
+            pre_split: s.pre_split,
         };
         let capture_buffer = capture.map_or(&self.no_capture, |c| c.0);
         rec.fill_buffer(&self.state, 0);
         rec.barrier();
         let scene_bindings = self.scene_bindings(scene);
-        rec.dispatch(
+        rec.dispatch_groups(
             &self.init,
             &[
                 scene_bindings[0],
@@ -340,7 +350,10 @@ impl LodStage {
                 Binding::Buffer(&self.lists[0]),
             ],
             bytemuck::bytes_of(&params),
-            [scene.object_count, 1, 1],
+            tessera_gpu::spread_groups(
+                (scene.object_count * s.pre_split * s.pre_split).div_ceil(64),
+                self.max_groups[0],
+            ),
         );
         rec.barrier();
         for step in 0..s.max_steps {

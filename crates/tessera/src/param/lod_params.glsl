@@ -14,7 +14,7 @@ layout(push_constant) uniform LodParams {
     uint culling;           // 1: drop patches whose samples all lie outside one frustum side
     uint capture_capacity;  // samples the debug capture holds (0: off)
     uint object_count;
-    uint pad;
+    uint pre_split;         // each object starts as pre_split × pre_split patches
 } params;
 
 #endif

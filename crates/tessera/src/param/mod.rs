@@ -51,6 +51,9 @@ pub struct ParamPointsOptions {
     pub frustum_culling: bool,
     /// Patches each patch list holds (32 bytes each, three lists).
     pub patch_capacity: u32,
+    /// PATCH INITIALIZATION's optional uniform pre-split: each object starts as `k × k`
+    /// patches (a power of two up to 16; 1 = the whole domain).
+    pub pre_split: u32,
     pub footprint: Footprint,
     /// Samples per pixel of a patch's measured extent along each direction (1 = the paper's
     /// "about one sample per pixel"; [`Footprint::Pixel`] needs more to avoid holes).
@@ -68,6 +71,7 @@ impl Default for ParamPointsOptions {
             max_steps: tessera_data::param::lod::DEFAULT_MAX_STEPS,
             frustum_culling: true,
             patch_capacity: 1 << 20,
+            pre_split: 1,
             footprint: Footprint::Cell,
             density: 1.0,
             max_side: 512,
@@ -133,6 +137,7 @@ impl ParamPoints {
                 max_steps: options.max_steps,
                 frustum_culling: options.frustum_culling,
                 capacity: options.patch_capacity,
+                pre_split: options.pre_split,
             },
         )?;
         let passes = match PointPasses::new(gpu, compiler) {

@@ -128,6 +128,7 @@ impl ParamTess {
                 max_steps: options.max_steps,
                 frustum_culling: options.frustum_culling,
                 capacity: options.patch_capacity,
+                pre_split: options.pre_split,
             },
         )?;
         let mut pipelines: Vec<Pipeline> = Vec::new();

@@ -29,6 +29,9 @@ pub struct ParamTessOptions {
     pub frustum_culling: bool,
     /// Patches each patch list holds (32 bytes each, three lists).
     pub patch_capacity: u32,
+    /// PATCH INITIALIZATION's optional uniform pre-split: each object starts as `k × k`
+    /// patches (a power of two up to 16; 1 = the whole domain).
+    pub pre_split: u32,
     pub levels: TessLevels,
     /// Clamp of adaptive levels, `1 <= min_level <= max_level <= ` the device's limit.
     pub min_level: u32,
@@ -50,6 +53,7 @@ impl Default for ParamTessOptions {
             max_steps: lod.max_steps,
             frustum_culling: lod.frustum_culling,
             patch_capacity: lod.patch_capacity,
+            pre_split: lod.pre_split,
             levels: TessLevels::Adaptive {
                 pixels_per_segment: 1.0,
             },
