@@ -143,6 +143,7 @@ pub fn run(options: &GpuOptions, args: &DemoArgs) -> Result<()> {
         renderer.destroy(&gpu);
     }
     interval_scene(&gpu, &compiler, args)?;
+    parametric_scenes(&gpu, &compiler, args)?;
     crate::check_validation(&gpu)
 }
 
@@ -259,5 +260,68 @@ fn asteroid_scene(
         gpu_ms,
         started.elapsed().as_secs_f64() * 1e3
     );
+    Ok(())
+}
+
+/// Paper E's parametric objects: a heart by points, SH glyphs by tessellation and by ray
+/// tracing, a seashell and a knitted curtain.
+fn parametric_scenes(
+    gpu: &tessera_gpu::Gpu,
+    compiler: &tessera_gpu::ShaderCompiler,
+    args: &DemoArgs,
+) -> Result<()> {
+    use crate::param_renderer::ParamRenderer;
+    let at = |az: f32, el: f32, distance: f32| OrbitCamera {
+        azimuth_deg: az,
+        elevation_deg: el,
+        distance,
+        ..OrbitCamera::default()
+    };
+    let scenes = [
+        ("param:heart", "param-points", at(30.0, 20.0, 3.0)),
+        (
+            "param:sh-glyphs:4x4:order8",
+            "param-tess",
+            at(0.0, 0.0, 1.2),
+        ),
+        (
+            "param:sh-glyphs:4x4:order8",
+            "sh-raytrace",
+            at(0.0, 0.0, 1.2),
+        ),
+        ("param:seashell", "param-points", at(30.0, 20.0, 2.0)),
+        ("param:yarn:6x8", "param-points", at(0.0, 0.0, 1.3)),
+    ];
+    let basis = crate::render_param::parse_basis(None, "");
+    for (spec, technique, camera) in scenes {
+        let started = Instant::now();
+        let scene = crate::render_param::load(spec, basis)?;
+        let renderer = match ParamRenderer::new(gpu, compiler, technique, 1, 1, 1) {
+            Ok(r) => r,
+            Err(e) => {
+                println!("skipped {technique}: {e}");
+                continue;
+            }
+        };
+        let prepared = renderer.prepare(gpu, &scene);
+        let rendered = prepared.and_then(|p| {
+            let size = (args.image_size, args.image_size);
+            let r = renderer.render_image(gpu, &p, &camera, size, [0.1, 0.1, 0.12]);
+            p.destroy(gpu);
+            r
+        });
+        renderer.destroy(gpu);
+        let (image, gpu_ms) = rendered?;
+        let name = spec.trim_start_matches("param:").replace(':', "-");
+        let file = args.out.join(format!("{name}-{technique}.png"));
+        crate::output::write_png(&file, &image)?;
+        println!(
+            "{:<60} {:<20} {:>9.2} ms GPU, {:>8.1} ms with upload",
+            file.display(),
+            technique,
+            gpu_ms,
+            started.elapsed().as_secs_f64() * 1e3
+        );
+    }
     Ok(())
 }

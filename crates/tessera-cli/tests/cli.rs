@@ -401,10 +401,10 @@ fn demo_writes_gallery() {
             .is_ok_and(|e| e.path().extension().is_some_and(|x| x == "png"))
     });
     // 7 volume images; the tet sphere absorbing and emitting, and the asteroid field, on both
-    // paths.
-    assert_eq!(pngs.count(), 13);
+    // paths; 5 parametric scenes.
+    assert_eq!(pngs.count(), 18);
     let stdout = String::from_utf8_lossy(&o.stdout);
-    assert_eq!(stdout.matches("ms GPU").count(), 13, "{stdout}");
+    assert_eq!(stdout.matches("ms GPU").count(), 18, "{stdout}");
 }
 
 #[test]
