@@ -5,8 +5,10 @@
 
 mod common;
 
+use common::param::*;
+
 use common::{assert_clean, gpu, out_dir, write_png};
-use glam::{Mat4, Quat, Vec2, Vec3};
+use glam::{Mat4, Vec2, Vec3};
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use tessera::param::lod::{LodParams, PrepareParams};
@@ -17,74 +19,17 @@ use tessera::param::{
     ParamScene, ParamView, PointsFrame,
 };
 use tessera::shaders;
-use tessera_data::image::{coverage_of, silhouette_iou};
+use tessera_data::image::coverage_of;
 use tessera_data::param::reference::{render_reference, world_position, DEFAULT_MAX_CELL_PX};
-use tessera_data::param::sh::{sh_basis, sh_coefficient_count, sh_index};
+use tessera_data::param::sh::{sh_basis, sh_coefficient_count};
 use tessera_data::param::{
     run_lod, LodConfig, ParamFunction, Patch, RadiusNormalization, SeashellParams, ShBasis, ShGlyph,
 };
 use tessera_data::shading::pack_rgba8;
-use tessera_data::{OrbitCamera, RgbaImage};
+use tessera_data::OrbitCamera;
 use tessera_gpu::Gpu;
 
-const BACKGROUND: [f32; 3] = [20.0 / 255.0, 20.0 / 255.0, 26.0 / 255.0];
-const SIZE: (u32, u32) = (160, 160);
 const NON_LEGACY: ShBasis = ShBasis::Descoteaux07 { legacy: false };
-
-fn camera(az: f32, el: f32, distance: f32) -> OrbitCamera {
-    OrbitCamera {
-        azimuth_deg: az,
-        elevation_deg: el,
-        distance,
-        ..OrbitCamera::default()
-    }
-}
-
-/// An order-8 glyph with lobes in several directions (descoteaux07, non-legacy, min-max).
-fn glyph8() -> ParamFunction {
-    let mut c = vec![0.0; sh_coefficient_count(8).unwrap()];
-    for (l, m, value) in [
-        (0, 0, 1.0),
-        (2, 0, 0.5),
-        (2, 2, 0.4),
-        (4, -3, 0.3),
-        (6, 5, 0.25),
-        (8, 8, 0.2),
-        (8, -1, 0.15),
-    ] {
-        c[sh_index(l, m).unwrap()] = value;
-    }
-    ParamFunction::ShGlyph(ShGlyph::new(NON_LEGACY, 8, c, RadiusNormalization::MinMax).unwrap())
-}
-
-fn one(function: ParamFunction) -> ParamScene {
-    ParamScene::new(vec![ParamObject::new(function).with_colour([0.9, 0.6, 0.3])])
-}
-
-/// A sphere, a heart and a glyph side by side, turned and scaled.
-fn trio() -> ParamScene {
-    ParamScene::new(vec![
-        ParamObject::new(ParamFunction::Sphere)
-            .with_transform(Mat4::from_scale_rotation_translation(
-                Vec3::splat(0.5),
-                Quat::from_rotation_x(0.4),
-                Vec3::new(-1.1, 0.0, 0.0),
-            ))
-            .with_colour([0.3, 0.8, 0.4]),
-        ParamObject::new(ParamFunction::Heart)
-            .with_transform(Mat4::from_scale_rotation_translation(
-                Vec3::new(0.7, 0.7, 1.2),
-                Quat::from_rotation_y(0.7),
-                Vec3::new(0.1, 0.2, 0.0),
-            ))
-            .with_colour([0.9, 0.3, 0.3]),
-        ParamObject::new(glyph8()).with_transform(Mat4::from_scale_rotation_translation(
-            Vec3::splat(0.6),
-            Quat::from_rotation_z(0.3),
-            Vec3::new(1.1, -0.1, 0.2),
-        )),
-    ])
-}
 
 /// The default options with some fields changed.
 macro_rules! opts {
@@ -138,7 +83,7 @@ fn host_structs_match_shader_layouts() {
     #[rustfmt::skip]
     let expected = [
         (&step, "LodParams", offsets!(LodParams, world_to_clip, viewport, thresholds, step, last,
-            eval_capacity, render_capacity, culling, capture_capacity, object_count)),
+            eval_capacity, render_capacity, culling, capture_capacity, object_count, pre_split)),
         (&prepare, "PrepareParams", offsets!(PrepareParams, max_groups, entry, capacity, per_group)),
         (&draw, "PointsParams", offsets!(PointsParams, world_to_clip, viewport, density, max_side,
             raster, uv_bits, render_capacity, footprint)),
@@ -451,8 +396,6 @@ fn pre_split_lod_matches_the_cpu() {
 // ---------------------------------------------------------------------------------------------
 // Images
 
-const POISON: u32 = 0xdead_beef;
-
 /// Renders `scene` and holds it to the CPU reference: silhouette IoU >= 0.99 and >= 98 % of the
 /// pixels both cover within 4/255, with enough surface in view. Writes PNGs when it fails.
 fn assert_image_matches(
@@ -517,20 +460,6 @@ fn assert_image_matches(
         );
     }
     info.gpu_ms
-}
-
-/// (IoU, fraction of co-covered pixels within 4/255, co-covered pixels).
-fn compare(image: &RgbaImage, reference: &RgbaImage) -> (f64, f64, usize) {
-    let bg = pack_rgba8([BACKGROUND[0], BACKGROUND[1], BACKGROUND[2], 1.0]);
-    let a = coverage_of(image, bg);
-    let b = coverage_of(reference, bg);
-    let both: Vec<bool> = a.iter().zip(&b).map(|(x, y)| *x && *y).collect();
-    let diff = image.compare_where(reference, &both, 4);
-    (
-        silhouette_iou(&a, &b),
-        diff.fraction_within,
-        both.iter().filter(|&&x| x).count(),
-    )
 }
 
 #[test]

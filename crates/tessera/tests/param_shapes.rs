@@ -5,6 +5,8 @@
 
 mod common;
 
+use common::param::*;
+
 use common::{assert_clean, gpu, out_dir, write_png};
 use glam::{Mat4, Quat, Vec3};
 use tessera::param::scenes::{
@@ -15,17 +17,13 @@ use tessera::param::{
     GpuParamScene, ParamObject, ParamPoints, ParamPointsOptions, ParamScene, ParamView, PointsFrame,
 };
 use tessera::shaders;
-use tessera_data::image::{coverage_of, silhouette_iou};
 use tessera_data::param::reference::{
     render_reference, world_normal, world_position, DEFAULT_MAX_CELL_PX,
 };
 use tessera_data::param::{KnitCurve, KnitParams, ParamFunction, SeashellParams, YarnTube};
-use tessera_data::shading::pack_rgba8;
-use tessera_data::{OrbitCamera, RgbaImage};
+use tessera_data::OrbitCamera;
 use tessera_gpu::Gpu;
 
-const BACKGROUND: [f32; 3] = [20.0 / 255.0, 20.0 / 255.0, 26.0 / 255.0];
-const POISON: u32 = 0xdead_beef;
 /// GPU positions against the CPU's, as a fraction of the object's world bound radius. Lavapipe
 /// stays within 3e-7 for both families (a few f32 roundings). The seashell's CPU is f32 too, so
 /// the two differ only where their sin, cos, exp and division do; Vulkan lets a division be off
@@ -37,15 +35,6 @@ const POISON: u32 = 0xdead_beef;
 /// 1e-5. A wrong formula, constant or axis errs by 1e-3 or more.
 const SHELL_TOLERANCE: f32 = 5e-5;
 const YARN_TOLERANCE: f32 = 1e-5;
-
-fn camera(az: f32, el: f32, distance: f32) -> OrbitCamera {
-    OrbitCamera {
-        azimuth_deg: az,
-        elevation_deg: el,
-        distance,
-        ..OrbitCamera::default()
-    }
-}
 
 fn shells() -> [SeashellParams; 3] {
     [
@@ -306,20 +295,6 @@ fn bounds_hold() {
 
 // ---------------------------------------------------------------------------------------------
 // Images
-
-/// (IoU, fraction of co-covered pixels within 4/255, co-covered pixels).
-fn compare(image: &RgbaImage, reference: &RgbaImage) -> (f64, f64, usize) {
-    let bg = pack_rgba8([BACKGROUND[0], BACKGROUND[1], BACKGROUND[2], 1.0]);
-    let a = coverage_of(image, bg);
-    let b = coverage_of(reference, bg);
-    let both: Vec<bool> = a.iter().zip(&b).map(|(x, y)| *x && *y).collect();
-    let diff = image.compare_where(reference, &both, 4);
-    (
-        silhouette_iou(&a, &b),
-        diff.fraction_within,
-        both.iter().filter(|&&x| x).count(),
-    )
-}
 
 /// How finely both techniques sample: the paper's settings (the options' defaults: LOD
 /// threshold 84 px, one point per pixel, one tessellation segment per pixel), or two samples

@@ -3,86 +3,24 @@
 
 mod common;
 
+use common::param::*;
+
 use common::{assert_clean, gpu, out_dir, write_png};
-use glam::{Mat4, Quat, Vec3};
+use glam::Vec3;
 use std::collections::{BTreeMap, BTreeSet};
 use tessera::param::tess::{
     ArgsParams, DownsampleParams, ParamTess, ParamTessOptions, TessFrame, TessLevels, TessParams,
 };
-use tessera::param::{GpuParamScene, ParamObject, ParamPoints, ParamScene, ParamView};
+use tessera::param::{GpuParamScene, ParamPoints, ParamScene, ParamView};
 use tessera::shaders;
-use tessera_data::image::{coverage_of, silhouette_iou};
 use tessera_data::param::reference::{
     reference_fragments, render_reference, shade_point, ReferenceView, DEFAULT_MAX_CELL_PX,
 };
-use tessera_data::param::sh::{sh_coefficient_count, sh_index};
-use tessera_data::param::{ParamFunction, RadiusNormalization, ShBasis, ShGlyph};
+use tessera_data::param::ParamFunction;
 use tessera_data::shading::pack_rgba8;
 use tessera_data::{OrbitCamera, RgbaImage};
 use tessera_gpu::pipeline::sample_count_flag;
 use tessera_gpu::Gpu;
-
-const BACKGROUND: [f32; 3] = [20.0 / 255.0, 20.0 / 255.0, 26.0 / 255.0];
-const SIZE: (u32, u32) = (160, 160);
-const POISON: u32 = 0xdead_beef;
-
-fn camera(az: f32, el: f32, distance: f32) -> OrbitCamera {
-    OrbitCamera {
-        azimuth_deg: az,
-        elevation_deg: el,
-        distance,
-        ..OrbitCamera::default()
-    }
-}
-
-/// The order-8 glyph of `param_points.rs`: lobes in several directions (descoteaux07,
-/// non-legacy, min-max).
-fn glyph8() -> ParamFunction {
-    let mut c = vec![0.0; sh_coefficient_count(8).unwrap()];
-    for (l, m, value) in [
-        (0, 0, 1.0),
-        (2, 0, 0.5),
-        (2, 2, 0.4),
-        (4, -3, 0.3),
-        (6, 5, 0.25),
-        (8, 8, 0.2),
-        (8, -1, 0.15),
-    ] {
-        c[sh_index(l, m).unwrap()] = value;
-    }
-    let basis = ShBasis::Descoteaux07 { legacy: false };
-    ParamFunction::ShGlyph(ShGlyph::new(basis, 8, c, RadiusNormalization::MinMax).unwrap())
-}
-
-fn one(function: ParamFunction) -> ParamScene {
-    ParamScene::new(vec![ParamObject::new(function).with_colour([0.9, 0.6, 0.3])])
-}
-
-/// A sphere, a heart and a glyph side by side, turned and scaled.
-fn trio() -> ParamScene {
-    let place = |s: Vec3, r: Quat, t: Vec3| Mat4::from_scale_rotation_translation(s, r, t);
-    ParamScene::new(vec![
-        ParamObject::new(ParamFunction::Sphere)
-            .with_transform(place(
-                Vec3::splat(0.5),
-                Quat::from_rotation_x(0.4),
-                Vec3::new(-1.1, 0.0, 0.0),
-            ))
-            .with_colour([0.3, 0.8, 0.4]),
-        ParamObject::new(ParamFunction::Heart)
-            .with_transform(place(
-                Vec3::new(0.7, 0.7, 1.2),
-                Quat::from_rotation_y(0.7),
-                Vec3::new(0.1, 0.2, 0.0),
-            ))
-            .with_colour([0.9, 0.3, 0.3]),
-        ParamObject::new(glyph8()).with_transform(place(
-            Vec3::splat(0.6),
-            Quat::from_rotation_z(0.3),
-            Vec3::new(1.1, -0.1, 0.2),
-        )),
-    ])
-}
 
 macro_rules! opts {
     ($($field:ident: $value:expr),*) => {
@@ -140,20 +78,6 @@ fn host_structs_match_shader_layouts() {
 
 // ---------------------------------------------------------------------------------------------
 // Images
-
-/// (IoU, fraction of co-covered pixels within 4/255, co-covered pixels).
-fn compare(image: &RgbaImage, reference: &RgbaImage) -> (f64, f64, usize) {
-    let bg = pack_rgba8([BACKGROUND[0], BACKGROUND[1], BACKGROUND[2], 1.0]);
-    let a = coverage_of(image, bg);
-    let b = coverage_of(reference, bg);
-    let both: Vec<bool> = a.iter().zip(&b).map(|(x, y)| *x && *y).collect();
-    let diff = image.compare_where(reference, &both, 4);
-    (
-        silhouette_iou(&a, &b),
-        diff.fraction_within,
-        both.iter().filter(|&&x| x).count(),
-    )
-}
 
 /// What [`render`] made.
 struct Rendered {

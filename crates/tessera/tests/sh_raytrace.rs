@@ -5,6 +5,8 @@
 
 mod common;
 
+use common::param::*;
+
 use common::{assert_clean, gpu, out_dir, write_png};
 use glam::{DVec3, Mat4, Quat, Vec3};
 use tessera::param::raytrace::{
@@ -14,28 +16,16 @@ use tessera::param::raytrace::{
 use tessera::param::{GpuParamScene, ParamObject, ParamPoints, ParamPointsOptions, ParamScene};
 use tessera::shaders;
 use tessera::target::PixelTarget;
-use tessera_data::image::{coverage_of, silhouette_iou};
+use tessera_data::image::coverage_of;
 use tessera_data::param::raytrace::{glyph_bound, radius_scale_offset, trace_glyphs, GlyphGrid};
 use tessera_data::param::reference::{render_reference, DEFAULT_MAX_CELL_PX};
-use tessera_data::param::sh::{sh_coefficient_count, sh_index};
+use tessera_data::param::sh::sh_coefficient_count;
 use tessera_data::param::{ParamFunction, RadiusNormalization, ShBasis, ShGlyph};
 use tessera_data::shading::pack_rgba8;
 use tessera_data::{OrbitCamera, RgbaImage};
 use tessera_gpu::Gpu;
 
-const BACKGROUND: [f32; 3] = [20.0 / 255.0, 20.0 / 255.0, 26.0 / 255.0];
-const SIZE: (u32, u32) = (160, 160);
-const POISON: u32 = 0xdead_beef;
 const NON_LEGACY: ShBasis = ShBasis::Descoteaux07 { legacy: false };
-
-fn camera(az: f32, el: f32, distance: f32) -> OrbitCamera {
-    OrbitCamera {
-        azimuth_deg: az,
-        elevation_deg: el,
-        distance,
-        ..OrbitCamera::default()
-    }
-}
 
 fn opts(max_order: u32, supersample: u32, cell_scale: f32) -> ShRaytraceOptions {
     ShRaytraceOptions {
@@ -43,23 +33,6 @@ fn opts(max_order: u32, supersample: u32, cell_scale: f32) -> ShRaytraceOptions 
         supersample,
         cell_scale,
     }
-}
-
-/// param_points.rs's order-8 glyph: lobes in several directions, min-max normalised.
-fn glyph8() -> ParamFunction {
-    let mut c = vec![0.0; sh_coefficient_count(8).unwrap()];
-    for (l, m, value) in [
-        (0, 0, 1.0),
-        (2, 0, 0.5),
-        (2, 2, 0.4),
-        (4, -3, 0.3),
-        (6, 5, 0.25),
-        (8, 8, 0.2),
-        (8, -1, 0.15),
-    ] {
-        c[sh_index(l, m).unwrap()] = value;
-    }
-    ParamFunction::ShGlyph(ShGlyph::new(NON_LEGACY, 8, c, RadiusNormalization::MinMax).unwrap())
 }
 
 /// A glyph of `order` with deterministic pseudo-random coefficients shrinking as `1/√l` around
@@ -206,20 +179,6 @@ fn param_points(gpu: &Gpu, scene: &ParamScene, cam: &OrbitCamera, supersample: u
     uploaded.destroy(gpu);
     points.destroy(gpu);
     image
-}
-
-/// (IoU, fraction of co-covered pixels within 4/255, co-covered pixels), as param_points.rs.
-fn compare(image: &RgbaImage, reference: &RgbaImage) -> (f64, f64, usize) {
-    let bg = pack_rgba8([BACKGROUND[0], BACKGROUND[1], BACKGROUND[2], 1.0]);
-    let a = coverage_of(image, bg);
-    let b = coverage_of(reference, bg);
-    let both: Vec<bool> = a.iter().zip(&b).map(|(x, y)| *x && *y).collect();
-    let diff = image.compare_where(reference, &both, 4);
-    (
-        silhouette_iou(&a, &b),
-        diff.fraction_within,
-        both.iter().filter(|&&x| x).count(),
-    )
 }
 
 /// Silhouette IoU >= 0.99 and >= 98 % of co-covered pixels within 4/255, with enough surface

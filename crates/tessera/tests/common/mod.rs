@@ -3,6 +3,7 @@
 #![allow(dead_code)]
 
 pub mod interval;
+pub mod param;
 pub mod raster;
 
 use glam::Vec3;
