@@ -59,12 +59,13 @@ fn variants(
     }
     if support.compute {
         // The pixel limit above which a tet goes to the tile pass; u32::MAX never tiles.
-        let limits: &[u32] = if scalar.is_some() {
-            &[4096]
+        // None: the automatic limit.
+        let limits: &[Option<u32>] = if scalar.is_some() {
+            &[None]
         } else if small && view != "inside" {
-            &[256, 4096, 65536, u32::MAX]
+            &[None, Some(256), Some(4096), Some(65536), Some(u32::MAX)]
         } else {
-            &[256, 4096, 65536]
+            &[None, Some(256), Some(4096), Some(65536)]
         };
         for &limit in limits {
             out.push(Variant {
@@ -73,10 +74,10 @@ fn variants(
                     inline_pixel_limit: limit,
                     ..IntervalOptions::new(Path::Compute)
                 },
-                label: if limit == u32::MAX {
-                    format!("{kind}, untiled")
-                } else {
-                    format!("{kind}, tiles above {limit} px")
+                label: match limit {
+                    None => format!("{kind}, automatic tile limit"),
+                    Some(u32::MAX) => format!("{kind}, untiled"),
+                    Some(limit) => format!("{kind}, tiles above {limit} px"),
                 },
             });
         }
@@ -227,7 +228,7 @@ fn asteroids(
                 integrand: Integrand::Asteroids,
                 ..IntervalOptions::new(Path::Compute)
             },
-            label: "asteroids, tiles above 4096 px".into(),
+            label: "asteroids, automatic tile limit".into(),
         });
     }
     for (view, distance) in [("outside", 1.5f32), ("inside", 0.15)] {

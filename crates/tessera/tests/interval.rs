@@ -66,14 +66,14 @@ fn variants(gpu: &Gpu, integrand: &Integrand, all: bool) -> Vec<(String, Interva
                 out.push((
                     "compute, all tiled".into(),
                     IntervalOptions {
-                        inline_pixel_limit: 0,
+                        inline_pixel_limit: Some(0),
                         ..base.clone()
                     },
                 ));
                 out.push((
                     "compute, tile buffers full".into(),
                     IntervalOptions {
-                        inline_pixel_limit: 0,
+                        inline_pixel_limit: Some(0),
                         tile_capacity: TileCapacity { tets: 3, tiles: 8 },
                         ..base
                     },
@@ -112,7 +112,7 @@ fn assert_variants_match(
         let label = format!("{name} ({variant})");
         let snap = common::interval::snap_px(gpu, options.path);
         covered = compare(&label, &frame, expected, w, snap);
-        if options.path == Path::Compute && options.inline_pixel_limit == 0 {
+        if options.path == Path::Compute && options.inline_pixel_limit == Some(0) {
             assert!(frame.tiled > 0, "{label}: no tet reached the tile pass");
             let full = options.tile_capacity.tets < 10;
             assert_eq!(

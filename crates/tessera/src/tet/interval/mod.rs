@@ -100,8 +100,9 @@ pub struct IntervalOptions {
     pub integrand: Integrand,
     /// Graphics path: tets per mesh workgroup (1 to 16).
     pub tets_per_workgroup: u32,
-    /// Compute path: tets whose screen rectangle holds more pixels go to the tile pass.
-    pub inline_pixel_limit: u32,
+    /// Compute path: tets whose screen rectangle holds more pixels go to the tile pass; `None`
+    /// picks it from the mesh and image ([`auto_inline_limit`]).
+    pub inline_pixel_limit: Option<u32>,
     pub tile_capacity: TileCapacity,
 }
 
@@ -111,7 +112,7 @@ impl IntervalOptions {
             path,
             integrand: Integrand::TetAbsorption,
             tets_per_workgroup: graphics::MAX_TETS_PER_WORKGROUP,
-            inline_pixel_limit: 4096,
+            inline_pixel_limit: None,
             tile_capacity: TileCapacity::default(),
         }
     }
@@ -142,6 +143,19 @@ pub struct Interval {
     table: Buffer,
     stats: Buffer,
     options: IntervalOptions,
+}
+
+/// The compute path's pixel limit for `tets` tets drawn into `pixels` pixels. On the H200
+/// (docs/BENCHMARKS.md, runs 20–22) 256 pixels was 1.1–1.5× faster for meshes of fewer than
+/// 0.008 tets per pixel (their tets are large and few; tiles spread them over the GPU) and 4096
+/// pixels 1.6–2.3× faster from 0.11 tets per pixel on (enough tets keep the GPU busy, and tiles
+/// of mid-size tets would be mostly idle); the switch sits between the two.
+pub fn auto_inline_limit(tets: u32, pixels: u64) -> u32 {
+    if f64::from(tets) > 0.03 * pixels as f64 {
+        4096
+    } else {
+        256
+    }
 }
 
 /// The paths interval shading can run on `caps`'s device: mesh shaders for the graphics path,
@@ -261,7 +275,9 @@ impl Interval {
                 mesh.tet_count,
                 width,
                 height,
-                self.options.inline_pixel_limit,
+                self.options.inline_pixel_limit.unwrap_or_else(|| {
+                    auto_inline_limit(mesh.tet_count, u64::from(width) * u64::from(height))
+                }),
             ],
             eye: camera.eye().extend(1.0).to_array(),
         }
@@ -390,5 +406,19 @@ impl Interval {
         self.composite.destroy(gpu);
         gpu.destroy_buffer(self.table);
         gpu.destroy_buffer(self.stats);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::auto_inline_limit;
+
+    #[test]
+    fn automatic_limit_follows_the_measured_meshes() {
+        let pixels = 3840 * 2160;
+        // The limit that was faster on most views of each mesh at 4K (runs 20–22).
+        for (tets, best) in [(45_111, 256), (63_888, 256), (944_784, 4096), (2_431_344, 4096)] {
+            assert_eq!(auto_inline_limit(tets, pixels), best, "{tets} tets");
+        }
     }
 }
