@@ -90,7 +90,8 @@ pub fn load(spec: &str, basis: ShBasis) -> Result<ParamScene> {
                 .split_once('x')
                 .and_then(|(a, b)| Some((a.parse::<u32>().ok()?, b.parse::<u32>().ok()?)))
                 .with_context(|| format!("'{spec}': expected ROWSxLOOPS, found '{grid}'"))?;
-            Ok(scenes::yarn_curtain(rows, loops, parts.len() == 3)?)
+            Ok(scenes::yarn_curtain(rows, loops, parts.len() == 3)
+                .with_context(|| spec.to_string())?)
         }
         ["sh-glyph", order] => {
             let order = parse_order(order, spec)?;
@@ -195,7 +196,9 @@ pub fn run(options: &GpuOptions, args: &RenderArgs, param: &ParamArgs) -> Result
         param.msaa,
         param.pre_split,
     )?;
-    let mut prepared = renderer.prepare(&gpu, &scene)?;
+    let mut prepared = renderer
+        .prepare(&gpu, &scene)
+        .with_context(|| args.data.clone())?;
     if let (Some(f), PreparedScene::Plain(gpu_scene)) = (&user, &mut prepared) {
         // The CPU cannot evaluate the user's GLSL: its extent is measured on the GPU.
         let probe = ParamPoints::new(&gpu, &compiler, ParamPointsOptions::default())?;
