@@ -417,7 +417,12 @@ mod tests {
     fn automatic_limit_follows_the_measured_meshes() {
         let pixels = 3840 * 2160;
         // The limit that was faster on most views of each mesh at 4K (runs 20–22).
-        for (tets, best) in [(45_111, 256), (63_888, 256), (944_784, 4096), (2_431_344, 4096)] {
+        for (tets, best) in [
+            (45_111, 256),
+            (63_888, 256),
+            (944_784, 4096),
+            (2_431_344, 4096),
+        ] {
             assert_eq!(auto_inline_limit(tets, pixels), best, "{tets} tets");
         }
     }
