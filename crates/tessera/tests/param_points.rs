@@ -8,35 +8,24 @@ mod common;
 use common::param::*;
 
 use common::{assert_clean, gpu, out_dir, write_png};
-use glam::{Mat4, Vec2, Vec3};
-use std::collections::HashMap;
-use std::sync::atomic::{AtomicUsize, Ordering};
+use glam::{Mat4, Vec3};
 use tessera::param::lod::{LodParams, PrepareParams};
 use tessera::param::points::{points_defines, PointsParams, ResolveParams};
 use tessera::param::scene::GpuObject;
 use tessera::param::{
     Footprint, GpuParamScene, GpuPatch, LodSample, ParamObject, ParamPoints, ParamPointsOptions,
-    ParamScene, ParamView, PointsFrame,
+    ParamScene, PointsFrame,
 };
 use tessera::shaders;
 use tessera_data::image::coverage_of;
 use tessera_data::param::reference::{render_reference, world_position, DEFAULT_MAX_CELL_PX};
 use tessera_data::param::sh::{sh_basis, sh_coefficient_count};
-use tessera_data::param::{
-    run_lod, LodConfig, ParamFunction, Patch, RadiusNormalization, SeashellParams, ShBasis, ShGlyph,
-};
+use tessera_data::param::{ParamFunction, RadiusNormalization, SeashellParams, ShBasis, ShGlyph};
 use tessera_data::shading::pack_rgba8;
 use tessera_data::OrbitCamera;
 use tessera_gpu::Gpu;
 
 const NON_LEGACY: ShBasis = ShBasis::Descoteaux07 { legacy: false };
-
-/// The default options with some fields changed.
-macro_rules! opts {
-    ($($field:ident: $value:expr),*) => {
-        ParamPointsOptions { $($field: $value,)* ..ParamPointsOptions::default() }
-    };
-}
 
 // ---------------------------------------------------------------------------------------------
 // Layouts
@@ -130,7 +119,7 @@ fn directions(n: usize) -> Vec<(f32, f32)> {
 fn sh_basis_matches_the_cpu() {
     let gpu = gpu();
     let compiler = shaders::compiler();
-    let points = ParamPoints::new(&gpu, &compiler, opts!()).unwrap();
+    let points = ParamPoints::new(&gpu, &compiler, points_opts!()).unwrap();
     let dirs = directions(12);
     for (basis, order) in [
         (NON_LEGACY, 16),
@@ -178,7 +167,7 @@ fn sh_basis_matches_the_cpu() {
 fn functions_match_the_cpu() {
     let gpu = gpu();
     let compiler = shaders::compiler();
-    let points = ParamPoints::new(&gpu, &compiler, opts!()).unwrap();
+    let points = ParamPoints::new(&gpu, &compiler, points_opts!()).unwrap();
     let scene = trio();
     let gpu_scene = GpuParamScene::upload(&gpu, &scene).unwrap();
     let dirs = directions(24);
@@ -224,172 +213,6 @@ fn functions_match_the_cpu() {
     assert!(unlike * 200 <= queries.len(), "{unlike} normals differ");
     gpu_scene.destroy(&gpu);
     points.destroy(&gpu);
-    assert_clean(&gpu);
-}
-
-// ---------------------------------------------------------------------------------------------
-// LOD
-
-/// Runs the GPU LOD stage with capture, then the CPU reference fed the captured pixel positions
-/// (so transcendental functions cannot make the two differ), and demands identical outputs.
-/// Returns (patches to render, steps that evaluated something, culled, limit hits).
-fn assert_lod_matches(
-    gpu: &Gpu,
-    name: &str,
-    scene: &ParamScene,
-    cam: &OrbitCamera,
-    options: ParamPointsOptions,
-) -> (usize, usize, u32, u32) {
-    let compiler = shaders::compiler();
-    let points = ParamPoints::new(gpu, &compiler, options).unwrap();
-    let gpu_scene = GpuParamScene::upload(gpu, scene).unwrap();
-    let view = ParamView::new(&gpu_scene.bounds, cam, SIZE, 1).unwrap();
-    points.poison(gpu).unwrap();
-    let capacity = 1 << 21;
-    let (gpu_patches, stats, samples) = points.run_lod(gpu, &gpu_scene, &view, capacity).unwrap();
-    let evaluated: u32 = stats.evaluated_per_step.iter().sum();
-    assert_eq!(stats.captured, 89 * evaluated, "{name}: capture incomplete");
-    assert_eq!(
-        samples.len(),
-        stats.captured as usize,
-        "{name}: capture full"
-    );
-    assert_eq!(stats.dropped, 0, "{name}");
-
-    // The GPU's pixel positions, and how far the on-screen ones are from the CPU functions'
-    // projections (off screen, pixel errors grow with the distance; near the eye plane a sample
-    // may fall on either side of it).
-    let mut screen: HashMap<(u32, u32, u32), Vec2> = HashMap::new();
-    let objects = scene.reference_objects();
-    let (mut worst, mut sides) = (0.0f32, 0);
-    let inside = |q: Vec2| q.cmpge(Vec2::ZERO).all() && q.cmple(view.viewport()).all();
-    for s in &samples {
-        let p = Vec2::new(s.x, s.y);
-        let key = (s.object, s.u.to_bits(), s.v.to_bits());
-        if let Some(old) = screen.insert(key, p) {
-            assert!(old == p || (old.is_nan() && p.is_nan()), "{name}: {s:?}");
-        }
-        match view.project(world_position(&objects[s.object as usize], s.u, s.v)) {
-            Some((q, _)) if !p.is_nan() && inside(q) => worst = worst.max((q - p).length()),
-            Some(_) if !p.is_nan() => {}
-            None if p.is_nan() => {}
-            _ => sides += 1,
-        }
-    }
-    assert!(worst < 0.05, "{name}: GPU positions {worst} pixels off");
-    assert!(
-        sides * 1000 <= samples.len(),
-        "{name}: {sides} samples behind on one side"
-    );
-
-    let misses = AtomicUsize::new(0);
-    let config = LodConfig {
-        viewport: view.viewport(),
-        thresholds: Vec2::from(options.thresholds),
-        max_steps: options.max_steps,
-        frustum_culling: options.frustum_culling,
-        max_patches: options.patch_capacity as usize,
-    };
-    let initial: Vec<Patch> = scene
-        .objects
-        .iter()
-        .enumerate()
-        .flat_map(|(i, o)| {
-            Patch::from_domain(&o.function.domain(), i as u32)
-                .pre_split(options.pre_split)
-                .unwrap()
-        })
-        .collect();
-    let cpu = run_lod(
-        &initial,
-        |object, u, v| match screen.get(&(object, u.to_bits(), v.to_bits())) {
-            Some(p) => p.extend(0.0),
-            None => {
-                misses.fetch_add(1, Ordering::Relaxed);
-                Vec3::NAN
-            }
-        },
-        |p| Some(p.truncate()),
-        &config,
-    )
-    .unwrap();
-    assert_eq!(misses.into_inner(), 0, "{name}: CPU samples unknown");
-
-    let bits = |r: [f32; 2]| r.map(f32::to_bits);
-    let key = |o, u, v, e, step, over: bool| (o, bits(u), bits(v), bits(e), step, over);
-    let mut g: Vec<_> = gpu_patches
-        .iter()
-        .map(|p| key(p.object, p.u, p.v, p.extent, p.step(), p.over_threshold()))
-        .collect();
-    let mut c: Vec<_> = (cpu.render.iter())
-        .map(|r| (r.patch, r.extent.to_array(), r.step, r.over_threshold))
-        .map(|(p, e, step, over)| key(p.object, p.u, p.v, e, step, over))
-        .collect();
-    g.sort();
-    c.sort();
-    assert_eq!(g.len(), c.len(), "{name}: patch counts differ");
-    assert!(g == c, "{name}: the patches to render differ");
-    let cpu_steps: Vec<u32> = cpu.evaluated_per_step.iter().map(|&n| n as u32).collect();
-    assert_eq!(stats.evaluated_per_step, cpu_steps, "{name}");
-    assert_eq!(stats.culled as usize, cpu.culled, "{name}");
-    assert_eq!(stats.limit_hits as usize, cpu.limit_hits, "{name}");
-    let hits = stats.resolution_hits as usize;
-    assert_eq!(hits, cpu.resolution_hits, "{name}");
-    let steps = cpu_steps.iter().filter(|&&n| n > 0).count();
-    eprintln!(
-        "{name}: {} patches to render, {steps} steps, evaluated {cpu_steps:?}, {} culled, \
-         {} limit hits, positions within {worst:.1e} px",
-        g.len(),
-        stats.culled,
-        stats.limit_hits
-    );
-    gpu_scene.destroy(gpu);
-    points.destroy(gpu);
-    (g.len(), steps, stats.culled, stats.limit_hits)
-}
-
-#[test]
-fn lod_matches_the_cpu() {
-    let gpu = gpu();
-    let sphere = || one(ParamFunction::Sphere);
-    // (name, scene, camera, threshold, steps, least patches, least steps, culls, hits limit)
-    #[rustfmt::skip]
-    let cases = [
-        ("sphere", sphere(), camera(30.0, 20.0, 3.5), 84.0, 12, 5, 3, false, false),
-        ("sphere close", sphere(), camera(10.0, 35.0, 1.6), 12.0, 12, 500, 6, true, false),
-        ("heart", one(ParamFunction::Heart), camera(-40.0, 10.0, 2.5), 10.0, 12, 200, 6, false, false),
-        ("glyph", one(glyph8()), camera(60.0, -25.0, 2.2), 16.0, 12, 200, 6, true, false),
-        ("trio", trio(), camera(25.0, 5.0, 1.2), 20.0, 12, 200, 6, true, false),
-        ("step limit", sphere(), camera(0.0, 0.0, 3.0), 4.0, 3, 50, 3, false, true),
-    ];
-    for (name, scene, cam, t, max_steps, patches, steps, culls, limit) in cases {
-        let options = opts!(thresholds: [t, t], max_steps: max_steps);
-        let (n, s, culled, hits) = assert_lod_matches(&gpu, name, &scene, &cam, options);
-        assert!(n >= patches && s >= steps, "{name}: {n} patches, {s} steps");
-        assert_eq!((culled > 0, hits > 0), (culls, limit), "{name}");
-    }
-    assert_clean(&gpu);
-}
-
-#[test]
-fn pre_split_lod_matches_the_cpu() {
-    let gpu = gpu();
-    let options = opts!(thresholds: [20.0, 20.0], pre_split: 4);
-    let (n, _, _, _) = assert_lod_matches(
-        &gpu,
-        "trio pre-split",
-        &trio(),
-        &camera(25.0, 5.0, 1.2),
-        options,
-    );
-    assert!(n >= 3 * 16, "{n} patches: every object starts as 16");
-    let compiler = shaders::compiler();
-    for bad in [0, 3, 32] {
-        assert!(
-            ParamPoints::new(&gpu, &compiler, opts!(pre_split: bad)).is_err(),
-            "{bad}"
-        );
-    }
     assert_clean(&gpu);
 }
 
@@ -466,7 +289,13 @@ fn assert_image_matches(
 fn sphere_image_matches_the_reference() {
     let gpu = gpu();
     let sphere = one(ParamFunction::Sphere);
-    assert_image_matches(&gpu, "sphere", &sphere, &camera(30.0, 20.0, 3.5), opts!());
+    assert_image_matches(
+        &gpu,
+        "sphere",
+        &sphere,
+        &camera(30.0, 20.0, 3.5),
+        points_opts!(),
+    );
     assert_clean(&gpu);
 }
 
@@ -474,7 +303,13 @@ fn sphere_image_matches_the_reference() {
 fn heart_image_matches_the_reference() {
     let gpu = gpu();
     let heart = one(ParamFunction::Heart);
-    assert_image_matches(&gpu, "heart", &heart, &camera(-30.0, 15.0, 2.6), opts!());
+    assert_image_matches(
+        &gpu,
+        "heart",
+        &heart,
+        &camera(-30.0, 15.0, 2.6),
+        points_opts!(),
+    );
     assert_clean(&gpu);
 }
 
@@ -482,7 +317,13 @@ fn heart_image_matches_the_reference() {
 fn glyph_image_matches_the_reference() {
     let gpu = gpu();
     let glyph = one(glyph8());
-    assert_image_matches(&gpu, "glyph", &glyph, &camera(60.0, -25.0, 2.4), opts!());
+    assert_image_matches(
+        &gpu,
+        "glyph",
+        &glyph,
+        &camera(60.0, -25.0, 2.4),
+        points_opts!(),
+    );
     assert_clean(&gpu);
 }
 
@@ -491,8 +332,14 @@ fn glyph_image_matches_the_reference() {
 #[test]
 fn scene_and_supersampling_match_the_reference() {
     let gpu = gpu();
-    assert_image_matches(&gpu, "trio", &trio(), &camera(25.0, 10.0, 3.2), opts!());
-    let ss = opts!(supersample: 2);
+    assert_image_matches(
+        &gpu,
+        "trio",
+        &trio(),
+        &camera(25.0, 10.0, 3.2),
+        points_opts!(),
+    );
+    let ss = points_opts!(supersample: 2);
     assert_image_matches(
         &gpu,
         "sphere-ss2",
@@ -509,7 +356,7 @@ fn scene_and_supersampling_match_the_reference() {
 fn pixel_footprint_covers_the_silhouette() {
     let gpu = gpu();
     let compiler = shaders::compiler();
-    let opts = opts!(footprint: Footprint::Pixel, density: 2.0);
+    let opts = points_opts!(footprint: Footprint::Pixel, density: 2.0);
     let points = ParamPoints::new(&gpu, &compiler, opts).unwrap();
     let scene = one(glyph8());
     let gpu_scene = GpuParamScene::upload(&gpu, &scene).unwrap();
@@ -565,11 +412,11 @@ fn bad_input_is_refused() {
     let gpu = gpu();
     let compiler = shaders::compiler();
     for bad in [
-        opts!(supersample: 0),
-        opts!(density: 0.0),
-        opts!(max_steps: 0),
-        opts!(thresholds: [f32::NAN, 4.0]),
-        opts!(patch_capacity: 0),
+        points_opts!(supersample: 0),
+        points_opts!(density: 0.0),
+        points_opts!(max_steps: 0),
+        points_opts!(thresholds: [f32::NAN, 4.0]),
+        points_opts!(patch_capacity: 0),
     ] {
         assert!(ParamPoints::new(&gpu, &compiler, bad).is_err(), "{bad:?}");
     }
@@ -588,7 +435,7 @@ fn bad_input_is_refused() {
     assert!(GpuParamScene::upload(&gpu, &flat).is_err());
 
     // Lists of 8 patches cannot hold a close sphere's LOD: the frame is refused, not drawn.
-    let small = opts!(patch_capacity: 8);
+    let small = points_opts!(patch_capacity: 8);
     let points = ParamPoints::new(&gpu, &compiler, small).unwrap();
     let scene = GpuParamScene::upload(&gpu, &one(ParamFunction::Sphere)).unwrap();
     let cam = camera(0.0, 0.0, 2.0);
@@ -599,7 +446,7 @@ fn bad_input_is_refused() {
     }
     assert!(points.probe(&gpu, &scene, &[(1, 0.0, 0.0)]).is_err());
     // More objects than a list holds: refused too.
-    let two = ParamPoints::new(&gpu, &compiler, opts!(patch_capacity: 2)).unwrap();
+    let two = ParamPoints::new(&gpu, &compiler, points_opts!(patch_capacity: 2)).unwrap();
     let three = GpuParamScene::upload(&gpu, &trio()).unwrap();
     let far = camera(0.0, 0.0, 20.0);
     assert!(two

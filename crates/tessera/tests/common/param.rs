@@ -86,3 +86,11 @@ pub fn compare(image: &RgbaImage, reference: &RgbaImage) -> (f64, f64, usize) {
         both.iter().filter(|&&x| x).count(),
     )
 }
+
+/// `ParamPointsOptions` with some fields changed from the defaults.
+#[macro_export]
+macro_rules! points_opts {
+    ($($field:ident: $value:expr),*) => {
+        tessera::param::ParamPointsOptions { $($field: $value,)* ..tessera::param::ParamPointsOptions::default() }
+    };
+}
