@@ -1,7 +1,6 @@
 //! `param-points` (paper E) against the CPU: the SH basis and the parametric functions as the
-//! shaders evaluate them, the GPU LOD stage against `tessera_data::param::run_lod` (exactly,
-//! fed the GPU's own sample positions), and rendered images against the CPU reference of
-//! `tessera_data::param::reference`.
+//! shaders evaluate them, and rendered images against the CPU reference of
+//! `tessera_data::param::reference` (the LOD stage is held to the CPU in `param_lod.rs`).
 
 mod common;
 
