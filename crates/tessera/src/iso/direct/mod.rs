@@ -212,14 +212,7 @@ impl Direct {
             &slots,
             &targets,
         )?;
-        let stats = gpu.create_buffer(
-            "direct stats",
-            16,
-            vk::BufferUsageFlags::STORAGE_BUFFER
-                | vk::BufferUsageFlags::TRANSFER_SRC
-                | vk::BufferUsageFlags::TRANSFER_DST,
-            MemoryLocation::GpuOnly,
-        )?;
+        let stats = crate::raster::create_counts_buffer(gpu, "direct stats")?;
         Ok(Direct {
             pipeline,
             list_pipeline,

@@ -31,7 +31,7 @@ use graphics::{Combine, IntervalGraphics};
 use mesh::OpticalStore;
 use tessera_data::transfer::{IntegrandTable, ScalarMode};
 use tessera_data::{GridFrame, OrbitCamera, Projection, RgbaImage};
-use tessera_gpu::{vk, Binding, Buffer, Gpu, MemoryLocation, Recorder, ShaderCompiler, Timer};
+use tessera_gpu::{vk, Binding, Buffer, Gpu, Recorder, ShaderCompiler, Timer};
 
 /// Bindings every pass shares (`buffers.glsl`): vertices, tets, absorption, table, stats.
 pub(crate) const COMMON_BINDINGS: usize = 5;
@@ -210,14 +210,7 @@ impl Interval {
             bytemuck::cast_slice(&options.integrand.table_words()),
             vk::BufferUsageFlags::STORAGE_BUFFER,
         )?;
-        let stats = gpu.create_buffer(
-            "interval stats",
-            16,
-            vk::BufferUsageFlags::STORAGE_BUFFER
-                | vk::BufferUsageFlags::TRANSFER_SRC
-                | vk::BufferUsageFlags::TRANSFER_DST,
-            MemoryLocation::GpuOnly,
-        )?;
+        let stats = crate::raster::create_counts_buffer(gpu, "interval stats")?;
         Ok(Interval {
             renderer,
             composite,
