@@ -6,7 +6,7 @@ use std::io::Write;
 use std::path::PathBuf;
 use tessera::bench::{time_frames, BenchRecord, FramePlan};
 use tessera::iso::raymarch::Raymarch;
-use tessera::target::PixelTarget;
+use tessera::target::Target;
 use tessera_data::minmax::MinMaxOctree;
 use tessera_data::{IsoValue, OrbitCamera, ScalarType, Volume};
 use tessera_gpu::{vk, Gpu, GpuOptions, MemoryLocation};
@@ -230,14 +230,13 @@ pub(crate) fn settle(
     iso: f32,
 ) -> Result<()> {
     const SETTLE_FRAMES: u32 = 100;
-    let target = PixelTarget::new(gpu, 1280, 720)?;
+    let target = Target::new(gpu, 1280, 720)?;
     let params = Raymarch::params(prepared, iso, &OrbitCamera::default(), 1280, 720);
     let result = gpu.submit("settle", |rec| {
         for _ in 0..SETTLE_FRAMES {
             raymarch.record(rec, prepared, &target, &params);
         }
     });
-    target.destroy(gpu);
     Ok(result?)
 }
 
@@ -260,7 +259,7 @@ fn raymarch(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -> Re
         let prepared = rm.prepare(gpu, &volume)?;
         settle(gpu, &rm, &prepared, iso)?;
         for (w, h) in bench_sizes(args) {
-            let target = PixelTarget::new(gpu, w, h)?;
+            let target = Target::new(gpu, w, h)?;
             let params = Raymarch::params(&prepared, iso, &camera, w, h);
             let stages = time_frames(gpu, plan, 1, |rec, timer| {
                 timer.scope(rec, "raymarch", |rec| {
@@ -277,10 +276,7 @@ fn raymarch(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -> Re
                     .insert("mrays_per_s".into(), (w * h) as f64 / ms / 1e3);
             }
             sink.emit(&r)?;
-            target.destroy(gpu);
         }
-        prepared.destroy(gpu);
-        rm.destroy(gpu);
     }
     Ok(())
 }
@@ -320,10 +316,6 @@ fn minmax_build(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -
             r.counts.insert("build_over_copy".into(), build / copy);
         }
         sink.emit(&r)?;
-        gpu.destroy_buffer(src);
-        gpu.destroy_buffer(dst);
-        prepared.destroy(gpu);
-        rm.destroy(gpu);
     }
     Ok(())
 }

@@ -25,21 +25,20 @@ pub(crate) fn measure_compute_culled(
     let camera = OrbitCamera::default();
     let (w, h) = (r.width, r.height);
     let target = ComputeTarget::new(gpu, w, h, capacity)?;
-    let state = match ComputeCullState::new(gpu, prepared, &target) {
-        Ok(s) => s,
-        Err(e) => {
-            target.destroy(gpu);
-            return Err(e.into());
-        }
-    };
+    let state = ComputeCullState::new(gpu, prepared, &target)?;
     let stages = time_culled_frames(gpu, plan, |frame, rec, timer| {
         let params = Direct::params(prepared, iso_of(frame), &camera, w, h, capacity);
-        compute.record_culled_timed(rec, prepared, &target, &params, &state, Some(timer))
+        compute.record_culled_timed(
+            rec,
+            prepared,
+            &target,
+            &target.pixels,
+            &params,
+            &state,
+            Some(timer),
+        )
     });
-    let stats = state.read_stats(gpu);
-    state.destroy(gpu);
-    target.destroy(gpu);
-    let (stages, stats) = (stages?, stats?);
+    let (stages, stats) = (stages?, state.read_stats(gpu)?);
     if stats.triangles_first.max(stats.triangles_new) > capacity {
         anyhow::bail!(
             "direct+hzb: a pass made {} triangles, the lists hold {capacity}",
@@ -73,30 +72,25 @@ fn time_culled_frames(
     let mut timer = Timer::new(gpu, 4)?;
     let mut samples: Vec<(String, Vec<f64>)> = Vec::new();
     let mut totals = Vec::new();
-    let result = (|| -> Result<()> {
-        for frame in 0..plan.warmup + plan.frames {
-            timer.reset(gpu);
-            let mut recorded = Ok(());
-            gpu.submit("benchmark frame", |rec| {
-                recorded = record(frame, rec, &mut timer)
-            })?;
-            recorded?;
-            if frame < plan.warmup {
-                continue;
-            }
-            let stages = timer.read_ms(gpu)?;
-            totals.push(stages.iter().map(|s| s.1).sum::<f64>());
-            for (i, (name, ms)) in stages.into_iter().enumerate() {
-                if samples.len() <= i {
-                    samples.push((name, Vec::new()));
-                }
-                samples[i].1.push(ms);
-            }
+    for frame in 0..plan.warmup + plan.frames {
+        timer.reset(gpu);
+        let mut recorded = Ok(());
+        gpu.submit("benchmark frame", |rec| {
+            recorded = record(frame, rec, &mut timer)
+        })?;
+        recorded?;
+        if frame < plan.warmup {
+            continue;
         }
-        Ok(())
-    })();
-    timer.destroy(gpu);
-    result?;
+        let stages = timer.read_ms(gpu)?;
+        totals.push(stages.iter().map(|s| s.1).sum::<f64>());
+        for (i, (name, ms)) in stages.into_iter().enumerate() {
+            if samples.len() <= i {
+                samples.push((name, Vec::new()));
+            }
+            samples[i].1.push(ms);
+        }
+    }
     let mut stages: Vec<_> = samples
         .iter()
         .map(|(name, s)| StageStats::from_samples(name, s))

@@ -8,7 +8,7 @@ use tessera::iso::direct::cull::CullState;
 use tessera::iso::direct::{Direct, RasterTarget};
 use tessera::iso::raymarch::Raymarch;
 use tessera::iso::PreparedVolume;
-use tessera::target::PixelTarget;
+use tessera::target::Target;
 use tessera_data::{IsoValue, OrbitCamera, ScalarType, Volume};
 use tessera_gpu::{Gpu, ShaderCompiler};
 
@@ -52,18 +52,6 @@ pub(crate) fn techniques(
     })
 }
 
-impl Techniques {
-    pub(crate) fn destroy(self, gpu: &Gpu) {
-        self.raymarch.destroy(gpu);
-        if let Some(d) = self.direct {
-            d.destroy(gpu);
-        }
-        if let Some(d) = self.direct_compute {
-            d.destroy(gpu);
-        }
-    }
-}
-
 #[allow(clippy::too_many_arguments)]
 fn measure(
     gpu: &Gpu,
@@ -88,7 +76,7 @@ fn measure(
         r
     };
 
-    let target = PixelTarget::new(gpu, w, h)?;
+    let target = Target::new(gpu, w, h)?;
     let mut frame = 0u32;
     let stages = time_frames(gpu, plan, 1, |rec, timer| {
         let params = Raymarch::params(prepared, iso_of(frame), &camera, w, h);
@@ -97,7 +85,7 @@ fn measure(
             t.raymarch.record(rec, prepared, &target, &params)
         });
     })?;
-    target.destroy(gpu);
+    drop(target);
     let mut r = record("raymarch", "compute");
     r.stages = stages;
     let raymarch_ms = r.median_ms("raymarch");
@@ -124,11 +112,6 @@ fn measure(
             });
             let stats = direct.read_stats(gpu);
             let cull_stats = state.as_ref().map(|s| s.read_stats(gpu)).transpose();
-            target.destroy(gpu);
-            gpu.destroy_buffer(capture);
-            if let Some(s) = state {
-                s.destroy(gpu);
-            }
             recorded.map_err(anyhow::Error::msg)?;
             let (stats, cull_stats) = (stats?, cull_stats?);
             let mut r = record(if culling { "direct+roc" } else { "direct" }, "mesh");
@@ -169,7 +152,7 @@ fn measure(
                 break;
             }
         }
-        probe.destroy(gpu);
+        drop(probe);
         let capacity = most + most / 4 + 1024;
         let target = ComputeTarget::new(gpu, w, h, capacity)?;
         let mut frame = 0u32;
@@ -180,9 +163,9 @@ fn measure(
                 compute.record(rec, prepared, &target, &params)
             });
         });
-        let stats = compute.read_stats(gpu);
-        target.destroy(gpu);
-        let stats = stats?;
+        let stats = compute.read_stats(gpu)?;
+        // The culled run below makes lists of the same capacity: free these first.
+        drop(target);
         let mut r = record("direct", "compute");
         r.stages = stages?;
         r.counts
@@ -225,8 +208,6 @@ fn run_scenario(
                 gpu, &t, &prepared, &volume, size, scenario, args, plan, sweep, sink,
             )?;
         }
-        prepared.destroy(gpu);
-        t.destroy(gpu);
     }
     Ok(())
 }
@@ -299,7 +280,7 @@ pub fn time_varying(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sin
         let dataset = format!("{size}^3 {} x{} steps", scalar.name(), steps.len());
         for (w, h) in bench_sizes(args) {
             let mut frame = 0usize;
-            let target = PixelTarget::new(gpu, w, h)?;
+            let target = Target::new(gpu, w, h)?;
             let stages = time_frames(gpu, plan, 3, |rec, timer| {
                 let k = next_step(rec, timer, &mut frame);
                 let params = Raymarch::params(&prepared, isos[k], &camera, w, h);
@@ -307,7 +288,7 @@ pub fn time_varying(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sin
                     t.raymarch.record(rec, &prepared, &target, &params)
                 });
             })?;
-            target.destroy(gpu);
+            drop(target);
             let mut r = BenchRecord::new(gpu, "time-varying", "raymarch", "compute", &dataset);
             (r.width, r.height, r.warmup, r.frames, r.stages) =
                 (w, h, plan.warmup, plan.frames, stages);
@@ -326,8 +307,6 @@ pub fn time_varying(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sin
                     });
                     recorded = recorded.clone().and(result.map_err(|e| e.to_string()));
                 });
-                target.destroy(gpu);
-                gpu.destroy_buffer(capture);
                 recorded.map_err(anyhow::Error::msg)?;
                 let mut r = BenchRecord::new(gpu, "time-varying", "direct", "mesh", &dataset);
                 (r.width, r.height, r.warmup, r.frames) = (w, h, plan.warmup, plan.frames);
@@ -351,7 +330,7 @@ pub fn time_varying(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sin
                     })?;
                     most = most.max(compute.read_stats(gpu)?.triangles);
                 }
-                probe.destroy(gpu);
+                drop(probe);
                 let capacity = most + most / 8 + 1024;
                 let target = ComputeTarget::new(gpu, w, h, capacity)?;
                 let stages = time_frames(gpu, plan, 3, |rec, timer| {
@@ -361,7 +340,6 @@ pub fn time_varying(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sin
                         compute.record(rec, &prepared, &target, &params)
                     });
                 });
-                target.destroy(gpu);
                 let mut r = BenchRecord::new(gpu, "time-varying", "direct", "compute", &dataset);
                 (r.width, r.height, r.warmup, r.frames) = (w, h, plan.warmup, plan.frames);
                 r.stages = stages?;
@@ -370,12 +348,6 @@ pub fn time_varying(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sin
                 sink.emit(&r)?;
             }
         }
-        prepared.destroy(gpu);
-        builder.destroy(gpu);
-        for s in staged {
-            gpu.destroy_buffer(s);
-        }
-        t.destroy(gpu);
     }
     Ok(())
 }

@@ -15,7 +15,7 @@ use tessera_gpu::Gpu;
 pub fn param(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -> Result<()> {
     let compiler = tessera::shaders::compiler();
     let size = if args.quick { (320, 180) } else { (1920, 1080) };
-    let basis = crate::render_param::parse_basis(None, "");
+    let basis = tessera_data::scene::param_spec::default_basis("");
     let orders: &[u32] = if args.quick {
         &[2, 8]
     } else {
@@ -23,7 +23,7 @@ pub fn param(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -> R
     };
     for &order in orders {
         let spec = format!("param:sh-glyph:order{order}");
-        let scene = crate::render_param::load(&spec, basis)?;
+        let scene = tessera_data::scene::param_spec::named_scene(&spec, basis)?;
         let camera = OrbitCamera {
             distance: 3.0,
             ..OrbitCamera::default()
@@ -42,7 +42,7 @@ pub fn param(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -> R
     }
     let grid = if args.quick { "20x20" } else { "140x140" };
     let spec = format!("param:sh-glyphs:{grid}:order12");
-    let scene = crate::render_param::load(&spec, basis)?;
+    let scene = tessera_data::scene::param_spec::named_scene(&spec, basis)?;
     let at = |distance: f32| OrbitCamera {
         azimuth_deg: 0.0,
         elevation_deg: 0.0,
@@ -58,12 +58,12 @@ pub fn param(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -> R
     } else {
         "param:yarn:235x254"
     };
-    let scene = crate::render_param::load(yarn, basis)?;
+    let scene = tessera_data::scene::param_spec::named_scene(yarn, basis)?;
     let views = [("whole", at(1.3)), ("close", at(0.3))];
     measure(
         gpu, &compiler, &scene, yarn, &views, &shapes, size, plan, sink,
     )?;
-    let scene = crate::render_param::load("param:seashell", basis)?;
+    let scene = tessera_data::scene::param_spec::named_scene("param:seashell", basis)?;
     let views = [(
         "whole",
         OrbitCamera {
@@ -99,49 +99,35 @@ fn measure(
     plan: FramePlan,
     sink: &mut Sink,
 ) -> Result<()> {
-    let result = (|| -> Result<()> {
-        for &technique in techniques {
-            for supersample in [1, 2] {
-                let renderer = ParamRenderer::new(gpu, compiler, technique, supersample, 1, 1)?;
-                let gpu_scene = match renderer.prepare(gpu, scene) {
-                    Ok(s) => s,
-                    Err(e) => {
-                        renderer.destroy(gpu);
-                        return Err(e);
-                    }
-                };
-                let measured = views.iter().try_for_each(|(view_name, camera)| {
-                    let view = renderer.view(&gpu_scene, camera, size)?;
-                    let frame = renderer.frame(gpu, &view, size)?;
-                    let background = [0.1, 0.1, 0.12];
-                    let stages = time_frames(gpu, plan, 2, |rec, timer| {
-                        renderer.record_timed(rec, timer, &gpu_scene, &view, &frame, background)
-                    });
-                    let patches = renderer.patches(gpu, &gpu_scene, &view, &frame, background);
-                    frame.destroy(gpu);
-                    let patches = patches?;
-                    let dataset = format!("{name}, {view_name}");
-                    let path = renderer.path();
-                    let mut r = BenchRecord::new(gpu, "param", renderer.name(), path, &dataset);
-                    r.variant = format!("{supersample}x{supersample} samples per pixel");
-                    (r.width, r.height, r.warmup, r.frames, r.stages) =
-                        (size.0, size.1, plan.warmup, plan.frames, stages?);
-                    r.counts
-                        .insert("objects".into(), scene.objects.len() as f64);
-                    r.counts.insert("patches".into(), f64::from(patches));
-                    let lod = r.median_ms("lod").unwrap_or(0.0);
-                    let draw = r.median_ms("draw").unwrap_or(0.0);
-                    if lod + draw > 0.0 {
-                        r.counts.insert("lod_share".into(), lod / (lod + draw));
-                    }
-                    sink.emit(&r)
+    for &technique in techniques {
+        for supersample in [1, 2] {
+            let renderer = ParamRenderer::new(gpu, compiler, technique, supersample, 1, 1)?;
+            let gpu_scene = renderer.prepare(gpu, scene)?;
+            views.iter().try_for_each(|(view_name, camera)| {
+                let view = renderer.view(&gpu_scene, camera, size)?;
+                let frame = renderer.frame(gpu, &view, size)?;
+                let background = [0.1, 0.1, 0.12];
+                let stages = time_frames(gpu, plan, 2, |rec, timer| {
+                    renderer.record_timed(rec, timer, &gpu_scene, &view, &frame, background)
                 });
-                gpu_scene.destroy(gpu);
-                renderer.destroy(gpu);
-                measured?;
-            }
+                let patches = renderer.patches(gpu, &gpu_scene, &view, &frame, background)?;
+                let dataset = format!("{name}, {view_name}");
+                let path = renderer.path();
+                let mut r = BenchRecord::new(gpu, "param", renderer.name(), path, &dataset);
+                r.variant = format!("{supersample}x{supersample} samples per pixel");
+                (r.width, r.height, r.warmup, r.frames, r.stages) =
+                    (size.0, size.1, plan.warmup, plan.frames, stages?);
+                r.counts
+                    .insert("objects".into(), scene.objects.len() as f64);
+                r.counts.insert("patches".into(), f64::from(patches));
+                let lod = r.median_ms("lod").unwrap_or(0.0);
+                let draw = r.median_ms("draw").unwrap_or(0.0);
+                if lod + draw > 0.0 {
+                    r.counts.insert("lod_share".into(), lod / (lod + draw));
+                }
+                sink.emit(&r)
+            })?;
         }
-        Ok(())
-    })();
-    result
+    }
+    Ok(())
 }

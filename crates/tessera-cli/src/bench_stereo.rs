@@ -9,7 +9,7 @@ use tessera::iso::direct::cull::CullState;
 use tessera::iso::direct::{Direct, RasterTarget};
 use tessera::iso::raymarch::Raymarch;
 use tessera::iso::PreparedVolume;
-use tessera::target::PixelTarget;
+use tessera::target::Target;
 use tessera_data::{IsoValue, OrbitCamera};
 use tessera_gpu::{Gpu, ShaderCompiler};
 
@@ -42,7 +42,7 @@ pub fn stereo(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -> 
             sink.emit(&r)
         };
 
-        let targets = [PixelTarget::new(gpu, w, h)?, PixelTarget::new(gpu, w, h)?];
+        let targets = [Target::new(gpu, w, h)?, Target::new(gpu, w, h)?];
         let params = eyes.map(|c| Raymarch::params(&prepared, iso, &c, w, h));
         let mono_params = Raymarch::params(&prepared, iso, &camera, w, h);
         let mono = time_frames(gpu, plan, 1, |rec, timer| {
@@ -56,9 +56,7 @@ pub fn stereo(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -> 
                 t.raymarch.record(rec, &prepared, &targets[1], &params[1]);
             });
         })?;
-        for target in targets {
-            target.destroy(gpu);
-        }
+        drop(targets);
         emit("raymarch", "compute", mono, pair)?;
 
         if let Some(direct) = &t.direct {
@@ -99,13 +97,8 @@ pub fn stereo(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -> 
                 });
                 recorded = recorded.clone().and(r.map_err(|e| e.to_string()));
             });
-            for target in targets {
-                target.destroy(gpu);
-            }
-            for state in states {
-                state.destroy(gpu);
-            }
-            gpu.destroy_buffer(capture);
+            // Freed before the multiview run makes its own targets.
+            drop((targets, states, capture));
             recorded.map_err(anyhow::Error::msg)?;
             emit("direct+roc", "mesh", mono?, pair?)?;
             if gpu.caps().mesh_multiview {
@@ -138,7 +131,7 @@ pub fn stereo(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -> 
                     &Direct::params(&prepared, iso, &camera, 1, 1, 1),
                 )
             })?;
-            probe.destroy(gpu);
+            drop(probe);
             let capacity = compute.read_stats(gpu)?.triangles + 1024;
             let targets = [
                 ComputeTarget::new(gpu, w, h, capacity)?,
@@ -160,13 +153,8 @@ pub fn stereo(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -> 
                     compute.record_second_view(rec, &targets[0], &targets[1], &params[1], right);
                 });
             })?;
-            for target in targets {
-                target.destroy(gpu);
-            }
             emit("direct", "compute", mono, pair)?;
         }
-        prepared.destroy(gpu);
-        t.destroy(gpu);
     }
     Ok(())
 }
@@ -237,11 +225,6 @@ fn multiview(
             matches = matches.min(layer.compare(&single.image, 2).fraction_within);
         }
     }
-    pair_target.destroy(gpu);
-    mono_target.destroy(gpu);
-    gpu.destroy_buffer(views);
-    gpu.destroy_buffer(capture);
-    mv.destroy(gpu);
     recorded.map_err(anyhow::Error::msg)?;
     layers?;
     println!(

@@ -8,7 +8,7 @@ use tessera::tet::interval::{
     path_support, GpuTetMesh, Integrand, Interval, IntervalOptions, OpticalTarget,
 };
 use tessera_data::tet::procedural::box_mesh;
-use tessera_data::tet::scalar_integral::normalized_scalars;
+use tessera_data::tet::scalar_integral::mapping_range;
 use tessera_data::transfer::{IntegrandTable, ScalarMode, TransferFunction, TABLE_KNOTS};
 use tessera_data::OrbitCamera;
 use tessera_gpu::Gpu;
@@ -152,11 +152,11 @@ impl MeshBench<'_> {
         scalar: Option<&Integrand>,
         sink: &mut Sink,
     ) -> Result<()> {
-        let normalized = match scalar {
-            Some(_) => Some(normalized_scalars(mesh, None, name)?),
-            None => None,
-        };
-        let gpu_mesh = GpuTetMesh::upload_with(gpu, mesh, normalized.as_deref())?;
+        if scalar.is_some() {
+            // The same check as before the upload: scalars with a finite range.
+            mapping_range(mesh, None, name)?;
+        }
+        let gpu_mesh = GpuTetMesh::upload(gpu, mesh)?;
         let result = views.iter().try_for_each(|&(view, distance)| {
             let camera = OrbitCamera {
                 distance,
@@ -187,7 +187,6 @@ impl MeshBench<'_> {
                 sink.emit(&r)
             })
         });
-        gpu_mesh.destroy(gpu);
         result
     }
 }
@@ -244,7 +243,6 @@ fn asteroids(
             sink.emit(&r)?;
         }
     }
-    gpu_mesh.destroy(gpu);
     Ok(())
 }
 
@@ -285,17 +283,8 @@ fn time_variant(
     plan: FramePlan,
 ) -> Result<Timed> {
     let interval = Interval::new(gpu, compiler, &variant.options)?;
-    let target = match interval.target(gpu, w, h) {
-        Ok(t) => t,
-        Err(e) => {
-            interval.destroy(gpu);
-            return Err(e.into());
-        }
-    };
-    let timed = run_frames(gpu, &interval, mesh, &target, camera, plan);
-    target.destroy(gpu);
-    interval.destroy(gpu);
-    timed
+    let target = interval.target(gpu, w, h)?;
+    run_frames(gpu, &interval, mesh, &target, camera, plan)
 }
 
 fn run_frames(

@@ -7,7 +7,10 @@ use indicatif::{ProgressBar, ProgressStyle};
 use std::path::Path;
 use std::time::Duration;
 use tessera_data::raw::{parse_scivis_name, scalar_from_name, Endian, RawOptions, SourceType};
+use tessera_data::scene::parse::{parse_dims, parse_spacing};
 use tessera_data::{procedural, IsoValue, NanPolicy, Volume};
+
+pub use tessera_data::scene::parse::parse_size;
 
 #[derive(Args, Clone, Debug)]
 pub struct VolumeArgs {
@@ -53,51 +56,6 @@ impl IsoArgs {
         }
         Ok(value)
     }
-}
-
-fn parse_triple<T: std::str::FromStr>(text: &str) -> std::result::Result<[T; 3], String> {
-    let parts: Vec<&str> = text.split([',', 'x']).map(str::trim).collect();
-    if parts.len() != 3 {
-        return Err(format!("'{text}': expected three values like 256,256,128"));
-    }
-    let mut out = Vec::with_capacity(3);
-    for p in parts {
-        out.push(
-            p.parse::<T>()
-                .map_err(|_| format!("'{p}' is not a valid number"))?,
-        );
-    }
-    out.try_into().map_err(|_| "three values".to_string())
-}
-
-fn parse_dims(text: &str) -> std::result::Result<[u32; 3], String> {
-    parse_triple(text)
-}
-
-fn parse_spacing(text: &str) -> std::result::Result<[f32; 3], String> {
-    let s: [f32; 3] = parse_triple(text)?;
-    if s.iter().any(|v| !v.is_finite() || *v <= 0.0) {
-        return Err(format!("spacing '{text}' must be positive"));
-    }
-    Ok(s)
-}
-
-pub fn parse_size(text: &str) -> std::result::Result<(u32, u32), String> {
-    let (w, h) = text
-        .split_once(['x', 'X'])
-        .ok_or_else(|| format!("size '{text}': expected WxH, e.g. 1280x720"))?;
-    let w: u32 = w
-        .trim()
-        .parse()
-        .map_err(|_| format!("size '{text}': bad width"))?;
-    let h: u32 = h
-        .trim()
-        .parse()
-        .map_err(|_| format!("size '{text}': bad height"))?;
-    if w == 0 || h == 0 || w > 16384 || h > 16384 {
-        return Err(format!("size '{text}': each side must be 1..=16384"));
-    }
-    Ok((w, h))
 }
 
 impl VolumeArgs {

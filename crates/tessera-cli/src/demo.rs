@@ -139,8 +139,6 @@ pub fn run(options: &GpuOptions, args: &DemoArgs) -> Result<()> {
             frame.gpu_ms,
             wall_ms
         );
-        prepared.destroy(&gpu);
-        renderer.destroy(&gpu);
     }
     interval_scene(&gpu, &compiler, args)?;
     parametric_scenes(&gpu, &compiler, args)?;
@@ -158,8 +156,6 @@ fn interval_scene(
     use tessera::tet::interval::{path_support, GpuTetMesh, Integrand, Interval, IntervalOptions};
     use tessera_data::transfer::{IntegrandTable, ScalarMode, TransferFunction, TABLE_KNOTS};
     let mesh = tessera_data::tet::procedural::sphere_mesh((args.volume_size / 8).max(2));
-    let normalized =
-        tessera_data::tet::scalar_integral::normalized_scalars(&mesh, None, "tets:sphere")?;
     let emission = Integrand::Scalar {
         mode: ScalarMode::Emission,
         table: IntegrandTable::new(
@@ -196,12 +192,10 @@ fn interval_scene(
                 ..IntervalOptions::new(path)
             };
             let interval = Interval::new(gpu, compiler, &options)?;
-            let gpu_mesh = GpuTetMesh::upload_with(gpu, &mesh, Some(&normalized))?;
+            let gpu_mesh = GpuTetMesh::upload(gpu, &mesh)?;
             let size = args.image_size;
-            let rendered = interval.render_image(gpu, &gpu_mesh, &camera, (size, size), background);
-            gpu_mesh.destroy(gpu);
-            interval.destroy(gpu);
-            let (image, gpu_ms) = rendered?;
+            let (image, gpu_ms) =
+                interval.render_image(gpu, &gpu_mesh, &camera, (size, size), background)?;
             let wall_ms = started.elapsed().as_secs_f64() * 1e3;
             let file = args.out.join(format!(
                 "interval-sphere-{}tets-{name}-{}.png",
@@ -247,10 +241,8 @@ fn asteroid_scene(
         ..OrbitCamera::default()
     };
     let size = args.image_size;
-    let rendered = interval.render_image(gpu, &gpu_mesh, &camera, (size, size), [0.02; 3]);
-    gpu_mesh.destroy(gpu);
-    interval.destroy(gpu);
-    let (image, gpu_ms) = rendered?;
+    let (image, gpu_ms) =
+        interval.render_image(gpu, &gpu_mesh, &camera, (size, size), [0.02; 3])?;
     let file = args.out.join(format!("asteroids-200-{}.png", path.name()));
     crate::output::write_png(&file, &image)?;
     println!(
@@ -292,10 +284,10 @@ fn parametric_scenes(
         ("param:seashell", "param-points", at(30.0, 20.0, 2.0)),
         ("param:yarn:6x8", "param-points", at(0.0, 0.0, 1.3)),
     ];
-    let basis = crate::render_param::parse_basis(None, "");
+    let basis = tessera_data::scene::param_spec::default_basis("");
     for (spec, technique, camera) in scenes {
         let started = Instant::now();
-        let scene = crate::render_param::load(spec, basis)?;
+        let scene = tessera_data::scene::param_spec::named_scene(spec, basis)?;
         let renderer = match ParamRenderer::new(gpu, compiler, technique, 1, 1, 1) {
             Ok(r) => r,
             Err(e) => {
@@ -303,15 +295,10 @@ fn parametric_scenes(
                 continue;
             }
         };
-        let prepared = renderer.prepare(gpu, &scene);
-        let rendered = prepared.and_then(|p| {
-            let size = (args.image_size, args.image_size);
-            let r = renderer.render_image(gpu, &p, &camera, size, [0.1, 0.1, 0.12]);
-            p.destroy(gpu);
-            r
-        });
-        renderer.destroy(gpu);
-        let (image, gpu_ms) = rendered?;
+        let prepared = renderer.prepare(gpu, &scene)?;
+        let size = (args.image_size, args.image_size);
+        let (image, gpu_ms) =
+            renderer.render_image(gpu, &prepared, &camera, size, [0.1, 0.1, 0.12])?;
         let name = spec.trim_start_matches("param:").replace(':', "-");
         let file = args.out.join(format!("{name}-{technique}.png"));
         crate::output::write_png(&file, &image)?;

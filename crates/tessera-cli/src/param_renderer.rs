@@ -6,8 +6,8 @@ use anyhow::{bail, Result};
 use tessera::param::raytrace::{RaytraceScene, ShRaytrace, ShRaytraceOptions};
 use tessera::param::scene::{GpuParamScene, ParamScene};
 use tessera::param::tess::{ParamTess, ParamTessOptions, TessFrame};
-use tessera::param::{ParamPoints, ParamPointsOptions, ParamView, PointsFrame};
-use tessera::target::PixelTarget;
+use tessera::param::{ParamPoints, ParamPointsOptions, PointsFrame, View};
+use tessera::target::Target;
 use tessera_data::{OrbitCamera, RgbaImage};
 use tessera_gpu::{Gpu, Recorder, ShaderCompiler, Timer};
 
@@ -27,7 +27,7 @@ pub enum PreparedScene {
 pub enum ParamFrame {
     Points(Box<PointsFrame>),
     Tess(Box<TessFrame>),
-    Pixels(PixelTarget),
+    Pixels(Target),
 }
 
 impl ParamRenderer {
@@ -103,7 +103,7 @@ impl ParamRenderer {
         scene: &PreparedScene,
         camera: &OrbitCamera,
         size: (u32, u32),
-    ) -> Result<ParamView> {
+    ) -> Result<View> {
         Ok(match (self, scene) {
             (ParamRenderer::Points(p), PreparedScene::Plain(s)) => p.view(s, camera, size)?,
             (ParamRenderer::Tess(t), PreparedScene::Plain(s)) => t.view(s, camera, size)?,
@@ -112,13 +112,11 @@ impl ParamRenderer {
         })
     }
 
-    pub fn frame(&self, gpu: &Gpu, view: &ParamView, size: (u32, u32)) -> Result<ParamFrame> {
+    pub fn frame(&self, gpu: &Gpu, view: &View, size: (u32, u32)) -> Result<ParamFrame> {
         Ok(match self {
             ParamRenderer::Points(_) => ParamFrame::Points(Box::new(PointsFrame::new(gpu, view)?)),
             ParamRenderer::Tess(t) => ParamFrame::Tess(Box::new(t.frame(gpu, view)?)),
-            ParamRenderer::Raytrace(_) => {
-                ParamFrame::Pixels(PixelTarget::new(gpu, size.0, size.1)?)
-            }
+            ParamRenderer::Raytrace(_) => ParamFrame::Pixels(Target::new(gpu, size.0, size.1)?),
         })
     }
 
@@ -129,7 +127,7 @@ impl ParamRenderer {
         rec: &Recorder,
         timer: &mut Timer,
         scene: &PreparedScene,
-        view: &ParamView,
+        view: &View,
         frame: &ParamFrame,
         background: [f32; 3],
     ) {
@@ -152,7 +150,7 @@ impl ParamRenderer {
         &self,
         gpu: &Gpu,
         scene: &PreparedScene,
-        view: &ParamView,
+        view: &View,
         frame: &ParamFrame,
         background: [f32; 3],
     ) -> Result<u32> {
@@ -188,32 +186,5 @@ impl ParamRenderer {
             }
             _ => unreachable!("scenes come from their renderer's `prepare`"),
         })
-    }
-
-    pub fn destroy(self, gpu: &Gpu) {
-        match self {
-            ParamRenderer::Points(p) => p.destroy(gpu),
-            ParamRenderer::Tess(t) => t.destroy(gpu),
-            ParamRenderer::Raytrace(r) => r.destroy(gpu),
-        }
-    }
-}
-
-impl PreparedScene {
-    pub fn destroy(self, gpu: &Gpu) {
-        match self {
-            PreparedScene::Plain(s) => (*s).destroy(gpu),
-            PreparedScene::Raytrace(s) => (*s).destroy(gpu),
-        }
-    }
-}
-
-impl ParamFrame {
-    pub fn destroy(self, gpu: &Gpu) {
-        match self {
-            ParamFrame::Points(f) => (*f).destroy(gpu),
-            ParamFrame::Tess(f) => (*f).destroy(gpu),
-            ParamFrame::Pixels(f) => f.destroy(gpu),
-        }
     }
 }

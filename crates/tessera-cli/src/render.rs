@@ -107,8 +107,6 @@ pub fn run(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
         frame.gpu_ms,
         args.output.display()
     );
-    prepared.destroy(&gpu);
-    renderer.destroy(&gpu);
     crate::check_validation(&gpu)
 }
 

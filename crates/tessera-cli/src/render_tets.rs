@@ -6,8 +6,9 @@ use clap::Args;
 use std::path::Path;
 use tessera::path::PathChoice;
 use tessera::tet::interval::{self, GpuTetMesh, Integrand, Interval, IntervalOptions};
+use tessera_data::scene::parse::{parse_colour, parse_range};
 use tessera_data::tet::asteroids::asteroid_field;
-use tessera_data::tet::scalar_integral::normalized_scalars;
+use tessera_data::tet::scalar_integral::mapping_range;
 use tessera_data::tet::{load_tet_mesh, procedural, TetMesh};
 use tessera_data::transfer::{IntegrandTable, ScalarMode, TransferFunction, TABLE_KNOTS};
 use tessera_gpu::GpuOptions;
@@ -41,38 +42,6 @@ pub struct TetArgs {
     /// Scalar range LO,HI mapped onto the transfer function (default: the mesh's own).
     #[arg(long, value_parser = parse_range, allow_hyphen_values = true)]
     range: Option<(f32, f32)>,
-}
-
-fn parse_range(text: &str) -> Result<(f32, f32), String> {
-    let (lo, hi) = text
-        .split_once(',')
-        .ok_or_else(|| format!("'{text}': expected LO,HI"))?;
-    let parse = |s: &str| {
-        s.trim()
-            .parse::<f32>()
-            .ok()
-            .filter(|v| v.is_finite())
-            .ok_or_else(|| format!("'{s}' is not a finite number"))
-    };
-    let (lo, hi) = (parse(lo)?, parse(hi)?);
-    if hi <= lo {
-        return Err(format!("'{text}': HI must exceed LO"));
-    }
-    Ok((lo, hi))
-}
-
-fn parse_colour(text: &str) -> Result<[f32; 3], String> {
-    let values: Vec<f32> = text
-        .split(',')
-        .map(|v| v.trim().parse::<f32>())
-        .collect::<Result<_, _>>()
-        .map_err(|_| format!("'{text}': expected R,G,B"))?;
-    match values[..] {
-        [r, g, b] if values.iter().all(|v| v.is_finite() && *v >= 0.0) => Ok([r, g, b]),
-        _ => Err(format!(
-            "'{text}': expected three non-negative numbers R,G,B"
-        )),
-    }
 }
 
 pub fn is_tet_data(spec: &str) -> bool {
@@ -118,7 +87,11 @@ pub fn load(spec: &str) -> Result<TetMesh> {
 }
 
 /// The integrand the options ask for, with the normalized vertex scalars it needs.
-fn integrand(spec: &str, mesh: &TetMesh, args: &TetArgs) -> Result<(Integrand, Option<Vec<f32>>)> {
+fn integrand(
+    spec: &str,
+    mesh: &TetMesh,
+    args: &TetArgs,
+) -> Result<(Integrand, Option<(f32, f32)>)> {
     if spec.starts_with("tets:asteroids:") {
         return Ok((Integrand::Asteroids, None));
     }
@@ -134,10 +107,10 @@ fn integrand(spec: &str, mesh: &TetMesh, args: &TetArgs) -> Result<(Integrand, O
     if !(args.density.is_finite() && args.density > 0.0) {
         bail!("--density must be a positive number, not {}", args.density);
     }
-    let normalized = normalized_scalars(mesh, args.range, spec)?;
+    let range = mapping_range(mesh, args.range, spec)?;
     let tf = TransferFunction::load(&args.tf)?;
     let table = IntegrandTable::new(&tf, mode, args.density, TABLE_KNOTS);
-    Ok((Integrand::Scalar { mode, table }, Some(normalized)))
+    Ok((Integrand::Scalar { mode, table }, Some(range)))
 }
 
 pub fn run(options: &GpuOptions, args: &RenderArgs, tet: &TetArgs, path: &str) -> Result<()> {
@@ -152,7 +125,7 @@ pub fn run(options: &GpuOptions, args: &RenderArgs, tet: &TetArgs, path: &str) -
     if let Some(colour) = tet.absorption {
         mesh.absorption = Some(vec![colour; mesh.tets.len()]);
     }
-    let (integrand, normalized) = integrand(&args.data, &mesh, tet)?;
+    let (integrand, range) = integrand(&args.data, &mesh, tet)?;
     let gpu = crate::open_gpu(options)?;
     let caps = gpu.caps();
     let path = tessera::path::choose_for(
@@ -184,12 +157,16 @@ pub fn run(options: &GpuOptions, args: &RenderArgs, tet: &TetArgs, path: &str) -
     let renderer = Interval::new(&gpu, &compiler, &options)?;
     let gpu_mesh = match options.integrand {
         Integrand::Asteroids => GpuTetMesh::upload_asteroids(&gpu, &mesh)?,
-        _ => GpuTetMesh::upload_with(&gpu, &mesh, normalized.as_deref())?,
+        _ => {
+            let mut uploaded = GpuTetMesh::upload(&gpu, &mesh)?;
+            if let Some(range) = range {
+                uploaded.scalar_range = range;
+            }
+            uploaded
+        }
     };
-    let rendered = renderer.render_image(&gpu, &gpu_mesh, &args.camera, args.size, background);
-    gpu_mesh.destroy(&gpu);
-    renderer.destroy(&gpu);
-    let (image, gpu_ms) = rendered?;
+    let (image, gpu_ms) =
+        renderer.render_image(&gpu, &gpu_mesh, &args.camera, args.size, background)?;
     crate::output::write_png(&args.output, &image)?;
     println!(
         "{}: interval ({} path, {what}), {} tets at {}x{}: {gpu_ms:.3} ms GPU -> {}",

@@ -4,6 +4,7 @@
 //! 1, so one camera distance fits volumes of any size. Ray casters work in grid space (sample
 //! (x,y,z) at position (x,y,z)); [`GridCamera`] carries the camera into it.
 
+use crate::view::View;
 use glam::Vec3;
 
 /// A camera on a sphere around the origin, looking at it with +Y up.
@@ -122,6 +123,15 @@ impl GridFrame {
     pub fn world_to_grid_vector(&self, v: Vec3) -> Vec3 {
         v / self.grid_to_world
     }
+
+    /// Grid point (w = 1) to world space, column-major.
+    pub fn grid_to_world_matrix(&self) -> glam::Mat4 {
+        glam::Mat4::from_scale_rotation_translation(
+            self.grid_to_world,
+            glam::Quat::IDENTITY,
+            -self.centre() * self.grid_to_world,
+        )
+    }
 }
 
 /// The camera expressed in grid space, as both the CPU and GPU ray casters consume it. A pixel's
@@ -141,17 +151,7 @@ pub struct GridCamera {
 
 impl GridCamera {
     pub fn new(camera: &OrbitCamera, frame: &GridFrame, width: u32, height: u32) -> GridCamera {
-        let (forward, right, up) = camera.basis();
-        let tan_y = (camera.fov_y_deg.to_radians() * 0.5).tan();
-        GridCamera {
-            eye: frame.world_to_grid_point(camera.eye()),
-            forward: frame.world_to_grid_vector(forward),
-            right: frame.world_to_grid_vector(right),
-            up: frame.world_to_grid_vector(up),
-            tan_half_fov_x: tan_y * width as f32 / height.max(1) as f32,
-            tan_half_fov_y: tan_y,
-            light_world: (-forward + 0.6 * up + 0.4 * right).normalize(),
-        }
+        View::of_unit_box(camera, (width, height)).grid_camera(frame)
     }
 
     /// Screen offsets of pixel (x, y)'s centre; y grows downwards in the image.
@@ -184,51 +184,23 @@ pub struct Projection {
 }
 
 impl Projection {
-    /// View-space depths of the near and far clip planes for `camera`. World space's unit box
-    /// (a volume's, or a mesh's placed by [`crate::tet::optical::MeshFrame`]) lies within a
-    /// sphere of radius sqrt(3)/2 around the origin; the near plane stays a small positive
-    /// distance from the eye when the camera is inside that sphere. CPU references that clip
-    /// at the near plane use this too.
+    /// View-space depths of the near and far clip planes for `camera` (see
+    /// [`crate::view::unit_box_depth_range`]).
     pub fn near_far(camera: &OrbitCamera) -> (f32, f32) {
-        let radius = 0.87;
-        let far = camera.distance + radius;
-        let near = (camera.distance - radius).max(far * 1e-4);
-        (near, far)
+        crate::view::unit_box_depth_range(camera)
     }
 
     pub fn new(camera: &OrbitCamera, frame: &GridFrame, width: u32, height: u32) -> Projection {
-        let (forward, right, up) = camera.basis();
-        let eye = camera.eye();
-        let tan_y = (camera.fov_y_deg.to_radians() * 0.5).tan();
-        let tan_x = tan_y * width as f32 / height.max(1) as f32;
-        let (near, far) = Projection::near_far(camera);
-        // World to view: rows are the camera axes, translated by the eye.
-        let view = glam::Mat4::from_cols(
-            glam::Vec4::new(right.x, up.x, forward.x, 0.0),
-            glam::Vec4::new(right.y, up.y, forward.y, 0.0),
-            glam::Vec4::new(right.z, up.z, forward.z, 0.0),
-            glam::Vec4::new(-right.dot(eye), -up.dot(eye), -forward.dot(eye), 1.0),
-        );
-        // View (x right, y up, z forward) to clip: x / tan_x, -y / tan_y, depth 0 at near and
-        // 1 at far, w = z.
-        let a = far / (far - near);
-        let proj = glam::Mat4::from_cols(
-            glam::Vec4::new(1.0 / tan_x, 0.0, 0.0, 0.0),
-            glam::Vec4::new(0.0, -1.0 / tan_y, 0.0, 0.0),
-            glam::Vec4::new(0.0, 0.0, a, 1.0),
-            glam::Vec4::new(0.0, 0.0, -a * near, 0.0),
-        );
-        let grid_to_world = glam::Mat4::from_scale_rotation_translation(
-            frame.grid_to_world,
-            glam::Quat::IDENTITY,
-            -frame.centre() * frame.grid_to_world,
-        );
+        Projection::of_view(&View::of_unit_box(camera, (width, height)), frame)
+    }
+
+    pub fn of_view(view: &View, frame: &GridFrame) -> Projection {
         Projection {
-            grid_to_clip: proj * view * grid_to_world,
-            world_to_clip: proj * view,
-            eye_world: eye,
-            near,
-            far,
+            grid_to_clip: view.grid_to_clip(frame),
+            world_to_clip: view.world_to_clip,
+            eye_world: view.eye,
+            near: view.near,
+            far: view.far,
         }
     }
 

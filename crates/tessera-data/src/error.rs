@@ -61,6 +61,15 @@ pub enum DataError {
     /// Any other bad argument.
     #[error("{0}")]
     Invalid(String),
+
+    /// An error about what a data spec names, with the spec (or another label) in front.
+    /// `inner` is deliberately no `#[source]`: the message already holds it, and context
+    /// chains printed with `{:#}` (anyhow) would show it twice.
+    #[error("{label}: {inner}")]
+    Labelled {
+        label: String,
+        inner: Box<DataError>,
+    },
 }
 
 /// Result type of the data layer.
@@ -87,6 +96,14 @@ impl DataError {
         DataError::Format {
             path: path.to_path_buf(),
             message: message.into(),
+        }
+    }
+
+    /// This error with `label` in front of its message.
+    pub fn labelled(self, label: impl Into<String>) -> Self {
+        DataError::Labelled {
+            label: label.into(),
+            inner: Box::new(self),
         }
     }
 
@@ -163,6 +180,13 @@ mod tests {
         .in_file(Path::new("v.raw"));
         assert!(err.to_string().contains("v.raw"));
         assert!(err.to_string().contains("0x4x4"));
+    }
+
+    #[test]
+    fn labelled_shows_the_inner_message_once() {
+        let err = DataError::Invalid("bad N".into()).labelled("tets:box:0");
+        assert_eq!(err.to_string(), "tets:box:0: bad N");
+        assert!(std::error::Error::source(&err).is_none());
     }
 
     #[test]

@@ -17,12 +17,15 @@ pub mod procedural;
 pub mod rasterize;
 pub mod raw;
 pub mod raycast;
+pub mod scene;
 pub mod shading;
 pub mod tet;
 pub mod transfer;
+pub mod view;
 pub mod volume;
 
 pub use camera::{GridCamera, GridFrame, OrbitCamera, Projection};
 pub use error::DataError;
 pub use image::RgbaImage;
+pub use view::{DepthFit, View};
 pub use volume::{IsoValue, NanPolicy, Samples, ScalarType, Volume};

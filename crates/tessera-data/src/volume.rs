@@ -86,6 +86,16 @@ pub enum IsoValue {
     Raw(f32),
 }
 
+impl IsoValue {
+    /// The isovalue in the units of data whose values span `(lo, hi)`.
+    pub fn in_range(self, (lo, hi): (f32, f32)) -> f32 {
+        match self {
+            IsoValue::Raw(r) => r,
+            IsoValue::Normalized(n) => lo + n * (hi - lo),
+        }
+    }
+}
+
 /// What to do with NaN/Inf samples in floating-point data.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub enum NanPolicy {
@@ -256,14 +266,7 @@ impl Volume {
     /// Resolves a user isovalue to texel space (raw units); `Normalized(n)` is
     /// `min + n * (max - min)`.
     pub fn iso_to_texel(&self, iso: IsoValue) -> f32 {
-        let raw = match iso {
-            IsoValue::Raw(r) => r,
-            IsoValue::Normalized(n) => {
-                let (lo, hi) = self.value_range;
-                lo + n * (hi - lo)
-            }
-        };
-        self.raw_to_texel(raw)
+        self.raw_to_texel(iso.in_range(self.value_range))
     }
 
     /// [`Volume::value_range`] in texel space, i.e. the same values.

@@ -119,6 +119,8 @@ pub(crate) fn query(
     if has(ash::ext::fragment_shader_interlock::NAME) {
         features = features.push_next(&mut lock_f);
     }
+    // SAFETY: `physical` was enumerated from this live instance and `features` is a valid chain
+    // of structures that live until the call returns.
     unsafe { instance.get_physical_device_features2(physical, &mut features) };
     let base_f = features.features;
 
@@ -131,8 +133,10 @@ pub(crate) fn query(
     if has(ash::ext::mesh_shader::NAME) {
         props = props.push_next(&mut mesh_p);
     }
+    // SAFETY: as above, for the properties chain.
     unsafe { instance.get_physical_device_properties2(physical, &mut props) };
     let p = props.properties;
+    // SAFETY: `physical` was enumerated from this live instance.
     let memory = unsafe { instance.get_physical_device_memory_properties(physical) };
     let device_local_bytes = memory.memory_heaps[..memory.memory_heap_count as usize]
         .iter()

@@ -28,6 +28,8 @@ pub struct Recorder<'a> {
 impl Recorder<'_> {
     pub fn copy_buffer(&self, src: &Buffer, dst: &Buffer, bytes: u64) {
         let region = [vk::BufferCopy::default().size(bytes)];
+        // SAFETY: `self.cmd` is recording (see `record_and_run`) and both buffers are live
+        // objects of this device; `submit` waits for the copy before it returns.
         unsafe {
             self.gpu
                 .device
@@ -36,6 +38,8 @@ impl Recorder<'_> {
     }
 
     pub fn fill_buffer(&self, dst: &Buffer, value: u32) {
+        // SAFETY: `self.cmd` is recording and `dst` is a live buffer of this device; the fill
+        // covers the whole buffer.
         unsafe {
             self.gpu
                 .device
@@ -54,6 +58,7 @@ impl Recorder<'_> {
             .image(image.handle)
             .subresource_range(full_range(image.format, image.layers))];
         let dep = vk::DependencyInfo::default().image_memory_barriers(&barrier);
+        // SAFETY: `self.cmd` is recording; the barrier names a live image and its full range.
         unsafe { self.gpu.device.cmd_pipeline_barrier2(self.cmd, &dep) };
     }
 
@@ -77,6 +82,8 @@ impl Recorder<'_> {
                 layer_count: 1,
             })
             .image_extent(dst.extent)];
+        // SAFETY: `self.cmd` is recording; `dst` was moved to `TRANSFER_DST_OPTIMAL` just above and
+        // `src` is a live buffer of this device.
         unsafe {
             self.gpu.device.cmd_copy_buffer_to_image(
                 self.cmd,
@@ -103,6 +110,8 @@ impl Recorder<'_> {
                 layer_count: src.layers,
             })
             .image_extent(src.extent)];
+        // SAFETY: `self.cmd` is recording; `src` is a live image the caller left in `GENERAL`
+        // layout and `dst` a live buffer of this device.
         unsafe {
             self.gpu.device.cmd_copy_image_to_buffer(
                 self.cmd,
@@ -123,6 +132,7 @@ impl Recorder<'_> {
             .dst_stage_mask(vk::PipelineStageFlags2::ALL_COMMANDS)
             .dst_access_mask(vk::AccessFlags2::MEMORY_READ | vk::AccessFlags2::MEMORY_WRITE)];
         let dep = vk::DependencyInfo::default().memory_barriers(&barrier);
+        // SAFETY: `self.cmd` is recording; a global memory barrier references no object.
         unsafe { self.gpu.device.cmd_pipeline_barrier2(self.cmd, &dep) };
     }
 
@@ -182,6 +192,9 @@ impl Recorder<'_> {
                 }
             })
             .collect();
+        // SAFETY: `self.cmd` is recording; the pipeline, its layout and the bound buffers and views
+        // are live objects of this device, the writes match the pipeline's slots (asserted
+        // above) and the push constants fit the layout's range.
         unsafe {
             let d = &self.gpu.device;
             d.cmd_bind_pipeline(self.cmd, pipeline.bind_point, pipeline.handle);
@@ -226,6 +239,7 @@ impl Recorder<'_> {
         groups: [u32; 3],
     ) {
         self.bind(pipeline, bindings, push);
+        // SAFETY: `self.cmd` is recording with a compute pipeline and its resources bound above.
         unsafe {
             self.gpu
                 .device
@@ -244,6 +258,8 @@ impl Recorder<'_> {
         offset: u64,
     ) {
         self.bind(pipeline, bindings, push);
+        // SAFETY: `self.cmd` is recording with a compute pipeline bound above; `args` is a live
+        // buffer of this device.
         unsafe {
             self.gpu
                 .device
@@ -359,6 +375,8 @@ impl Recorder<'_> {
             min_depth: 0.0,
             max_depth: 1.0,
         }];
+        // SAFETY: `self.cmd` is recording outside a render pass; the attachments are live images of
+        // this device in `GENERAL` layout, as this function's contract asks.
         unsafe {
             let d = &self.gpu.device;
             d.cmd_begin_rendering(self.cmd, &info);
@@ -368,11 +386,13 @@ impl Recorder<'_> {
     }
 
     pub fn end_rendering(&self) {
+        // SAFETY: `self.cmd` is recording inside the rendering begun by `begin_rendering*`.
         unsafe { self.gpu.device.cmd_end_rendering(self.cmd) };
     }
 
     pub fn draw(&self, pipeline: &Pipeline, bindings: &[Binding], push: &[u8], vertices: u32) {
         self.bind(pipeline, bindings, push);
+        // SAFETY: `self.cmd` is recording inside rendering, with the pipeline bound above.
         unsafe { self.gpu.device.cmd_draw(self.cmd, vertices, 1, 0, 0) };
     }
 
@@ -387,6 +407,8 @@ impl Recorder<'_> {
         offset: u64,
     ) {
         self.bind(pipeline, bindings, push);
+        // SAFETY: `self.cmd` is recording inside rendering with the pipeline bound above;
+        // `args` is a live buffer of this device.
         unsafe {
             self.gpu
                 .device
@@ -404,6 +426,8 @@ impl Recorder<'_> {
     ) -> Result<()> {
         let mesh = self.mesh_shader()?;
         self.bind(pipeline, bindings, push);
+        // SAFETY: `self.cmd` is recording inside rendering with a mesh pipeline bound above, on a
+        // device with `VK_EXT_mesh_shader` (checked by `mesh_shader`).
         unsafe { mesh.cmd_draw_mesh_tasks(self.cmd, groups[0], groups[1], groups[2]) };
         Ok(())
     }
@@ -420,6 +444,7 @@ impl Recorder<'_> {
     ) -> Result<()> {
         let mesh = self.mesh_shader()?;
         self.bind(pipeline, bindings, push);
+        // SAFETY: as for `draw_mesh_tasks`; `args` is a live buffer of this device.
         unsafe { mesh.cmd_draw_mesh_tasks_indirect(self.cmd, args.handle, offset, 1, 12) };
         Ok(())
     }
@@ -435,6 +460,8 @@ impl Recorder<'_> {
     }
 
     pub fn timestamp(&self, timer: &Timer, index: u32) {
+        // SAFETY: `self.cmd` is recording and the timer's pool is a live timestamp pool of this
+        // device; `scope` keeps `index` within its capacity.
         unsafe {
             self.gpu.device.cmd_write_timestamp2(
                 self.cmd,
@@ -456,16 +483,24 @@ fn slot_type(slot: Slot) -> vk::DescriptorType {
 }
 
 impl Gpu {
-    /// Records commands with `record`, submits them and waits. `pass` names the work in errors
-    /// (a lost device reports which pass it was in).
+    /// Records commands with `record`, submits them and waits for their fence. `pass` names the
+    /// work in errors (a lost device reports which pass it was in).
+    ///
+    /// Because it waits, no work is in flight once it returns, so any [`crate::Buffer`],
+    /// [`crate::Image`], [`crate::Pipeline`] or [`crate::Timer`] may be dropped afterwards;
+    /// keep it waiting (or make objects live until their work is done) if this ever changes.
     pub fn submit(&self, pass: &str, record: impl FnOnce(&Recorder)) -> Result<()> {
         let alloc = vk::CommandBufferAllocateInfo::default()
             .command_pool(self.command_pool)
             .level(vk::CommandBufferLevel::PRIMARY)
             .command_buffer_count(1);
+        // SAFETY: the pool belongs to this device and only `submit` uses it; `Gpu` is not
+        // `Sync`, so no other thread records or submits at the same time.
         let cmd = unsafe { self.device.allocate_command_buffers(&alloc) }
             .call("vkAllocateCommandBuffers")?[0];
         let result = self.record_and_run(pass, cmd, record);
+        // SAFETY: the command buffer came from this pool and is no longer pending:
+        // `record_and_run` waited for its fence (or it was never submitted).
         unsafe { self.device.free_command_buffers(self.command_pool, &[cmd]) };
         result
     }
@@ -478,9 +513,12 @@ impl Gpu {
     ) -> Result<()> {
         let begin = vk::CommandBufferBeginInfo::default()
             .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
+        // SAFETY: `cmd` was just allocated and is in the initial state.
         unsafe { self.device.begin_command_buffer(cmd, &begin) }.call("vkBeginCommandBuffer")?;
         record(&Recorder { gpu: self, cmd });
+        // SAFETY: `cmd` is recording (begun above).
         unsafe { self.device.end_command_buffer(cmd) }.call("vkEndCommandBuffer")?;
+        // SAFETY: a plain fence creation on this device.
         let fence = unsafe {
             self.device
                 .create_fence(&vk::FenceCreateInfo::default(), None)
@@ -495,12 +533,16 @@ impl Gpu {
                 result,
             },
         };
+        // SAFETY: `cmd` is executable and `fence` unsignalled; the queue is only used here, and we
+        // wait for the fence before returning, so no work outlives this call (which is what
+        // lets objects be dropped after any `submit`).
         let result = unsafe {
             self.device
                 .queue_submit(self.queue, &submit, fence)
                 .and_then(|_| self.device.wait_for_fences(&[fence], true, u64::MAX))
         }
         .map_err(lost);
+        // SAFETY: the fence is no longer in use: we waited for it, or the submission failed.
         unsafe { self.device.destroy_fence(fence, None) };
         result
     }

@@ -2,9 +2,13 @@
 
 use crate::caps::{self, has_extension, Capabilities};
 use crate::error::{GpuError, Result, VkContext};
+use crate::shared::{DeviceShared, Messenger};
 use ash::vk;
 use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
+use std::cell::Cell;
 use std::ffi::{c_void, CStr, CString};
+use std::marker::PhantomData;
+use std::mem::ManuallyDrop;
 use std::sync::{Arc, Mutex};
 
 const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
@@ -35,6 +39,13 @@ impl ValidationLog {
     }
 }
 
+/// Called by the validation layer for each message.
+///
+/// # Safety
+/// `data` must be null or valid callback data for the duration of the call, and `user` null or
+/// the `ValidationLog` the messenger was created with, alive until the messenger is destroyed
+/// (`create_messenger` and `DeviceShared` see to both).
+// SAFETY: only the loader calls it, with the arguments the Vulkan spec promises (see above).
 unsafe extern "system" fn debug_callback(
     severity: vk::DebugUtilsMessageSeverityFlagsEXT,
     _types: vk::DebugUtilsMessageTypeFlagsEXT,
@@ -44,7 +55,11 @@ unsafe extern "system" fn debug_callback(
     if data.is_null() || user.is_null() {
         return vk::FALSE;
     }
+    // SAFETY: `user` is the `ValidationLog` the messenger was created with
+    // (`create_messenger`); `DeviceShared` keeps it alive until the messenger is destroyed.
     let log = unsafe { &*(user as *const ValidationLog) };
+    // SAFETY: the loader passes callback data valid for the duration of the call (checked
+    // non-null above) whose message is a NUL-terminated string.
     let message = unsafe { (*data).message_as_c_str() }
         .map(|m| m.to_string_lossy().into_owned())
         .unwrap_or_default();
@@ -69,11 +84,14 @@ pub struct DeviceListing {
     pub device_type: String,
 }
 
-/// The opened device with its queue, allocator and extension loaders.
+/// The opened device with its queue, command pool, samplers and extension loaders. The device
+/// itself, its allocator and the instance live in a shared part that every object made from it
+/// also holds, so objects may outlive this handle (they free themselves when dropped).
 pub struct Gpu {
+    /// The same device as `shared.device` (a table of function pointers, cheap to clone).
     pub(crate) device: ash::Device,
+    pub(crate) shared: Arc<DeviceShared>,
     pub(crate) queue: vk::Queue,
-    pub(crate) allocator: std::mem::ManuallyDrop<Mutex<Allocator>>,
     pub(crate) command_pool: vk::CommandPool,
     pub(crate) push_descriptor: ash::khr::push_descriptor::Device,
     pub(crate) mesh_shader: Option<ash::ext::mesh_shader::Device>,
@@ -83,13 +101,49 @@ pub struct Gpu {
     pub(crate) sampler_linear: vk::Sampler,
     caps: Capabilities,
     physical: vk::PhysicalDevice,
-    messenger: Option<(ash::ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT)>,
-    validation: Arc<ValidationLog>,
-    pub(crate) instance: ash::Instance,
-    _entry: ash::Entry,
+    /// Keeps `Gpu` from being `Sync`: `submit` uses the queue and command pool, which Vulkan
+    /// requires callers to synchronise, and recording from two threads at once would race.
+    _not_sync: PhantomData<Cell<()>>,
+}
+
+/// What [`Gpu::open_device`] made, before the shared part takes it over.
+struct OpenedDevice {
+    device: ash::Device,
+    allocator: Allocator,
+    physical: vk::PhysicalDevice,
+    queue_family: u32,
+    caps: Capabilities,
+}
+
+/// A debug messenger that records validation errors and warnings into `validation`.
+fn create_messenger(
+    entry: &ash::Entry,
+    instance: &ash::Instance,
+    validation: &Arc<ValidationLog>,
+) -> Result<Messenger> {
+    let debug = ash::ext::debug_utils::Instance::new(entry, instance);
+    let info = vk::DebugUtilsMessengerCreateInfoEXT::default()
+        .message_severity(
+            vk::DebugUtilsMessageSeverityFlagsEXT::ERROR
+                | vk::DebugUtilsMessageSeverityFlagsEXT::WARNING,
+        )
+        .message_type(
+            vk::DebugUtilsMessageTypeFlagsEXT::VALIDATION
+                | vk::DebugUtilsMessageTypeFlagsEXT::PERFORMANCE
+                | vk::DebugUtilsMessageTypeFlagsEXT::GENERAL,
+        )
+        .pfn_user_callback(Some(debug_callback))
+        .user_data(Arc::as_ptr(validation) as *mut c_void);
+    // SAFETY: the create info is valid; its user data points into `validation`, which the
+    // caller keeps alive (in `DeviceShared`) until after the messenger is destroyed.
+    let m = unsafe { debug.create_debug_utils_messenger(&info, None) }
+        .call("vkCreateDebugUtilsMessengerEXT")?;
+    Ok((debug, m))
 }
 
 fn load_entry() -> Result<ash::Entry> {
+    // SAFETY: loading the system Vulkan loader runs its initialisation; Tessera trusts the
+    // installed loader, as every Vulkan program must.
     unsafe { ash::Entry::load() }.map_err(|e| GpuError::Loader(e.to_string()))
 }
 
@@ -100,6 +154,7 @@ fn create_instance(entry: &ash::Entry, validation: bool) -> Result<ash::Instance
         .engine_name(app_name)
         .api_version(vk::API_VERSION_1_3);
     let layers: Vec<*const i8> = if validation {
+        // SAFETY: a plain query on a loaded entry.
         let available = unsafe { entry.enumerate_instance_layer_properties() }
             .call("vkEnumerateInstanceLayerProperties")?;
         let found = available
@@ -112,6 +167,7 @@ fn create_instance(entry: &ash::Entry, validation: bool) -> Result<ash::Instance
     } else {
         vec![]
     };
+    // SAFETY: a plain query on a loaded entry.
     let ext_props = unsafe { entry.enumerate_instance_extension_properties(None) }
         .call("vkEnumerateInstanceExtensionProperties")?;
     let mut extensions = vec![];
@@ -122,6 +178,8 @@ fn create_instance(entry: &ash::Entry, validation: bool) -> Result<ash::Instance
         .application_info(&app)
         .enabled_layer_names(&layers)
         .enabled_extension_names(&extensions);
+    // SAFETY: the create info and the layer and extension names it points at (static C
+    // strings) outlive the call.
     unsafe { entry.create_instance(&info, None) }.call("vkCreateInstance")
 }
 
@@ -139,12 +197,14 @@ fn device_rank(t: vk::PhysicalDeviceType) -> u32 {
 pub fn list_devices() -> Result<Vec<DeviceListing>> {
     let entry = load_entry()?;
     let instance = create_instance(&entry, false)?;
+    // SAFETY: a plain query on the live instance created above.
     let physicals =
         unsafe { instance.enumerate_physical_devices() }.call("vkEnumeratePhysicalDevices");
     let result = physicals.map(|list| {
         list.iter()
             .enumerate()
             .map(|(index, &p)| {
+                // SAFETY: `p` was enumerated from this live instance.
                 let props = unsafe { instance.get_physical_device_properties(p) };
                 DeviceListing {
                     index,
@@ -157,6 +217,7 @@ pub fn list_devices() -> Result<Vec<DeviceListing>> {
             })
             .collect()
     });
+    // SAFETY: nothing was created on the instance and nothing uses it after this.
     unsafe { instance.destroy_instance(None) };
     result
 }
@@ -179,17 +240,50 @@ impl Gpu {
     pub fn new(options: &GpuOptions) -> Result<Gpu> {
         let entry = load_entry()?;
         let instance = create_instance(&entry, options.validation)?;
-        // From here on, failures must destroy the instance; `open` does the rest.
-        match Self::open(entry.clone(), instance.clone(), options) {
-            Ok(gpu) => Ok(gpu),
-            Err(e) => {
-                unsafe { instance.destroy_instance(None) };
-                Err(e)
+        let validation = Arc::new(ValidationLog::default());
+        // Until `DeviceShared` owns them, failures destroy the messenger and instance here.
+        let messenger = if options.validation {
+            match create_messenger(&entry, &instance, &validation) {
+                Ok(m) => Some(m),
+                Err(e) => {
+                    // SAFETY: the instance was created above and nothing else owns or uses it.
+                    unsafe { instance.destroy_instance(None) };
+                    return Err(e);
+                }
             }
-        }
+        } else {
+            None
+        };
+        let opened = match Self::open_device(&instance, options) {
+            Ok(opened) => opened,
+            Err(e) => {
+                // SAFETY: `open_device` destroyed whatever it created on failure; the messenger
+                // and instance were made above, are owned by nothing else, and the messenger
+                // goes before the instance it belongs to.
+                unsafe {
+                    if let Some((debug, m)) = messenger {
+                        debug.destroy_debug_utils_messenger(m, None);
+                    }
+                    instance.destroy_instance(None);
+                }
+                return Err(e);
+            }
+        };
+        let shared = Arc::new(DeviceShared {
+            device: opened.device,
+            allocator: ManuallyDrop::new(Mutex::new(opened.allocator)),
+            instance,
+            messenger,
+            validation,
+            _entry: entry,
+        });
+        // From here on `shared` owns the device and instance: a failure drops it, which destroys
+        // them exactly once.
+        Self::finish(shared, opened.physical, opened.queue_family, opened.caps)
     }
 
     fn pick_physical(instance: &ash::Instance, index: Option<usize>) -> Result<vk::PhysicalDevice> {
+        // SAFETY: a plain query on a live instance.
         let physicals =
             unsafe { instance.enumerate_physical_devices() }.call("vkEnumeratePhysicalDevices")?;
         if physicals.is_empty() {
@@ -204,44 +298,28 @@ impl Gpu {
         let best = physicals
             .iter()
             .min_by_key(|&&p| {
+                // SAFETY: `p` was enumerated from this live instance.
                 device_rank(unsafe { instance.get_physical_device_properties(p) }.device_type)
             })
             .copied();
         best.ok_or(GpuError::NoDevice)
     }
 
-    fn open(entry: ash::Entry, instance: ash::Instance, options: &GpuOptions) -> Result<Gpu> {
-        let validation = Arc::new(ValidationLog::default());
-        let messenger = if options.validation {
-            let debug = ash::ext::debug_utils::Instance::new(&entry, &instance);
-            let info = vk::DebugUtilsMessengerCreateInfoEXT::default()
-                .message_severity(
-                    vk::DebugUtilsMessageSeverityFlagsEXT::ERROR
-                        | vk::DebugUtilsMessageSeverityFlagsEXT::WARNING,
-                )
-                .message_type(
-                    vk::DebugUtilsMessageTypeFlagsEXT::VALIDATION
-                        | vk::DebugUtilsMessageTypeFlagsEXT::PERFORMANCE
-                        | vk::DebugUtilsMessageTypeFlagsEXT::GENERAL,
-                )
-                .pfn_user_callback(Some(debug_callback))
-                .user_data(Arc::as_ptr(&validation) as *mut c_void);
-            let m = unsafe { debug.create_debug_utils_messenger(&info, None) }
-                .call("vkCreateDebugUtilsMessengerEXT")?;
-            Some((debug, m))
-        } else {
-            None
-        };
-        let physical = Self::pick_physical(&instance, options.device_index)?;
+    /// Picks the physical device and creates the logical device and its allocator. On failure
+    /// it destroys what it created (the device), leaving the instance to the caller.
+    fn open_device(instance: &ash::Instance, options: &GpuOptions) -> Result<OpenedDevice> {
+        let physical = Self::pick_physical(instance, options.device_index)?;
+        // SAFETY: `physical` was enumerated from this live instance.
         let extensions = unsafe { instance.enumerate_device_extension_properties(physical) }
             .call("vkEnumerateDeviceExtensionProperties")?;
-        let caps = caps::query(&instance, physical, &extensions);
+        let caps = caps::query(instance, physical, &extensions);
         if !has_extension(&extensions, ash::khr::push_descriptor::NAME) {
             return Err(GpuError::Unsupported {
                 device: caps.device_name.clone(),
                 what: "VK_KHR_push_descriptor".into(),
             });
         }
+        // SAFETY: `physical` was enumerated from this live instance.
         let families = unsafe { instance.get_physical_device_queue_family_properties(physical) };
         let queue_family = families
             .iter()
@@ -261,8 +339,7 @@ impl Gpu {
                 enabled.push(ext.as_ptr());
             }
         }
-        let device = Self::create_device(&instance, physical, queue_family, &caps, &enabled)?;
-        let queue = unsafe { device.get_device_queue(queue_family, 0) };
+        let device = Self::create_device(instance, physical, queue_family, &caps, &enabled)?;
         let allocator = Allocator::new(&AllocatorCreateDesc {
             instance: instance.clone(),
             device: device.clone(),
@@ -270,23 +347,67 @@ impl Gpu {
             debug_settings: Default::default(),
             buffer_device_address: true,
             allocation_sizes: Default::default(),
-        })
-        .map_err(|e| GpuError::Allocation {
-            name: "allocator".into(),
-            bytes: 0,
-            message: e.to_string(),
-        })?;
+        });
+        match allocator {
+            Ok(allocator) => Ok(OpenedDevice {
+                device,
+                allocator,
+                physical,
+                queue_family,
+                caps,
+            }),
+            Err(e) => {
+                // SAFETY: the device was just created and nothing has been made on it.
+                unsafe { device.destroy_device(None) };
+                Err(GpuError::Allocation {
+                    name: "allocator".into(),
+                    bytes: 0,
+                    message: e.to_string(),
+                })
+            }
+        }
+    }
+
+    /// Makes what `Gpu` itself owns (command pool, samplers) on the shared device.
+    fn finish(
+        shared: Arc<DeviceShared>,
+        physical: vk::PhysicalDevice,
+        queue_family: u32,
+        caps: Capabilities,
+    ) -> Result<Gpu> {
+        let device = shared.device.clone();
+        let instance = &shared.instance;
+        // SAFETY: the device was created with one queue in `queue_family`.
+        let queue = unsafe { device.get_device_queue(queue_family, 0) };
+        let debug_device = shared
+            .messenger
+            .as_ref()
+            .map(|_| ash::ext::debug_utils::Device::new(instance, &device));
+        let mesh_shader = caps
+            .mesh_shader
+            .then(|| ash::ext::mesh_shader::Device::new(instance, &device));
+        // Null handles until created: if a creation below fails, dropping `gpu` destroys the
+        // ones made so far (destroying a null handle does nothing).
+        let mut gpu = Gpu {
+            push_descriptor: ash::khr::push_descriptor::Device::new(instance, &device),
+            mesh_shader,
+            debug_device,
+            device,
+            queue,
+            command_pool: vk::CommandPool::null(),
+            sampler_nearest: vk::Sampler::null(),
+            sampler_linear: vk::Sampler::null(),
+            caps,
+            physical,
+            shared,
+            _not_sync: PhantomData,
+        };
         let pool_info = vk::CommandPoolCreateInfo::default()
             .queue_family_index(queue_family)
             .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
-        let command_pool =
-            unsafe { device.create_command_pool(&pool_info, None) }.call("vkCreateCommandPool")?;
-        let debug_device = messenger
-            .as_ref()
-            .map(|_| ash::ext::debug_utils::Device::new(&instance, &device));
-        let mesh_shader = caps
-            .mesh_shader
-            .then(|| ash::ext::mesh_shader::Device::new(&instance, &device));
+        // SAFETY: the create info is valid and names the device's queue family.
+        gpu.command_pool = unsafe { gpu.device.create_command_pool(&pool_info, None) }
+            .call("vkCreateCommandPool")?;
         let sampler = |filter: vk::Filter| {
             let info = vk::SamplerCreateInfo::default()
                 .mag_filter(filter)
@@ -294,27 +415,14 @@ impl Gpu {
                 .address_mode_u(vk::SamplerAddressMode::CLAMP_TO_EDGE)
                 .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE)
                 .address_mode_w(vk::SamplerAddressMode::CLAMP_TO_EDGE);
-            unsafe { device.create_sampler(&info, None) }.call("vkCreateSampler")
+            // SAFETY: the create info is valid and fully initialised.
+            unsafe { gpu.device.create_sampler(&info, None) }.call("vkCreateSampler")
         };
-        let sampler_nearest = sampler(vk::Filter::NEAREST)?;
-        let sampler_linear = sampler(vk::Filter::LINEAR)?;
-        Ok(Gpu {
-            sampler_nearest,
-            sampler_linear,
-            push_descriptor: ash::khr::push_descriptor::Device::new(&instance, &device),
-            mesh_shader,
-            debug_device,
-            device,
-            queue,
-            allocator: std::mem::ManuallyDrop::new(Mutex::new(allocator)),
-            command_pool,
-            caps,
-            physical,
-            messenger,
-            validation,
-            instance,
-            _entry: entry,
-        })
+        let nearest = sampler(vk::Filter::NEAREST)?;
+        gpu.sampler_nearest = nearest;
+        let linear = sampler(vk::Filter::LINEAR)?;
+        gpu.sampler_linear = linear;
+        Ok(gpu)
     }
 
     fn create_device(
@@ -328,6 +436,7 @@ impl Gpu {
         let queues = [vk::DeviceQueueCreateInfo::default()
             .queue_family_index(queue_family)
             .queue_priorities(&priorities)];
+        // SAFETY: `physical` was enumerated from this live instance.
         let supported = unsafe { instance.get_physical_device_features(physical) };
         let base = vk::PhysicalDeviceFeatures::default()
             .tessellation_shader(caps.tessellation)
@@ -412,6 +521,9 @@ impl Gpu {
         if caps.fragment_shader_interlock {
             info = info.push_next(&mut lock);
         }
+        // SAFETY: the create info, its feature chain and the extension names (static C
+        // strings) all live until the call returns; only features the device reports are
+        // enabled (see `caps`).
         unsafe { instance.create_device(physical, &info, None) }.call("vkCreateDevice")
     }
 
@@ -421,11 +533,17 @@ impl Gpu {
 
     /// Validation-layer errors seen so far (empty when validation is off).
     pub fn validation_errors(&self) -> Vec<String> {
-        self.validation.errors()
+        self.shared.validation.errors()
+    }
+
+    /// The log the validation callback writes to. It outlives this handle: messages raised
+    /// while the last objects are dropped (and the device with them) still land in it.
+    pub fn validation_log(&self) -> Arc<ValidationLog> {
+        self.shared.validation.clone()
     }
 
     pub fn validation_enabled(&self) -> bool {
-        self.messenger.is_some()
+        self.shared.messenger.is_some()
     }
 
     pub fn device(&self) -> &ash::Device {
@@ -443,28 +561,29 @@ impl Gpu {
                 .object_handle(handle)
                 .object_name(&name);
             // Naming is a debugging aid; failing to name must not fail the work.
+            // SAFETY: `handle` is an object of this device and `name` outlives the call.
             let _ = unsafe { debug.set_debug_utils_object_name(&info) };
         }
     }
 
     pub fn wait_idle(&self) -> Result<()> {
+        // SAFETY: the queue, which this call synchronises on, is used only by `submit` on this
+        // same thread (`Gpu` is not `Sync`).
         unsafe { self.device.device_wait_idle() }.call("vkDeviceWaitIdle")
     }
 }
 
 impl Drop for Gpu {
     fn drop(&mut self) {
+        // SAFETY: the command pool and samplers were created on this device and only `Gpu`
+        // hands them out (command buffers live within one `submit`, samplers are bound only in
+        // recordings that `submit` waits for); waiting for idle makes sure nothing uses them.
+        // The device itself stays alive in `shared` as long as any object needs it.
         unsafe {
             let _ = self.device.device_wait_idle();
             self.device.destroy_command_pool(self.command_pool, None);
             self.device.destroy_sampler(self.sampler_nearest, None);
             self.device.destroy_sampler(self.sampler_linear, None);
-            std::mem::ManuallyDrop::drop(&mut self.allocator);
-            self.device.destroy_device(None);
-            if let Some((debug, m)) = self.messenger.take() {
-                debug.destroy_debug_utils_messenger(m, None);
-            }
-            self.instance.destroy_instance(None);
         }
     }
 }

@@ -1,6 +1,11 @@
 //! Vulkan plumbing for Tessera: device and capabilities, memory, run-time shader compilation,
 //! pipelines, command recording and GPU timing. It knows nothing about volumes, meshes or
 //! glyphs; techniques in the `tessera` crate build on it.
+//!
+//! GPU objects ([`Buffer`], [`Image`], [`Pipeline`], [`Timer`]) free themselves when dropped and
+//! keep the device alive while they exist, so they may be dropped in any order, before or after
+//! the [`Gpu`] they were made from.
+#![warn(unsafe_op_in_unsafe_fn)]
 
 pub mod caps;
 pub mod commands;
@@ -9,6 +14,7 @@ pub mod error;
 pub mod memory;
 pub mod pipeline;
 pub mod shader;
+mod shared;
 pub mod spirv;
 pub mod timer;
 

@@ -2,15 +2,25 @@
 
 use crate::context::Gpu;
 use crate::error::{GpuError, Result, VkContext};
+use crate::shared::DeviceShared;
 use ash::vk;
 use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
 pub use gpu_allocator::MemoryLocation;
+use std::sync::Arc;
 
+/// A buffer with its memory. Dropping it destroys the buffer and frees the memory; it keeps the
+/// device alive meanwhile, so it may outlive the [`Gpu`] that made it.
+///
+/// Dropping is safe whenever the buffer is not in a recording that is still being made: every
+/// [`Gpu::submit`] waits for its fence before it returns, so no work submitted through Tessera
+/// is still running when the caller gets control back. Keep it that way: a submission that
+/// returned before the GPU finished would make dropping its resources a use-after-free.
 pub struct Buffer {
     pub handle: vk::Buffer,
     pub size: u64,
     pub name: String,
     allocation: Option<Allocation>,
+    shared: Arc<DeviceShared>,
 }
 
 impl Buffer {
@@ -23,6 +33,20 @@ impl Buffer {
     }
 }
 
+impl Drop for Buffer {
+    fn drop(&mut self) {
+        // SAFETY: the buffer was created on this device (kept alive by `shared`) and no
+        // submitted work uses it: submissions wait for their fence (see the type's docs). The
+        // buffer goes before the memory bound to it.
+        unsafe { self.shared.device.destroy_buffer(self.handle, None) };
+        if let Some(a) = self.allocation.take() {
+            self.shared.free(a);
+        }
+    }
+}
+
+/// An image with its view and memory; like [`Buffer`], it frees itself when dropped and keeps
+/// the device alive meanwhile.
 pub struct Image {
     pub handle: vk::Image,
     pub view: vk::ImageView,
@@ -32,6 +56,23 @@ pub struct Image {
     pub layers: u32,
     pub name: String,
     allocation: Option<Allocation>,
+    shared: Arc<DeviceShared>,
+}
+
+impl Drop for Image {
+    fn drop(&mut self) {
+        // SAFETY: the image and its view (possibly still null when creation failed half-way,
+        // which Vulkan ignores) were created on this device, kept alive by `shared`; no
+        // submitted work uses them (submissions wait for their fence). The view goes before
+        // the image, the image before its memory.
+        unsafe {
+            self.shared.device.destroy_image_view(self.view, None);
+            self.shared.device.destroy_image(self.handle, None);
+        }
+        if let Some(a) = self.allocation.take() {
+            self.shared.free(a);
+        }
+    }
 }
 
 fn allocation_error(name: &str, bytes: u64, e: gpu_allocator::AllocationError) -> GpuError {
@@ -73,9 +114,20 @@ impl Gpu {
             .size(size)
             .usage(usage | vk::BufferUsageFlags::SHADER_DEVICE_ADDRESS)
             .sharing_mode(vk::SharingMode::EXCLUSIVE);
+        // SAFETY: the create info is valid (non-zero size, exclusive sharing).
         let handle = unsafe { self.device.create_buffer(&info, None) }.call("vkCreateBuffer")?;
+        // From here on dropping `buffer` destroys what has been made so far.
+        let mut buffer = Buffer {
+            handle,
+            size,
+            name: name.to_string(),
+            allocation: None,
+            shared: self.shared.clone(),
+        };
+        // SAFETY: `handle` is a live buffer of this device.
         let requirements = unsafe { self.device.get_buffer_memory_requirements(handle) };
         let allocation = self
+            .shared
             .allocator
             .lock()
             .map_err(|_| GpuError::Allocation {
@@ -89,26 +141,18 @@ impl Gpu {
                 location,
                 linear: true,
                 allocation_scheme: AllocationScheme::GpuAllocatorManaged,
-            });
-        let allocation = match allocation {
-            Ok(a) => a,
-            Err(e) => {
-                unsafe { self.device.destroy_buffer(handle, None) };
-                return Err(allocation_error(name, size, e));
-            }
-        };
-        unsafe {
-            self.device
-                .bind_buffer_memory(handle, allocation.memory(), allocation.offset())
-        }
-        .call("vkBindBufferMemory")?;
+            })
+            .map_err(|e| allocation_error(name, size, e))?;
+        // SAFETY: this allocation backs only this buffer, and `Drop` destroys the buffer before
+        // it frees the allocation, as `memory` requires.
+        let (memory, offset) = (unsafe { allocation.memory() }, allocation.offset());
+        buffer.allocation = Some(allocation);
+        // SAFETY: the allocation was made for this buffer's requirements, at a suitably
+        // aligned offset, and the buffer has no memory bound yet.
+        unsafe { self.device.bind_buffer_memory(handle, memory, offset) }
+            .call("vkBindBufferMemory")?;
         self.set_name(handle, name);
-        Ok(Buffer {
-            handle,
-            size,
-            name: name.to_string(),
-            allocation: Some(allocation),
-        })
+        Ok(buffer)
     }
 
     /// A device-local buffer filled with `data` through a staging copy.
@@ -125,11 +169,10 @@ impl Gpu {
             MemoryLocation::GpuOnly,
         )?;
         let staging = self.staging_with(name, data)?;
-        let result = self.submit(&format!("upload {name}"), |cmd| {
+        self.submit(&format!("upload {name}"), |cmd| {
             cmd.copy_buffer(&staging, &buffer, data.len() as u64);
-        });
-        self.destroy_buffer(staging);
-        result.map(|_| buffer)
+        })?;
+        Ok(buffer)
     }
 
     /// A host-visible copy source holding `data`, for uploads recorded by the caller (e.g. a
@@ -144,7 +187,6 @@ impl Gpu {
         match staging.mapped_mut() {
             Some(bytes) => bytes[..data.len()].copy_from_slice(data),
             None => {
-                self.destroy_buffer(staging);
                 return Err(GpuError::Allocation {
                     name: name.into(),
                     bytes: data.len() as u64,
@@ -166,34 +208,21 @@ impl Gpu {
         let result = self.submit(&format!("read back {}", buffer.name), |cmd| {
             cmd.copy_buffer(buffer, &staging, buffer.size);
         });
-        let bytes = result.map(|_| {
+        result.map(|_| {
             staging
                 .mapped()
                 .map(|m| m[..buffer.size as usize].to_vec())
                 .unwrap_or_default()
-        });
-        self.destroy_buffer(staging);
-        bytes
+        })
     }
 
     /// Writes `data` into an existing device buffer (e.g. to poison an output before a test).
     pub fn write_buffer(&self, buffer: &Buffer, data: &[u8]) -> Result<()> {
         let staging = self.staging_with(&buffer.name, data)?;
         let len = (data.len() as u64).min(buffer.size);
-        let result = self.submit(&format!("write {}", buffer.name), |cmd| {
+        self.submit(&format!("write {}", buffer.name), |cmd| {
             cmd.copy_buffer(&staging, buffer, len);
-        });
-        self.destroy_buffer(staging);
-        result
-    }
-
-    pub fn destroy_buffer(&self, mut buffer: Buffer) {
-        if let Some(a) = buffer.allocation.take() {
-            if let Ok(mut alloc) = self.allocator.lock() {
-                let _ = alloc.free(a);
-            }
-        }
-        unsafe { self.device.destroy_buffer(buffer.handle, None) };
+        })
     }
 
     /// Creates an image (2-D when `extent[2] == 1` and `dim3` is false, else 3-D).
@@ -285,13 +314,25 @@ impl Gpu {
             .tiling(vk::ImageTiling::OPTIMAL)
             .usage(usage)
             .initial_layout(vk::ImageLayout::UNDEFINED);
+        // SAFETY: the create info is valid: the sample count and 3-D extent were checked
+        // against the device above.
         let handle = unsafe { self.device.create_image(&info, None) }.call("vkCreateImage")?;
+        // From here on dropping `image` destroys what has been made so far (the view is null
+        // until created).
+        let mut image = Image {
+            handle,
+            view: vk::ImageView::null(),
+            format,
+            extent: extent3,
+            layers,
+            name: name.into(),
+            allocation: None,
+            shared: self.shared.clone(),
+        };
+        // SAFETY: `handle` is a live image of this device.
         let requirements = unsafe { self.device.get_image_memory_requirements(handle) };
-        if let Err(e) = self.check_fits(name, requirements.size) {
-            unsafe { self.device.destroy_image(handle, None) };
-            return Err(e);
-        }
-        let allocation = match self.allocator.lock() {
+        self.check_fits(name, requirements.size)?;
+        let allocation = match self.shared.allocator.lock() {
             Ok(mut a) => a
                 .allocate(&AllocationCreateDesc {
                     name,
@@ -307,35 +348,26 @@ impl Gpu {
                 message: "allocator lock poisoned".into(),
             }),
         };
-        let allocation = match allocation {
-            Ok(a) => a,
-            Err(e) => {
-                unsafe { self.device.destroy_image(handle, None) };
-                return Err(e);
-            }
-        };
-        unsafe {
-            self.device
-                .bind_image_memory(handle, allocation.memory(), allocation.offset())
-        }
-        .call("vkBindImageMemory")?;
+        let allocation = allocation?;
+        // SAFETY: this allocation backs only this image, and `Drop` destroys the image before
+        // it frees the allocation, as `memory` requires.
+        let (memory, offset) = (unsafe { allocation.memory() }, allocation.offset());
+        image.allocation = Some(allocation);
+        // SAFETY: the allocation was made for this image's requirements, at a suitably aligned
+        // offset, and the image has no memory bound yet.
+        unsafe { self.device.bind_image_memory(handle, memory, offset) }
+            .call("vkBindImageMemory")?;
         self.set_name(handle, name);
         let view_info = vk::ImageViewCreateInfo::default()
             .image(handle)
             .view_type(view_type)
             .format(format)
             .subresource_range(full_range(format, layers));
-        let view =
+        // SAFETY: the image is live with memory bound, and the view's type, format and range
+        // match how it was created.
+        image.view =
             unsafe { self.device.create_image_view(&view_info, None) }.call("vkCreateImageView")?;
-        Ok(Image {
-            handle,
-            view,
-            format,
-            extent: extent3,
-            layers,
-            name: name.into(),
-            allocation: Some(allocation),
-        })
+        Ok(image)
     }
 
     /// A sampled 3-D image filled from tightly packed texels, left in shader-read layout.
@@ -353,34 +385,20 @@ impl Gpu {
             vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST,
             true,
         )?;
-        let staging = match self.staging_with(name, texels) {
-            Ok(s) => s,
-            Err(e) => {
-                self.destroy_image(image);
-                return Err(e);
-            }
-        };
-        let result = self.submit(&format!("upload {name}"), |cmd| {
+        let staging = self.staging_with(name, texels)?;
+        self.submit(&format!("upload {name}"), |cmd| {
             cmd.copy_buffer_to_image(&staging, &image);
-        });
-        self.destroy_buffer(staging);
-        match result {
-            Ok(()) => Ok(image),
-            Err(e) => {
-                self.destroy_image(image);
-                Err(e)
-            }
-        }
+        })?;
+        Ok(image)
     }
 
-    pub fn destroy_image(&self, mut image: Image) {
-        unsafe { self.device.destroy_image_view(image.view, None) };
-        if let Some(a) = image.allocation.take() {
-            if let Ok(mut alloc) = self.allocator.lock() {
-                let _ = alloc.free(a);
-            }
+    /// Bytes currently allocated through the device's allocator (by every live buffer and
+    /// image), from its bookkeeping; for checking that objects free their memory.
+    pub fn allocated_bytes(&self) -> u64 {
+        match self.shared.allocator.lock() {
+            Ok(a) => a.generate_report().total_allocated_bytes,
+            Err(_) => 0,
         }
-        unsafe { self.device.destroy_image(image.handle, None) };
     }
 }
 

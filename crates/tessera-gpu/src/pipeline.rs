@@ -4,8 +4,10 @@
 use crate::context::Gpu;
 use crate::error::{GpuError, Result, VkContext};
 use crate::shader::Spirv;
+use crate::shared::DeviceShared;
 use ash::vk;
 use std::ffi::CStr;
+use std::sync::Arc;
 
 /// Bytes of push constants every pipeline accepts: the guaranteed minimum on all devices.
 pub const PUSH_CONSTANT_BYTES: u32 = 128;
@@ -44,7 +46,9 @@ impl Slot {
     }
 }
 
-/// The layout and pipeline objects shared by every pipeline kind.
+/// The layout and pipeline objects shared by every pipeline kind. Dropping it destroys them
+/// (submissions that used it have finished: [`Gpu::submit`] waits); it keeps the device alive
+/// meanwhile.
 pub struct Pipeline {
     pub(crate) handle: vk::Pipeline,
     pub(crate) layout: vk::PipelineLayout,
@@ -54,6 +58,36 @@ pub struct Pipeline {
     /// Workgroup size of the compute shader (compute pipelines only).
     pub local_size: [u32; 3],
     pub name: String,
+    shared: Arc<DeviceShared>,
+}
+
+impl Drop for Pipeline {
+    fn drop(&mut self) {
+        // SAFETY: the three objects were created on this device (kept alive by `shared`), or
+        // are still null when creation failed half-way (which Vulkan ignores); no submitted
+        // work uses them, as submissions wait for their fence. The pipeline goes before its
+        // layout, the layout before the set layout it was made from.
+        unsafe {
+            let device = &self.shared.device;
+            device.destroy_pipeline(self.handle, None);
+            device.destroy_pipeline_layout(self.layout, None);
+            device.destroy_descriptor_set_layout(self.set_layout, None);
+        }
+    }
+}
+
+/// A shader module, destroyed when it goes out of scope (once its pipeline has been made).
+struct Module<'a> {
+    device: &'a ash::Device,
+    handle: vk::ShaderModule,
+}
+
+impl Drop for Module<'_> {
+    fn drop(&mut self) {
+        // SAFETY: the module was created on this device and is only read by pipeline creation
+        // calls, which have returned by the time it goes out of scope.
+        unsafe { self.device.destroy_shader_module(self.handle, None) };
+    }
 }
 
 const ENTRY: &CStr = c"main";
@@ -130,15 +164,25 @@ impl Gpu {
     /// Sample counts usable for a colour attachment together with a depth attachment (the
     /// device's framebuffer limits for both), as a flag set.
     pub fn attachment_sample_counts(&self) -> vk::SampleCountFlags {
+        // SAFETY: the physical device was enumerated from this live instance.
         let limits = unsafe {
-            self.instance
+            self.shared
+                .instance
                 .get_physical_device_properties(self.physical_device())
         }
         .limits;
         limits.framebuffer_color_sample_counts & limits.framebuffer_depth_sample_counts
     }
 
-    fn layout_for(&self, slots: &[Slot]) -> Result<(vk::DescriptorSetLayout, vk::PipelineLayout)> {
+    /// A pipeline whose set layout and layout exist and whose pipeline handle is still null,
+    /// for the caller to create; dropping it on a failure destroys what was made.
+    fn layout_for(
+        &self,
+        name: &str,
+        bind_point: vk::PipelineBindPoint,
+        slots: &[Slot],
+        local_size: [u32; 3],
+    ) -> Result<Pipeline> {
         let bindings: Vec<_> = slots
             .iter()
             .enumerate()
@@ -153,59 +197,74 @@ impl Gpu {
         let set_info = vk::DescriptorSetLayoutCreateInfo::default()
             .flags(vk::DescriptorSetLayoutCreateFlags::PUSH_DESCRIPTOR_KHR)
             .bindings(&bindings);
-        let set_layout = unsafe { self.device.create_descriptor_set_layout(&set_info, None) }
+        let mut pipeline = Pipeline {
+            handle: vk::Pipeline::null(),
+            layout: vk::PipelineLayout::null(),
+            set_layout: vk::DescriptorSetLayout::null(),
+            bind_point,
+            slots: slots.to_vec(),
+            local_size,
+            name: name.into(),
+            shared: self.shared.clone(),
+        };
+        // SAFETY: the create info and the bindings it points at outlive the call; push
+        // descriptors are enabled on the device (`VK_KHR_push_descriptor` is required).
+        pipeline.set_layout = unsafe { self.device.create_descriptor_set_layout(&set_info, None) }
             .call("vkCreateDescriptorSetLayout")?;
         let ranges = [vk::PushConstantRange {
             stage_flags: vk::ShaderStageFlags::ALL,
             offset: 0,
             size: PUSH_CONSTANT_BYTES,
         }];
-        let set_layouts = [set_layout];
+        let set_layouts = [pipeline.set_layout];
         let info = vk::PipelineLayoutCreateInfo::default()
             .set_layouts(&set_layouts)
             .push_constant_ranges(&ranges);
-        let layout = unsafe { self.device.create_pipeline_layout(&info, None) }
+        // SAFETY: the set layout is live and the push-constant range is within the minimum
+        // every device supports.
+        pipeline.layout = unsafe { self.device.create_pipeline_layout(&info, None) }
             .call("vkCreatePipelineLayout")?;
-        Ok((set_layout, layout))
+        Ok(pipeline)
     }
 
-    fn module(&self, spirv: &Spirv) -> Result<vk::ShaderModule> {
+    fn module(&self, spirv: &Spirv) -> Result<Module<'_>> {
         let info = vk::ShaderModuleCreateInfo::default().code(&spirv.words);
-        let module = unsafe { self.device.create_shader_module(&info, None) }
+        // SAFETY: `words` is SPIR-V produced by the shader compiler (a whole number of 32-bit
+        // words), alive for the call.
+        let handle = unsafe { self.device.create_shader_module(&info, None) }
             .call("vkCreateShaderModule")?;
-        self.set_name(module, &spirv.path);
+        let module = Module {
+            device: &self.device,
+            handle,
+        };
+        self.set_name(handle, &spirv.path);
         Ok(module)
     }
 
     pub fn compute_pipeline(&self, name: &str, shader: &Spirv, slots: &[Slot]) -> Result<Pipeline> {
         let local_size = shader.local_size()?;
-        let (set_layout, layout) = self.layout_for(slots)?;
+        let mut pipeline =
+            self.layout_for(name, vk::PipelineBindPoint::COMPUTE, slots, local_size)?;
         let module = self.module(shader)?;
         let stage = vk::PipelineShaderStageCreateInfo::default()
             .stage(vk::ShaderStageFlags::COMPUTE)
-            .module(module)
+            .module(module.handle)
             .name(ENTRY);
         let info = [vk::ComputePipelineCreateInfo::default()
             .stage(stage)
-            .layout(layout)];
+            .layout(pipeline.layout)];
+        // SAFETY: the create info, the live module and layout it names and the entry-point
+        // name outlive the call.
         let result = unsafe {
             self.device
                 .create_compute_pipelines(vk::PipelineCache::null(), &info, None)
         };
-        unsafe { self.device.destroy_shader_module(module, None) };
-        let handle = result
+        drop(module);
+        pipeline.handle = result
             .map_err(|(_, e)| e)
             .call("vkCreateComputePipelines")?[0];
-        self.set_name(handle, name);
-        Ok(Pipeline {
-            handle,
-            layout,
-            set_layout,
-            bind_point: vk::PipelineBindPoint::COMPUTE,
-            slots: slots.to_vec(),
-            local_size,
-            name: name.into(),
-        })
+        self.set_name(pipeline.handle, name);
+        Ok(pipeline)
     }
 
     /// A graphics pipeline drawing into one colour attachment of `color_format` with dynamic
@@ -251,7 +310,7 @@ impl Gpu {
             Blend::Max => vk::BlendOp::MAX,
             _ => vk::BlendOp::ADD,
         };
-        let (set_layout, layout) = self.layout_for(slots)?;
+        let mut pipeline = self.layout_for(name, vk::PipelineBindPoint::GRAPHICS, slots, [0; 3])?;
         let mut modules = Vec::new();
         for s in shaders {
             modules.push(self.module(s)?);
@@ -259,10 +318,10 @@ impl Gpu {
         let stages: Vec<_> = shaders
             .iter()
             .zip(&modules)
-            .map(|(s, &m)| {
+            .map(|(s, m)| {
                 vk::PipelineShaderStageCreateInfo::default()
                     .stage(stage_flag(s.stage))
-                    .module(m)
+                    .module(m.handle)
                     .name(ENTRY)
             })
             .collect();
@@ -318,7 +377,7 @@ impl Gpu {
             .multisample_state(&multisample)
             .color_blend_state(&blend)
             .dynamic_state(&dynamic)
-            .layout(layout)
+            .layout(pipeline.layout)
             .push_next(&mut rendering);
         let uses_vertex = shaders
             .iter()
@@ -350,35 +409,19 @@ impl Gpu {
         if tessellated {
             info = info.tessellation_state(&tessellation);
         }
+        // SAFETY: the create info and everything its chain points at (stages, states, live
+        // modules and layout, formats) live until the call returns; optional structures are
+        // chained only when the device has the matching feature.
         let result = unsafe {
             self.device
                 .create_graphics_pipelines(vk::PipelineCache::null(), &[info], None)
         };
-        for m in modules {
-            unsafe { self.device.destroy_shader_module(m, None) };
-        }
-        let handle = result
+        drop(modules);
+        pipeline.handle = result
             .map_err(|(_, e)| e)
             .call("vkCreateGraphicsPipelines")?[0];
-        self.set_name(handle, name);
-        Ok(Pipeline {
-            handle,
-            layout,
-            set_layout,
-            bind_point: vk::PipelineBindPoint::GRAPHICS,
-            slots: slots.to_vec(),
-            local_size: [0; 3],
-            name: name.into(),
-        })
-    }
-
-    pub fn destroy_pipeline(&self, p: Pipeline) {
-        unsafe {
-            self.device.destroy_pipeline(p.handle, None);
-            self.device.destroy_pipeline_layout(p.layout, None);
-            self.device
-                .destroy_descriptor_set_layout(p.set_layout, None);
-        }
+        self.set_name(pipeline.handle, name);
+        Ok(pipeline)
     }
 }
 

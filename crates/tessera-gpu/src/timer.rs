@@ -3,13 +3,24 @@
 use crate::commands::Recorder;
 use crate::context::Gpu;
 use crate::error::{Result, VkContext};
+use crate::shared::DeviceShared;
 use ash::vk;
+use std::sync::Arc;
 
-/// Holds a query pool of two timestamps per named scope.
+/// Holds a query pool of two timestamps per named scope; dropping it destroys the pool.
 pub struct Timer {
     pub(crate) pool: vk::QueryPool,
     names: Vec<String>,
     capacity: u32,
+    shared: Arc<DeviceShared>,
+}
+
+impl Drop for Timer {
+    fn drop(&mut self) {
+        // SAFETY: the pool was created on this device (kept alive by `shared`) and no
+        // submitted work writes it: submissions wait for their fence.
+        unsafe { self.shared.device.destroy_query_pool(self.pool, None) };
+    }
 }
 
 impl Timer {
@@ -17,17 +28,21 @@ impl Timer {
         let info = vk::QueryPoolCreateInfo::default()
             .query_type(vk::QueryType::TIMESTAMP)
             .query_count(max_scopes * 2);
+        // SAFETY: the create info is valid (timestamp queries, which the queue supports).
         let pool =
             unsafe { gpu.device.create_query_pool(&info, None) }.call("vkCreateQueryPool")?;
         Ok(Timer {
             pool,
             names: Vec::new(),
             capacity: max_scopes,
+            shared: gpu.shared.clone(),
         })
     }
 
     /// Forgets earlier scopes; call before recording a new frame.
     pub fn reset(&mut self, gpu: &Gpu) {
+        // SAFETY: host query reset is enabled on the device, the range is the whole pool, and
+        // no submitted work uses the pool (submissions wait for their fence).
         unsafe { gpu.device.reset_query_pool(self.pool, 0, self.capacity * 2) };
         self.names.clear();
     }
@@ -54,6 +69,8 @@ impl Timer {
             return Ok(vec![]);
         }
         let mut ticks = vec![0u64; n * 2];
+        // SAFETY: the queries asked for were written by the last submission (recorded by
+        // `scope`); `ticks` holds exactly two 64-bit results per scope.
         unsafe {
             gpu.device.get_query_pool_results(
                 self.pool,
@@ -73,9 +90,5 @@ impl Timer {
                 (name.clone(), dt * period * 1e-6)
             })
             .collect())
-    }
-
-    pub fn destroy(self, gpu: &Gpu) {
-        unsafe { gpu.device.destroy_query_pool(self.pool, None) };
     }
 }

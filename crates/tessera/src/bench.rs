@@ -112,24 +112,19 @@ pub fn time_frames(
 ) -> Result<Vec<StageStats>> {
     let mut timer = Timer::new(gpu, max_scopes)?;
     let mut samples: Vec<(String, Vec<f64>)> = Vec::new();
-    let result = (|| -> Result<()> {
-        for frame in 0..plan.warmup + plan.frames {
-            timer.reset(gpu);
-            gpu.submit("benchmark frame", |rec| record(rec, &mut timer))?;
-            if frame < plan.warmup {
-                continue;
-            }
-            for (i, (name, ms)) in timer.read_ms(gpu)?.into_iter().enumerate() {
-                if samples.len() <= i {
-                    samples.push((name, Vec::new()));
-                }
-                samples[i].1.push(ms);
-            }
+    for frame in 0..plan.warmup + plan.frames {
+        timer.reset(gpu);
+        gpu.submit("benchmark frame", |rec| record(rec, &mut timer))?;
+        if frame < plan.warmup {
+            continue;
         }
-        Ok(())
-    })();
-    timer.destroy(gpu);
-    result?;
+        for (i, (name, ms)) in timer.read_ms(gpu)?.into_iter().enumerate() {
+            if samples.len() <= i {
+                samples.push((name, Vec::new()));
+            }
+            samples[i].1.push(ms);
+        }
+    }
     Ok(samples
         .iter()
         .map(|(name, s)| StageStats::from_samples(name, s))
@@ -149,12 +144,10 @@ pub fn time_once(
     let submitted = gpu.submit(pass, |rec| {
         recorded = timer.scope(rec, pass, record);
     });
-    let ms = submitted
+    submitted
         .map_err(crate::Error::from)
         .and(recorded)
-        .and_then(|_| Ok(timer.read_ms(gpu)?.first().map(|s| s.1).unwrap_or(0.0)));
-    timer.destroy(gpu);
-    ms
+        .and_then(|_| Ok(timer.read_ms(gpu)?.first().map(|s| s.1).unwrap_or(0.0)))
 }
 
 /// The `u32` words of a small GPU buffer (counters, statistics).

@@ -33,8 +33,4 @@ impl GpuVolume {
             scalar: volume.scalar_type(),
         })
     }
-
-    pub fn destroy(self, gpu: &Gpu) {
-        gpu.destroy_image(self.texture);
-    }
 }

@@ -10,6 +10,7 @@ pub mod iso;
 pub mod param;
 pub mod path;
 pub mod raster;
+pub mod renderer;
 pub mod shaders;
 pub mod target;
 pub mod tet;

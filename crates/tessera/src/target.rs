@@ -5,14 +5,14 @@ use tessera_data::RgbaImage;
 use tessera_gpu::{vk, Buffer, Gpu, MemoryLocation};
 
 /// Where a frame's pixels go: packed RGBA8, one `u32` per pixel.
-pub struct PixelTarget {
+pub struct Target {
     pub pixels: Buffer,
     pub width: u32,
     pub height: u32,
 }
 
-impl PixelTarget {
-    pub fn new(gpu: &Gpu, width: u32, height: u32) -> Result<PixelTarget> {
+impl Target {
+    pub fn new(gpu: &Gpu, width: u32, height: u32) -> Result<Target> {
         crate::error::check_image_size(width, height)?;
         let pixels = gpu.create_buffer(
             "pixels",
@@ -22,7 +22,7 @@ impl PixelTarget {
                 | vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::GpuOnly,
         )?;
-        Ok(PixelTarget {
+        Ok(Target {
             pixels,
             width,
             height,
@@ -44,9 +44,5 @@ impl PixelTarget {
                 &bytes[..(self.width * self.height * 4) as usize],
             ),
         })
-    }
-
-    pub fn destroy(self, gpu: &Gpu) {
-        gpu.destroy_buffer(self.pixels);
     }
 }

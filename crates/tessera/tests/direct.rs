@@ -87,10 +87,7 @@ fn mesh_shader_triangles_equal_cpu_marching_cubes() {
             "{}: a list exceeded the vertex limit",
             volume.name()
         );
-        prepared.destroy(&gpu);
-        direct.destroy(&gpu);
     }
-    target.destroy(&gpu);
     assert_clean(&gpu);
 }
 
@@ -130,10 +127,7 @@ fn direct_images_match_cpu_rasterized_marching_cubes() {
             let name = format!("direct-{}-{fraction}", volume.name());
             assert_matches_cpu_raster(&name, &frame.image, volume, iso, &camera);
         }
-        prepared.destroy(&gpu);
-        direct.destroy(&gpu);
     }
-    target.destroy(&gpu);
     assert_clean(&gpu);
 }
 
@@ -214,10 +208,6 @@ fn occlusion_culling_changes_work_not_images() {
         }
     }
     eprintln!("blocks drawn per frame {drawn_per_frame:?} of {occupied_regions} occupied regions");
-    state.destroy(&gpu);
-    target.destroy(&gpu);
-    prepared.destroy(&gpu);
-    direct.destroy(&gpu);
     assert_clean(&gpu);
 }
 
@@ -246,9 +236,6 @@ fn checkerboard_lists_respect_the_vertex_limit() {
     assert_eq!(frame.stats.mesh_workgroups, 32);
     assert_eq!(frame.stats.vertices, 256 * 12);
     assert_eq!(frame.stats.triangles, 256 * 4);
-    target.destroy(&gpu);
-    prepared.destroy(&gpu);
-    direct.destroy(&gpu);
     assert_clean(&gpu);
 }
 
@@ -290,12 +277,7 @@ fn isovalue_outside_range_draws_nothing() {
             "the min-max grid rules every block out"
         );
         assert!(image.pixels.iter().all(|&p| p == background));
-        target.destroy(&gpu);
-        compute.destroy(&gpu);
     }
-    target.destroy(&gpu);
-    prepared.destroy(&gpu);
-    direct.destroy(&gpu);
     assert_clean(&gpu);
 }
 
@@ -349,13 +331,5 @@ fn multiview_layers_equal_single_eye_renders() {
         );
     }
     assert_ne!(layers[0], layers[1]);
-    for t in [pair, single] {
-        t.destroy(&gpu);
-    }
-    gpu.destroy_buffer(views);
-    gpu.destroy_buffer(capture);
-    prepared.destroy(&gpu);
-    mv.destroy(&gpu);
-    direct.destroy(&gpu);
     assert_clean(&gpu);
 }

@@ -93,12 +93,7 @@ fn compute_extraction_equals_cpu_marching_cubes() {
             let counts: Vec<u32> =
                 bytemuck::allocation::pod_collect_to_vec(&gpu.read_buffer(&small.counts).unwrap());
             assert_eq!(counts[0], capacity - 1);
-            small.destroy(&gpu);
         }
-        lists.destroy(&gpu);
-        extract.destroy(&gpu);
-        prepared.destroy(&gpu);
-        builder.destroy(&gpu);
     }
     assert_clean(&gpu);
 }
@@ -143,11 +138,7 @@ fn compute_path_images_match_cpu_rasterized_marching_cubes() {
             assert!(!image.pixels.contains(&u32::MAX), "unwritten pixels");
             let name = format!("direct-compute-{}-{fraction}", volume.name());
             assert_matches_cpu_raster(&name, &image, volume, iso, &camera);
-            target.destroy(&gpu);
         }
-        prepared.destroy(&gpu);
-        builder.destroy(&gpu);
-        compute.destroy(&gpu);
     }
     assert_clean(&gpu);
 }
@@ -203,10 +194,5 @@ fn compute_stereo_second_view_equals_a_mono_render_from_that_eye() {
         left_image, right_image,
         "the eyes must see different images"
     );
-    for t in [first, second, mono] {
-        t.destroy(&gpu);
-    }
-    prepared.destroy(&gpu);
-    compute.destroy(&gpu);
     assert_clean(&gpu);
 }

@@ -113,11 +113,6 @@ fn run_path(
         assert_eq!(stats.blocks_occupied, plain_stats.blocks_classified);
         frames.push((stats.triangles(), plain_stats.triangles, stats));
     }
-    state.destroy(gpu);
-    target.destroy(gpu);
-    plain_target.destroy(gpu);
-    prepared.destroy(gpu);
-    compute.destroy(gpu);
     frames
 }
 
@@ -275,11 +270,6 @@ fn reset_forgets_what_was_seen() {
     assert!(compute
         .render_culled(&gpu, &prepared, &other, &state, iso, &camera)
         .is_err());
-    other.destroy(&gpu);
-    state.destroy(&gpu);
-    target.destroy(&gpu);
-    prepared.destroy(&gpu);
-    compute.destroy(&gpu);
     assert_clean(&gpu);
 }
 

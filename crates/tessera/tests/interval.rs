@@ -122,8 +122,6 @@ fn assert_variants_match(
                 frame.overflowed
             );
         }
-        target.destroy(gpu);
-        interval.destroy(gpu);
     }
     assert_clean(gpu);
     covered
@@ -152,7 +150,7 @@ fn assert_matches_reference(
     let gpu_mesh = GpuTetMesh::upload(&gpu, mesh).unwrap();
     let reference = optical_depth(mesh, cam, w, h);
     let edges = edge_mask(mesh, cam, w, h, 1.0);
-    let covered = assert_variants_match(
+    assert_variants_match(
         &gpu,
         name,
         &gpu_mesh,
@@ -164,9 +162,7 @@ fn assert_matches_reference(
             edges: &edges,
             clipped,
         },
-    );
-    gpu_mesh.destroy(&gpu);
-    covered
+    )
 }
 
 /// Every pixel away from projected edges within tolerance of the reference
@@ -307,10 +303,7 @@ fn beer_lambert_post_pass_matches_cpu_composite() {
             darkened > (w * h / 10) as usize,
             "the mesh must absorb light somewhere"
         );
-        target.destroy(&gpu);
-        interval.destroy(&gpu);
     }
-    gpu_mesh.destroy(&gpu);
     assert_clean(&gpu);
 }
 
@@ -394,7 +387,7 @@ fn scalar_matches_reference(
     let table = IntegrandTable::new(&tf, mode, scale, 64);
     let reference = integrate_scalar(&mesh, &normalized, cam, (w, h), &table, mode);
     let edges = edge_mask(&mesh, cam, w, h, 1.0);
-    let gpu_mesh = GpuTetMesh::upload_with(&gpu, &mesh, Some(&normalized)).unwrap();
+    let gpu_mesh = GpuTetMesh::upload(&gpu, &mesh).unwrap();
     let integrand = Integrand::Scalar { mode, table };
     let variants = variants(&gpu, &integrand, all);
     let covered = assert_variants_match(
@@ -414,7 +407,6 @@ fn scalar_matches_reference(
         variants.is_empty() || covered >= min_covered,
         "{mode:?}: {covered} pixels covered"
     );
-    gpu_mesh.destroy(&gpu);
 }
 
 #[test]
@@ -444,10 +436,9 @@ fn maximum_post_pass_shows_the_table_colour() {
     let mesh = scalar_sphere();
     let (w, h) = (64, 48);
     let cam = camera(10.0, 30.0, 2.0);
-    let normalized = normalized_scalars(&mesh, None, "scalar sphere").unwrap();
     let tf = TransferFunction::preset("cool-warm").unwrap();
     let table = IntegrandTable::new(&tf, ScalarMode::Maximum, 1.0, 64);
-    let gpu_mesh = GpuTetMesh::upload_with(&gpu, &mesh, Some(&normalized)).unwrap();
+    let gpu_mesh = GpuTetMesh::upload(&gpu, &mesh).unwrap();
     let background = [0.1, 0.1, 0.1];
     for path in paths(&gpu) {
         let options = IntervalOptions {
@@ -486,10 +477,7 @@ fn maximum_post_pass_shows_the_table_colour() {
             "{}: the colour must vary with the maximum",
             path.name()
         );
-        target.destroy(&gpu);
-        interval.destroy(&gpu);
     }
-    gpu_mesh.destroy(&gpu);
     assert_clean(&gpu);
 }
 
@@ -544,9 +532,7 @@ fn asteroid_field_matches_the_cpu_sphere_tracer() {
                 cam.distance,
                 diff.pixels_outside
             );
-            interval.destroy(&gpu);
         }
-        gpu_mesh.destroy(&gpu);
     }
     assert_clean(&gpu);
 }

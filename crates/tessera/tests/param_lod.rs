@@ -8,10 +8,11 @@ use common::{assert_clean, gpu};
 use glam::{Vec2, Vec3};
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicUsize, Ordering};
-use tessera::param::{GpuParamScene, ParamPoints, ParamPointsOptions, ParamScene, ParamView};
+use tessera::param::{GpuParamScene, ParamPoints, ParamPointsOptions, ParamScene, View};
 use tessera::shaders;
 use tessera_data::param::reference::world_position;
 use tessera_data::param::{run_lod, LodConfig, ParamFunction, Patch};
+use tessera_data::DepthFit;
 use tessera_data::OrbitCamera;
 use tessera_gpu::Gpu;
 
@@ -28,7 +29,7 @@ fn assert_lod_matches(
     let compiler = shaders::compiler();
     let points = ParamPoints::new(gpu, &compiler, options).unwrap();
     let gpu_scene = GpuParamScene::upload(gpu, scene).unwrap();
-    let view = ParamView::new(&gpu_scene.bounds, cam, SIZE, 1).unwrap();
+    let view = View::new(cam, SIZE, 1, DepthFit::Spheres(&gpu_scene.bounds)).unwrap();
     points.poison(gpu).unwrap();
     let capacity = 1 << 21;
     let (gpu_patches, stats, samples) = points.run_lod(gpu, &gpu_scene, &view, capacity).unwrap();
@@ -128,8 +129,6 @@ fn assert_lod_matches(
         stats.culled,
         stats.limit_hits
     );
-    gpu_scene.destroy(gpu);
-    points.destroy(gpu);
     (g.len(), steps, stats.culled, stats.limit_hits)
 }
 

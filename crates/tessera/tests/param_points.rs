@@ -155,9 +155,7 @@ fn sh_basis_matches_the_cpu() {
             }
         }
         eprintln!("{basis:?} order {order}: largest difference {worst:.2e}");
-        scene.destroy(&gpu);
     }
-    points.destroy(&gpu);
     assert_clean(&gpu);
 }
 
@@ -210,8 +208,6 @@ fn functions_match_the_cpu() {
         queries.len()
     );
     assert!(unlike * 200 <= queries.len(), "{unlike} normals differ");
-    gpu_scene.destroy(&gpu);
-    points.destroy(&gpu);
     assert_clean(&gpu);
 }
 
@@ -237,9 +233,6 @@ fn assert_image_matches(
         .render_frame(gpu, &gpu_scene, &view, &frame, BACKGROUND)
         .unwrap();
     let image = frame.pixels.read(gpu).unwrap();
-    frame.destroy(gpu);
-    gpu_scene.destroy(gpu);
-    points.destroy(gpu);
     assert!(
         !image.pixels.contains(&POISON),
         "{name}: pixels never written"
@@ -398,8 +391,6 @@ fn pixel_footprint_covers_the_silhouette() {
     );
     assert!(covered > (w * h / 10) as usize);
     assert_eq!((holes, outside), (0, 0));
-    gpu_scene.destroy(&gpu);
-    points.destroy(&gpu);
     assert_clean(&gpu);
 }
 
@@ -451,9 +442,5 @@ fn bad_input_is_refused() {
     assert!(two
         .render_image(&gpu, &three, &far, SIZE, BACKGROUND)
         .is_err());
-    three.destroy(&gpu);
-    two.destroy(&gpu);
-    scene.destroy(&gpu);
-    points.destroy(&gpu);
     assert_clean(&gpu);
 }

@@ -11,7 +11,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use tessera::param::tess::{
     ArgsParams, DownsampleParams, ParamTess, ParamTessOptions, TessFrame, TessLevels, TessParams,
 };
-use tessera::param::{GpuParamScene, ParamPoints, ParamScene, ParamView};
+use tessera::param::{GpuParamScene, ParamPoints, ParamScene, View};
 use tessera::shaders;
 use tessera_data::param::reference::{
     reference_fragments, render_reference, shade_point, ReferenceView, DEFAULT_MAX_CELL_PX,
@@ -82,7 +82,7 @@ fn host_structs_match_shader_layouts() {
 /// What [`render`] made.
 struct Rendered {
     image: RgbaImage,
-    view: ParamView,
+    view: View,
     /// Patches the draw drew.
     patches: u32,
     /// Instances of the draw.
@@ -106,9 +106,6 @@ fn render(gpu: &Gpu, scene: &ParamScene, cam: &OrbitCamera, options: ParamTessOp
     let image = frame.pixels.read(gpu).unwrap();
     let args = tess.read_draw_args(gpu).unwrap();
     let per = tess.patches_per_instance();
-    frame.destroy(gpu);
-    gpu_scene.destroy(gpu);
-    tess.destroy(gpu);
     assert!(!image.pixels.contains(&POISON), "pixels never written");
     let rendered = info.stats.rendered;
     assert!(rendered > 0 && info.stats.dropped == 0, "{:?}", info.stats);
@@ -250,8 +247,6 @@ fn adaptive_levels_follow_the_extents() {
     let seen: BTreeSet<u32> = observed.keys().flat_map(|&(a, b)| [a, b]).collect();
     assert!(seen.contains(&lo) && seen.contains(&hi), "{seen:?}");
     assert!(seen.iter().any(|l| (lo + 1..hi).contains(l)), "{seen:?}");
-    scene.destroy(&gpu);
-    tess.destroy(&gpu);
     assert_clean(&gpu);
 }
 
@@ -277,7 +272,7 @@ fn standard_positions(samples: u32) -> &'static [(u32, u32)] {
 
 /// The reference of an `n`-sample MSAA image: each pixel the average of the shaded reference
 /// samples at the standard positions (taken from a reference raster `n` times as fine).
-fn msaa_reference(scene: &ParamScene, view: &ParamView, samples: u32) -> RgbaImage {
+fn msaa_reference(scene: &ParamScene, view: &View, samples: u32) -> RgbaImage {
     let objects = scene.reference_objects();
     let fine = ReferenceView {
         supersample: samples,
@@ -368,8 +363,6 @@ fn tess_and_points_agree() {
     eprintln!("trio: points GPU {points_ms:.1} ms");
     assert!(tess.gpu_ms > 0.0);
     assert_matches("vs-points", &tess.image, &points_image, 0.99);
-    gpu_scene.destroy(&gpu);
-    points.destroy(&gpu);
     assert_clean(&gpu);
 }
 
@@ -415,7 +408,7 @@ fn bad_options_are_refused() {
 
     // The limits themselves are accepted.
     let edge = opts!(levels: TessLevels::Fixed(max), min_level: 1, max_level: max);
-    ParamTess::new(&gpu, &compiler, edge).unwrap().destroy(&gpu);
+    ParamTess::new(&gpu, &compiler, edge).unwrap();
 
     // Lists of 8 patches cannot hold a close sphere's LOD: the frame is refused, not drawn.
     let tess = ParamTess::new(&gpu, &compiler, opts!(patch_capacity: 8)).unwrap();
@@ -433,13 +426,9 @@ fn bad_options_are_refused() {
     assert!(tess
         .render_frame(&gpu, &scene, &view, &frame, BACKGROUND)
         .is_err());
-    frame.destroy(&gpu);
     let msaa4 = TessFrame::new(&gpu, &view, 4).unwrap();
     assert!(tess
         .render_frame(&gpu, &scene, &view, &msaa4, BACKGROUND)
         .is_err());
-    msaa4.destroy(&gpu);
-    scene.destroy(&gpu);
-    tess.destroy(&gpu);
     assert_clean(&gpu);
 }

@@ -240,8 +240,6 @@ fn random_triangles_match_cpu_reference() {
     let groups = (tris.len() as u32).div_ceil(rast.group_size());
     assert_eq!(args.dispatch, [2, groups.div_ceil(2), 1]);
     assert!(grid_values == gpu_values, "2-D grid changed the frame");
-    frame.destroy(&gpu);
-    rast.destroy(&gpu);
     assert_clean(&gpu);
 }
 
@@ -389,7 +387,6 @@ fn fans_cover_each_pixel_exactly_once() {
         .collect();
     let counts = check_fan(&gpu, &rast, &fan_of(centre, &rim), (w, h));
     assert!(counts.iter().filter(|&&c| c == 1).count() > 3000);
-    rast.destroy(&gpu);
     assert_clean(&gpu);
 }
 
@@ -440,8 +437,6 @@ fn empty_lists_and_counts_beyond_capacity() {
         let (_, args) = draw_into(&gpu, &rast, &tris, count, &frame);
         assert_eq!(args.dispatch, expect, "{count} triangles");
     }
-    frame.destroy(&gpu);
-    rast.destroy(&gpu);
     assert_clean(&gpu);
 }
 
@@ -498,11 +493,5 @@ fn index_base_lets_two_buffers_share_a_frame() {
             decode(values[0])
         );
     }
-    frame.destroy(&gpu);
-    for (t, c) in [first, second] {
-        gpu.destroy_buffer(t);
-        gpu.destroy_buffer(c);
-    }
-    rast.destroy(&gpu);
     assert_clean(&gpu);
 }

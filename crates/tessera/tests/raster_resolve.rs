@@ -156,10 +156,5 @@ fn resolve_barycentrics_are_perspective_correct() {
             assert!(drawn > 500, "triangle drew {drawn} pixels");
         }
     }
-    if let Some(rast) = rast {
-        rast.destroy(&gpu);
-    }
-    gpu.destroy_buffer(out);
-    gpu.destroy_pipeline(pipeline);
     assert_clean(&gpu);
 }

@@ -7,7 +7,7 @@ use tessera::gpu_volume::GpuVolume;
 use tessera::iso::minmax::{MinMaxBuilder, MinMaxOctreeGpu};
 use tessera::iso::raymarch::{Raymarch, RaymarchParams};
 use tessera::shaders;
-use tessera::target::PixelTarget;
+use tessera::target::Target;
 use tessera_data::minmax::MinMaxOctree;
 use tessera_data::procedural::{generate, ProceduralKind};
 use tessera_data::{raycast, IsoValue, OrbitCamera, Samples, ScalarType, Volume};
@@ -39,8 +39,6 @@ fn gpu_octree_equals_cpu_octree_exactly() {
         assert_eq!(gpu_nodes.len(), cpu.flattened().len(), "{}", volume.name());
         assert_eq!(gpu_nodes, cpu.flattened(), "octree of {}", volume.name());
         assert_eq!(prepared.octree.level_dims.len(), cpu.levels.len());
-        prepared.destroy(&gpu);
-        rm.destroy(&gpu);
     }
     assert_clean(&gpu);
 }
@@ -70,10 +68,7 @@ fn both_block_reductions_give_the_cpu_octree() {
             cpu,
             "subgroup reduction: {subgroups}"
         );
-        octree.destroy(&gpu);
-        builder.destroy(&gpu);
     }
-    gpu_volume.destroy(&gpu);
     assert_clean(&gpu);
 }
 
@@ -89,7 +84,7 @@ fn raymarched_images_match_cpu_reference() {
         eye_shift: 0.0,
         fov_y_deg: 40.0,
     };
-    let target = PixelTarget::new(&gpu, w, h).unwrap();
+    let target = Target::new(&gpu, w, h).unwrap();
     for volume in volumes() {
         let rm = Raymarch::new(&gpu, &compiler, volume.scalar_type()).unwrap();
         let prepared = rm.prepare(&gpu, &volume).unwrap();
@@ -109,10 +104,7 @@ fn raymarched_images_match_cpu_reference() {
                 "{name}: only {hits} surface pixels"
             );
         }
-        prepared.destroy(&gpu);
-        rm.destroy(&gpu);
     }
-    target.destroy(&gpu);
     assert_clean(&gpu);
 }
 
@@ -123,16 +115,13 @@ fn isovalue_outside_range_renders_background_only() {
     let volume = generate(ProceduralKind::Sphere, 24, ScalarType::U8).unwrap();
     let rm = Raymarch::new(&gpu, &compiler, ScalarType::U8).unwrap();
     let prepared = rm.prepare(&gpu, &volume).unwrap();
-    let target = PixelTarget::new(&gpu, 32, 32).unwrap();
+    let target = Target::new(&gpu, 32, 32).unwrap();
     target.poison(&gpu, POISON).unwrap();
     let (image, _) = rm
         .render(&gpu, &prepared, &target, 300.0, &OrbitCamera::default())
         .unwrap();
     let background = tessera_data::shading::pack_rgba8(tessera_data::shading::BACKGROUND);
     assert!(image.pixels.iter().all(|&p| p == background));
-    target.destroy(&gpu);
-    prepared.destroy(&gpu);
-    rm.destroy(&gpu);
     assert_clean(&gpu);
 }
 

@@ -9,7 +9,7 @@ use common::{assert_clean, assert_images_match, gpu};
 use std::path::Path;
 use tessera::iso::raymarch::Raymarch;
 use tessera::shaders;
-use tessera::target::PixelTarget;
+use tessera::target::Target;
 use tessera_data::raw::{load_raw, RawOptions};
 use tessera_data::{raycast, OrbitCamera, Volume};
 
@@ -38,7 +38,7 @@ fn raymarch_matches_reference(volume: &Volume, isos: &[f32], camera: &OrbitCamer
     let rm = Raymarch::new(&gpu, &compiler, volume.scalar_type()).unwrap();
     let prepared = rm.prepare(&gpu, volume).unwrap();
     let (w, h) = (128, 128);
-    let target = PixelTarget::new(&gpu, w, h).unwrap();
+    let target = Target::new(&gpu, w, h).unwrap();
     let background = tessera_data::shading::pack_rgba8(tessera_data::shading::BACKGROUND);
     for &iso in isos {
         target.poison(&gpu, u32::MAX).unwrap();
@@ -57,9 +57,6 @@ fn raymarch_matches_reference(volume: &Volume, isos: &[f32], camera: &OrbitCamer
             "iso {iso}: only {hits} surface pixels"
         );
     }
-    target.destroy(&gpu);
-    prepared.destroy(&gpu);
-    rm.destroy(&gpu);
     assert_clean(&gpu);
 }
 
@@ -155,8 +152,5 @@ fn direct_mri_head_triangles_equal_cpu_marching_cubes() {
         "{differing} of {} triangles differ",
         cpu_tris.len()
     );
-    target.destroy(&gpu);
-    prepared.destroy(&gpu);
-    direct.destroy(&gpu);
     assert_clean(&gpu);
 }

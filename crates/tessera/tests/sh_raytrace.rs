@@ -15,7 +15,7 @@ use tessera::param::raytrace::{
 };
 use tessera::param::{GpuParamScene, ParamObject, ParamPoints, ParamPointsOptions, ParamScene};
 use tessera::shaders;
-use tessera::target::PixelTarget;
+use tessera::target::Target;
 use tessera_data::image::coverage_of;
 use tessera_data::param::raytrace::{glyph_bound, radius_scale_offset, trace_glyphs, GlyphGrid};
 use tessera_data::param::reference::{render_reference, DEFAULT_MAX_CELL_PX};
@@ -145,19 +145,16 @@ fn raytrace(
     scene: &ParamScene,
     cam: &OrbitCamera,
     options: ShRaytraceOptions,
-) -> (RgbaImage, tessera::param::ParamView, f64) {
+) -> (RgbaImage, tessera_data::View, f64) {
     let rt = ShRaytrace::new(gpu, &shaders::compiler(), options).unwrap();
     let prepared = rt.prepare(gpu, scene).unwrap();
     let view = rt.view(&prepared, cam, SIZE).unwrap();
-    let target = PixelTarget::new(gpu, SIZE.0, SIZE.1).unwrap();
+    let target = Target::new(gpu, SIZE.0, SIZE.1).unwrap();
     target.poison(gpu, POISON).unwrap();
     let ms = rt
         .render_into(gpu, &prepared, &view, &target, BACKGROUND)
         .unwrap();
     let image = target.read(gpu).unwrap();
-    target.destroy(gpu);
-    prepared.destroy(gpu);
-    rt.destroy(gpu);
     assert!(!image.pixels.contains(&POISON), "pixels never written");
     (image, view, ms)
 }
@@ -176,8 +173,6 @@ fn param_points(gpu: &Gpu, scene: &ParamScene, cam: &OrbitCamera, supersample: u
     let (image, _) = points
         .render_image(gpu, &uploaded, cam, SIZE, BACKGROUND)
         .unwrap();
-    uploaded.destroy(gpu);
-    points.destroy(gpu);
     image
 }
 
@@ -294,7 +289,7 @@ fn images_do_not_depend_on_the_grid() {
 
 /// The camera ray through raster position `p` (origin, unit direction) in f64, from the view's
 /// own matrix as the shaders get it.
-fn cpu_ray(view: &tessera::param::ParamView, p: [f32; 2]) -> (Vec3, Vec3) {
+fn cpu_ray(view: &tessera_data::View, p: [f32; 2]) -> (Vec3, Vec3) {
     let (w, h) = view.raster_size();
     let ndc = DVec3::new(
         f64::from(p[0]) / f64::from(w) * 2.0 - 1.0,
@@ -413,8 +408,6 @@ fn hits_lie_on_the_glyph_surfaces() {
         normals_off * 50 <= hit_count,
         "{normals_off} normals differ"
     );
-    prepared.destroy(&gpu);
-    rt.destroy(&gpu);
     assert_clean(&gpu);
 }
 
@@ -461,21 +454,16 @@ fn bad_input_is_refused() {
     assert!(rt
         .render_image(&gpu, &prepared16, &cam, (16, 16), BACKGROUND)
         .is_err());
-    prepared16.destroy(&gpu);
-    rt16.destroy(&gpu);
     let one = ParamScene::new(vec![ParamObject::new(glyph8())]);
     let prepared = rt.prepare(&gpu, &one).unwrap();
     assert!(rt
         .render_image(&gpu, &prepared, &cam, (0, 16), BACKGROUND)
         .is_err());
     let view = rt.view(&prepared, &cam, (32, 32)).unwrap();
-    let small = PixelTarget::new(&gpu, 16, 16).unwrap();
+    let small = Target::new(&gpu, 16, 16).unwrap();
     assert!(rt
         .render_into(&gpu, &prepared, &view, &small, BACKGROUND)
         .is_err());
-    small.destroy(&gpu);
-    prepared.destroy(&gpu);
-    rt.destroy(&gpu);
     assert_clean(&gpu);
 }
 
@@ -554,7 +542,5 @@ fn large_field_hits_match_the_cpu() {
             "{name}: {unlike} rays unlike the CPU's"
         );
     }
-    prepared.destroy(&gpu);
-    rt.destroy(&gpu);
     assert_clean(&gpu);
 }

@@ -74,9 +74,6 @@ fn fragment_and_compute_arithmetic_write_the_same_pixels() {
             frag.len()
         );
     }
-    gpu.destroy_image(frag_img);
-    gpu.destroy_image(comp_img);
-    arithmetic.destroy(&gpu);
     assert_clean(&gpu);
 }
 
@@ -129,9 +126,6 @@ fn mesh_and_splat_cover_exactly_the_reference_pixels() {
         );
         assert_eq!(mesh, splat);
     }
-    gpu.destroy_image(target);
-    gpu.destroy_buffer(pixels);
-    triangles.destroy(&gpu);
     assert_clean(&gpu);
 }
 

@@ -6,6 +6,8 @@
 //!   seashell and knit-yarn families live in [`glyph`], [`seashell`] and [`yarn`].
 //! * [`lod`]: the PATCH SUBDIVISION stage (paper §4.1), the reference the GPU compute shader is
 //!   tested against.
+//! * [`scene`]: objects placed by transforms and their bounds; [`scenes`] builds the paper's
+//!   curtain and seashell; [`user`] reads users' GLSL functions.
 
 pub mod functions;
 pub mod glyph;
@@ -13,9 +15,12 @@ pub mod glyph_field;
 pub mod lod;
 pub mod raytrace;
 pub mod reference;
+pub mod scene;
+pub mod scenes;
 pub mod seashell;
 pub mod sh;
 pub mod split;
+pub mod user;
 pub mod yarn;
 
 pub use functions::{surface_normal, ParamDomain, ParamFunction};

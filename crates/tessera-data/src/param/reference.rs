@@ -323,6 +323,20 @@ pub fn render_reference(
     })
 }
 
+impl crate::view::View {
+    /// This view for the reference renderer.
+    pub fn reference(&self) -> ReferenceView {
+        ReferenceView {
+            world_to_clip: self.world_to_clip,
+            eye: self.eye,
+            light: self.light,
+            width: self.size.0,
+            height: self.size.1,
+            supersample: self.supersample,
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -27,37 +27,43 @@ pub fn scalar_range(mesh: &TetMesh) -> Option<(f32, f32)> {
         })
 }
 
-/// The vertex scalars mapped to [0, 1] over `range` (the mesh's own range by default) and
-/// clamped there; a range without extent maps everything to 0. `what` names the mesh in errors.
+/// The range the vertex scalars are mapped to [0, 1] with: `range`, or the mesh's own; an
+/// error naming `what` when the mesh has no scalars or the range is not finite.
+pub fn mapping_range(mesh: &TetMesh, range: Option<(f32, f32)>, what: &str) -> Result<(f32, f32)> {
+    if mesh.scalars.is_none() {
+        return Err(DataError::Invalid(format!(
+            "{what}: the mesh has no per-vertex scalars to integrate"
+        )));
+    }
+    match range.or_else(|| scalar_range(mesh)) {
+        Some(r) if r.0.is_finite() && r.1.is_finite() => Ok(r),
+        _ => Err(DataError::Invalid(format!(
+            "{what}: no finite scalar range"
+        ))),
+    }
+}
+
+/// `value` mapped to [0, 1] over `(lo, hi)` and clamped there; a range without extent maps
+/// everything to 0. The GPU maps each tet corner the same way (`proxy.glsl`).
+pub fn normalize_scalar(value: f32, (lo, hi): (f32, f32)) -> f32 {
+    let extent = hi - lo;
+    if extent > 0.0 {
+        ((value - lo) / extent).clamp(0.0, 1.0)
+    } else {
+        0.0
+    }
+}
+
+/// The vertex scalars mapped to [0, 1] over `range` (the mesh's own range by default), as
+/// [`normalize_scalar`] maps them. `what` names the mesh in errors.
 pub fn normalized_scalars(
     mesh: &TetMesh,
     range: Option<(f32, f32)>,
     what: &str,
 ) -> Result<Vec<f32>> {
-    let Some(values) = mesh.scalars.as_ref() else {
-        return Err(DataError::Invalid(format!(
-            "{what}: the mesh has no per-vertex scalars to integrate"
-        )));
-    };
-    let (lo, hi) = match range.or_else(|| scalar_range(mesh)) {
-        Some(r) if r.0.is_finite() && r.1.is_finite() => r,
-        _ => {
-            return Err(DataError::Invalid(format!(
-                "{what}: no finite scalar range"
-            )))
-        }
-    };
-    let extent = hi - lo;
-    Ok(values
-        .iter()
-        .map(|&v| {
-            if extent > 0.0 {
-                ((v - lo) / extent).clamp(0.0, 1.0)
-            } else {
-                0.0
-            }
-        })
-        .collect())
+    let range = mapping_range(mesh, range, what)?;
+    let values = mesh.scalars.as_deref().unwrap_or_default();
+    Ok(values.iter().map(|&v| normalize_scalar(v, range)).collect())
 }
 
 /// A tet's corners and the map from a point to its barycentric weights of corners 1..3.

@@ -30,32 +30,15 @@ impl PreparedVolume {
             )));
         }
         let gpu_volume = GpuVolume::upload(gpu, volume)?;
-        let octree = match MinMaxOctreeGpu::allocate(gpu, volume.dims()) {
-            Ok(o) => o,
-            Err(e) => {
-                gpu_volume.destroy(gpu);
-                return Err(e);
-            }
-        };
+        let octree = MinMaxOctreeGpu::allocate(gpu, volume.dims())?;
         let prepared = PreparedVolume {
             volume: gpu_volume,
             octree,
             spacing: volume.spacing(),
         };
-        let built = gpu.submit("build min-max octree", |rec| {
+        gpu.submit("build min-max octree", |rec| {
             builder.record(rec, &prepared.volume, &prepared.octree)
-        });
-        match built {
-            Ok(()) => Ok(prepared),
-            Err(e) => {
-                prepared.destroy(gpu);
-                Err(e.into())
-            }
-        }
-    }
-
-    pub fn destroy(self, gpu: &Gpu) {
-        self.volume.destroy(gpu);
-        self.octree.destroy(gpu);
+        })?;
+        Ok(prepared)
     }
 }

@@ -7,7 +7,7 @@ use crate::iso::direct::{Direct, FrameOptions, RasterTarget};
 use crate::iso::raymarch::Raymarch;
 use crate::iso::PreparedVolume;
 use crate::path::{Path, PathChoice};
-use crate::target::PixelTarget;
+use crate::target::Target;
 use tessera_data::{OrbitCamera, RgbaImage, ScalarType, Volume};
 use tessera_gpu::{Gpu, ShaderCompiler};
 
@@ -122,10 +122,8 @@ impl IsoRenderer {
     ) -> Result<IsoFrame> {
         match &self.inner {
             Inner::Raymarch(r) => {
-                let target = PixelTarget::new(gpu, size.0, size.1)?;
-                let result = r.render(gpu, prepared, &target, iso, camera);
-                target.destroy(gpu);
-                let (image, gpu_ms) = result?;
+                let target = Target::new(gpu, size.0, size.1)?;
+                let (image, gpu_ms) = r.render(gpu, prepared, &target, iso, camera)?;
                 Ok(IsoFrame {
                     image,
                     gpu_ms,
@@ -143,12 +141,7 @@ impl IsoRenderer {
                     capture_capacity: 0,
                     culling: state.as_ref(),
                 };
-                let result = d.render(gpu, prepared, &target, iso, camera, &options);
-                target.destroy(gpu);
-                if let Some(state) = state {
-                    state.destroy(gpu);
-                }
-                let frame = result?;
+                let frame = d.render(gpu, prepared, &target, iso, camera, &options)?;
                 Ok(IsoFrame {
                     image: frame.image,
                     gpu_ms: frame.gpu_ms,
@@ -161,9 +154,7 @@ impl IsoRenderer {
                 let mut capacity = TriangleLists::default_capacity(gpu).min(1 << 20);
                 let (image, gpu_ms, stats) = loop {
                     let target = ComputeTarget::new(gpu, size.0, size.1, capacity)?;
-                    let result = d.render(gpu, prepared, &target, iso, camera);
-                    target.destroy(gpu);
-                    match result {
+                    match d.render(gpu, prepared, &target, iso, camera) {
                         Ok(frame) => break frame,
                         Err(_) if d.read_stats(gpu)?.triangles > capacity => {
                             let needed = d.read_stats(gpu)?.triangles;
@@ -183,14 +174,6 @@ impl IsoRenderer {
                     triangles: Some(stats.triangles),
                 })
             }
-        }
-    }
-
-    pub fn destroy(self, gpu: &Gpu) {
-        match self.inner {
-            Inner::Raymarch(r) => r.destroy(gpu),
-            Inner::Direct(d) => d.destroy(gpu),
-            Inner::DirectCompute(d) => d.destroy(gpu),
         }
     }
 }

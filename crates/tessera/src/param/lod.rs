@@ -17,11 +17,11 @@
 //! whose arguments the point pass uses. Lists that overflow drop patches and count them.
 
 use super::scene::{scene_defines, sh_recurrence_table, GpuParamScene};
-use super::view::ParamView;
 use crate::builtin_shader;
 use crate::error::{Error, Result};
 use bytemuck::{Pod, Zeroable};
 use tessera_data::param::SplitPattern;
+use tessera_data::View;
 use tessera_gpu::{
     vk, Binding, Buffer, Gpu, MemoryLocation, Pipeline, Recorder, ShaderCompiler, Slot,
 };
@@ -318,7 +318,7 @@ impl LodStage {
         &self,
         rec: &Recorder,
         scene: &GpuParamScene,
-        view: &ParamView,
+        view: &View,
         capture: Option<(&Buffer, u32)>,
     ) {
         let s = &self.settings;
@@ -415,22 +415,5 @@ impl LodStage {
         let bytes = gpu.read_buffer(&self.render)?;
         let all: Vec<GpuPatch> = bytemuck::allocation::pod_collect_to_vec(&bytes);
         Ok(all[..count.min(all.len())].to_vec())
-    }
-
-    pub fn destroy(self, gpu: &Gpu) {
-        for p in [self.init, self.prepare, self.step] {
-            gpu.destroy_pipeline(p);
-        }
-        let [a, b] = self.lists;
-        for buf in [
-            a,
-            b,
-            self.render,
-            self.state,
-            self.no_capture,
-            self.sh_table,
-        ] {
-            gpu.destroy_buffer(buf);
-        }
     }
 }

@@ -5,7 +5,6 @@
 //! * [`scene`]: [`ParamScene`] (functions of `tessera_data::param` with transforms) and its
 //!   upload; the GLSL functions mirror the CPU ones (sphere, heart, SH glyphs of any DIPY basis
 //!   up to order [`scene::GPU_MAX_SH_ORDER`]).
-//! * [`view`]: [`ParamView`], the camera with a depth range fitted to the scene.
 //! * [`lod`]: patch initialization and up to `max_steps` indirect LOD steps, bit-exact to the
 //!   CPU reference `tessera_data::param::run_lod` given the same sample positions.
 //! * [`points`]: sampling each patch to render at about one sample per pixel of its extent,
@@ -26,19 +25,19 @@ pub mod scene;
 pub mod scenes;
 pub mod tess;
 pub mod user;
-pub mod view;
 
 pub use lod::{GpuPatch, LodSample, LodSettings, LodStats};
 pub use points::{Footprint, PointsFrame};
 pub use scene::{GpuParamScene, ParamObject, ParamScene};
-pub use view::ParamView;
+pub use tessera_data::View;
 
 use crate::builtin_shader;
 use crate::error::{Error, Result};
+use crate::target::Target;
 use bytemuck::{Pod, Zeroable};
 use lod::{LodStage, SAMPLE_BYTES};
 use points::PointPasses;
-use tessera_data::{OrbitCamera, RgbaImage};
+use tessera_data::{DepthFit, OrbitCamera, RgbaImage};
 use tessera_gpu::{vk, Binding, Gpu, MemoryLocation, Pipeline, Recorder, ShaderCompiler, Slot};
 
 /// Settings of `param-points`.
@@ -140,13 +139,7 @@ impl ParamPoints {
                 pre_split: options.pre_split,
             },
         )?;
-        let passes = match PointPasses::new(gpu, compiler) {
-            Ok(p) => p,
-            Err(e) => {
-                lod.destroy(gpu);
-                return Err(e);
-            }
-        };
+        let passes = PointPasses::new(gpu, compiler)?;
         let probe = compiler
             .compile(
                 &builtin_shader!("probe.comp.glsl"),
@@ -156,20 +149,18 @@ impl ParamPoints {
             .and_then(|s| {
                 Ok(gpu.compute_pipeline("param probe", &s, &[Slot::StorageBuffer; 5])?)
             });
-        let probe = match probe {
-            Ok(p) => p,
-            Err(e) => {
-                lod.destroy(gpu);
-                passes.destroy(gpu);
-                return Err(e);
-            }
-        };
+        let probe = probe?;
         Ok(ParamPoints {
             lod,
             passes,
             probe,
             options,
         })
+    }
+
+    /// The LOD stage's counters of the last frame.
+    pub fn read_lod_stats(&self, gpu: &Gpu) -> Result<lod::LodStats> {
+        self.lod.read_stats(gpu)
     }
 
     pub fn options(&self) -> &ParamPointsOptions {
@@ -182,8 +173,13 @@ impl ParamPoints {
         scene: &GpuParamScene,
         camera: &OrbitCamera,
         size: (u32, u32),
-    ) -> Result<ParamView> {
-        ParamView::new(&scene.bounds, camera, size, self.options.supersample)
+    ) -> Result<View> {
+        Ok(View::new(
+            camera,
+            size,
+            self.options.supersample,
+            DepthFit::Spheres(&scene.bounds),
+        )?)
     }
 
     /// [`Self::record`] with the LOD stage and the drawing (points and resolve) in timer scopes
@@ -193,13 +189,28 @@ impl ParamPoints {
         rec: &Recorder,
         timer: &mut tessera_gpu::Timer,
         scene: &GpuParamScene,
-        view: &ParamView,
+        view: &View,
         frame: &PointsFrame,
+        background: [f32; 3],
+    ) {
+        self.record_timed_into(rec, timer, scene, view, frame, &frame.pixels, background);
+    }
+
+    /// [`Self::record_timed`], the image written into `pixels` (of the view's image size).
+    #[allow(clippy::too_many_arguments)]
+    pub fn record_timed_into(
+        &self,
+        rec: &Recorder,
+        timer: &mut tessera_gpu::Timer,
+        scene: &GpuParamScene,
+        view: &View,
+        frame: &PointsFrame,
+        pixels: &Target,
         background: [f32; 3],
     ) {
         timer.scope(rec, "lod", |rec| self.lod.record(rec, scene, view, None));
         timer.scope(rec, "draw", |rec| {
-            self.record_draw(rec, scene, view, frame, background)
+            self.record_draw(rec, scene, view, frame, pixels, background)
         });
     }
 
@@ -208,8 +219,9 @@ impl ParamPoints {
         &self,
         rec: &Recorder,
         scene: &GpuParamScene,
-        view: &ParamView,
+        view: &View,
         frame: &PointsFrame,
+        pixels: &Target,
         background: [f32; 3],
     ) {
         self.passes.record(
@@ -218,6 +230,7 @@ impl ParamPoints {
             scene,
             view,
             frame,
+            pixels,
             self.options.footprint,
             self.options.density,
             self.options.max_side,
@@ -230,12 +243,12 @@ impl ParamPoints {
         &self,
         rec: &Recorder,
         scene: &GpuParamScene,
-        view: &ParamView,
+        view: &View,
         frame: &PointsFrame,
         background: [f32; 3],
     ) {
         self.lod.record(rec, scene, view, None);
-        self.record_draw(rec, scene, view, frame, background);
+        self.record_draw(rec, scene, view, frame, &frame.pixels, background);
     }
 
     /// Renders `scene` from `camera` at `size` in front of `background`: the image and the GPU
@@ -250,10 +263,8 @@ impl ParamPoints {
     ) -> Result<(RgbaImage, f64)> {
         let view = self.view(scene, camera, size)?;
         let frame = PointsFrame::new(gpu, &view)?;
-        let result = self.render_frame(gpu, scene, &view, &frame, background);
-        let image = result.and_then(|info| Ok((frame.pixels.read(gpu)?, info.gpu_ms)));
-        frame.destroy(gpu);
-        image
+        let info = self.render_frame(gpu, scene, &view, &frame, background)?;
+        Ok((frame.pixels.read(gpu)?, info.gpu_ms))
     }
 
     /// Renders into `frame` and reports the frame's counters.
@@ -261,7 +272,7 @@ impl ParamPoints {
         &self,
         gpu: &Gpu,
         scene: &GpuParamScene,
-        view: &ParamView,
+        view: &View,
         frame: &PointsFrame,
         background: [f32; 3],
     ) -> Result<ParamFrameInfo> {
@@ -285,7 +296,7 @@ impl ParamPoints {
         &self,
         gpu: &Gpu,
         scene: &GpuParamScene,
-        view: &ParamView,
+        view: &View,
         capture: u32,
     ) -> Result<(Vec<GpuPatch>, LodStats, Vec<LodSample>)> {
         let buffer = gpu.create_buffer(
@@ -294,20 +305,17 @@ impl ParamPoints {
             vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC,
             MemoryLocation::GpuOnly,
         )?;
-        let result = gpu
-            .submit("param lod", |rec| {
-                self.lod.record(rec, scene, view, Some((&buffer, capture)))
-            })
-            .map_err(Error::from)
-            .and_then(|_| {
-                let stats = self.lod.read_stats(gpu)?;
-                let bytes = gpu.read_buffer(&buffer)?;
-                let mut samples: Vec<LodSample> = bytemuck::allocation::pod_collect_to_vec(&bytes);
-                samples.truncate(stats.captured.min(capture) as usize);
-                Ok((self.lod.read_patches(gpu)?, stats, samples))
-            });
-        gpu.destroy_buffer(buffer);
-        result
+        gpu.submit("param lod", |rec| {
+            self.lod.record(rec, scene, view, Some((&buffer, capture)))
+        })
+        .map_err(Error::from)
+        .and_then(|_| {
+            let stats = self.lod.read_stats(gpu)?;
+            let bytes = gpu.read_buffer(&buffer)?;
+            let mut samples: Vec<LodSample> = bytemuck::allocation::pod_collect_to_vec(&bytes);
+            samples.truncate(stats.captured.min(capture) as usize);
+            Ok((self.lod.read_patches(gpu)?, stats, samples))
+        })
     }
 
     /// Fills the patch lists with all-ones words, so that tests catch slots never written.
@@ -335,18 +343,12 @@ impl ParamPoints {
         let usage = vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC;
         let input = gpu.upload_buffer("param probes", bytemuck::cast_slice(&words), usage)?;
         let bytes = (points.len().max(1) * std::mem::size_of::<ProbeResult>()) as u64;
-        let output = match gpu.create_buffer(
+        let output = gpu.create_buffer(
             "param probe results",
             bytes,
             usage | vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::GpuOnly,
-        ) {
-            Ok(b) => b,
-            Err(e) => {
-                gpu.destroy_buffer(input);
-                return Err(e.into());
-            }
-        };
+        )?;
         let [objects, values, table] = self.lod.scene_bindings(scene);
         let count = points.len() as u32;
         let result = gpu
@@ -372,14 +374,6 @@ impl ParamPoints {
                     bytemuck::allocation::pod_collect_to_vec(&gpu.read_buffer(&output)?);
                 Ok(r[..points.len()].to_vec())
             });
-        gpu.destroy_buffer(input);
-        gpu.destroy_buffer(output);
         result
-    }
-
-    pub fn destroy(self, gpu: &Gpu) {
-        self.lod.destroy(gpu);
-        self.passes.destroy(gpu);
-        gpu.destroy_pipeline(self.probe);
     }
 }

@@ -23,13 +23,13 @@
 
 use super::lod::LodStage;
 use super::scene::{scene_defines, GpuParamScene};
-use super::view::ParamView;
 use crate::builtin_shader;
 use crate::error::Result;
 use crate::raster::RasterFrame;
-use crate::target::PixelTarget;
+use crate::target::Target;
 use bytemuck::{Pod, Zeroable};
 use tessera_data::param::reference::{AMBIENT, DIFFUSE};
+use tessera_data::View;
 use tessera_gpu::{Binding, Gpu, Pipeline, Recorder, ShaderCompiler, Slot};
 
 /// How a sample reaches the raster.
@@ -80,26 +80,16 @@ pub struct ResolveParams {
 /// The frame a parametric render writes: the depth|payload raster and the image.
 pub struct PointsFrame {
     pub raster: RasterFrame,
-    pub pixels: PixelTarget,
+    pub pixels: Target,
 }
 
 impl PointsFrame {
     /// Buffers for `view`'s raster and image sizes.
-    pub fn new(gpu: &Gpu, view: &ParamView) -> Result<PointsFrame> {
+    pub fn new(gpu: &Gpu, view: &View) -> Result<PointsFrame> {
         let (rw, rh) = view.raster_size();
         let raster = RasterFrame::new(gpu, rw, rh)?;
-        match PixelTarget::new(gpu, view.size.0, view.size.1) {
-            Ok(pixels) => Ok(PointsFrame { raster, pixels }),
-            Err(e) => {
-                raster.destroy(gpu);
-                Err(e)
-            }
-        }
-    }
-
-    pub fn destroy(self, gpu: &Gpu) {
-        self.raster.destroy(gpu);
-        self.pixels.destroy(gpu);
+        let pixels = Target::new(gpu, view.size.0, view.size.1)?;
+        Ok(PointsFrame { raster, pixels })
     }
 }
 
@@ -133,14 +123,7 @@ impl PointPasses {
         let resolve = compiler.compile(&builtin_shader!("resolve.comp.glsl"), &defines)?;
         let points = gpu.compute_pipeline("param points", &points, &[Slot::StorageBuffer; 6])?;
         let resolve =
-            match gpu.compute_pipeline("param points resolve", &resolve, &[Slot::StorageBuffer; 5])
-            {
-                Ok(r) => r,
-                Err(e) => {
-                    gpu.destroy_pipeline(points);
-                    return Err(e.into());
-                }
-            };
+            gpu.compute_pipeline("param points resolve", &resolve, &[Slot::StorageBuffer; 5])?;
         Ok(PointPasses { points, resolve })
     }
 
@@ -152,8 +135,9 @@ impl PointPasses {
         rec: &Recorder,
         lod: &LodStage,
         scene: &GpuParamScene,
-        view: &ParamView,
+        view: &View,
         frame: &PointsFrame,
+        pixels: &Target,
         footprint: Footprint,
         density: f32,
         max_side: u32,
@@ -203,16 +187,11 @@ impl PointPasses {
                 values,
                 table,
                 Binding::Buffer(&frame.raster.depth_payload),
-                Binding::Buffer(&frame.pixels.pixels),
+                Binding::Buffer(&pixels.pixels),
             ],
             bytemuck::bytes_of(&resolve),
             [view.size.0, view.size.1, 1],
         );
         rec.barrier();
-    }
-
-    pub fn destroy(self, gpu: &Gpu) {
-        gpu.destroy_pipeline(self.points);
-        gpu.destroy_pipeline(self.resolve);
     }
 }

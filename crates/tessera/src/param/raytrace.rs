@@ -24,10 +24,9 @@
 //! positions to trace, 8 what they hit).
 
 use super::scene::{scene_defines, sh_recurrence_table, GpuParamScene, ParamScene};
-use super::view::ParamView;
 use crate::builtin_shader;
 use crate::error::{Error, Result};
-use crate::target::PixelTarget;
+use crate::target::Target;
 use bytemuck::{Pod, Zeroable};
 use glam::{DMat3, DVec3, Mat4, Vec3};
 use tessera_data::param::raytrace::{
@@ -36,6 +35,7 @@ use tessera_data::param::raytrace::{
 };
 use tessera_data::param::reference::{AMBIENT, DIFFUSE};
 use tessera_data::param::ParamFunction;
+use tessera_data::{DepthFit, View};
 use tessera_data::{OrbitCamera, RgbaImage};
 use tessera_gpu::{
     vk, Binding, Buffer, Gpu, MemoryLocation, Pipeline, Recorder, ShaderCompiler, Slot,
@@ -136,11 +136,9 @@ pub struct RaytraceScene {
 }
 
 impl RaytraceScene {
-    pub fn destroy(self, gpu: &Gpu) {
-        self.scene.destroy(gpu);
-        for b in [self.glyphs, self.grid, self.items] {
-            gpu.destroy_buffer(b);
-        }
+    /// Bytes on the GPU.
+    pub fn bytes(&self) -> u64 {
+        self.scene.bytes() + self.glyphs.size + self.grid.size + self.items.size
     }
 }
 
@@ -175,7 +173,7 @@ fn glyph_record(object: &super::ParamObject, bound: f64) -> (GpuRtGlyph, (Vec3, 
 /// `(ndc.x, ndc.y, 1)` to the (unnormalised) direction through that NDC point. Only the rows of
 /// clip x, y and w matter for rays; unprojecting through the depth row instead moves the rays
 /// by ~1e-4 rad, the f32 rounding of that row amplified.
-pub fn camera_rays(view: &ParamView) -> (DVec3, DMat3) {
+pub fn camera_rays(view: &View) -> (DVec3, DMat3) {
     let m = view.world_to_clip.as_dmat4();
     let rows = [m.row(0), m.row(1), m.row(3)];
     let a =
@@ -189,13 +187,7 @@ pub fn camera_rays(view: &ParamView) -> (DVec3, DMat3) {
 fn upload_all<const N: usize>(gpu: &Gpu, data: [(&str, &[u8]); N]) -> Result<[Buffer; N]> {
     let mut buffers = Vec::with_capacity(N);
     for (name, bytes) in data {
-        match gpu.upload_buffer(name, bytes, vk::BufferUsageFlags::STORAGE_BUFFER) {
-            Ok(b) => buffers.push(b),
-            Err(e) => {
-                buffers.into_iter().for_each(|b| gpu.destroy_buffer(b));
-                return Err(e.into());
-            }
-        }
+        buffers.push(gpu.upload_buffer(name, bytes, vk::BufferUsageFlags::STORAGE_BUFFER)?);
     }
     match buffers.try_into() {
         Ok(all) => Ok(all),
@@ -232,14 +224,7 @@ impl ShRaytrace {
         let render = compiler.compile(&builtin_shader!("raytrace.comp.glsl"), &defines)?;
         let probe = compiler.compile(&builtin_shader!("raytrace_probe.comp.glsl"), &defines)?;
         let render = gpu.compute_pipeline("sh-raytrace", &render, &[Slot::StorageBuffer; 8])?;
-        let probe =
-            match gpu.compute_pipeline("sh-raytrace probe", &probe, &[Slot::StorageBuffer; 9]) {
-                Ok(p) => p,
-                Err(e) => {
-                    gpu.destroy_pipeline(render);
-                    return Err(e.into());
-                }
-            };
+        let probe = gpu.compute_pipeline("sh-raytrace probe", &probe, &[Slot::StorageBuffer; 9])?;
         let recurrence = sh_recurrence_table();
         let vandermonde = vandermonde_table(options.max_order);
         let tables = upload_all(
@@ -263,11 +248,7 @@ impl ShRaytrace {
                 vandermonde,
                 options,
             }),
-            Err(e) => {
-                gpu.destroy_pipeline(render);
-                gpu.destroy_pipeline(probe);
-                Err(e)
-            }
+            Err(e) => Err(e),
         }
     }
 
@@ -311,39 +292,28 @@ impl ShRaytrace {
         }
         // The upload validates the transforms (finite, affine, invertible) before they are used.
         let uploaded = GpuParamScene::upload(gpu, scene)?;
-        let buffers = GlyphGrid::build(&spheres, self.options.cell_scale)
-            .map_err(Error::from)
-            .and_then(|grid| {
-                let mut header: Vec<u32> = [grid.lo, grid.cell]
-                    .iter()
-                    .flat_map(|v| v.extend(0.0).to_array().map(f32::to_bits))
-                    .collect();
-                header.extend(grid.dims);
-                header.push(0);
-                header.extend(&grid.cell_start);
-                let buffers = upload_all(
-                    gpu,
-                    [
-                        ("sh-raytrace glyphs", bytemuck::cast_slice(&records)),
-                        ("sh-raytrace grid", bytemuck::cast_slice(&header)),
-                        ("sh-raytrace grid items", bytemuck::cast_slice(&grid.items)),
-                    ],
-                )?;
-                Ok((buffers, grid.dims))
-            });
-        let ([glyphs, grid, items], grid_dims) = match buffers {
-            Ok(b) => b,
-            Err(e) => {
-                uploaded.destroy(gpu);
-                return Err(e);
-            }
-        };
+        let grid = GlyphGrid::build(&spheres, self.options.cell_scale)?;
+        let mut header: Vec<u32> = [grid.lo, grid.cell]
+            .iter()
+            .flat_map(|v| v.extend(0.0).to_array().map(f32::to_bits))
+            .collect();
+        header.extend(grid.dims);
+        header.push(0);
+        header.extend(&grid.cell_start);
+        let [glyphs, grid_buffer, items] = upload_all(
+            gpu,
+            [
+                ("sh-raytrace glyphs", bytemuck::cast_slice(&records)),
+                ("sh-raytrace grid", bytemuck::cast_slice(&header)),
+                ("sh-raytrace grid items", bytemuck::cast_slice(&grid.items)),
+            ],
+        )?;
         Ok(RaytraceScene {
             scene: uploaded,
             glyphs,
-            grid,
+            grid: grid_buffer,
             items,
-            grid_dims,
+            grid_dims: grid.dims,
             max_order,
         })
     }
@@ -354,11 +324,16 @@ impl ShRaytrace {
         scene: &RaytraceScene,
         camera: &OrbitCamera,
         size: (u32, u32),
-    ) -> Result<ParamView> {
-        ParamView::new(&scene.scene.bounds, camera, size, self.options.supersample)
+    ) -> Result<View> {
+        Ok(View::new(
+            camera,
+            size,
+            self.options.supersample,
+            DepthFit::Spheres(&scene.scene.bounds),
+        )?)
     }
 
-    fn params(view: &ParamView, background: [f32; 3], count: u32) -> RaytraceParams {
+    fn params(view: &View, background: [f32; 3], count: u32) -> RaytraceParams {
         let (eye, rays) = camera_rays(view);
         let v = |d: DVec3| d.as_vec3().extend(0.0).to_array();
         RaytraceParams {
@@ -387,7 +362,7 @@ impl ShRaytrace {
     }
 
     /// A scene prepared by an instance built for higher orders would be cut to this one's.
-    fn check_scene(&self, scene: &RaytraceScene) -> Result<()> {
+    pub fn check_scene(&self, scene: &RaytraceScene) -> Result<()> {
         if scene.max_order > self.options.max_order {
             return Err(Error::Invalid(format!(
                 "sh-raytrace built for SH order {} cannot draw a scene of order {}",
@@ -403,8 +378,8 @@ impl ShRaytrace {
         &self,
         rec: &Recorder,
         scene: &RaytraceScene,
-        view: &ParamView,
-        target: &PixelTarget,
+        view: &View,
+        target: &Target,
         background: [f32; 3],
     ) {
         let params = Self::params(view, background, 0);
@@ -424,8 +399,8 @@ impl ShRaytrace {
         &self,
         gpu: &Gpu,
         scene: &RaytraceScene,
-        view: &ParamView,
-        target: &PixelTarget,
+        view: &View,
+        target: &Target,
         background: [f32; 3],
     ) -> Result<f64> {
         self.check_scene(scene)?;
@@ -452,12 +427,9 @@ impl ShRaytrace {
         background: [f32; 3],
     ) -> Result<(RgbaImage, f64)> {
         let view = self.view(scene, camera, size)?;
-        let target = PixelTarget::new(gpu, size.0, size.1)?;
-        let result = self
-            .render_into(gpu, scene, &view, &target, background)
-            .and_then(|ms| Ok((target.read(gpu)?, ms)));
-        target.destroy(gpu);
-        result
+        let target = Target::new(gpu, size.0, size.1)?;
+        let ms = self.render_into(gpu, scene, &view, &target, background)?;
+        Ok((target.read(gpu)?, ms))
     }
 
     /// Traces the camera rays through raster positions `raster` (pixel `(i, j)`'s centre is
@@ -466,7 +438,7 @@ impl ShRaytrace {
         &self,
         gpu: &Gpu,
         scene: &RaytraceScene,
-        view: &ParamView,
+        view: &View,
         raster: &[[f32; 2]],
     ) -> Result<Vec<RayHit>> {
         self.check_scene(scene)?;
@@ -480,13 +452,7 @@ impl ShRaytrace {
         let bytes = (padded.len() * std::mem::size_of::<RayHit>()) as u64;
         let usage = usage | vk::BufferUsageFlags::TRANSFER_DST;
         let output =
-            match gpu.create_buffer("sh-raytrace hits", bytes, usage, MemoryLocation::GpuOnly) {
-                Ok(b) => b,
-                Err(e) => {
-                    gpu.destroy_buffer(input);
-                    return Err(e.into());
-                }
-            };
+            gpu.create_buffer("sh-raytrace hits", bytes, usage, MemoryLocation::GpuOnly)?;
         let params = Self::params(view, [0.0; 3], raster.len() as u32);
         let [a, b, c, d, e, f, g] = self.bindings(scene);
         let bindings = [
@@ -514,15 +480,6 @@ impl ShRaytrace {
                     bytemuck::allocation::pod_collect_to_vec(&gpu.read_buffer(&output)?);
                 Ok(hits[..raster.len()].to_vec())
             });
-        gpu.destroy_buffer(input);
-        gpu.destroy_buffer(output);
         result
-    }
-
-    pub fn destroy(self, gpu: &Gpu) {
-        gpu.destroy_pipeline(self.render);
-        gpu.destroy_pipeline(self.probe);
-        gpu.destroy_buffer(self.sh_table);
-        gpu.destroy_buffer(self.vandermonde);
     }
 }

@@ -9,13 +9,13 @@
 //!    [`ParamTess::patches_per_instance`] vertices (all of them in one, except on lavapipe);
 //! 3. one indirect draw: `tess.vert` (the patch's index; a patch has one control point),
 //!    `tess.tesc` (levels, below), `tess.tese` (vertex = `f(u, v)` over the patch's ranges,
-//!    projected with [`ParamView`]'s `world_to_clip`), `tess.frag` (shading of `param/shade.glsl`,
+//!    projected with [`View`]'s `world_to_clip`), `tess.frag` (shading of `param/shade.glsl`,
 //!    the point variant's resolve: normal from the function, Lambert + ambient, glyphs coloured by
 //!    direction), depth-tested (LESS); with MSAA into multisampled attachments averaged into a
 //!    single-sample one when rendering ends, shaded once per pixel at the covered samples'
 //!    centroid;
 //! 4. `tess_downsample.comp`: each image pixel the average of its `k × k` raster pixels
-//!    (supersampling `k`), packed into the [`PixelTarget`] the point variant also writes.
+//!    (supersampling `k`), packed into the [`Target`] the point variant also writes.
 //!
 //! Tessellation levels ([`TessLevels`]): fixed, every level `l`; or adaptive, each level the
 //! screen length it subdivides over [`TessLevels::Adaptive::pixels_per_segment`] `p`,
@@ -40,11 +40,12 @@ pub use options::{ParamTessOptions, TessLevels, DEFAULT_MAX_LEVEL, DEFAULT_MIN_L
 use super::lod::{GpuPatch, LodSettings, LodStage};
 use super::points::points_defines;
 use super::scene::GpuParamScene;
-use super::view::ParamView;
 use super::ParamFrameInfo;
 use crate::builtin_shader;
 use crate::error::{Error, Result};
+use crate::target::Target;
 use bytemuck::{Pod, Zeroable};
+use tessera_data::{DepthFit, View};
 use tessera_data::{OrbitCamera, RgbaImage};
 use tessera_gpu::{
     vk, Binding, Buffer, Gpu, MemoryLocation, Pipeline, Recorder, RenderTargets, ShaderCompiler,
@@ -131,56 +132,44 @@ impl ParamTess {
                 pre_split: options.pre_split,
             },
         )?;
-        let mut pipelines: Vec<Pipeline> = Vec::new();
-        let made = (|| -> Result<Buffer> {
-            pipelines.push(gpu.compute_pipeline(
-                "param tess args",
-                &args,
-                &[Slot::StorageBuffer; 2],
-            )?);
-            let targets = RenderTargets {
-                samples: options.msaa,
-                patch_control_points: 1,
-                ..RenderTargets::color_depth(COLOR_FORMAT, DEPTH_FORMAT)
-            };
-            let stages: Vec<_> = shaders.iter().collect();
-            pipelines.push(gpu.graphics_pipeline_for(
-                "param tess draw",
-                &stages,
-                &[Slot::StorageBuffer; 5],
-                &targets,
-            )?);
-            pipelines.push(gpu.compute_pipeline(
-                "param tess downsample",
-                &downsample,
-                &[Slot::StorageImage, Slot::StorageBuffer],
-            )?);
-            let usage = vk::BufferUsageFlags::STORAGE_BUFFER
-                | vk::BufferUsageFlags::INDIRECT_BUFFER
-                | vk::BufferUsageFlags::TRANSFER_SRC
-                | vk::BufferUsageFlags::TRANSFER_DST;
-            Ok(gpu.create_buffer("param tess draw args", 16, usage, MemoryLocation::GpuOnly)?)
-        })();
-        match made {
-            Ok(draw_args) => {
-                let [args, draw, downsample]: [Pipeline; 3] =
-                    pipelines.try_into().ok().expect("three pipelines made");
-                Ok(ParamTess {
-                    lod,
-                    args,
-                    draw,
-                    downsample,
-                    draw_args,
-                    patches_per_instance: options::patches_per_instance(gpu, &options),
-                    options,
-                })
-            }
-            Err(e) => {
-                pipelines.into_iter().for_each(|p| gpu.destroy_pipeline(p));
-                lod.destroy(gpu);
-                Err(e)
-            }
-        }
+        let args = gpu.compute_pipeline("param tess args", &args, &[Slot::StorageBuffer; 2])?;
+        let targets = RenderTargets {
+            samples: options.msaa,
+            patch_control_points: 1,
+            ..RenderTargets::color_depth(COLOR_FORMAT, DEPTH_FORMAT)
+        };
+        let stages: Vec<_> = shaders.iter().collect();
+        let draw = gpu.graphics_pipeline_for(
+            "param tess draw",
+            &stages,
+            &[Slot::StorageBuffer; 5],
+            &targets,
+        )?;
+        let downsample = gpu.compute_pipeline(
+            "param tess downsample",
+            &downsample,
+            &[Slot::StorageImage, Slot::StorageBuffer],
+        )?;
+        let usage = vk::BufferUsageFlags::STORAGE_BUFFER
+            | vk::BufferUsageFlags::INDIRECT_BUFFER
+            | vk::BufferUsageFlags::TRANSFER_SRC
+            | vk::BufferUsageFlags::TRANSFER_DST;
+        let draw_args =
+            gpu.create_buffer("param tess draw args", 16, usage, MemoryLocation::GpuOnly)?;
+        Ok(ParamTess {
+            lod,
+            args,
+            draw,
+            downsample,
+            draw_args,
+            patches_per_instance: options::patches_per_instance(gpu, &options),
+            options,
+        })
+    }
+
+    /// The LOD stage's counters of the last frame.
+    pub fn read_lod_stats(&self, gpu: &Gpu) -> Result<super::lod::LodStats> {
+        self.lod.read_stats(gpu)
     }
 
     pub fn options(&self) -> &ParamTessOptions {
@@ -198,17 +187,22 @@ impl ParamTess {
         scene: &GpuParamScene,
         camera: &OrbitCamera,
         size: (u32, u32),
-    ) -> Result<ParamView> {
-        ParamView::new(&scene.bounds, camera, size, self.options.supersample)
+    ) -> Result<View> {
+        Ok(View::new(
+            camera,
+            size,
+            self.options.supersample,
+            DepthFit::Spheres(&scene.bounds),
+        )?)
     }
 
     /// A frame for `view` with this technique's multisampling.
-    pub fn frame(&self, gpu: &Gpu, view: &ParamView) -> Result<TessFrame> {
+    pub fn frame(&self, gpu: &Gpu, view: &View) -> Result<TessFrame> {
         TessFrame::new(gpu, view, self.options.msaa)
     }
 
     /// The push constants of the drawing stages for `view`.
-    pub fn params(&self, view: &ParamView) -> TessParams {
+    pub fn params(&self, view: &View) -> TessParams {
         let (fixed, per_segment) = match self.options.levels {
             TessLevels::Fixed(l) => (l as f32, 1.0),
             TessLevels::Adaptive { pixels_per_segment } => (0.0, pixels_per_segment),
@@ -233,12 +227,12 @@ impl ParamTess {
         &self,
         rec: &Recorder,
         scene: &GpuParamScene,
-        view: &ParamView,
+        view: &View,
         frame: &TessFrame,
         background: [f32; 3],
     ) {
         self.lod.record(rec, scene, view, None);
-        self.record_draw(rec, scene, view, frame, background);
+        self.record_draw(rec, scene, view, frame, &frame.pixels, background);
     }
 
     /// [`Self::record`] with the LOD stage and the drawing (draw and downsample) in timer
@@ -248,13 +242,28 @@ impl ParamTess {
         rec: &Recorder,
         timer: &mut Timer,
         scene: &GpuParamScene,
-        view: &ParamView,
+        view: &View,
         frame: &TessFrame,
+        background: [f32; 3],
+    ) {
+        self.record_timed_into(rec, timer, scene, view, frame, &frame.pixels, background);
+    }
+
+    /// [`Self::record_timed`], the image written into `pixels` (of the view's image size).
+    #[allow(clippy::too_many_arguments)]
+    pub fn record_timed_into(
+        &self,
+        rec: &Recorder,
+        timer: &mut Timer,
+        scene: &GpuParamScene,
+        view: &View,
+        frame: &TessFrame,
+        pixels: &Target,
         background: [f32; 3],
     ) {
         timer.scope(rec, "lod", |rec| self.lod.record(rec, scene, view, None));
         timer.scope(rec, "draw", |rec| {
-            self.record_draw(rec, scene, view, frame, background)
+            self.record_draw(rec, scene, view, frame, pixels, background)
         });
     }
 
@@ -262,8 +271,9 @@ impl ParamTess {
         &self,
         rec: &Recorder,
         scene: &GpuParamScene,
-        view: &ParamView,
+        view: &View,
         frame: &TessFrame,
+        pixels: &Target,
         background: [f32; 3],
     ) {
         let args = ArgsParams {
@@ -319,7 +329,7 @@ impl ParamTess {
             &self.downsample,
             &[
                 Binding::StorageImage(&frame.colour),
-                Binding::Buffer(&frame.pixels.pixels),
+                Binding::Buffer(&pixels.pixels),
             ],
             bytemuck::bytes_of(&params),
             [view.size.0, view.size.1, 1],
@@ -339,10 +349,8 @@ impl ParamTess {
     ) -> Result<(RgbaImage, f64)> {
         let view = self.view(scene, camera, size)?;
         let frame = self.frame(gpu, &view)?;
-        let result = self.render_frame(gpu, scene, &view, &frame, background);
-        let image = result.and_then(|info| Ok((frame.pixels.read(gpu)?, info.gpu_ms)));
-        frame.destroy(gpu);
-        image
+        let info = self.render_frame(gpu, scene, &view, &frame, background)?;
+        Ok((frame.pixels.read(gpu)?, info.gpu_ms))
     }
 
     /// Renders into `frame` and reports the frame's counters.
@@ -350,7 +358,7 @@ impl ParamTess {
         &self,
         gpu: &Gpu,
         scene: &GpuParamScene,
-        view: &ParamView,
+        view: &View,
         frame: &TessFrame,
         background: [f32; 3],
     ) -> Result<ParamFrameInfo> {
@@ -400,13 +408,5 @@ impl ParamTess {
     /// The patches to render of the last frame (in the GPU's arbitrary order).
     pub fn read_patches(&self, gpu: &Gpu) -> Result<Vec<GpuPatch>> {
         self.lod.read_patches(gpu)
-    }
-
-    pub fn destroy(self, gpu: &Gpu) {
-        self.lod.destroy(gpu);
-        for p in [self.args, self.draw, self.downsample] {
-            gpu.destroy_pipeline(p);
-        }
-        gpu.destroy_buffer(self.draw_args);
     }
 }

@@ -50,8 +50,4 @@ impl IndirectArgs {
         );
         rec.barrier();
     }
-
-    pub fn destroy(self, gpu: &Gpu) {
-        gpu.destroy_pipeline(self.pipeline);
-    }
 }

@@ -153,10 +153,6 @@ impl RasterFrame {
             &bytes[..self.pixel_count() * 8],
         ))
     }
-
-    pub fn destroy(self, gpu: &Gpu) {
-        gpu.destroy_buffer(self.depth_payload);
-    }
 }
 
 pub struct ComputeRasterizer {
@@ -182,13 +178,7 @@ impl ComputeRasterizer {
         ];
         let raster = compiler.compile(&builtin_shader!("raster.comp.glsl"), &defines)?;
         let raster = gpu.compute_pipeline("raster", &raster, &[Slot::StorageBuffer; 3])?;
-        let prepare = match IndirectArgs::new(gpu, compiler) {
-            Ok(p) => p,
-            Err(e) => {
-                gpu.destroy_pipeline(raster);
-                return Err(e);
-            }
-        };
+        let prepare = IndirectArgs::new(gpu, compiler)?;
         Ok(ComputeRasterizer { prepare, raster })
     }
 
@@ -262,10 +252,5 @@ impl ComputeRasterizer {
         self.record_clear(rec, frame);
         self.record_prepare_dispatch(rec, counts);
         self.record_raster(rec, triangles, counts, frame);
-    }
-
-    pub fn destroy(self, gpu: &Gpu) {
-        self.prepare.destroy(gpu);
-        gpu.destroy_pipeline(self.raster);
     }
 }

@@ -42,13 +42,7 @@ impl Arithmetic {
             false,
         )?;
         let compute =
-            match gpu.compute_pipeline("throughput busy compute", &comp, &[Slot::StorageImage]) {
-                Ok(p) => p,
-                Err(e) => {
-                    gpu.destroy_pipeline(fragment);
-                    return Err(e.into());
-                }
-            };
+            gpu.compute_pipeline("throughput busy compute", &comp, &[Slot::StorageImage])?;
         Ok(Arithmetic { fragment, compute })
     }
 
@@ -78,11 +72,6 @@ impl Arithmetic {
             [target.extent.width, target.extent.height, 1],
         );
     }
-
-    pub fn destroy(self, gpu: &Gpu) {
-        gpu.destroy_pipeline(self.fragment);
-        gpu.destroy_pipeline(self.compute);
-    }
 }
 
 /// Times both paths, fragment first, and returns their records.
@@ -92,45 +81,34 @@ pub fn measure(
     opts: &ThroughputOptions,
 ) -> Result<Vec<BenchRecord>> {
     let arithmetic = Arithmetic::new(gpu, compiler)?;
-    let target = match create_target(gpu, "throughput busy target", opts.width, opts.height) {
-        Ok(t) => t,
-        Err(e) => {
-            arithmetic.destroy(gpu);
-            return Err(e);
-        }
-    };
-    let result = (|| -> Result<Vec<BenchRecord>> {
-        let mut records = Vec::new();
-        for path in ["fragment", "compute"] {
-            let stages = time_frames(gpu, opts.plan, 1, |rec, timer| {
-                // Each frame overwrites every pixel, so the old contents may go.
-                rec.discard_to_general(&target);
-                timer.scope(rec, TECHNIQUE, |rec| match path {
-                    "fragment" => arithmetic.record_fragment(rec, &target, opts.iterations),
-                    _ => arithmetic.record_compute(rec, &target, opts.iterations),
-                });
-            })?;
-            let mut r = record(
-                gpu,
-                opts,
-                TECHNIQUE,
-                path,
-                format!("busy_work x{}", opts.iterations),
-            );
-            let pixels = f64::from(opts.width) * f64::from(opts.height);
-            r.counts.insert("pixels".into(), pixels);
+    let target = create_target(gpu, "throughput busy target", opts.width, opts.height)?;
+    let mut records = Vec::new();
+    for path in ["fragment", "compute"] {
+        let stages = time_frames(gpu, opts.plan, 1, |rec, timer| {
+            // Each frame overwrites every pixel, so the old contents may go.
+            rec.discard_to_general(&target);
+            timer.scope(rec, TECHNIQUE, |rec| match path {
+                "fragment" => arithmetic.record_fragment(rec, &target, opts.iterations),
+                _ => arithmetic.record_compute(rec, &target, opts.iterations),
+            });
+        })?;
+        let mut r = record(
+            gpu,
+            opts,
+            TECHNIQUE,
+            path,
+            format!("busy_work x{}", opts.iterations),
+        );
+        let pixels = f64::from(opts.width) * f64::from(opts.height);
+        r.counts.insert("pixels".into(), pixels);
+        r.counts
+            .insert("iterations".into(), f64::from(opts.iterations));
+        if let Some(ms) = stages.first().map(|s| s.median_ms) {
             r.counts
-                .insert("iterations".into(), f64::from(opts.iterations));
-            if let Some(ms) = stages.first().map(|s| s.median_ms) {
-                r.counts
-                    .insert("gpix_per_s".into(), pixels / (ms * 1e-3) / 1e9);
-            }
-            r.stages = stages;
-            records.push(r);
+                .insert("gpix_per_s".into(), pixels / (ms * 1e-3) / 1e9);
         }
-        Ok(records)
-    })();
-    gpu.destroy_image(target);
-    arithmetic.destroy(gpu);
-    result
+        r.stages = stages;
+        records.push(r);
+    }
+    Ok(records)
 }

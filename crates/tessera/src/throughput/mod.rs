@@ -176,7 +176,6 @@ pub fn read_target(gpu: &Gpu, target: &Image) -> Result<Vec<u32>> {
             rec.copy_image_to_buffer(target, &buffer);
         })
         .and_then(|_| gpu.read_buffer(&buffer));
-    gpu.destroy_buffer(buffer);
     Ok(words(&result?))
 }
 

@@ -101,27 +101,19 @@ impl Triangles {
         if !gpu.caps().mesh_shader {
             return Ok(Triangles { mesh: None, splat });
         }
-        let mesh = (|| -> Result<Pipeline> {
-            let mesh = compiler.compile(&builtin_shader!("grid.mesh.glsl"), &defines)?;
-            let frag = compiler.compile(&builtin_shader!("grid.frag.glsl"), &defines)?;
-            Ok(gpu.graphics_pipeline(
-                "throughput grid mesh",
-                &[&mesh, &frag],
-                &[],
-                TARGET_FORMAT,
-                false,
-            )?)
-        })();
-        match mesh {
-            Ok(m) => Ok(Triangles {
-                mesh: Some(m),
-                splat,
-            }),
-            Err(e) => {
-                gpu.destroy_pipeline(splat);
-                Err(e)
-            }
-        }
+        let mesh = compiler.compile(&builtin_shader!("grid.mesh.glsl"), &defines)?;
+        let frag = compiler.compile(&builtin_shader!("grid.frag.glsl"), &defines)?;
+        let mesh = gpu.graphics_pipeline(
+            "throughput grid mesh",
+            &[&mesh, &frag],
+            &[],
+            TARGET_FORMAT,
+            false,
+        )?;
+        Ok(Triangles {
+            mesh: Some(mesh),
+            splat,
+        })
     }
 
     pub fn has_mesh(&self) -> bool {
@@ -160,13 +152,6 @@ impl Triangles {
             groups,
         );
     }
-
-    pub fn destroy(self, gpu: &Gpu) {
-        if let Some(m) = self.mesh {
-            gpu.destroy_pipeline(m);
-        }
-        gpu.destroy_pipeline(self.splat);
-    }
 }
 
 /// A buffer of one `u32` per pixel for the splat, readable with [`read_splat`].
@@ -193,58 +178,36 @@ pub fn measure(
 ) -> Result<Vec<BenchRecord>> {
     let (w, h, n) = (opts.width, opts.height, opts.triangles);
     let triangles = Triangles::new(gpu, compiler)?;
-    let resources = (|| -> Result<(Option<Image>, Buffer)> {
-        let pixels = create_splat_buffer(gpu, w, h)?;
-        if !triangles.has_mesh() {
-            return Ok((None, pixels));
-        }
-        match create_target(gpu, "throughput grid target", w, h) {
-            Ok(t) => Ok((Some(t), pixels)),
-            Err(e) => {
-                gpu.destroy_buffer(pixels);
-                Err(e)
-            }
-        }
-    })();
-    let (target, pixels) = match resources {
-        Ok(r) => r,
-        Err(e) => {
-            triangles.destroy(gpu);
-            return Err(e);
-        }
+    let pixels = create_splat_buffer(gpu, w, h)?;
+    let target = if triangles.has_mesh() {
+        Some(create_target(gpu, "throughput grid target", w, h)?)
+    } else {
+        None
     };
-    let result = (|| -> Result<Vec<BenchRecord>> {
-        let mut records = Vec::new();
-        if let Some(target) = &target {
-            // time_frames' recorder callback cannot fail; keep the first error for afterwards.
-            let mut failure = None;
-            let stages = time_frames(gpu, opts.plan, 1, |rec, timer| {
-                rec.discard_to_general(target);
-                timer.scope(rec, TECHNIQUE, |rec| {
-                    if let Err(e) = triangles.record_mesh(rec, target, n) {
-                        failure.get_or_insert(e);
-                    }
-                });
-            })?;
-            if let Some(e) = failure {
-                return Err(e);
-            }
-            records.push(triangle_record(gpu, opts, "mesh", stages));
-        }
+    let mut records = Vec::new();
+    if let Some(target) = &target {
+        // time_frames' recorder callback cannot fail; keep the first error for afterwards.
+        let mut failure = None;
         let stages = time_frames(gpu, opts.plan, 1, |rec, timer| {
+            rec.discard_to_general(target);
             timer.scope(rec, TECHNIQUE, |rec| {
-                triangles.record_splat(rec, &pixels, [w, h], n)
+                if let Err(e) = triangles.record_mesh(rec, target, n) {
+                    failure.get_or_insert(e);
+                }
             });
         })?;
-        records.push(triangle_record(gpu, opts, "compute", stages));
-        Ok(records)
-    })();
-    if let Some(t) = target {
-        gpu.destroy_image(t);
+        if let Some(e) = failure {
+            return Err(e);
+        }
+        records.push(triangle_record(gpu, opts, "mesh", stages));
     }
-    gpu.destroy_buffer(pixels);
-    triangles.destroy(gpu);
-    result
+    let stages = time_frames(gpu, opts.plan, 1, |rec, timer| {
+        timer.scope(rec, TECHNIQUE, |rec| {
+            triangles.record_splat(rec, &pixels, [w, h], n)
+        });
+    })?;
+    records.push(triangle_record(gpu, opts, "compute", stages));
+    Ok(records)
 }
 
 fn triangle_record(

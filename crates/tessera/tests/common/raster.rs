@@ -57,14 +57,11 @@ pub fn draw_into(
     .unwrap();
     let values = frame.read(gpu).unwrap();
     let args: RasterCounts = bytemuck::pod_read_unaligned(&gpu.read_buffer(&counts).unwrap()[..16]);
-    gpu.destroy_buffer(triangles);
-    gpu.destroy_buffer(counts);
     (values, args)
 }
 
 pub fn draw(gpu: &Gpu, rast: &ComputeRasterizer, tris: &[[Vec4; 3]], w: u32, h: u32) -> Vec<u64> {
     let frame = RasterFrame::new(gpu, w, h).unwrap();
     let (values, _) = draw_into(gpu, rast, tris, tris.len() as u32, &frame);
-    frame.destroy(gpu);
     values
 }

@@ -11,7 +11,7 @@ use crate::iso::direct::{Direct, DirectParams};
 use crate::iso::minmax::MinMaxBuilder;
 use crate::iso::PreparedVolume;
 use crate::raster::{ComputeRasterizer, RasterFrame, TRIANGLE_BYTES};
-use crate::target::PixelTarget;
+use crate::target::Target;
 use bytemuck::{Pod, Zeroable};
 use tessera_data::{OrbitCamera, RgbaImage, ScalarType};
 use tessera_gpu::{
@@ -66,12 +66,6 @@ impl TriangleLists {
     pub fn default_capacity(gpu: &Gpu) -> u32 {
         let budget = gpu.caps().device_local_bytes / 8;
         (budget / (TRIANGLE_BYTES + ATTRIBUTE_BYTES)).min(64 << 20) as u32
-    }
-
-    pub fn destroy(self, gpu: &Gpu) {
-        gpu.destroy_buffer(self.triangles);
-        gpu.destroy_buffer(self.attributes);
-        gpu.destroy_buffer(self.counts);
     }
 }
 
@@ -155,11 +149,6 @@ impl DirectExtract {
             blocks_classified: s[1],
         })
     }
-
-    pub fn destroy(self, gpu: &Gpu) {
-        gpu.destroy_pipeline(self.extract);
-        gpu.destroy_buffer(self.stats);
-    }
 }
 
 /// Push constants of `resolve.comp.glsl`.
@@ -176,38 +165,20 @@ pub struct ResolveParams {
 pub struct ComputeTarget {
     pub lists: TriangleLists,
     pub frame: RasterFrame,
-    pub pixels: PixelTarget,
+    pub pixels: Target,
 }
 
 impl ComputeTarget {
     /// `capacity` triangles per frame; see [`TriangleLists::default_capacity`].
     pub fn new(gpu: &Gpu, width: u32, height: u32, capacity: u32) -> Result<ComputeTarget> {
         let lists = TriangleLists::new(gpu, capacity)?;
-        let frame = match RasterFrame::new(gpu, width, height) {
-            Ok(f) => f,
-            Err(e) => {
-                lists.destroy(gpu);
-                return Err(e);
-            }
-        };
-        match PixelTarget::new(gpu, width, height) {
-            Ok(pixels) => Ok(ComputeTarget {
-                lists,
-                frame,
-                pixels,
-            }),
-            Err(e) => {
-                lists.destroy(gpu);
-                frame.destroy(gpu);
-                Err(e)
-            }
-        }
-    }
-
-    pub fn destroy(self, gpu: &Gpu) {
-        self.lists.destroy(gpu);
-        self.frame.destroy(gpu);
-        self.pixels.destroy(gpu);
+        let frame = RasterFrame::new(gpu, width, height)?;
+        let pixels = Target::new(gpu, width, height)?;
+        Ok(ComputeTarget {
+            lists,
+            frame,
+            pixels,
+        })
     }
 }
 
@@ -262,6 +233,18 @@ impl DirectCompute {
         target: &ComputeTarget,
         params: &DirectParams,
     ) {
+        self.record_into(rec, prepared, target, &target.pixels, params);
+    }
+
+    /// [`Self::record`], shading into `pixels` (of the frame's size) instead of the target's.
+    pub fn record_into(
+        &self,
+        rec: &Recorder,
+        prepared: &PreparedVolume,
+        target: &ComputeTarget,
+        pixels: &Target,
+        params: &DirectParams,
+    ) {
         self.extract.record(rec, prepared, &target.lists, params);
         rec.barrier();
         self.rasterizer.record(
@@ -270,7 +253,7 @@ impl DirectCompute {
             &target.lists.counts,
             &target.frame,
         );
-        self.record_resolve(rec, target, &target.lists.attributes, params);
+        self.record_resolve(rec, target, &target.lists.attributes, pixels, params);
     }
 
     /// Records the second view of a stereo pair after [`Self::record`] drew the first into
@@ -307,7 +290,7 @@ impl DirectCompute {
             &second.lists.counts,
             &second.frame,
         );
-        self.record_resolve(rec, second, &first.lists.attributes, params);
+        self.record_resolve(rec, second, &first.lists.attributes, &second.pixels, params);
     }
 
     fn record_resolve(
@@ -315,6 +298,7 @@ impl DirectCompute {
         rec: &Recorder,
         target: &ComputeTarget,
         attributes: &Buffer,
+        pixels: &Target,
         params: &DirectParams,
     ) {
         let e = params.eye_world;
@@ -329,7 +313,7 @@ impl DirectCompute {
                 Binding::Buffer(&target.frame.depth_payload),
                 Binding::Buffer(&target.lists.triangles),
                 Binding::Buffer(attributes),
-                Binding::Buffer(&target.pixels.pixels),
+                Binding::Buffer(&pixels.pixels),
             ],
             bytemuck::bytes_of(&resolve),
             [target.frame.width, target.frame.height, 1],
@@ -356,9 +340,7 @@ impl DirectCompute {
         });
         let ms = submitted
             .map_err(Error::from)
-            .and_then(|_| Ok(timer.read_ms(gpu)?.first().map(|s| s.1).unwrap_or(0.0)));
-        timer.destroy(gpu);
-        let ms = ms?;
+            .and_then(|_| Ok(timer.read_ms(gpu)?.first().map(|s| s.1).unwrap_or(0.0)))?;
         let stats = self.extract.read_stats(gpu)?;
         if stats.triangles > target.lists.capacity {
             return Err(Error::Invalid(format!(
@@ -371,14 +353,5 @@ impl DirectCompute {
 
     pub fn read_stats(&self, gpu: &Gpu) -> Result<ExtractStats> {
         self.extract.read_stats(gpu)
-    }
-
-    pub fn destroy(self, gpu: &Gpu) {
-        self.extract.destroy(gpu);
-        self.rasterizer.destroy(gpu);
-        self.cull.destroy(gpu);
-        self.builder.destroy(gpu);
-        gpu.destroy_pipeline(self.resolve);
-        gpu.destroy_pipeline(self.reproject);
     }
 }

@@ -103,30 +103,14 @@ impl ComputeCullPipelines {
         let hzb = compiler.compile(&builtin_shader!("hzb_build.comp.glsl"), &defines)?;
         let test = compiler.compile(&builtin_shader!("hzb_test.comp.glsl"), &defines)?;
         let compact = compiler.compile(&builtin_shader!("hzb_compact.comp.glsl"), &defines)?;
-        let mut made: Vec<Pipeline> = Vec::new();
-        let built = (|| -> Result<()> {
-            let extract_slots = [Slot::Texture, sb, sb, sb, sb, sb, sb];
-            made.push(gpu.compute_pipeline(
-                "direct extract (block list)",
-                &extract,
-                &extract_slots,
-            )?);
-            made.push(gpu.compute_pipeline("hzb cull setup", &setup, &[sb; 4])?);
-            made.push(gpu.compute_pipeline("hzb build", &hzb, &[sb; 2])?);
-            made.push(gpu.compute_pipeline("hzb test", &test, &[sb; 5])?);
-            made.push(gpu.compute_pipeline("direct resolve (two lists)", &resolve, &[sb; 7])?);
-            made.push(gpu.compute_pipeline("hzb compact", &compact, &[sb; 3])?);
-            Ok(())
-        })();
-        if let Err(e) = built {
-            made.into_iter().for_each(|p| gpu.destroy_pipeline(p));
-            return Err(e);
-        }
-        let Ok([extract_list, setup, hzb, test, resolve, compact]) =
-            <[Pipeline; 6]>::try_from(made)
-        else {
-            unreachable!("six pipelines were built")
-        };
+        let extract_slots = [Slot::Texture, sb, sb, sb, sb, sb, sb];
+        let extract_list =
+            gpu.compute_pipeline("direct extract (block list)", &extract, &extract_slots)?;
+        let setup = gpu.compute_pipeline("hzb cull setup", &setup, &[sb; 4])?;
+        let hzb = gpu.compute_pipeline("hzb build", &hzb, &[sb; 2])?;
+        let test = gpu.compute_pipeline("hzb test", &test, &[sb; 5])?;
+        let resolve = gpu.compute_pipeline("direct resolve (two lists)", &resolve, &[sb; 7])?;
+        let compact = gpu.compute_pipeline("hzb compact", &compact, &[sb; 3])?;
         Ok(ComputeCullPipelines {
             extract_list,
             setup,
@@ -136,19 +120,6 @@ impl ComputeCullPipelines {
             compact,
             max_groups_x: gpu.caps().max_compute_workgroup_count[0],
         })
-    }
-
-    pub(crate) fn destroy(self, gpu: &Gpu) {
-        for p in [
-            self.extract_list,
-            self.setup,
-            self.hzb,
-            self.test,
-            self.resolve,
-            self.compact,
-        ] {
-            gpu.destroy_pipeline(p);
-        }
     }
 }
 
@@ -230,19 +201,10 @@ impl ComputeCullState {
             | vk::BufferUsageFlags::TRANSFER_SRC
             | vk::BufferUsageFlags::TRANSFER_DST;
         let mut made: Vec<Buffer> = Vec::new();
-        let built = (|| -> Result<TriangleLists> {
-            for (name, bytes) in specs {
-                made.push(gpu.create_buffer(name, bytes, usage, MemoryLocation::GpuOnly)?);
-            }
-            TriangleLists::new(gpu, target.lists.capacity)
-        })();
-        let new_lists = match built {
-            Ok(lists) => lists,
-            Err(e) => {
-                made.into_iter().for_each(|b| gpu.destroy_buffer(b));
-                return Err(e);
-            }
-        };
+        for (name, bytes) in specs {
+            made.push(gpu.create_buffer(name, bytes, usage, MemoryLocation::GpuOnly)?);
+        }
+        let new_lists = TriangleLists::new(gpu, target.lists.capacity)?;
         let Ok([flags, a, b, new_blocks, stats, es_a, es_b, hzb]) = <[Buffer; 8]>::try_from(made)
         else {
             unreachable!("eight buffers were made")
@@ -260,10 +222,7 @@ impl ComputeCullState {
             block_count: blocks,
             frame: Cell::new(0),
         };
-        if let Err(e) = state.reset(gpu) {
-            state.destroy(gpu);
-            return Err(e);
-        }
+        state.reset(gpu)?;
         Ok(state)
     }
 
@@ -310,23 +269,5 @@ impl ComputeCullState {
             triangles_first: words(&self.extract_stats[0])?[0],
             triangles_new: words(&self.extract_stats[1])?[0],
         })
-    }
-
-    pub fn destroy(self, gpu: &Gpu) {
-        let [a, b] = self.lists;
-        let [es_a, es_b] = self.extract_stats;
-        for buffer in [
-            self.flags,
-            a,
-            b,
-            self.new_blocks,
-            self.stats,
-            es_a,
-            es_b,
-            self.hzb,
-        ] {
-            gpu.destroy_buffer(buffer);
-        }
-        self.new_lists.destroy(gpu);
     }
 }

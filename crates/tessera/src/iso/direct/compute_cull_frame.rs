@@ -7,6 +7,7 @@ use crate::iso::direct::compute_cull::{
 };
 use crate::iso::direct::{Direct, DirectParams};
 use crate::iso::PreparedVolume;
+use crate::target::Target;
 use tessera_data::{OrbitCamera, RgbaImage};
 use tessera_gpu::{Binding, Buffer, Gpu, Pipeline, Recorder, Timer};
 
@@ -21,16 +22,19 @@ impl DirectCompute {
         params: &DirectParams,
         state: &ComputeCullState,
     ) -> Result<()> {
-        self.record_culled_timed(rec, prepared, target, params, state, None)
+        self.record_culled_timed(rec, prepared, target, &target.pixels, params, state, None)
     }
 
-    /// [`Self::record_culled`], timing its stages in `timer` when given (four scopes:
+    /// [`Self::record_culled`] shading into `pixels`, timing its stages in `timer` when given
+    /// (four scopes:
     /// `cull-pass-a`, `cull-test`, `cull-pass-b`, `cull-resolve`).
+    #[allow(clippy::too_many_arguments)]
     pub fn record_culled_timed(
         &self,
         rec: &Recorder,
         prepared: &PreparedVolume,
         target: &ComputeTarget,
+        pixels: &Target,
         params: &DirectParams,
         state: &ComputeCullState,
         mut timer: Option<&mut Timer>,
@@ -180,7 +184,7 @@ impl DirectCompute {
                     Binding::Buffer(&target.frame.depth_payload),
                     Binding::Buffer(&a.triangles),
                     Binding::Buffer(&a.attributes),
-                    Binding::Buffer(&target.pixels.pixels),
+                    Binding::Buffer(&pixels.pixels),
                     Binding::Buffer(&b_lists.triangles),
                     Binding::Buffer(&b_lists.attributes),
                     Binding::Buffer(&state.flags),
@@ -228,9 +232,7 @@ impl DirectCompute {
         let ms = submitted
             .map_err(Error::from)
             .and(recorded)
-            .and_then(|_| Ok(timer.read_ms(gpu)?.first().map(|s| s.1).unwrap_or(0.0)));
-        timer.destroy(gpu);
-        let ms = ms?;
+            .and_then(|_| Ok(timer.read_ms(gpu)?.first().map(|s| s.1).unwrap_or(0.0)))?;
         let stats = state.read_stats(gpu)?;
         for (made, capacity) in [
             (stats.triangles_first, target.lists.capacity),

@@ -63,12 +63,6 @@ impl CullPipelines {
             compact: gpu.compute_pipeline("cull compact", &compact, &[sb, sb, sb, sb])?,
         })
     }
-
-    pub fn destroy(self, gpu: &Gpu) {
-        for p in [self.setup, self.occupied, self.quads, self.compact] {
-            gpu.destroy_pipeline(p);
-        }
-    }
 }
 
 /// What culling found in the last frame.
@@ -157,20 +151,6 @@ impl CullState {
             blocks_drawn_first: word(self.rebuilt(), 0)?,
             blocks_drawn_new: word(&self.new_blocks, 0)?,
         })
-    }
-
-    pub fn destroy(self, gpu: &Gpu) {
-        let [a, b] = self.lists;
-        for buffer in [
-            self.occupied,
-            self.visible,
-            self.previous,
-            a,
-            b,
-            self.new_blocks,
-        ] {
-            gpu.destroy_buffer(buffer);
-        }
     }
 }
 

@@ -21,11 +21,12 @@ use crate::config::volume_defines;
 use crate::error::{Error, Result};
 use crate::iso::minmax::MinMaxBuilder;
 use crate::iso::PreparedVolume;
+use crate::target::Target;
 use bytemuck::{Pod, Zeroable};
 use cull::{CullPipelines, CullState, DrawBlockList};
 use glam::Vec3;
 use tessera_data::shading::BACKGROUND;
-use tessera_data::{GridCamera, GridFrame, OrbitCamera, Projection, RgbaImage, ScalarType, Volume};
+use tessera_data::{GridFrame, OrbitCamera, RgbaImage, ScalarType, View, Volume};
 use tessera_gpu::{
     vk, Binding, Buffer, Gpu, Image, MemoryLocation, Pipeline, Recorder, RenderTargets,
     ShaderCompiler, Slot, Timer,
@@ -112,6 +113,12 @@ impl RasterTarget {
         Ok(self.read_views(gpu)?.swap_remove(0))
     }
 
+    /// Records a copy of the first view's colour into `target` (of this size), packed as the
+    /// compute passes pack pixels.
+    pub fn record_copy_to(&self, rec: &Recorder, target: &Target) {
+        rec.copy_image_to_buffer(&self.color, &target.pixels);
+    }
+
     /// One image per view (layer).
     pub fn read_views(&self, gpu: &Gpu) -> Result<Vec<RgbaImage>> {
         gpu.submit("copy direct colour", |rec| {
@@ -128,12 +135,6 @@ impl RasterTarget {
                 pixels: p.to_vec(),
             })
             .collect())
-    }
-
-    pub fn destroy(self, gpu: &Gpu) {
-        gpu.destroy_image(self.color);
-        gpu.destroy_image(self.depth);
-        gpu.destroy_buffer(self.readback);
     }
 }
 
@@ -234,16 +235,24 @@ impl Direct {
         height: u32,
         capture_capacity: u32,
     ) -> DirectParams {
+        let view = View::of_unit_box(camera, (width, height));
+        Self::params_for_view(prepared, iso, &view, capture_capacity)
+    }
+
+    pub fn params_for_view(
+        prepared: &PreparedVolume,
+        iso: f32,
+        view: &View,
+        capture_capacity: u32,
+    ) -> DirectParams {
         let dims = prepared.volume.dims;
         let frame = GridFrame::new(dims, prepared.spacing);
-        let projection = Projection::new(camera, &frame, width, height);
-        let light = GridCamera::new(camera, &frame, width, height).light_world;
-        let e = projection.eye_world;
+        let e = view.eye;
         DirectParams {
-            grid_to_clip: projection.grid_to_clip.to_cols_array_2d(),
+            grid_to_clip: view.grid_to_clip(&frame).to_cols_array_2d(),
             eye_world: [e.x, e.y, e.z, iso],
             grid_to_world: frame.grid_to_world.extend(0.0).to_array(),
-            light: light.extend(0.0).to_array(),
+            light: view.light.extend(0.0).to_array(),
             dims: [dims[0], dims[1], dims[2], capture_capacity],
         }
     }
@@ -356,13 +365,10 @@ impl Direct {
                 self.record(rec, prepared, target, &params, &capture, culling)
             });
         });
-        let result = submitted
+        submitted
             .map_err(Error::from)
             .and(recorded)
-            .and_then(|_| self.collect(gpu, target, &timer, &capture, capture_capacity));
-        timer.destroy(gpu);
-        gpu.destroy_buffer(capture);
-        result
+            .and_then(|_| self.collect(gpu, target, &timer, &capture, capture_capacity))
     }
 
     /// What the last recorded frame emitted.
@@ -422,14 +428,6 @@ impl Direct {
             gpu_ms: ms,
             triangles,
         })
-    }
-
-    pub fn destroy(self, gpu: &Gpu) {
-        gpu.destroy_pipeline(self.pipeline);
-        gpu.destroy_pipeline(self.list_pipeline);
-        self.cull.destroy(gpu);
-        gpu.destroy_buffer(self.stats);
-        self.builder.destroy(gpu);
     }
 }
 

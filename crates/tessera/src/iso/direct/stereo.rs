@@ -101,8 +101,4 @@ impl DirectMultiview {
         rec.barrier();
         Ok(drawn?)
     }
-
-    pub fn destroy(self, gpu: &Gpu) {
-        gpu.destroy_pipeline(self.pipeline);
-    }
 }

@@ -82,11 +82,6 @@ impl MinMaxOctreeGpu {
         let bytes = gpu.read_buffer(&self.nodes)?;
         Ok(bytemuck::allocation::pod_collect_to_vec(&bytes))
     }
-
-    pub fn destroy(self, gpu: &Gpu) {
-        gpu.destroy_buffer(self.nodes);
-        gpu.destroy_buffer(self.levels);
-    }
 }
 
 /// The two compute pipelines that build the octree for volumes of one scalar type.
@@ -168,10 +163,5 @@ impl MinMaxBuilder {
                 p,
             );
         }
-    }
-
-    pub fn destroy(self, gpu: &Gpu) {
-        gpu.destroy_pipeline(self.blocks);
-        gpu.destroy_pipeline(self.reduce);
     }
 }

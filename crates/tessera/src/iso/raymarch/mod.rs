@@ -11,9 +11,9 @@ use crate::config::volume_defines;
 use crate::error::Result;
 use crate::iso::minmax::MinMaxBuilder;
 pub use crate::iso::PreparedVolume;
-use crate::target::PixelTarget;
+use crate::target::Target;
 use bytemuck::{Pod, Zeroable};
-use tessera_data::{GridCamera, GridFrame, OrbitCamera, RgbaImage, ScalarType, Volume};
+use tessera_data::{GridFrame, OrbitCamera, RgbaImage, ScalarType, View, Volume};
 use tessera_gpu::{Binding, Gpu, Pipeline, Recorder, ShaderCompiler, Slot, Timer};
 
 /// Push constants of `raymarch.comp.glsl` (its `RaymarchParams` block; a test holds the two to
@@ -75,9 +75,14 @@ impl Raymarch {
         width: u32,
         height: u32,
     ) -> RaymarchParams {
+        Self::params_for_view(prepared, iso, &View::of_unit_box(camera, (width, height)))
+    }
+
+    pub fn params_for_view(prepared: &PreparedVolume, iso: f32, view: &View) -> RaymarchParams {
         let dims = prepared.volume.dims;
         let frame = GridFrame::new(dims, prepared.spacing);
-        let cam = GridCamera::new(camera, &frame, width, height);
+        let cam = view.grid_camera(&frame);
+        let (width, height) = view.size;
         let v4 = |v: glam::Vec3, w: f32| [v.x, v.y, v.z, w];
         RaymarchParams {
             eye: v4(cam.eye, iso),
@@ -101,7 +106,7 @@ impl Raymarch {
         &self,
         rec: &Recorder,
         prepared: &PreparedVolume,
-        target: &PixelTarget,
+        target: &Target,
         params: &RaymarchParams,
     ) {
         rec.dispatch(
@@ -125,7 +130,7 @@ impl Raymarch {
         &self,
         gpu: &Gpu,
         prepared: &PreparedVolume,
-        target: &PixelTarget,
+        target: &Target,
         iso: f32,
         camera: &OrbitCamera,
     ) -> Result<(RgbaImage, f64)> {
@@ -138,12 +143,6 @@ impl Raymarch {
             });
         })?;
         let ms = timer.read_ms(gpu)?.first().map(|s| s.1).unwrap_or(0.0);
-        timer.destroy(gpu);
         Ok((target.read(gpu)?, ms))
-    }
-
-    pub fn destroy(self, gpu: &Gpu) {
-        gpu.destroy_pipeline(self.march);
-        self.builder.destroy(gpu);
     }
 }

@@ -2,8 +2,8 @@
 
 use super::{COLOR_FORMAT, DEPTH_FORMAT};
 use crate::error::Result;
-use crate::param::ParamView;
-use crate::target::PixelTarget;
+use crate::target::Target;
+use tessera_data::View;
 use tessera_gpu::{vk, Gpu, Image};
 
 /// The attachments of one view's raster and the image they end in.
@@ -12,70 +12,45 @@ pub struct TessFrame {
     pub colour: Image,
     pub msaa_colour: Option<Image>,
     pub depth: Image,
-    pub pixels: PixelTarget,
+    pub pixels: Target,
     pub(super) raster: (u32, u32),
     pub(super) samples: u32,
 }
 
 impl TessFrame {
     /// Attachments for `view`'s raster with `msaa` samples per pixel, and its image.
-    pub fn new(gpu: &Gpu, view: &ParamView, msaa: u32) -> Result<TessFrame> {
+    pub fn new(gpu: &Gpu, view: &View, msaa: u32) -> Result<TessFrame> {
         let (w, h) = view.raster_size();
         let attachment = vk::ImageUsageFlags::COLOR_ATTACHMENT;
-        let mut made: Vec<Image> = Vec::new();
-        let result = (|| -> Result<(Option<Image>, PixelTarget)> {
-            made.push(gpu.create_image(
-                "param tess colour",
-                [w, h, 1],
-                COLOR_FORMAT,
-                attachment | vk::ImageUsageFlags::STORAGE,
-                false,
-            )?);
-            let depth_usage = vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT;
-            made.push(gpu.create_image_multisampled(
-                "param tess depth",
-                [w, h],
-                DEPTH_FORMAT,
-                depth_usage,
-                msaa,
-            )?);
-            let msaa_colour = if msaa > 1 {
-                let name = "param tess colour (multisampled)";
-                Some(gpu.create_image_multisampled(name, [w, h], COLOR_FORMAT, attachment, msaa)?)
-            } else {
-                None
-            };
-            Ok((
-                msaa_colour,
-                PixelTarget::new(gpu, view.size.0, view.size.1)?,
-            ))
-        })();
-        match result {
-            Ok((msaa_colour, pixels)) => {
-                let depth = made.pop().expect("depth made");
-                let colour = made.pop().expect("colour made");
-                Ok(TessFrame {
-                    colour,
-                    msaa_colour,
-                    depth,
-                    pixels,
-                    raster: (w, h),
-                    samples: msaa,
-                })
-            }
-            Err(e) => {
-                made.into_iter().for_each(|i| gpu.destroy_image(i));
-                Err(e)
-            }
-        }
-    }
-
-    pub fn destroy(self, gpu: &Gpu) {
-        gpu.destroy_image(self.colour);
-        gpu.destroy_image(self.depth);
-        if let Some(m) = self.msaa_colour {
-            gpu.destroy_image(m);
-        }
-        self.pixels.destroy(gpu);
+        let colour = gpu.create_image(
+            "param tess colour",
+            [w, h, 1],
+            COLOR_FORMAT,
+            attachment | vk::ImageUsageFlags::STORAGE,
+            false,
+        )?;
+        let depth_usage = vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT;
+        let depth = gpu.create_image_multisampled(
+            "param tess depth",
+            [w, h],
+            DEPTH_FORMAT,
+            depth_usage,
+            msaa,
+        )?;
+        let msaa_colour = if msaa > 1 {
+            let name = "param tess colour (multisampled)";
+            Some(gpu.create_image_multisampled(name, [w, h], COLOR_FORMAT, attachment, msaa)?)
+        } else {
+            None
+        };
+        let pixels = Target::new(gpu, view.size.0, view.size.1)?;
+        Ok(TessFrame {
+            colour,
+            msaa_colour,
+            depth,
+            pixels,
+            raster: (w, h),
+            samples: msaa,
+        })
     }
 }

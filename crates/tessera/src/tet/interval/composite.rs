@@ -5,7 +5,7 @@ use super::mesh::{OpticalStore, OpticalTarget};
 use crate::builtin_shader;
 use crate::error::Result;
 use crate::path::Path;
-use crate::target::PixelTarget;
+use crate::target::Target;
 use bytemuck::{Pod, Zeroable};
 use tessera_gpu::{Binding, Buffer, Gpu, Pipeline, Recorder, ShaderCompiler, Slot};
 
@@ -49,7 +49,7 @@ impl Composite {
         &self,
         rec: &Recorder,
         target: &OpticalTarget,
-        pixels: &PixelTarget,
+        pixels: &Target,
         table: &Buffer,
         background: [f32; 3],
     ) {
@@ -71,9 +71,5 @@ impl Composite {
             bytemuck::bytes_of(&params),
             [target.width, target.height, 1],
         );
-    }
-
-    pub fn destroy(self, gpu: &Gpu) {
-        gpu.destroy_pipeline(self.pipeline);
     }
 }

@@ -127,13 +127,4 @@ impl IntervalCompute {
         rec.dispatch_indirect(&self.tiles, &bindings, push, &self.tile_count, 4);
         rec.barrier();
     }
-
-    pub fn destroy(self, gpu: &Gpu) {
-        gpu.destroy_pipeline(self.raster);
-        gpu.destroy_pipeline(self.tiles);
-        self.indirect.destroy(gpu);
-        for b in [self.tiled_tets, self.tile_owner, self.tile_count] {
-            gpu.destroy_buffer(b);
-        }
-    }
 }

@@ -103,8 +103,4 @@ impl IntervalGraphics {
         rec.barrier();
         Ok(drawn?)
     }
-
-    pub fn destroy(self, gpu: &Gpu) {
-        gpu.destroy_pipeline(self.pipeline);
-    }
 }

@@ -4,48 +4,62 @@ use crate::error::Result;
 use crate::path::Path;
 use tessera_data::tet::asteroids::asteroid_spheres;
 use tessera_data::tet::optical::MeshFrame;
+use tessera_data::tet::scalar_integral::scalar_range;
 use tessera_data::tet::TetMesh;
 use tessera_gpu::{vk, Buffer, Gpu, Image, MemoryLocation};
 
 /// A tet mesh on the GPU, placed in world space like the CPU reference places it.
 pub struct GpuTetMesh {
-    /// xyz world position, w the vertex's scalar normalized to [0, 1] (0 without scalars).
+    /// xyz world position, w the vertex's scalar as loaded (0 without scalars).
     pub vertices: Buffer,
     pub tets: Buffer,
     /// Per tet, a vec4: the absorption colour (rgb), or for the asteroid field the asteroid's
     /// centre and radius.
     pub absorption: Buffer,
     pub tet_count: u32,
+    /// The scalar range the shaders map onto [0, 1] (push constants, so changing it uploads
+    /// nothing): the mesh's own, until a caller sets another.
+    pub scalar_range: (f32, f32),
 }
 
 impl GpuTetMesh {
-    /// The mesh without its scalars (for per-tet absorption).
+    /// The mesh with its vertex scalars, if it has any, and its per-tet colours (white without).
     pub fn upload(gpu: &Gpu, mesh: &TetMesh) -> Result<GpuTetMesh> {
-        GpuTetMesh::upload_with(gpu, mesh, None)
-    }
-
-    /// The mesh with one scalar per vertex already normalized to [0, 1]
-    /// ([`tessera_data::tet::scalar_integral::normalized_scalars`]).
-    pub fn upload_with(
-        gpu: &Gpu,
-        mesh: &TetMesh,
-        normalized: Option<&[f32]>,
-    ) -> Result<GpuTetMesh> {
         let frame = MeshFrame::of(mesh);
         let vertices: Vec<[f32; 4]> = mesh
             .vertices
             .iter()
             .enumerate()
             .map(|(i, &v)| {
-                let s = normalized.and_then(|n| n.get(i)).copied().unwrap_or(0.0);
+                let s = mesh
+                    .scalars
+                    .as_ref()
+                    .and_then(|n| n.get(i))
+                    .copied()
+                    .unwrap_or(0.0);
                 frame.to_world(glam::Vec3::from(v)).extend(s).to_array()
             })
             .collect();
-        let absorption: Vec<[f32; 4]> = match &mesh.absorption {
-            Some(a) => a.iter().map(|c| [c[0], c[1], c[2], 0.0]).collect(),
-            None => vec![[1.0, 1.0, 1.0, 0.0]; mesh.tets.len()],
-        };
-        GpuTetMesh::upload_parts(gpu, mesh, &vertices, &absorption)
+        GpuTetMesh::upload_parts(gpu, mesh, &vertices, &absorption_colours(mesh))
+    }
+
+    /// Gives every tet the absorption colour `colour` (an appearance: the geometry stays).
+    pub fn write_absorption(&self, gpu: &Gpu, colour: [f32; 3]) -> Result<()> {
+        let words = vec![[colour[0], colour[1], colour[2], 0.0f32]; self.tet_count as usize];
+        Ok(gpu.write_buffer(&self.absorption, bytemuck::cast_slice(&words))?)
+    }
+
+    /// Gives the tets `mesh`'s own colours again (white where it has none).
+    pub fn write_absorption_of(&self, gpu: &Gpu, mesh: &TetMesh) -> Result<()> {
+        Ok(gpu.write_buffer(
+            &self.absorption,
+            bytemuck::cast_slice(&absorption_colours(mesh)),
+        )?)
+    }
+
+    /// Bytes on the GPU.
+    pub fn bytes(&self) -> u64 {
+        self.vertices.size + self.tets.size + self.absorption.size
     }
 
     /// An asteroid field: each tet carries its asteroid's sphere ([`asteroid_spheres`]).
@@ -75,13 +89,16 @@ impl GpuTetMesh {
                 usage,
             )?,
             tet_count: mesh.tets.len() as u32,
+            scalar_range: scalar_range(mesh).unwrap_or((0.0, 1.0)),
         })
     }
+}
 
-    pub fn destroy(self, gpu: &Gpu) {
-        for b in [self.vertices, self.tets, self.absorption] {
-            gpu.destroy_buffer(b);
-        }
+/// The mesh's per-tet colours as vec4s, white where it has none.
+fn absorption_colours(mesh: &TetMesh) -> Vec<[f32; 4]> {
+    match &mesh.absorption {
+        Some(a) => a.iter().map(|c| [c[0], c[1], c[2], 0.0]).collect(),
+        None => vec![[1.0, 1.0, 1.0, 0.0]; mesh.tets.len()],
     }
 }
 
@@ -128,33 +145,20 @@ impl OpticalTarget {
                         | vk::ImageUsageFlags::STORAGE,
                     false,
                 )?;
-                let readback = match gpu.create_buffer(
+                let readback = gpu.create_buffer(
                     "interval accumulation readback",
                     bytes,
                     vk::BufferUsageFlags::TRANSFER_DST | vk::BufferUsageFlags::TRANSFER_SRC,
                     MemoryLocation::GpuOnly,
-                ) {
-                    Ok(b) => b,
-                    Err(e) => {
-                        gpu.destroy_image(image);
-                        return Err(e.into());
-                    }
-                };
+                )?;
                 let depth = if with_depth {
-                    match gpu.create_image(
+                    Some(Box::new(gpu.create_image(
                         "interval depth",
                         [width, height, 1],
                         DEPTH_FORMAT,
                         vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
                         false,
-                    ) {
-                        Ok(d) => Some(Box::new(d)),
-                        Err(e) => {
-                            gpu.destroy_image(image);
-                            gpu.destroy_buffer(readback);
-                            return Err(e.into());
-                        }
-                    }
+                    )?))
                 } else {
                     None
                 };
@@ -196,22 +200,5 @@ impl OpticalTarget {
         };
         let texels: Vec<[f32; 4]> = bytemuck::allocation::pod_collect_to_vec(&bytes);
         Ok(texels.into_iter().map(|t| [t[0], t[1], t[2]]).collect())
-    }
-
-    pub fn destroy(self, gpu: &Gpu) {
-        match self.store {
-            OpticalStore::Image {
-                image,
-                readback,
-                depth,
-            } => {
-                gpu.destroy_image(*image);
-                gpu.destroy_buffer(readback);
-                if let Some(d) = depth {
-                    gpu.destroy_image(*d);
-                }
-            }
-            OpticalStore::Buffer(buffer) => gpu.destroy_buffer(buffer),
-        }
     }
 }

@@ -23,14 +23,14 @@ pub use mesh::{GpuTetMesh, OpticalTarget};
 
 use crate::error::{Error, Result};
 use crate::path::Path;
-use crate::target::PixelTarget;
+use crate::target::Target;
 use bytemuck::{Pod, Zeroable};
 use composite::Composite;
 use compute::IntervalCompute;
 use graphics::{Combine, IntervalGraphics};
 use mesh::OpticalStore;
 use tessera_data::transfer::{IntegrandTable, ScalarMode};
-use tessera_data::{GridFrame, OrbitCamera, Projection, RgbaImage};
+use tessera_data::{OrbitCamera, RgbaImage, View};
 use tessera_gpu::{vk, Binding, Buffer, Gpu, Recorder, ShaderCompiler, Timer};
 
 /// Bindings every pass shares (`buffers.glsl`): vertices, tets, absorption, table, stats.
@@ -46,6 +46,8 @@ pub struct IntervalParams {
     pub counts: [u32; 4],
     /// The eye in world space (w unused).
     pub eye: [f32; 4],
+    /// The scalar range mapped onto [0, 1] (`GpuTetMesh::scalar_range`).
+    pub scalar_range: [f32; 2],
 }
 
 /// What each pixel accumulates along its ray.
@@ -53,7 +55,7 @@ pub struct IntervalParams {
 pub enum Integrand {
     /// Interval length × the tet's absorption colour (white where the mesh has none).
     TetAbsorption,
-    /// The vertex scalars (uploaded normalized, [`GpuTetMesh::upload_with`]) through a table.
+    /// The vertex scalars, mapped onto [0, 1] over `GpuTetMesh::scalar_range`, through a table.
     Scalar {
         mode: ScalarMode,
         table: IntegrandTable,
@@ -116,6 +118,17 @@ impl IntervalOptions {
             tile_capacity: TileCapacity::default(),
         }
     }
+}
+
+/// What the passes of a frame counted.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct IntervalCounts {
+    /// Tets clipped at the near plane.
+    pub clipped_near: u32,
+    /// Compute path: tets handed to the tile pass, and those drawn by one invocation because
+    /// the tile buffers were full.
+    pub tiled: u32,
+    pub overflowed: u32,
 }
 
 /// One frame's accumulation, its GPU time and what the passes counted.
@@ -255,15 +268,16 @@ impl Interval {
         width: u32,
         height: u32,
     ) -> IntervalParams {
-        // The volume frame is irrelevant to the world-to-clip transform; any will do.
-        let projection =
-            Projection::new(camera, &GridFrame::new([2, 2, 2], [1.0; 3]), width, height);
-        let (near, _) = Projection::near_far(camera);
-        let tan_y = (camera.fov_y_deg.to_radians() * 0.5).tan();
-        let tan_x = tan_y * width as f32 / height as f32;
+        self.params_for_view(mesh, &View::of_unit_box(camera, (width, height)))
+    }
+
+    /// The push constants of a frame of `view` (whose depth range must be the unit box's: the
+    /// CPU references clip at that near plane).
+    pub fn params_for_view(&self, mesh: &GpuTetMesh, view: &View) -> IntervalParams {
+        let (width, height) = view.size;
         IntervalParams {
-            world_to_clip: projection.world_to_clip.to_cols_array_2d(),
-            view: [tan_x, tan_y, 0.0, near],
+            world_to_clip: view.world_to_clip.to_cols_array_2d(),
+            view: [view.tan_half_fov.x, view.tan_half_fov.y, 0.0, view.near],
             counts: [
                 mesh.tet_count,
                 width,
@@ -272,8 +286,38 @@ impl Interval {
                     auto_inline_limit(mesh.tet_count, u64::from(width) * u64::from(height))
                 }),
             ],
-            eye: camera.eye().extend(1.0).to_array(),
+            eye: view.eye.extend(1.0).to_array(),
+            scalar_range: [mesh.scalar_range.0, mesh.scalar_range.1],
         }
+    }
+
+    /// Whether `integrand` runs on these pipelines (same kind and table size): then
+    /// [`Self::set_table`] switches to it without building anything.
+    pub fn can_switch_to(&self, integrand: &Integrand) -> bool {
+        integrand.code() == self.options.integrand.code()
+            && integrand.knots() == self.options.integrand.knots()
+    }
+
+    /// Writes `integrand`'s table (see [`Self::can_switch_to`]).
+    pub fn set_table(&mut self, gpu: &Gpu, integrand: &Integrand) -> Result<()> {
+        if !self.can_switch_to(integrand) {
+            return Err(Error::Invalid(
+                "interval: another integrand kind needs other pipelines".into(),
+            ));
+        }
+        gpu.write_buffer(&self.table, bytemuck::cast_slice(&integrand.table_words()))?;
+        self.options.integrand = integrand.clone();
+        Ok(())
+    }
+
+    /// The counters of the last frame.
+    pub fn read_counts(&self, gpu: &Gpu) -> Result<IntervalCounts> {
+        let stats = crate::bench::read_words(gpu, &self.stats)?;
+        Ok(IntervalCounts {
+            clipped_near: stats[0],
+            tiled: stats[1].min(self.options.tile_capacity.tets),
+            overflowed: stats[2],
+        })
     }
 
     /// Records one frame into `target` (cleared first).
@@ -324,13 +368,13 @@ impl Interval {
         let gpu_ms = crate::bench::time_once(gpu, "interval shading", |rec| {
             self.record(rec, mesh, target, &params)
         })?;
-        let stats = crate::bench::read_words(gpu, &self.stats)?;
+        let counts = self.read_counts(gpu)?;
         Ok(IntervalFrame {
             values: target.read(gpu)?,
             gpu_ms,
-            clipped_near: stats[0],
-            tiled: stats[1].min(self.options.tile_capacity.tets),
-            overflowed: stats[2],
+            clipped_near: counts.clipped_near,
+            tiled: counts.tiled,
+            overflowed: counts.overflowed,
         })
     }
 
@@ -339,7 +383,7 @@ impl Interval {
         &self,
         rec: &Recorder,
         target: &OpticalTarget,
-        pixels: &PixelTarget,
+        pixels: &Target,
         background: [f32; 3],
     ) {
         self.composite
@@ -357,13 +401,7 @@ impl Interval {
         background: [f32; 3],
     ) -> Result<(RgbaImage, f64)> {
         let target = self.target(gpu, width, height)?;
-        let pixels = match PixelTarget::new(gpu, width, height) {
-            Ok(p) => p,
-            Err(e) => {
-                target.destroy(gpu);
-                return Err(e);
-            }
-        };
+        let pixels = Target::new(gpu, width, height)?;
         let params = self.params(mesh, camera, width, height);
         let result = Timer::new(gpu, 1)
             .map_err(Error::from)
@@ -383,22 +421,9 @@ impl Interval {
                         timer.read_ms(gpu)?.first().map(|s| s.1).unwrap_or(0.0),
                     ))
                 });
-                timer.destroy(gpu);
                 result
             });
-        target.destroy(gpu);
-        pixels.destroy(gpu);
         result
-    }
-
-    pub fn destroy(self, gpu: &Gpu) {
-        match self.renderer {
-            Renderer::Graphics(g) => g.destroy(gpu),
-            Renderer::Compute(c) => c.destroy(gpu),
-        }
-        self.composite.destroy(gpu);
-        gpu.destroy_buffer(self.table);
-        gpu.destroy_buffer(self.stats);
     }
 }
 

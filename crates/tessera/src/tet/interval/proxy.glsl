@@ -117,6 +117,13 @@ float cut_scalar(vec4 a, vec4 b, float sa, float sb, float near) {
 }
 
 
+// A vertex scalar mapped onto [0, 1] over the push constants' range, clamped, as the CPU
+// reference maps it (`normalize_scalar`): per corner, before interpolation.
+float normalized_scalar(float value) {
+    float extent = params.scalar_range.y - params.scalar_range.x;
+    return extent > 0.0 ? clamp((value - params.scalar_range.x) / extent, 0.0, 1.0) : 0.0;
+}
+
 // The proxies (up to 3, after clipping) of tet `tet`; returns how many and whether it was clipped.
 uint tet_proxies(uint tet, out Proxy proxies[3], out bool clipped) {
     uint proxy_count = 0u;
@@ -132,7 +139,7 @@ uint tet_proxies(uint tet, out Proxy proxies[3], out bool clipped) {
     for (uint i = 0u; i < 4u; ++i) {
         vec4 v = vertices_world[ids[i]];
         c[i] = params.world_to_clip * vec4(v.xyz, 1.0);
-        sc[i] = v.w;
+        sc[i] = normalized_scalar(v.w);
         if (c[i].w > near) {
             front[n_front++] = i;
         } else {

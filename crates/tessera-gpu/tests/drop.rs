@@ -1,0 +1,135 @@
+//! GPU objects free themselves when dropped and keep the device alive while they exist.
+
+use tessera_gpu::{
+    vk, Binding, Gpu, GpuOptions, MemoryLocation, ShaderCompiler, Slot, Source, Timer,
+};
+
+/// The default device with validation, or `None` (after saying so) where none opens.
+fn open(test: &str) -> Option<Gpu> {
+    match Gpu::new(&GpuOptions {
+        device_index: None,
+        validation: true,
+    }) {
+        Ok(gpu) => Some(gpu),
+        Err(e) => {
+            eprintln!("skipped: {test}: no Vulkan device ({e})");
+            None
+        }
+    }
+}
+
+const FILL: &str = r#"
+#version 450
+layout(local_size_x = 64) in;
+layout(std430, binding = 0) buffer Out { uint words[]; };
+layout(binding = 1, rgba8) uniform writeonly image2D picture;
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    if (i < 64u) {
+        words[i] = i * 3u;
+        imageStore(picture, ivec2(int(i % 8u), int(i / 8u)), vec4(1.0));
+    }
+}
+"#;
+
+/// Objects dropped after the `Gpu` that made them still free themselves: the last one takes
+/// the device down, and the validation layer (which reports every object still alive when the
+/// device is destroyed) sees nothing wrong.
+#[test]
+fn objects_outlive_the_gpu_handle() {
+    let Some(gpu) = open("objects_outlive_the_gpu_handle") else {
+        return;
+    };
+    let log = gpu.validation_log();
+    let compiler = ShaderCompiler::new().without_disk_cache();
+    let spirv = compiler
+        .compile(&Source::new("fill.comp.glsl", FILL), &[])
+        .unwrap();
+    let pipeline = gpu
+        .compute_pipeline("fill", &spirv, &[Slot::StorageBuffer, Slot::StorageImage])
+        .unwrap();
+    let usage = vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC;
+    let buffer = gpu
+        .create_buffer("words", 256, usage, MemoryLocation::GpuOnly)
+        .unwrap();
+    let image = gpu
+        .create_image(
+            "picture",
+            [8, 8, 1],
+            vk::Format::R8G8B8A8_UNORM,
+            vk::ImageUsageFlags::STORAGE,
+            false,
+        )
+        .unwrap();
+    let mut timer = Timer::new(&gpu, 1).unwrap();
+    timer.reset(&gpu);
+    gpu.submit("fill", |rec| {
+        rec.discard_to_general(&image);
+        timer.scope(rec, "fill", |rec| {
+            let bindings = [Binding::Buffer(&buffer), Binding::StorageImage(&image)];
+            rec.dispatch(&pipeline, &bindings, &[], [64, 1, 1]);
+        });
+    })
+    .unwrap();
+    assert_eq!(timer.read_ms(&gpu).unwrap().len(), 1);
+    let words: Vec<u32> =
+        bytemuck::allocation::pod_collect_to_vec(&gpu.read_buffer(&buffer).unwrap());
+    assert_eq!(words[..4], [0, 3, 6, 9]);
+    assert!(gpu.validation_errors().is_empty());
+
+    drop(gpu);
+    // The device lives on in the objects; each one freed here uses it.
+    drop(buffer);
+    drop(image);
+    drop(timer);
+    drop(pipeline);
+    // The last object took the device (and the log's other owner) with it.
+    assert_eq!(
+        std::sync::Arc::strong_count(&log),
+        1,
+        "the device is still alive"
+    );
+    let errors = log.errors();
+    assert!(
+        errors.is_empty(),
+        "{} validation error(s):\n{}",
+        errors.len(),
+        errors.join("\n")
+    );
+}
+
+/// 200 buffers of 64 MiB made and dropped one after another: a leak would hold 12.5 GiB, more
+/// than lavapipe's heap on small machines, and shows in the allocator's bookkeeping anyway.
+#[test]
+fn dropped_buffers_give_their_memory_back() {
+    let Some(gpu) = open("dropped_buffers_give_their_memory_back") else {
+        return;
+    };
+    const SIZE: u64 = 64 << 20;
+    let baseline = gpu.allocated_bytes();
+    eprintln!(
+        "device-local heap {} MiB; 200 buffers of 64 MiB would need {} MiB",
+        gpu.caps().device_local_bytes >> 20,
+        (200 * SIZE) >> 20
+    );
+    for i in 0..200 {
+        let buffer = gpu
+            .create_buffer(
+                "big",
+                SIZE,
+                vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
+                MemoryLocation::GpuOnly,
+            )
+            .unwrap_or_else(|e| panic!("buffer {i}: {e}"));
+        if i % 50 == 0 {
+            // Touch it, so that a driver allocating lazily still backs it.
+            gpu.submit("touch", |rec| rec.fill_buffer(&buffer, i))
+                .unwrap();
+        }
+        assert!(gpu.allocated_bytes() >= baseline + SIZE);
+        drop(buffer);
+        assert_eq!(gpu.allocated_bytes(), baseline, "buffer {i} was not freed");
+    }
+    let errors = gpu.validation_errors();
+    assert!(errors.is_empty(), "{}", errors.join("\n"));
+}

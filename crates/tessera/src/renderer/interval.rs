@@ -1,0 +1,197 @@
+//! Tet meshes behind the front door: interval shading (paper A) on its mesh-shader or compute
+//! path. The integrand's kind is compiled into the pipelines, so only a change of kind (e.g.
+//! absorption to maximum) builds them again; a new transfer function, density or scalar range
+//! is a table write and a push constant.
+
+use super::{
+    no_data, wrong_data, FrameOutcome, FrameStats, Renderer, RendererOptions, Target, Technique,
+    WorkCounters,
+};
+use crate::error::Result;
+use crate::path::Path;
+use crate::tet::interval::{self, GpuTetMesh, Integrand, Interval, IntervalOptions, OpticalTarget};
+use tessera_data::scene::{Appearance, DataKind, Dataset, ResolvedIntegrand, TetData};
+use tessera_data::View;
+use tessera_gpu::{Gpu, Recorder, Timer};
+
+/// What the renderer keeps of the data set: the mesh (the integrand's rules look at its scalars
+/// and colours) and its upload.
+struct MeshOnGpu {
+    data: TetData,
+    mesh: GpuTetMesh,
+}
+
+pub(super) struct IntervalRenderer {
+    path: Path,
+    data: Option<MeshOnGpu>,
+    look: Appearance,
+    /// Built for the integrand of the current look.
+    pipelines: Option<Interval>,
+    /// The absorption colour of the look last applied (`None`: the mesh's own).
+    absorption: Option<[f32; 3]>,
+    background: [f32; 3],
+    accumulation: Option<OpticalTarget>,
+    stats: FrameStats,
+    counters: WorkCounters,
+}
+
+impl IntervalRenderer {
+    pub(super) fn new(gpu: &Gpu, options: &RendererOptions) -> Result<IntervalRenderer> {
+        let caps = gpu.caps();
+        let path = crate::path::choose_for(
+            caps,
+            &interval::path_support(caps),
+            options.path,
+            crate::path::remembered(caps).as_ref(),
+        )?;
+        Ok(IntervalRenderer {
+            path,
+            data: None,
+            look: Appearance::default(),
+            pipelines: None,
+            absorption: None,
+            background: [0.0; 3],
+            accumulation: None,
+            stats: FrameStats::default(),
+            counters: WorkCounters::default(),
+        })
+    }
+
+    /// Resolves the look against the mesh; builds the pipelines when the integrand's kind
+    /// changed, else writes the new table.
+    fn apply_look(&mut self, gpu: &Gpu) -> Result<()> {
+        let Some(data) = &mut self.data else {
+            return Ok(());
+        };
+        let resolved = self.look.resolve_integrand(&data.data)?;
+        let integrand = match &resolved {
+            ResolvedIntegrand::TetAbsorption => Integrand::TetAbsorption,
+            ResolvedIntegrand::Asteroids => Integrand::Asteroids,
+            ResolvedIntegrand::Scalar { mode, table, range } => {
+                data.mesh.scalar_range = *range;
+                Integrand::Scalar {
+                    mode: *mode,
+                    table: table.clone(),
+                }
+            }
+        };
+        let rebuild = match &self.pipelines {
+            Some(p) => !p.can_switch_to(&integrand),
+            None => true,
+        };
+        if rebuild {
+            self.pipelines = None;
+            let options = IntervalOptions {
+                integrand,
+                ..IntervalOptions::new(self.path)
+            };
+            self.pipelines = Some(Interval::new(gpu, &crate::shaders::compiler(), &options)?);
+            self.counters.pipeline_builds += 1;
+            // The accumulation's kind (depth-tested or not) follows the integrand.
+            self.accumulation = None;
+        } else if let Some(p) = &mut self.pipelines {
+            p.set_table(gpu, &integrand)?;
+        }
+        if self.look.absorption != self.absorption {
+            match self.look.absorption {
+                Some(colour) => data.mesh.write_absorption(gpu, colour)?,
+                None => data.mesh.write_absorption_of(gpu, &data.data.mesh)?,
+            }
+            self.absorption = self.look.absorption;
+        }
+        self.background = self.look.background(DataKind::Tets, Some(&resolved));
+        Ok(())
+    }
+}
+
+impl Renderer for IntervalRenderer {
+    fn technique(&self) -> Technique {
+        Technique::Interval
+    }
+
+    fn path(&self) -> Path {
+        self.path
+    }
+
+    fn set_data(&mut self, gpu: &Gpu, data: &Dataset) -> Result<()> {
+        let Dataset::Tets(tets) = data else {
+            return Err(wrong_data(Technique::Interval, data));
+        };
+        self.data = None;
+        let mesh = if tets.asteroids {
+            GpuTetMesh::upload_asteroids(gpu, &tets.mesh)?
+        } else {
+            GpuTetMesh::upload(gpu, &tets.mesh)?
+        };
+        self.counters.data_uploads += 1;
+        self.counters.data_bytes += mesh.bytes();
+        self.data = Some(MeshOnGpu {
+            data: tets.clone(),
+            mesh,
+        });
+        self.absorption = None;
+        self.apply_look(gpu)
+    }
+
+    fn set_appearance(&mut self, gpu: &Gpu, look: &Appearance) -> Result<()> {
+        self.look = look.clone();
+        self.apply_look(gpu)
+    }
+
+    fn prepare_frame(&mut self, gpu: &Gpu, view: &View) -> Result<()> {
+        let pipelines = self
+            .pipelines
+            .as_ref()
+            .ok_or_else(|| no_data(Technique::Interval))?;
+        let fits = self
+            .accumulation
+            .as_ref()
+            .is_some_and(|a| (a.width, a.height) == view.size);
+        if !fits {
+            self.accumulation = None;
+            self.accumulation = Some(pipelines.target(gpu, view.size.0, view.size.1)?);
+        }
+        Ok(())
+    }
+
+    fn record(
+        &mut self,
+        rec: &Recorder,
+        view: &View,
+        target: &Target,
+        timer: &mut Timer,
+    ) -> Result<()> {
+        let (Some(pipelines), Some(data), Some(accumulation)) =
+            (&self.pipelines, &self.data, &self.accumulation)
+        else {
+            return Err(no_data(Technique::Interval));
+        };
+        let params = pipelines.params_for_view(&data.mesh, view);
+        timer.scope(rec, "interval", |rec| {
+            let recorded = pipelines.record(rec, &data.mesh, accumulation, &params);
+            pipelines.record_composite(rec, accumulation, target, self.background);
+            recorded
+        })
+    }
+
+    fn finish_frame(&mut self, gpu: &Gpu) -> Result<FrameOutcome> {
+        let pipelines = self
+            .pipelines
+            .as_ref()
+            .ok_or_else(|| no_data(Technique::Interval))?;
+        let counts = pipelines.read_counts(gpu)?;
+        self.stats = FrameStats {
+            tets_clipped: Some(u64::from(counts.clipped_near)),
+            ..FrameStats::default()
+        };
+        Ok(FrameOutcome::Done)
+    }
+
+    fn stats(&self) -> FrameStats {
+        self.stats
+    }
+
+    fn counters(&self) -> WorkCounters {
+        self.counters
+    }
+}

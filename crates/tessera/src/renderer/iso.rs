@@ -1,0 +1,334 @@
+//! Isosurfaces of volumes behind the front door: ray marching, and direct rasterization on its
+//! mesh-shader or compute path, with occlusion culling carried from frame to frame.
+
+use super::{
+    no_data, wrong_data, FrameOutcome, FrameStats, Renderer, RendererOptions, Target, Technique,
+    WorkCounters,
+};
+use crate::error::{Error, Result};
+use crate::iso::direct::compute::{ComputeTarget, DirectCompute, TriangleLists};
+use crate::iso::direct::compute_cull::ComputeCullState;
+use crate::iso::direct::cull::CullState;
+use crate::iso::direct::{Direct, RasterTarget};
+use crate::iso::raymarch::Raymarch;
+use crate::iso::PreparedVolume;
+use crate::path::Path;
+use tessera_data::scene::{Appearance, Dataset};
+use tessera_data::{ScalarType, View, Volume};
+use tessera_gpu::{Buffer, Gpu, Recorder, Timer};
+
+/// The pipelines of one way to draw the isosurface, built for one sample type.
+enum Pipelines {
+    Raymarch(Box<Raymarch>),
+    Mesh(Box<Direct>),
+    Compute(Box<DirectCompute>),
+}
+
+/// Buffers of the frame size, made by `prepare_frame`.
+enum FrameBuffers {
+    None,
+    Mesh {
+        target: Box<RasterTarget>,
+    },
+    Compute {
+        target: Box<ComputeTarget>,
+        culling: Option<Box<ComputeCullState>>,
+    },
+}
+
+pub(super) struct IsoRenderer {
+    technique: Technique,
+    path: Path,
+    culling: bool,
+    pipelines: Option<(ScalarType, Pipelines)>,
+    prepared: Option<PreparedVolume>,
+    /// The isovalue in texel units, and the look it came from (kept to re-resolve against new
+    /// data).
+    iso: f32,
+    look: Appearance,
+    value_range: (f32, f32),
+    /// Mesh path: culling state of the prepared volume, and the empty triangle capture.
+    mesh_culling: Option<CullState>,
+    no_capture: Option<Buffer>,
+    frame: FrameBuffers,
+    /// Compute path: triangles a frame's list holds (grown on overflow).
+    capacity: u32,
+    stats: FrameStats,
+    counters: WorkCounters,
+}
+
+impl IsoRenderer {
+    pub(super) fn new(
+        gpu: &Gpu,
+        technique: Technique,
+        options: &RendererOptions,
+    ) -> Result<IsoRenderer> {
+        let path = match technique {
+            Technique::Raymarch => Path::Compute,
+            _ => {
+                let measured = crate::path::remembered(gpu.caps());
+                crate::path::choose(gpu.caps(), options.path, measured.as_ref())?
+            }
+        };
+        Ok(IsoRenderer {
+            technique,
+            path,
+            culling: options.culling && technique == Technique::Direct,
+            pipelines: None,
+            prepared: None,
+            iso: 0.0,
+            look: Appearance::default(),
+            value_range: (0.0, 1.0),
+            mesh_culling: None,
+            no_capture: None,
+            frame: FrameBuffers::None,
+            // A modest list first; an overflow reports the exact count for the retry.
+            capacity: 0,
+            stats: FrameStats::default(),
+            counters: WorkCounters::default(),
+        })
+    }
+
+    fn pipelines_for(&mut self, gpu: &Gpu, scalar: ScalarType) -> Result<&Pipelines> {
+        if self.pipelines.as_ref().map(|p| p.0) != Some(scalar) {
+            let compiler = crate::shaders::compiler();
+            let pipelines = match (self.technique, self.path) {
+                (Technique::Raymarch, _) => {
+                    Pipelines::Raymarch(Box::new(Raymarch::new(gpu, &compiler, scalar)?))
+                }
+                (_, Path::Graphics) => {
+                    Pipelines::Mesh(Box::new(Direct::new(gpu, &compiler, scalar)?))
+                }
+                (_, Path::Compute) => {
+                    Pipelines::Compute(Box::new(DirectCompute::new(gpu, &compiler, scalar)?))
+                }
+            };
+            self.counters.pipeline_builds += 1;
+            self.pipelines = Some((scalar, pipelines));
+        }
+        Ok(&self.pipelines.as_ref().expect("just built").1)
+    }
+
+    fn resolve_iso(&mut self, volume: Option<&Volume>) -> Result<()> {
+        if let Some(volume) = volume {
+            self.value_range = volume.texel_range();
+        }
+        self.iso = self.look.iso_in_range(self.value_range)?;
+        Ok(())
+    }
+}
+
+impl Renderer for IsoRenderer {
+    fn technique(&self) -> Technique {
+        self.technique
+    }
+
+    fn path(&self) -> Path {
+        self.path
+    }
+
+    fn set_data(&mut self, gpu: &Gpu, data: &Dataset) -> Result<()> {
+        let Dataset::Volume(volume) = data else {
+            return Err(wrong_data(self.technique, data));
+        };
+        // The old volume's buffers go before the new one is uploaded.
+        self.prepared = None;
+        self.mesh_culling = None;
+        self.frame = FrameBuffers::None;
+        let prepared = match self.pipelines_for(gpu, volume.scalar_type())? {
+            Pipelines::Raymarch(r) => r.prepare(gpu, volume)?,
+            Pipelines::Mesh(d) => d.prepare(gpu, volume)?,
+            Pipelines::Compute(d) => d.prepare(gpu, volume)?,
+        };
+        if matches!(self.pipelines, Some((_, Pipelines::Mesh(_)))) {
+            if self.culling {
+                self.mesh_culling = Some(CullState::new(gpu, &prepared)?);
+            }
+            if self.no_capture.is_none() {
+                self.no_capture = Some(Direct::no_capture(gpu)?);
+            }
+        }
+        self.prepared = Some(prepared);
+        self.counters.data_uploads += 1;
+        self.counters.data_bytes += volume.size_bytes();
+        self.resolve_iso(Some(volume))
+    }
+
+    fn set_appearance(&mut self, _gpu: &Gpu, look: &Appearance) -> Result<()> {
+        self.look = look.clone();
+        self.resolve_iso(None)
+    }
+
+    fn prepare_frame(&mut self, gpu: &Gpu, view: &View) -> Result<()> {
+        let (w, h) = view.size;
+        let Some((_, pipelines)) = &self.pipelines else {
+            return Err(no_data(self.technique));
+        };
+        let prepared = self
+            .prepared
+            .as_ref()
+            .ok_or_else(|| no_data(self.technique))?;
+        match pipelines {
+            Pipelines::Raymarch(_) => {}
+            Pipelines::Mesh(_) => {
+                let fits = matches!(&self.frame, FrameBuffers::Mesh { target } if (target.width, target.height) == (w, h));
+                if !fits {
+                    self.frame = FrameBuffers::None;
+                    self.frame = FrameBuffers::Mesh {
+                        target: Box::new(RasterTarget::new(gpu, w, h)?),
+                    };
+                }
+            }
+            Pipelines::Compute(_) => {
+                if self.capacity == 0 {
+                    self.capacity = TriangleLists::default_capacity(gpu).min(1 << 20);
+                }
+                let fits = matches!(&self.frame, FrameBuffers::Compute { target, .. }
+                    if (target.frame.width, target.frame.height) == (w, h)
+                        && target.lists.capacity == self.capacity);
+                if !fits {
+                    self.frame = FrameBuffers::None;
+                    let target = Box::new(ComputeTarget::new(gpu, w, h, self.capacity)?);
+                    let culling = if self.culling {
+                        Some(Box::new(ComputeCullState::new(gpu, prepared, &target)?))
+                    } else {
+                        None
+                    };
+                    self.frame = FrameBuffers::Compute { target, culling };
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn record(
+        &mut self,
+        rec: &Recorder,
+        view: &View,
+        target: &Target,
+        timer: &mut Timer,
+    ) -> Result<()> {
+        let Some((_, pipelines)) = &self.pipelines else {
+            return Err(no_data(self.technique));
+        };
+        let prepared = self
+            .prepared
+            .as_ref()
+            .ok_or_else(|| no_data(self.technique))?;
+        match (pipelines, &self.frame) {
+            (Pipelines::Raymarch(r), _) => {
+                let params = Raymarch::params_for_view(prepared, self.iso, view);
+                timer.scope(rec, "raymarch", |rec| {
+                    r.record(rec, prepared, target, &params)
+                });
+                Ok(())
+            }
+            (Pipelines::Mesh(d), FrameBuffers::Mesh { target: raster }) => {
+                let params = Direct::params_for_view(prepared, self.iso, view, 0);
+                let capture = self.no_capture.as_ref().expect("made with the data");
+                let recorded = timer.scope(rec, "direct", |rec| {
+                    d.record(
+                        rec,
+                        prepared,
+                        raster,
+                        &params,
+                        capture,
+                        self.mesh_culling.as_ref(),
+                    )
+                });
+                // Into the shared packed-pixel target, outside the timed frame (a copy of 4
+                // bytes per pixel that every presenter needs anyway).
+                raster.record_copy_to(rec, target);
+                recorded
+            }
+            (
+                Pipelines::Compute(d),
+                FrameBuffers::Compute {
+                    target: frame,
+                    culling,
+                },
+            ) => {
+                let params =
+                    Direct::params_for_view(prepared, self.iso, view, frame.lists.capacity);
+                match culling {
+                    Some(state) => timer.scope(rec, "direct-compute-culled", |rec| {
+                        d.record_culled_timed(rec, prepared, frame, target, &params, state, None)
+                    }),
+                    None => {
+                        timer.scope(rec, "direct-compute", |rec| {
+                            d.record_into(rec, prepared, frame, target, &params)
+                        });
+                        Ok(())
+                    }
+                }
+            }
+            _ => Err(Error::Invalid(format!(
+                "{}: record before prepare_frame",
+                self.technique.name()
+            ))),
+        }
+    }
+
+    fn finish_frame(&mut self, gpu: &Gpu) -> Result<FrameOutcome> {
+        let Some((_, pipelines)) = &self.pipelines else {
+            return Err(no_data(self.technique));
+        };
+        self.stats = FrameStats::default();
+        match (pipelines, &self.frame) {
+            (Pipelines::Raymarch(_), _) => {}
+            (Pipelines::Mesh(d), _) => {
+                self.stats.triangles = Some(u64::from(d.read_stats(gpu)?.triangles));
+                if let Some(state) = &self.mesh_culling {
+                    let s = state.read_stats(gpu)?;
+                    self.stats.blocks_drawn = Some((
+                        u64::from(s.blocks_drawn_first),
+                        u64::from(s.blocks_drawn_new),
+                    ));
+                }
+            }
+            (Pipelines::Compute(d), FrameBuffers::Compute { target, culling }) => {
+                let (made, capacity) = match culling {
+                    Some(state) => {
+                        let s = state.read_stats(gpu)?;
+                        self.stats.blocks_drawn = Some((
+                            u64::from(s.blocks_drawn_first),
+                            u64::from(s.blocks_drawn_new),
+                        ));
+                        (
+                            s.triangles_first.max(s.triangles_new),
+                            target.lists.capacity,
+                        )
+                    }
+                    None => (d.read_stats(gpu)?.triangles, target.lists.capacity),
+                };
+                self.stats.triangles = Some(match culling {
+                    Some(state) => {
+                        let s = state.read_stats(gpu)?;
+                        u64::from(s.triangles())
+                    }
+                    None => u64::from(made),
+                });
+                if made > capacity {
+                    let limit = TriangleLists::default_capacity(gpu);
+                    if made > limit {
+                        return Err(Error::Invalid(format!(
+                            "the isosurface has {made} triangles, more than fit in device memory ({limit})"
+                        )));
+                    }
+                    self.capacity = made;
+                    return Ok(FrameOutcome::Retry);
+                }
+            }
+            (Pipelines::Compute(_), _) => {}
+        }
+        Ok(FrameOutcome::Done)
+    }
+
+    fn stats(&self) -> FrameStats {
+        self.stats
+    }
+
+    fn counters(&self) -> WorkCounters {
+        self.counters
+    }
+}

@@ -1,0 +1,357 @@
+//! The front door: every technique behind one trait, so that the CLI, the benchmarks, the tests
+//! and the examples (and a viewer or Python after them) drive them alike.
+//!
+//! How a frame flows:
+//! 1. [`create`] builds a renderer for a [`Technique`] and [`RendererOptions`] (the path is
+//!    chosen here, from the device and the options).
+//! 2. [`Renderer::set_data`] takes a [`Dataset`] once: uploads, auxiliary structures (the
+//!    min-max octree, the glyph grid), pipelines that depend on the data (sample type, a user
+//!    function). Nothing else uploads data.
+//! 3. [`Renderer::set_appearance`] takes an [`Appearance`] whenever the look changes: isovalue,
+//!    transfer function, background. These become push constants or small buffer writes.
+//! 4. Per frame, with a [`View`] made by [`Renderer::view`]: [`Renderer::prepare_frame`] makes
+//!    the buffers that depend on the image size (once per size), [`Renderer::record`] records
+//!    the frame into the caller's command buffer and [`Target`], the caller submits, and
+//!    [`Renderer::finish_frame`] reads the frame's counters (and asks for the frame again when
+//!    a buffer overflowed and was grown). Culling state carries over from frame to frame.
+//! 5. The image stays on the GPU in the [`Target`] until someone reads it back.
+//!
+//! [`Frame`] does steps 4–5 for callers that just want images and times.
+
+mod interval;
+mod iso;
+mod param;
+
+use crate::error::{Error, Result};
+use crate::path::{Path, PathChoice};
+pub use crate::target::Target;
+use tessera_data::scene::{Appearance, DataKind, Dataset};
+use tessera_data::{DepthFit, OrbitCamera, RgbaImage, View};
+use tessera_gpu::{Gpu, Recorder, Timer};
+
+/// Timer scopes one frame may open.
+pub const MAX_TIMER_SCOPES: u32 = 8;
+/// Times a frame is rendered again after buffers overflowed and were grown.
+const MAX_RETRIES: u32 = 2;
+
+/// The techniques, by the names the CLI and benchmarks use.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Technique {
+    /// Min-max octree ray marching of an isosurface (paper D's reference).
+    Raymarch,
+    /// Marching cubes straight to a rasterizer (paper D): task/mesh shaders or compute.
+    Direct,
+    /// Interval shading of tet meshes (paper A): mesh shaders or compute.
+    Interval,
+    /// Parametric objects: patch LOD, then points (paper E).
+    ParamPoints,
+    /// Parametric objects: patch LOD, then hardware tessellation (paper E).
+    ParamTess,
+    /// SH glyphs ray-traced per pixel (Peters et al. 2023, paper E's reference).
+    ShRaytrace,
+}
+
+impl Technique {
+    pub const ALL: [Technique; 6] = [
+        Technique::Raymarch,
+        Technique::Direct,
+        Technique::Interval,
+        Technique::ParamPoints,
+        Technique::ParamTess,
+        Technique::ShRaytrace,
+    ];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Technique::Raymarch => "raymarch",
+            Technique::Direct => "direct",
+            Technique::Interval => "interval",
+            Technique::ParamPoints => "param-points",
+            Technique::ParamTess => "param-tess",
+            Technique::ShRaytrace => "sh-raytrace",
+        }
+    }
+
+    pub fn parse(name: &str) -> Result<Technique> {
+        Technique::ALL
+            .into_iter()
+            .find(|t| t.name() == name)
+            .ok_or_else(|| {
+                let names: Vec<&str> = Technique::ALL.iter().map(|t| t.name()).collect();
+                Error::Invalid(format!("unknown technique '{name}' ({})", names.join(", ")))
+            })
+    }
+
+    /// The kind of data the technique draws.
+    pub fn draws(self) -> DataKind {
+        match self {
+            Technique::Raymarch | Technique::Direct => DataKind::Volume,
+            Technique::Interval => DataKind::Tets,
+            Technique::ParamPoints | Technique::ParamTess | Technique::ShRaytrace => {
+                DataKind::Param
+            }
+        }
+    }
+
+    /// What draws `kind` when no technique is named.
+    pub fn default_for(kind: DataKind) -> Technique {
+        match kind {
+            DataKind::Volume => Technique::Raymarch,
+            DataKind::Tets => Technique::Interval,
+            DataKind::Param => Technique::ParamPoints,
+        }
+    }
+
+    /// `name` (or the default) for data of `kind`, refused with the techniques that do draw
+    /// it when it does not.
+    pub fn for_data(name: Option<&str>, kind: DataKind, what: &str) -> Result<Technique> {
+        let Some(name) = name else {
+            return Ok(Technique::default_for(kind));
+        };
+        let technique = Technique::parse(name)?;
+        if technique.draws() == kind {
+            return Ok(technique);
+        }
+        let fitting: Vec<&str> = Technique::ALL
+            .iter()
+            .filter(|t| t.draws() == kind)
+            .map(|t| t.name())
+            .collect();
+        Err(Error::Invalid(format!(
+            "{what}: technique '{name}' draws {}, not {}; use {}",
+            technique.draws().describe(),
+            kind.describe(),
+            fitting.join(" or ")
+        )))
+    }
+}
+
+/// Settings that shape a renderer's pipelines and buffers (not the data's look).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RendererOptions {
+    /// For techniques with a graphics and a compute path (direct, interval).
+    pub path: PathChoice,
+    /// Occlusion culling of `direct` (both paths), carried from frame to frame.
+    pub culling: bool,
+    /// Raster samples per pixel along each axis, averaged (parametric techniques).
+    pub supersample: u32,
+    /// Samples per pixel of `param-tess`'s multisampling.
+    pub msaa: u32,
+    /// Each parametric object starts as `pre_split`² patches before the LOD stage.
+    pub pre_split: u32,
+}
+
+impl Default for RendererOptions {
+    fn default() -> Self {
+        RendererOptions {
+            path: PathChoice::Auto,
+            culling: true,
+            supersample: 1,
+            msaa: 1,
+            pre_split: 1,
+        }
+    }
+}
+
+/// What the last frame did, where a technique counts it.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct FrameStats {
+    /// Triangles rasterized (isosurface techniques).
+    pub triangles: Option<u64>,
+    /// Blocks drawn, with occlusion culling: (drawn from last frame's visible set, newly
+    /// visible ones).
+    pub blocks_drawn: Option<(u64, u64)>,
+    /// Patches the LOD stage handed to drawing (parametric techniques).
+    pub patches: Option<u64>,
+    /// Tets clipped at the near plane (interval shading).
+    pub tets_clipped: Option<u64>,
+}
+
+/// Work a renderer did on the data side, so callers (and tests) can see that an appearance
+/// change uploaded nothing and rebuilt nothing.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct WorkCounters {
+    /// Data sets uploaded ([`Renderer::set_data`]).
+    pub data_uploads: u64,
+    /// Bytes uploaded with them.
+    pub data_bytes: u64,
+    /// Times the pipelines were built.
+    pub pipeline_builds: u64,
+}
+
+/// Whether a recorded frame is complete.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FrameOutcome {
+    Done,
+    /// A buffer overflowed; it was grown and the frame must be recorded again.
+    Retry,
+}
+
+/// One technique behind the front door (see the module documentation for the order of calls).
+pub trait Renderer {
+    fn technique(&self) -> Technique;
+    fn path(&self) -> Path;
+    /// Uploads `data` and builds what the technique needs of it; data of another kind than
+    /// the technique draws is refused.
+    fn set_data(&mut self, gpu: &Gpu, data: &Dataset) -> Result<()>;
+    /// Changes the look without uploading data or building pipelines.
+    fn set_appearance(&mut self, gpu: &Gpu, look: &Appearance) -> Result<()>;
+    /// What the view's depth range is fitted to (the data's bounds).
+    fn depth_fit(&self) -> DepthFit<'_> {
+        DepthFit::UnitBox
+    }
+    /// Raster samples per pixel along each axis.
+    fn supersample(&self) -> u32 {
+        1
+    }
+    /// Makes the buffers `view`'s sizes need; nothing when they exist.
+    fn prepare_frame(&mut self, gpu: &Gpu, view: &View) -> Result<()>;
+    /// Records a frame of `view` into `target` (of the view's image size), timing its stages
+    /// in `timer`.
+    fn record(
+        &mut self,
+        rec: &Recorder,
+        view: &View,
+        target: &Target,
+        timer: &mut Timer,
+    ) -> Result<()>;
+    /// Reads the counters of the frame just submitted.
+    fn finish_frame(&mut self, gpu: &Gpu) -> Result<FrameOutcome>;
+    fn stats(&self) -> FrameStats;
+    fn counters(&self) -> WorkCounters;
+
+    /// The view of `camera` over an image of `size` pixels for this renderer's data.
+    fn view(&self, camera: &OrbitCamera, size: (u32, u32)) -> Result<View> {
+        Ok(View::new(
+            camera,
+            size,
+            self.supersample(),
+            self.depth_fit(),
+        )?)
+    }
+}
+
+/// A renderer of `technique` on `gpu`.
+pub fn create(
+    gpu: &Gpu,
+    technique: Technique,
+    options: &RendererOptions,
+) -> Result<Box<dyn Renderer>> {
+    Ok(match technique {
+        Technique::Raymarch | Technique::Direct => {
+            Box::new(iso::IsoRenderer::new(gpu, technique, options)?)
+        }
+        Technique::Interval => Box::new(interval::IntervalRenderer::new(gpu, options)?),
+        Technique::ParamPoints | Technique::ParamTess | Technique::ShRaytrace => {
+            Box::new(param::ParamRenderer::new(gpu, technique, options)?)
+        }
+    })
+}
+
+/// A target and a timer kept from frame to frame: rendering N frames allocates nothing per
+/// frame once the renderer's buffers exist.
+pub struct Frame {
+    pub target: Target,
+    timer: Timer,
+}
+
+/// GPU milliseconds of one frame, per timer scope in recording order and in all.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct FrameTimes {
+    pub scopes: Vec<(String, f64)>,
+}
+
+impl FrameTimes {
+    pub fn total_ms(&self) -> f64 {
+        self.scopes.iter().map(|s| s.1).sum()
+    }
+}
+
+impl Frame {
+    pub fn new(gpu: &Gpu, size: (u32, u32)) -> Result<Frame> {
+        Ok(Frame {
+            target: Target::new(gpu, size.0, size.1)?,
+            timer: Timer::new(gpu, MAX_TIMER_SCOPES)?,
+        })
+    }
+
+    /// Renders `view` into the target: records, submits, waits, and renders again (at most
+    /// twice) when the renderer grew an overflowing buffer.
+    pub fn render(
+        &mut self,
+        gpu: &Gpu,
+        renderer: &mut dyn Renderer,
+        view: &View,
+    ) -> Result<FrameTimes> {
+        if view.size != (self.target.width, self.target.height) {
+            return Err(Error::Invalid(format!(
+                "a {}x{} view for a {}x{} target",
+                view.size.0, view.size.1, self.target.width, self.target.height
+            )));
+        }
+        for _ in 0..=MAX_RETRIES {
+            renderer.prepare_frame(gpu, view)?;
+            self.timer.reset(gpu);
+            let mut recorded = Ok(());
+            let timer = &mut self.timer;
+            let target = &self.target;
+            gpu.submit(renderer.technique().name(), |rec| {
+                recorded = renderer.record(rec, view, target, timer);
+            })?;
+            recorded?;
+            if renderer.finish_frame(gpu)? == FrameOutcome::Done {
+                return Ok(FrameTimes {
+                    scopes: self.timer.read_ms(gpu)?,
+                });
+            }
+        }
+        Err(Error::Invalid(format!(
+            "{}: the frame still overflowed after {MAX_RETRIES} larger tries",
+            renderer.technique().name()
+        )))
+    }
+}
+
+/// One image with its GPU time and counters.
+pub struct RenderedImage {
+    pub image: RgbaImage,
+    pub times: FrameTimes,
+    pub stats: FrameStats,
+}
+
+/// Renders one image of `camera` at `size`: for single images (tests, `tessera render`);
+/// interactive callers keep a [`Frame`].
+pub fn render_image(
+    gpu: &Gpu,
+    renderer: &mut dyn Renderer,
+    camera: &OrbitCamera,
+    size: (u32, u32),
+) -> Result<RenderedImage> {
+    let view = renderer.view(camera, size)?;
+    let mut frame = Frame::new(gpu, size)?;
+    let times = frame.render(gpu, renderer, &view)?;
+    Ok(RenderedImage {
+        image: frame.target.read(gpu)?,
+        times,
+        stats: renderer.stats(),
+    })
+}
+
+/// The error for data of the wrong kind handed to a renderer.
+pub(crate) fn wrong_data(technique: Technique, data: &Dataset) -> Error {
+    Error::Invalid(format!(
+        "{}: technique '{}' draws {}, not {}",
+        data.name(),
+        technique.name(),
+        technique.draws().describe(),
+        data.kind().describe()
+    ))
+}
+
+/// The error for a frame recorded before `set_data`.
+pub(crate) fn no_data(technique: Technique) -> Error {
+    Error::Invalid(format!(
+        "{}: a frame was asked for before any data was set",
+        technique.name()
+    ))
+}

@@ -1,0 +1,298 @@
+//! Parametric objects behind the front door (paper E): the patch LOD stage drawn by points or
+//! by hardware tessellation, and SH glyphs ray-traced as their reference. A user's GLSL
+//! function is compiled into the pipelines, so they are built with the data.
+
+use super::{
+    no_data, wrong_data, FrameOutcome, FrameStats, Renderer, RendererOptions, Target, Technique,
+    WorkCounters,
+};
+use crate::error::{Error, Result};
+use crate::param::raytrace::{RaytraceScene, ShRaytrace, ShRaytraceOptions};
+use crate::param::scene::GpuParamScene;
+use crate::param::tess::{ParamTess, ParamTessOptions, TessFrame};
+use crate::param::user::register_user_function;
+use crate::param::{ParamPoints, ParamPointsOptions, PointsFrame};
+use crate::path::Path;
+use tessera_data::param::user::UserFunction;
+use tessera_data::scene::{Appearance, DataKind, Dataset};
+use tessera_data::{DepthFit, View};
+use tessera_gpu::{Gpu, Recorder, Timer};
+
+enum Pipelines {
+    Points(Box<ParamPoints>),
+    Tess(Box<ParamTess>),
+    Raytrace(Box<ShRaytrace>),
+}
+
+/// The scene on the GPU as the technique needs it.
+enum SceneOnGpu {
+    Plain(Box<GpuParamScene>),
+    Raytrace(Box<RaytraceScene>),
+}
+
+impl SceneOnGpu {
+    fn bounds(&self) -> &[(glam::Vec3, f32)] {
+        match self {
+            SceneOnGpu::Plain(s) => &s.bounds,
+            SceneOnGpu::Raytrace(s) => &s.scene.bounds,
+        }
+    }
+}
+
+enum FrameBuffers {
+    Points(Box<PointsFrame>),
+    Tess(Box<TessFrame>),
+}
+
+pub(super) struct ParamRenderer {
+    technique: Technique,
+    options: RendererOptions,
+    /// Built for this user function (`None`: the built-in functions only).
+    pipelines: Option<(Option<UserFunction>, Pipelines)>,
+    scene: Option<SceneOnGpu>,
+    background: [f32; 3],
+    frame: Option<((u32, u32), FrameBuffers)>,
+    stats: FrameStats,
+    counters: WorkCounters,
+}
+
+impl ParamRenderer {
+    pub(super) fn new(
+        gpu: &Gpu,
+        technique: Technique,
+        options: &RendererOptions,
+    ) -> Result<ParamRenderer> {
+        if options.msaa != 1 && technique != Technique::ParamTess {
+            return Err(Error::Invalid(format!(
+                "multisampling applies to param-tess; {} supersamples instead",
+                technique.name()
+            )));
+        }
+        let mut renderer = ParamRenderer {
+            technique,
+            options: *options,
+            pipelines: None,
+            scene: None,
+            background: Appearance::default().background(DataKind::Param, None),
+            frame: None,
+            stats: FrameStats::default(),
+            counters: WorkCounters::default(),
+        };
+        // Built now, so that bad options fail before any data is loaded.
+        renderer.build(gpu, None)?;
+        Ok(renderer)
+    }
+
+    fn build(&mut self, gpu: &Gpu, user: Option<&UserFunction>) -> Result<()> {
+        let same = |a: Option<&UserFunction>| {
+            a.map(|f| (&f.name, &f.text)) == user.map(|f| (&f.name, &f.text))
+        };
+        if self
+            .pipelines
+            .as_ref()
+            .is_some_and(|(u, _)| same(u.as_ref()))
+        {
+            return Ok(());
+        }
+        self.pipelines = None;
+        self.frame = None;
+        let mut compiler = crate::shaders::compiler();
+        if let Some(f) = user {
+            register_user_function(f, &mut compiler);
+        }
+        let o = &self.options;
+        let pipelines = match self.technique {
+            Technique::ParamTess => Pipelines::Tess(Box::new(ParamTess::new(
+                gpu,
+                &compiler,
+                ParamTessOptions {
+                    supersample: o.supersample,
+                    msaa: o.msaa,
+                    pre_split: o.pre_split,
+                    ..ParamTessOptions::default()
+                },
+            )?)),
+            Technique::ShRaytrace => Pipelines::Raytrace(Box::new(ShRaytrace::new(
+                gpu,
+                &compiler,
+                ShRaytraceOptions {
+                    supersample: o.supersample,
+                    ..ShRaytraceOptions::default()
+                },
+            )?)),
+            _ => Pipelines::Points(Box::new(ParamPoints::new(
+                gpu,
+                &compiler,
+                ParamPointsOptions {
+                    supersample: o.supersample,
+                    pre_split: o.pre_split,
+                    ..ParamPointsOptions::default()
+                },
+            )?)),
+        };
+        self.counters.pipeline_builds += 1;
+        self.pipelines = Some((user.cloned(), pipelines));
+        Ok(())
+    }
+
+    /// The CPU cannot evaluate a user's GLSL: its extent is measured on the GPU, by the point
+    /// variant's probe (built for the purpose when this renderer is another variant).
+    fn measure_user_bounds(
+        &self,
+        gpu: &Gpu,
+        f: &UserFunction,
+        scene: &mut GpuParamScene,
+    ) -> Result<()> {
+        match &self.pipelines {
+            Some((_, Pipelines::Points(points))) => {
+                crate::param::user::measure_bounds(f, gpu, points, scene, 0)
+            }
+            _ => {
+                let mut compiler = crate::shaders::compiler();
+                register_user_function(f, &mut compiler);
+                let probe = ParamPoints::new(gpu, &compiler, ParamPointsOptions::default())?;
+                crate::param::user::measure_bounds(f, gpu, &probe, scene, 0)
+            }
+        }
+    }
+}
+
+impl Renderer for ParamRenderer {
+    fn technique(&self) -> Technique {
+        self.technique
+    }
+
+    fn path(&self) -> Path {
+        Path::Compute
+    }
+
+    fn set_data(&mut self, gpu: &Gpu, data: &Dataset) -> Result<()> {
+        let Dataset::Param(param) = data else {
+            return Err(wrong_data(self.technique, data));
+        };
+        self.scene = None;
+        self.build(gpu, param.user.as_ref())?;
+        let scene = match &self.pipelines {
+            Some((_, Pipelines::Raytrace(r))) => {
+                SceneOnGpu::Raytrace(Box::new(r.prepare(gpu, &param.scene)?))
+            }
+            _ => {
+                let mut uploaded = GpuParamScene::upload(gpu, &param.scene)?;
+                if let Some(f) = &param.user {
+                    self.measure_user_bounds(gpu, f, &mut uploaded)?;
+                }
+                SceneOnGpu::Plain(Box::new(uploaded))
+            }
+        };
+        self.counters.data_uploads += 1;
+        self.counters.data_bytes += match &scene {
+            SceneOnGpu::Plain(s) => s.bytes(),
+            SceneOnGpu::Raytrace(s) => s.bytes(),
+        };
+        self.scene = Some(scene);
+        Ok(())
+    }
+
+    fn set_appearance(&mut self, _gpu: &Gpu, look: &Appearance) -> Result<()> {
+        self.background = look.background(DataKind::Param, None);
+        Ok(())
+    }
+
+    fn depth_fit(&self) -> DepthFit<'_> {
+        match &self.scene {
+            Some(scene) => DepthFit::Spheres(scene.bounds()),
+            None => DepthFit::UnitBox,
+        }
+    }
+
+    fn supersample(&self) -> u32 {
+        self.options.supersample
+    }
+
+    fn prepare_frame(&mut self, gpu: &Gpu, view: &View) -> Result<()> {
+        let Some((_, pipelines)) = &self.pipelines else {
+            return Err(no_data(self.technique));
+        };
+        if self
+            .frame
+            .as_ref()
+            .is_some_and(|(size, _)| *size == view.raster_size())
+        {
+            return Ok(());
+        }
+        self.frame = None;
+        let buffers = match pipelines {
+            Pipelines::Points(_) => FrameBuffers::Points(Box::new(PointsFrame::new(gpu, view)?)),
+            Pipelines::Tess(t) => FrameBuffers::Tess(Box::new(t.frame(gpu, view)?)),
+            Pipelines::Raytrace(_) => return Ok(()),
+        };
+        self.frame = Some((view.raster_size(), buffers));
+        Ok(())
+    }
+
+    fn record(
+        &mut self,
+        rec: &Recorder,
+        view: &View,
+        target: &Target,
+        timer: &mut Timer,
+    ) -> Result<()> {
+        let (Some((_, pipelines)), Some(scene)) = (&self.pipelines, &self.scene) else {
+            return Err(no_data(self.technique));
+        };
+        let frame = self.frame.as_ref().map(|f| &f.1);
+        match (pipelines, scene, frame) {
+            (Pipelines::Points(p), SceneOnGpu::Plain(s), Some(FrameBuffers::Points(f))) => {
+                p.record_timed_into(rec, timer, s, view, f, target, self.background);
+            }
+            (Pipelines::Tess(t), SceneOnGpu::Plain(s), Some(FrameBuffers::Tess(f))) => {
+                t.record_timed_into(rec, timer, s, view, f, target, self.background);
+            }
+            (Pipelines::Raytrace(r), SceneOnGpu::Raytrace(s), _) => {
+                r.check_scene(s)?;
+                timer.scope(rec, "draw", |rec| {
+                    r.record(rec, s, view, target, self.background)
+                });
+            }
+            _ => {
+                return Err(Error::Invalid(format!(
+                    "{}: record before prepare_frame",
+                    self.technique.name()
+                )))
+            }
+        }
+        Ok(())
+    }
+
+    fn finish_frame(&mut self, gpu: &Gpu) -> Result<FrameOutcome> {
+        let lod = match &self.pipelines {
+            Some((_, Pipelines::Points(p))) => {
+                Some((p.read_lod_stats(gpu)?, p.options().patch_capacity))
+            }
+            Some((_, Pipelines::Tess(t))) => {
+                Some((t.read_lod_stats(gpu)?, t.options().patch_capacity))
+            }
+            _ => None,
+        };
+        self.stats = FrameStats::default();
+        if let Some((stats, capacity)) = lod {
+            if stats.dropped > 0 {
+                return Err(Error::Invalid(format!(
+                    "{} lost {} patches to full lists of {capacity}",
+                    self.technique.name(),
+                    stats.dropped
+                )));
+            }
+            self.stats.patches = Some(u64::from(stats.rendered));
+        }
+        Ok(FrameOutcome::Done)
+    }
+
+    fn stats(&self) -> FrameStats {
+        self.stats
+    }
+
+    fn counters(&self) -> WorkCounters {
+        self.counters
+    }
+}

@@ -1,0 +1,211 @@
+//! The front door (`tessera::renderer`): techniques driven through the one trait give the images
+//! of their own (separately tested) APIs, keep culling state from frame to frame, and change
+//! their look without uploading data or building pipelines.
+
+mod common;
+
+use common::{assert_clean, gpu};
+use tessera::path::PathChoice;
+use tessera::renderer::{self, Frame, Renderer, RendererOptions, Technique};
+use tessera_data::scene::{Appearance, Dataset, LoadOptions};
+use tessera_data::{IsoValue, OrbitCamera};
+use tessera_gpu::Gpu;
+
+const SIZE: (u32, u32) = (96, 64);
+
+fn load(spec: &str) -> Dataset {
+    Dataset::load(spec, &LoadOptions::default()).unwrap_or_else(|e| panic!("{spec}: {e}"))
+}
+
+fn camera() -> OrbitCamera {
+    OrbitCamera {
+        azimuth_deg: 35.0,
+        elevation_deg: 25.0,
+        distance: 1.9,
+        ..OrbitCamera::default()
+    }
+}
+
+fn with_data(
+    gpu: &Gpu,
+    technique: Technique,
+    options: RendererOptions,
+    data: &Dataset,
+) -> Box<dyn Renderer> {
+    let mut r = renderer::create(gpu, technique, &options).unwrap();
+    r.set_data(gpu, data).unwrap();
+    r
+}
+
+#[test]
+fn raymarch_through_the_trait_is_the_technique_s_own_image() {
+    let gpu = gpu();
+    let data = load("procedural:marschner-lobb:32");
+    let Dataset::Volume(volume) = &data else {
+        unreachable!()
+    };
+    let mut r = with_data(&gpu, Technique::Raymarch, RendererOptions::default(), &data);
+    let look = Appearance {
+        iso: IsoValue::Normalized(0.4),
+        ..Appearance::default()
+    };
+    r.set_appearance(&gpu, &look).unwrap();
+    let through = renderer::render_image(&gpu, r.as_mut(), &camera(), SIZE).unwrap();
+
+    let compiler = tessera::shaders::compiler();
+    let own = tessera::iso::raymarch::Raymarch::new(&gpu, &compiler, volume.scalar_type()).unwrap();
+    let prepared = own.prepare(&gpu, volume).unwrap();
+    let target = tessera::target::Target::new(&gpu, SIZE.0, SIZE.1).unwrap();
+    let iso = volume.iso_to_texel(IsoValue::Normalized(0.4));
+    let (expected, _) = own
+        .render(&gpu, &prepared, &target, iso, &camera())
+        .unwrap();
+    assert_eq!(
+        through.image.pixels, expected.pixels,
+        "the same frame, pixel for pixel"
+    );
+    assert!(through.times.total_ms() > 0.0);
+    assert_clean(&gpu);
+}
+
+#[test]
+fn a_still_camera_draws_last_frame_s_visible_blocks_first() {
+    let gpu = gpu();
+    let data = load("procedural:head:48");
+    for path in [PathChoice::Compute, PathChoice::Graphics] {
+        let options = RendererOptions {
+            path,
+            ..RendererOptions::default()
+        };
+        let Ok(mut culled) = renderer::create(&gpu, Technique::Direct, &options) else {
+            eprintln!("skipped: a_still_camera_draws_last_frame_s_visible_blocks_first ({path:?} path): the device lacks its features");
+            continue;
+        };
+        culled.set_data(&gpu, &data).unwrap();
+        let view = culled.view(&camera(), SIZE).unwrap();
+        let mut frame = Frame::new(&gpu, SIZE).unwrap();
+        frame.render(&gpu, culled.as_mut(), &view).unwrap();
+        let first = (frame.target.read(&gpu).unwrap(), culled.stats());
+        frame.render(&gpu, culled.as_mut(), &view).unwrap();
+        let second = (frame.target.read(&gpu).unwrap(), culled.stats());
+        let (drawn_first_1, drawn_new_1) = first.1.blocks_drawn.expect("culling counts blocks");
+        let (drawn_first_2, drawn_new_2) = second.1.blocks_drawn.unwrap();
+        assert_eq!(
+            drawn_first_1, 0,
+            "{path:?}: nothing was visible before frame 1"
+        );
+        assert!(
+            drawn_first_2 > 0,
+            "{path:?}: frame 2 starts from frame 1's visible set"
+        );
+        assert!(
+            drawn_new_2 < drawn_new_1,
+            "{path:?}: frame 2 tests fewer blocks anew"
+        );
+        if path == PathChoice::Graphics {
+            // The compute path's second pass also redraws blocks that pass the depth-pyramid
+            // test without owning a pixel; the mesh path's finds nothing new.
+            assert_eq!(drawn_new_2, 0, "a still camera finds nothing new");
+        }
+        assert_eq!(first.0.pixels, second.0.pixels, "{path:?}: the same image");
+
+        let mut unculled = with_data(
+            &gpu,
+            Technique::Direct,
+            RendererOptions {
+                culling: false,
+                ..options
+            },
+            &data,
+        );
+        let plain = renderer::render_image(&gpu, unculled.as_mut(), &camera(), SIZE).unwrap();
+        assert_eq!(
+            plain.image.pixels, second.0.pixels,
+            "{path:?}: culling changes no pixel"
+        );
+        assert!(second.1.triangles.unwrap() <= plain.stats.triangles.unwrap());
+    }
+    assert_clean(&gpu);
+}
+
+#[test]
+fn new_looks_upload_nothing_and_build_nothing() {
+    let gpu = gpu();
+    let volume = load("procedural:sphere:32");
+    let mut iso = with_data(
+        &gpu,
+        Technique::Raymarch,
+        RendererOptions::default(),
+        &volume,
+    );
+    let tets = load("tets:sphere:3");
+    let mut interval = with_data(&gpu, Technique::Interval, RendererOptions::default(), &tets);
+    let scalar_look = |range: (f32, f32)| Appearance {
+        integrand: tessera_data::scene::IntegrandChoice::Scalar(
+            tessera_data::transfer::ScalarMode::Emission,
+        ),
+        range: Some(range),
+        ..Appearance::default()
+    };
+    interval
+        .set_appearance(&gpu, &scalar_look((0.0, 1.0)))
+        .unwrap();
+    let before = (iso.counters(), interval.counters());
+    let mut images = Vec::new();
+    for step in 0..4 {
+        let t = step as f32 / 4.0;
+        let look = Appearance {
+            iso: IsoValue::Normalized(0.2 + 0.5 * t),
+            ..Appearance::default()
+        };
+        iso.set_appearance(&gpu, &look).unwrap();
+        interval
+            .set_appearance(&gpu, &scalar_look((-0.5 * t, 1.0 - 0.4 * t)))
+            .unwrap();
+        let a = renderer::render_image(&gpu, iso.as_mut(), &camera(), SIZE).unwrap();
+        let b = renderer::render_image(&gpu, interval.as_mut(), &camera(), SIZE).unwrap();
+        images.push((a.image, b.image));
+    }
+    assert_eq!(
+        (iso.counters(), interval.counters()),
+        before,
+        "no upload, no pipeline build"
+    );
+    assert_eq!(before.0.data_uploads, 1);
+    for pair in images.windows(2) {
+        assert_ne!(
+            pair[0].0.pixels, pair[1].0.pixels,
+            "the isovalue moved the surface"
+        );
+        assert_ne!(
+            pair[0].1.pixels, pair[1].1.pixels,
+            "the range moved the colours"
+        );
+    }
+    assert_clean(&gpu);
+}
+
+#[test]
+fn data_of_another_kind_is_refused_by_name() {
+    let gpu = gpu();
+    let mut r = renderer::create(&gpu, Technique::Raymarch, &RendererOptions::default()).unwrap();
+    let error = r
+        .set_data(&gpu, &load("tets:box:1"))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        error.contains("raymarch") && error.contains("volumes"),
+        "{error}"
+    );
+    let choice = Technique::for_data(
+        Some("interval"),
+        tessera_data::scene::DataKind::Volume,
+        "x.raw",
+    );
+    let error = choice.unwrap_err().to_string();
+    assert!(
+        error.contains("tetrahedral meshes") && error.contains("raymarch or direct"),
+        "{error}"
+    );
+    assert_clean(&gpu);
+}
