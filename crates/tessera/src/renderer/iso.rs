@@ -118,6 +118,18 @@ impl IsoRenderer {
     }
 }
 
+/// The pipelines and the volume, or the error for a frame asked for before any data.
+fn loaded<'a>(
+    technique: Technique,
+    pipelines: &'a Option<(ScalarType, Pipelines)>,
+    prepared: &'a Option<PreparedVolume>,
+) -> Result<(&'a Pipelines, &'a PreparedVolume)> {
+    match (pipelines, prepared) {
+        (Some((_, p)), Some(v)) => Ok((p, v)),
+        _ => Err(no_data(technique)),
+    }
+}
+
 impl Renderer for IsoRenderer {
     fn technique(&self) -> Technique {
         self.technique
@@ -161,13 +173,7 @@ impl Renderer for IsoRenderer {
 
     fn prepare_frame(&mut self, gpu: &Gpu, view: &View) -> Result<()> {
         let (w, h) = view.size;
-        let Some((_, pipelines)) = &self.pipelines else {
-            return Err(no_data(self.technique));
-        };
-        let prepared = self
-            .prepared
-            .as_ref()
-            .ok_or_else(|| no_data(self.technique))?;
+        let (pipelines, prepared) = loaded(self.technique, &self.pipelines, &self.prepared)?;
         match pipelines {
             Pipelines::Raymarch(_) => {}
             Pipelines::Mesh(_) => {
@@ -208,13 +214,7 @@ impl Renderer for IsoRenderer {
         target: &Target,
         timer: &mut Timer,
     ) -> Result<()> {
-        let Some((_, pipelines)) = &self.pipelines else {
-            return Err(no_data(self.technique));
-        };
-        let prepared = self
-            .prepared
-            .as_ref()
-            .ok_or_else(|| no_data(self.technique))?;
+        let (pipelines, prepared) = loaded(self.technique, &self.pipelines, &self.prepared)?;
         match (pipelines, &self.frame) {
             (Pipelines::Raymarch(r), _) => {
                 let params = Raymarch::params_for_view(prepared, self.iso, view);
@@ -287,27 +287,24 @@ impl Renderer for IsoRenderer {
                 }
             }
             (Pipelines::Compute(d), FrameBuffers::Compute { target, culling }) => {
-                let (made, capacity) = match culling {
+                let capacity = target.lists.capacity;
+                // Each of a culled frame's two lists holds `capacity` triangles.
+                let made = match culling {
                     Some(state) => {
                         let s = state.read_stats(gpu)?;
                         self.stats.blocks_drawn = Some((
                             u64::from(s.blocks_drawn_first),
                             u64::from(s.blocks_drawn_new),
                         ));
-                        (
-                            s.triangles_first.max(s.triangles_new),
-                            target.lists.capacity,
-                        )
+                        self.stats.triangles = Some(u64::from(s.triangles()));
+                        s.triangles_first.max(s.triangles_new)
                     }
-                    None => (d.read_stats(gpu)?.triangles, target.lists.capacity),
+                    None => {
+                        let made = d.read_stats(gpu)?.triangles;
+                        self.stats.triangles = Some(u64::from(made));
+                        made
+                    }
                 };
-                self.stats.triangles = Some(match culling {
-                    Some(state) => {
-                        let s = state.read_stats(gpu)?;
-                        u64::from(s.triangles())
-                    }
-                    None => u64::from(made),
-                });
                 if made > capacity {
                     let limit = TriangleLists::default_capacity(gpu);
                     if made > limit {
