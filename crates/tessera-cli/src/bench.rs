@@ -8,6 +8,7 @@ use tessera::bench::{time_frames, BenchRecord, FramePlan};
 use tessera::iso::raymarch::Raymarch;
 use tessera::target::Target;
 use tessera_data::minmax::MinMaxOctree;
+use tessera_data::scene::DataKind;
 use tessera_data::{IsoValue, OrbitCamera, ScalarType, Volume};
 use tessera_gpu::{vk, Gpu, GpuOptions, MemoryLocation};
 
@@ -190,7 +191,7 @@ pub(crate) fn bench_volumes(args: &BenchArgs) -> Vec<String> {
     if let Some(data) = args
         .data
         .as_ref()
-        .filter(|d| !crate::render_tets::is_tet_data(d))
+        .filter(|d| DataKind::of_spec(d) == DataKind::Volume)
     {
         return vec![data.clone()];
     }
@@ -241,9 +242,7 @@ pub(crate) fn settle(
 }
 
 pub(crate) fn make_volume(gpu: &Gpu, spec: &str, args: &BenchArgs) -> Result<Volume> {
-    if let Some(bytes) = args.volume.expected_bytes(spec) {
-        gpu.check_fits(spec, bytes)?;
-    }
+    crate::data::check_fits(gpu, spec, &args.volume)?;
     crate::data::load(spec, &args.volume)
 }
 

@@ -7,6 +7,7 @@ use tessera::path::Path;
 use tessera::tet::interval::{
     path_support, GpuTetMesh, Integrand, Interval, IntervalOptions, OpticalTarget,
 };
+use tessera_data::scene::{DataKind, Dataset, TetData};
 use tessera_data::tet::procedural::box_mesh;
 use tessera_data::tet::scalar_integral::mapping_range;
 use tessera_data::transfer::{IntegrandTable, ScalarMode, TransferFunction, TABLE_KNOTS};
@@ -108,7 +109,7 @@ pub fn interval(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -
     if let Some(spec) = args
         .data
         .as_deref()
-        .filter(|d| crate::render_tets::is_tet_data(d))
+        .filter(|d| DataKind::of_spec(d) == DataKind::Tets)
     {
         if let Some(count) = spec.strip_prefix("tets:asteroids:") {
             let count = count
@@ -116,7 +117,10 @@ pub fn interval(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -
                 .map_err(|_| anyhow::anyhow!("'{spec}': bad COUNT"))?;
             return asteroids(gpu, &compiler, &args.paths, count, plan, sink, size);
         }
-        let mesh = crate::render_tets::load(spec)?;
+        let tets = crate::data::load_dataset(spec, &Default::default())?;
+        let Dataset::Tets(TetData { mesh, .. }) = tets else {
+            unreachable!("tet specs load as meshes")
+        };
         let name = std::path::Path::new(spec)
             .file_name()
             .map_or(spec.to_string(), |n| n.to_string_lossy().into_owned());

@@ -1,14 +1,16 @@
-//! The DATA argument: a volume file or `procedural:NAME:SIZE[:TYPE]`, loaded with a progress
-//! spinner and checked against the device before the bytes are read.
+//! The DATA argument and the options that say how to read it: loaded through
+//! `tessera_data::scene` with a progress spinner, volumes checked against the device before
+//! their bytes are read.
 
-use anyhow::{bail, Context, Result};
+use anyhow::Result;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
-use std::path::Path;
 use std::time::Duration;
-use tessera_data::raw::{parse_scivis_name, scalar_from_name, Endian, RawOptions, SourceType};
+use tessera_data::raw::{Endian, RawOptions};
 use tessera_data::scene::parse::{parse_dims, parse_spacing};
-use tessera_data::{procedural, IsoValue, NanPolicy, Volume};
+use tessera_data::scene::{expected_volume_bytes, load_volume_spec, Dataset, LoadOptions};
+use tessera_data::{IsoValue, NanPolicy, Volume};
+use tessera_gpu::Gpu;
 
 pub use tessera_data::scene::parse::parse_size;
 
@@ -37,7 +39,7 @@ pub struct VolumeArgs {
 #[derive(Args, Clone, Debug)]
 pub struct IsoArgs {
     /// Isovalue in the data's own units.
-    #[arg(long, conflicts_with = "iso_fraction")]
+    #[arg(long, conflicts_with = "iso_fraction", allow_hyphen_values = true)]
     pub iso: Option<f32>,
     /// Isovalue as a fraction of the data's value range (0 = min, 1 = max).
     #[arg(long, default_value_t = 0.5)]
@@ -45,21 +47,16 @@ pub struct IsoArgs {
 }
 
 impl IsoArgs {
-    pub fn resolve(&self, volume: &Volume) -> Result<f32> {
-        let iso = match self.iso {
+    pub fn value(&self) -> IsoValue {
+        match self.iso {
             Some(v) => IsoValue::Raw(v),
             None => IsoValue::Normalized(self.iso_fraction),
-        };
-        let value = volume.iso_to_texel(iso);
-        if !value.is_finite() {
-            bail!("isovalue {value} is not a finite number");
         }
-        Ok(value)
     }
 }
 
 impl VolumeArgs {
-    fn raw_options(&self) -> RawOptions {
+    pub fn raw_options(&self) -> RawOptions {
         RawOptions {
             dims: self.dims,
             dtype: self.dtype.clone(),
@@ -72,27 +69,6 @@ impl VolumeArgs {
             spacing: self.spacing,
             nan_policy: self.nan_fill.map_or(NanPolicy::Reject, NanPolicy::Replace),
         }
-    }
-
-    /// Bytes the volume will take once loaded, when that is known before reading it.
-    pub fn expected_bytes(&self, spec: &str) -> Option<u64> {
-        if let Some(rest) = spec.strip_prefix("procedural:") {
-            let (_, size, scalar) = procedural::parse_spec(rest).ok()?;
-            return Some((size as u64).pow(3) * scalar.size_bytes() as u64);
-        }
-        let path = Path::new(spec);
-        let name = path.file_name()?.to_str()?;
-        let from_name = parse_scivis_name(name);
-        let dims = self.dims.or(from_name.as_ref().map(|n| n.0))?;
-        let dtype = self.dtype.clone().or(from_name.map(|n| n.1))?;
-        let ty = scalar_from_name(path, &dtype).ok()?;
-        // 8- and 16-bit unsigned data stay as they are; other types become 32-bit floats.
-        let size = match ty {
-            SourceType::U8 => 1,
-            SourceType::U16 => 2,
-            _ => 4,
-        };
-        Some(dims.iter().map(|&d| d as u64).product::<u64>() * size)
     }
 }
 
@@ -107,27 +83,51 @@ pub fn spinner(message: String) -> ProgressBar {
     bar
 }
 
-/// Loads DATA: a file path, or `procedural:NAME:SIZE[:TYPE]`.
+/// Refuses a volume the device cannot hold before its bytes are read, where the size is known
+/// from the spec.
+pub fn check_fits(gpu: &Gpu, spec: &str, args: &VolumeArgs) -> Result<()> {
+    if let Some(bytes) = expected_volume_bytes(spec, &args.raw_options()) {
+        use anyhow::Context;
+        gpu.check_fits(spec, bytes)
+            .with_context(|| format!("{spec} does not fit on {}", gpu.caps().device_name))?;
+    }
+    Ok(())
+}
+
+/// Loads DATA of any kind, saying what was loaded.
+pub fn load_dataset(spec: &str, options: &LoadOptions) -> Result<Dataset> {
+    let bar = spinner(format!("loading {spec}"));
+    let result = Dataset::load(spec, options);
+    bar.finish_and_clear();
+    let data = result?;
+    match &data {
+        Dataset::Volume(volume) => report_volume(volume),
+        Dataset::Tets(tets) => {
+            if let Some(line) = tets.repairs() {
+                eprintln!("{line}");
+            }
+        }
+        Dataset::Param(_) => {}
+    }
+    Ok(data)
+}
+
+/// Loads a volume: a file path, or `procedural:NAME:SIZE[:TYPE]`.
 pub fn load(spec: &str, args: &VolumeArgs) -> Result<Volume> {
     let bar = spinner(format!("loading {spec}"));
-    let result = if let Some(rest) = spec.strip_prefix("procedural:") {
-        procedural::parse_spec(rest)
-            .and_then(|(kind, size, scalar)| procedural::generate(kind, size, scalar))
-            .with_context(|| format!("procedural data '{spec}'"))
-    } else {
-        let path = Path::new(spec);
-        tessera_data::load::load_volume(path, &args.raw_options()).map_err(anyhow::Error::from)
-    };
+    let result = load_volume_spec(spec, &args.raw_options());
     bar.finish_and_clear();
     let volume = result?;
+    report_volume(&volume);
+    Ok(volume)
+}
+
+fn report_volume(volume: &Volume) {
     let (lo, hi) = volume.value_range();
+    let [x, y, z] = volume.dims();
     eprintln!(
-        "loaded {} {}x{}x{} {} (values {lo}..{hi})",
+        "loaded {} {x}x{y}x{z} {} (values {lo}..{hi})",
         volume.name(),
-        volume.dims()[0],
-        volume.dims()[1],
-        volume.dims()[2],
         volume.scalar_type().name()
     );
-    Ok(volume)
 }

@@ -21,7 +21,11 @@ pub struct ExtractArgs {
 
 pub fn run(args: &ExtractArgs) -> Result<()> {
     let volume = data::load(&args.data, &args.volume)?;
-    let iso = args.iso.resolve(&volume)?;
+    let look = tessera_data::scene::Appearance {
+        iso: args.iso.value(),
+        ..Default::default()
+    };
+    let iso = look.iso_texel(&volume)?;
     let mesh = marching_cubes(&volume, iso);
     let file = std::fs::File::create(&args.output)
         .with_context(|| format!("creating {}", args.output.display()))?;

@@ -10,11 +10,10 @@ mod data;
 mod demo;
 mod extract;
 mod info;
+mod look;
 mod output;
 mod param_renderer;
 mod render;
-mod render_param;
-mod render_tets;
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};

@@ -8,7 +8,7 @@ use tessera::param::scene::{GpuParamScene, ParamScene};
 use tessera::param::tess::{ParamTess, ParamTessOptions, TessFrame};
 use tessera::param::{ParamPoints, ParamPointsOptions, PointsFrame, View};
 use tessera::target::Target;
-use tessera_data::{OrbitCamera, RgbaImage};
+use tessera_data::OrbitCamera;
 use tessera_gpu::{Gpu, Recorder, ShaderCompiler, Timer};
 
 pub enum ParamRenderer {
@@ -164,27 +164,5 @@ impl ParamRenderer {
             _ => return Ok(0),
         };
         Ok(info.stats.rendered)
-    }
-
-    pub fn render_image(
-        &self,
-        gpu: &Gpu,
-        scene: &PreparedScene,
-        camera: &OrbitCamera,
-        size: (u32, u32),
-        background: [f32; 3],
-    ) -> Result<(RgbaImage, f64)> {
-        Ok(match (self, scene) {
-            (ParamRenderer::Points(p), PreparedScene::Plain(s)) => {
-                p.render_image(gpu, s, camera, size, background)?
-            }
-            (ParamRenderer::Tess(t), PreparedScene::Plain(s)) => {
-                t.render_image(gpu, s, camera, size, background)?
-            }
-            (ParamRenderer::Raytrace(r), PreparedScene::Raytrace(s)) => {
-                r.render_image(gpu, s, camera, size, background)?
-            }
-            _ => unreachable!("scenes come from their renderer's `prepare`"),
-        })
     }
 }

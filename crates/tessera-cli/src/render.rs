@@ -1,11 +1,13 @@
-//! `tessera render`: one image of a data set.
+//! `tessera render`: one image of a data set, through the library's front door.
 
 use crate::data::{self, IsoArgs, VolumeArgs};
+use crate::look::{self, ParamArgs, PathArgs, TetArgs};
 use anyhow::{Context, Result};
 use clap::Args;
 use std::path::PathBuf;
 use std::time::Instant;
-use tessera::iso::renderer::{IsoRenderer, IsoTechnique};
+use tessera::renderer::{self, Frame, Technique};
+use tessera_data::scene::{DataKind, Dataset};
 use tessera_data::{OrbitCamera, RgbaImage};
 use tessera_gpu::GpuOptions;
 
@@ -15,11 +17,12 @@ pub struct RenderArgs {
     /// procedural:marschner-lobb:128; or a tetrahedral mesh (.vtu, .vtk, .node/.ele, .msh) or
     /// tets:box:N / tets:sphere:N (N³ cells of 6 tets) / tets:asteroids:COUNT (an SDF asteroid
     /// field, one bounding tet per asteroid); or a parametric scene: param:sphere, param:heart,
-    /// param:seashell, param:yarn:ROWSxLOOPS[:fibres], param:sh-glyph:orderN, param:sh-glyphs:WxH:orderN (= procedural:sh-glyphs:…), glyphs of
-    /// an SH coefficient NIfTI sh:FILE[:zN], or a GLSL file defining `vec3 f(float u, float v)`.
+    /// param:seashell, param:yarn:ROWSxLOOPS[:fibres], param:sh-glyph:orderN,
+    /// param:sh-glyphs:WxH:orderN (= procedural:sh-glyphs:…), glyphs of an SH coefficient NIfTI
+    /// sh:FILE[:zN], or a GLSL file defining `vec3 f(float u, float v)`.
     pub(crate) data: String,
-    /// Technique: raymarch or direct for volumes, interval for tetrahedral meshes (the default
-    /// follows the data).
+    /// Technique: raymarch or direct for volumes, interval for tetrahedral meshes, param-points,
+    /// param-tess or sh-raytrace for parametric objects (the default follows the data).
     #[arg(long, value_parser = ["raymarch", "direct", "interval", "param-points", "param-tess", "sh-raytrace"])]
     pub(crate) technique: Option<String>,
     #[command(flatten)]
@@ -27,22 +30,17 @@ pub struct RenderArgs {
     #[command(flatten)]
     volume: VolumeArgs,
     #[command(flatten)]
-    tet: crate::render_tets::TetArgs,
+    tet: TetArgs,
     #[command(flatten)]
-    param: crate::render_param::ParamArgs,
+    param: ParamArgs,
+    #[command(flatten)]
+    paths: PathArgs,
     /// Image size WxH.
     #[arg(long, default_value = "1280x720", value_parser = data::parse_size)]
     pub(crate) size: (u32, u32),
     /// Camera AZ,EL,DIST: azimuth and elevation in degrees, distance in units of the volume's longest side.
     #[arg(long, default_value = "30,20,1.8", value_parser = OrbitCamera::parse, allow_hyphen_values = true)]
     pub(crate) camera: OrbitCamera,
-    /// Pipeline for techniques that have two: graphics (task/mesh shaders), compute, or auto
-    /// (from capabilities and `tessera bench pipeline-throughput` if it ran on this device).
-    #[arg(long, default_value = "auto", value_parser = ["graphics", "compute", "auto"])]
-    path: String,
-    /// Raster occlusion culling for rasterizing techniques (direct).
-    #[arg(long, default_value = "on", value_parser = ["on", "off"])]
-    culling: String,
     /// Render a stereo pair with this eye separation (world units; the volume's longest side
     /// is 1), left and right eye side by side in one PNG.
     #[arg(long, value_parser = parse_separation)]
@@ -53,61 +51,77 @@ pub struct RenderArgs {
 }
 
 pub fn run(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
-    if crate::render_param::is_param_data(&args.data) {
-        return crate::render_param::run(options, args, &args.param);
-    }
-    if crate::render_tets::is_tet_data(&args.data) {
-        return crate::render_tets::run(options, args, &args.tet, &args.path);
-    }
+    let kind = DataKind::of_spec(&args.data);
+    let technique = Technique::for_data(args.technique.as_deref(), kind, &args.data)?;
+    let look = look::appearance(&args.iso, &args.tet)?;
     let gpu = crate::open_gpu(options)?;
-    if let Some(bytes) = args.volume.expected_bytes(&args.data) {
-        gpu.check_fits(&args.data, bytes)
-            .with_context(|| format!("{} does not fit on {}", args.data, gpu.caps().device_name))?;
+    if kind == DataKind::Volume {
+        data::check_fits(&gpu, &args.data, &args.volume)?;
     }
-    let volume = data::load(&args.data, &args.volume)?;
-    let iso = args.iso.resolve(&volume)?;
-    let technique = IsoTechnique::parse(args.technique.as_deref().unwrap_or("raymarch"))?;
-    let compiler = tessera::shaders::compiler();
+    let dataset = data::load_dataset(&args.data, &look::load_options(&args.volume, &args.param))?;
     let started = Instant::now();
-    let bar = data::spinner("compiling shaders, uploading, building the min-max octree".into());
+    let bar = data::spinner("compiling shaders, uploading, building auxiliary structures".into());
     let built = (|| -> tessera::Result<_> {
-        let path = tessera::path::PathChoice::parse(&args.path)?;
-        let renderer = IsoRenderer::new(&gpu, &compiler, technique, volume.scalar_type(), path)?;
-        let prepared = renderer.prepare(&gpu, &volume)?;
-        Ok((renderer, prepared))
+        let options = look::renderer_options(&args.paths, &args.param);
+        let mut renderer = renderer::create(&gpu, technique, &options)?;
+        renderer.set_appearance(&gpu, &look)?;
+        renderer.set_data(&gpu, &dataset)?;
+        Ok(renderer)
     })();
     bar.finish_and_clear();
-    let (renderer, prepared) = built.with_context(|| format!("preparing {}", args.data))?;
+    let mut renderer = built.with_context(|| format!("preparing {}", args.data))?;
     let prepare_s = started.elapsed().as_secs_f64();
-    let (w, h) = args.size;
-    let culling = args.culling == "on";
-    let frame = match args.stereo {
-        None => renderer.render(&gpu, &prepared, iso, &args.camera, args.size, culling)?,
-        Some(separation) => {
-            let [left, right] = args.camera.stereo_pair(separation);
-            let l = renderer.render(&gpu, &prepared, iso, &left, args.size, culling)?;
-            let r = renderer.render(&gpu, &prepared, iso, &right, args.size, culling)?;
-            tessera::iso::renderer::IsoFrame {
-                image: side_by_side(&l.image, &r.image),
-                gpu_ms: l.gpu_ms + r.gpu_ms,
-                triangles: l.triangles.zip(r.triangles).map(|(a, b)| a + b),
-            }
-        }
+    let view = renderer.view(&args.camera, args.size)?;
+    let views = match args.stereo {
+        None => vec![view],
+        Some(separation) => view.stereo_pair(separation).to_vec(),
     };
-    crate::output::write_png(&args.output, &frame.image)?;
-    let triangles = frame
+    let mut frame = Frame::new(&gpu, args.size)?;
+    let (mut images, mut gpu_ms) = (Vec::new(), 0.0);
+    for view in &views {
+        gpu_ms += frame.render(&gpu, renderer.as_mut(), view)?.total_ms();
+        images.push(frame.target.read(&gpu)?);
+    }
+    let image = match &images[..] {
+        [left, right] => side_by_side(left, right),
+        _ => images.swap_remove(0),
+    };
+    crate::output::write_png(&args.output, &image)?;
+    let stats = renderer.stats();
+    let triangles = stats
         .triangles
         .map(|t| format!(", {t} triangles"))
         .unwrap_or_default();
+    let (w, h) = args.size;
     println!(
-        "{}: {} ({} path) iso {iso} at {w}x{h}: {:.3} ms GPU{triangles} (prepare {prepare_s:.2} s) -> {}",
-        volume.name(),
+        "{}: {} ({} path{}) at {w}x{h}: {gpu_ms:.3} ms GPU{triangles} (prepare {prepare_s:.2} s) -> {}",
+        dataset.name(),
         technique.name(),
         renderer.path().name(),
-        frame.gpu_ms,
+        describe(&dataset, &look),
         args.output.display()
     );
+    drop(renderer);
+    drop(frame);
     crate::check_validation(&gpu)
+}
+
+/// What the image shows besides technique and path, as the report line gives it.
+fn describe(dataset: &Dataset, look: &tessera_data::scene::Appearance) -> String {
+    match dataset {
+        Dataset::Volume(volume) => look
+            .iso_texel(volume)
+            .map(|iso| format!(", iso {iso}"))
+            .unwrap_or_default(),
+        Dataset::Tets(tets) => {
+            let what = look
+                .resolve_integrand(tets)
+                .map(|i| i.describe(&tets.mesh))
+                .unwrap_or_default();
+            format!(", {what}, {} tets", tets.mesh.tets.len())
+        }
+        Dataset::Param(param) => format!(", {} objects", param.scene.objects.len()),
+    }
 }
 
 fn side_by_side(left: &RgbaImage, right: &RgbaImage) -> RgbaImage {

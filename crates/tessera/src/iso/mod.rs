@@ -3,7 +3,6 @@
 pub mod direct;
 pub mod minmax;
 pub mod raymarch;
-pub mod renderer;
 
 use crate::error::{Error, Result};
 use crate::gpu_volume::GpuVolume;

@@ -8,7 +8,9 @@
 //!    min-max octree, the glyph grid), pipelines that depend on the data (sample type, a user
 //!    function). Nothing else uploads data.
 //! 3. [`Renderer::set_appearance`] takes an [`Appearance`] whenever the look changes: isovalue,
-//!    transfer function, background. These become push constants or small buffer writes.
+//!    transfer function, background. These become push constants or small buffer writes. Set
+//!    the first look before the data: pipelines that depend on both (interval shading's
+//!    integrand kind) are then built once.
 //! 4. Per frame, with a [`View`] made by [`Renderer::view`]: [`Renderer::prepare_frame`] makes
 //!    the buffers that depend on the image size (once per size), [`Renderer::record`] records
 //!    the frame into the caller's command buffer and [`Target`], the caller submits, and

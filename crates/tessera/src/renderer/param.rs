@@ -47,7 +47,9 @@ enum FrameBuffers {
 pub(super) struct ParamRenderer {
     technique: Technique,
     options: RendererOptions,
-    /// Built for this user function (`None`: the built-in functions only).
+    /// Built with the first data set, for its user function (`None`: the built-in functions
+    /// only): a user function is compiled into every pass, and building twice would cost the
+    /// compile twice.
     pipelines: Option<(Option<UserFunction>, Pipelines)>,
     scene: Option<SceneOnGpu>,
     background: [f32; 3],
@@ -64,11 +66,18 @@ impl ParamRenderer {
     ) -> Result<ParamRenderer> {
         if options.msaa != 1 && technique != Technique::ParamTess {
             return Err(Error::Invalid(format!(
-                "multisampling applies to param-tess; {} supersamples instead",
+                "msaa (multisampling) applies to param-tess; {} supersamples instead",
                 technique.name()
             )));
         }
-        let mut renderer = ParamRenderer {
+        // The one device feature a variant needs, checked before any data is loaded.
+        if technique == Technique::ParamPoints && !gpu.caps().buffer_int64_atomics {
+            return Err(Error::Invalid(format!(
+                "param-points needs 64-bit buffer atomics, which {} lacks",
+                gpu.caps().device_name
+            )));
+        }
+        Ok(ParamRenderer {
             technique,
             options: *options,
             pipelines: None,
@@ -77,10 +86,7 @@ impl ParamRenderer {
             frame: None,
             stats: FrameStats::default(),
             counters: WorkCounters::default(),
-        };
-        // Built now, so that bad options fail before any data is loaded.
-        renderer.build(gpu, None)?;
-        Ok(renderer)
+        })
     }
 
     fn build(&mut self, gpu: &Gpu, user: Option<&UserFunction>) -> Result<()> {
@@ -162,8 +168,12 @@ impl Renderer for ParamRenderer {
         self.technique
     }
 
+    /// Tessellation runs on the graphics stages; points and ray tracing on compute.
     fn path(&self) -> Path {
-        Path::Compute
+        match self.technique {
+            Technique::ParamTess => Path::Graphics,
+            _ => Path::Compute,
+        }
     }
 
     fn set_data(&mut self, gpu: &Gpu, data: &Dataset) -> Result<()> {

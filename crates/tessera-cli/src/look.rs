@@ -1,0 +1,104 @@
+//! Flags that become the library's `Appearance`, `LoadOptions` and `RendererOptions`.
+
+use crate::data::{IsoArgs, VolumeArgs};
+use anyhow::Result;
+use clap::Args;
+use tessera::path::PathChoice;
+use tessera::renderer::RendererOptions;
+use tessera_data::scene::parse::{
+    parse_basis, parse_colour, parse_integrand, parse_param_range, parse_range,
+};
+use tessera_data::scene::{Appearance, IntegrandChoice, LoadOptions};
+use tessera_data::transfer::TransferFunction;
+
+/// How tet meshes are shown (interval shading).
+#[derive(Args)]
+pub struct TetArgs {
+    /// What rays accumulate through a tet mesh: tet-absorption (per-tet colours, or white),
+    /// absorption / emission / mip (the vertex scalars through --tf), or auto (absorption when
+    /// the mesh has vertex scalars and no per-tet colours).
+    #[arg(long, default_value = "auto", value_parser = parse_integrand)]
+    integrate: IntegrandChoice,
+    /// Transfer function for scalar integration: cool-warm, grey, hot, bands, or a file of
+    /// 'at r g b a' lines.
+    #[arg(long, default_value = "cool-warm")]
+    tf: String,
+    /// Absorption or emission per unit length at full opacity (the mesh's longest side is 1).
+    #[arg(long, default_value_t = 4.0)]
+    density: f32,
+    /// One absorption colour R,G,B (per unit length) for every tet, in place of the mesh's
+    /// per-tet colours (tet-absorption).
+    #[arg(long, value_parser = parse_colour)]
+    absorption: Option<[f32; 3]>,
+    /// Scalar range LO,HI mapped onto the transfer function (default: the mesh's own).
+    #[arg(long, value_parser = parse_range, allow_hyphen_values = true)]
+    range: Option<(f32, f32)>,
+}
+
+/// Options of the parametric-object techniques.
+#[derive(Args)]
+pub struct ParamArgs {
+    /// Render at K×K samples per pixel and average (supersampling).
+    #[arg(long, default_value_t = 1)]
+    supersample: u32,
+    /// Start each object as K×K patches (a power of two up to 16) before the LOD stage.
+    #[arg(long, default_value_t = 1)]
+    pre_split: u32,
+    /// Multisampling of param-tess: 1, 2, 4 or 8 samples per pixel.
+    #[arg(long, default_value_t = 1)]
+    msaa: u32,
+    /// Parameter range FROM,TO of u for a user function file (numbers, or multiples of pi/tau:
+    /// 0,2pi); overrides the file's '// u: FROM TO' line.
+    #[arg(long, value_parser = parse_param_range, allow_hyphen_values = true)]
+    u_range: Option<[f32; 2]>,
+    /// Parameter range of v for a user function file, like --u-range.
+    #[arg(long, value_parser = parse_param_range, allow_hyphen_values = true)]
+    v_range: Option<[f32; 2]>,
+    /// SH basis of glyphs: descoteaux07 or tournier07, each also -legacy (DIPY's `legacy=True`).
+    /// Default: descoteaux07-legacy for coefficient files (DIPY's default), descoteaux07 else.
+    #[arg(long, value_parser = parse_basis)]
+    basis: Option<tessera_data::param::ShBasis>,
+}
+
+/// The pipeline and culling flags every technique may take.
+#[derive(Args)]
+pub struct PathArgs {
+    /// Pipeline for techniques that have two: graphics (task/mesh shaders), compute, or auto
+    /// (from capabilities and `tessera bench pipeline-throughput` if it ran on this device).
+    #[arg(long, default_value = "auto", value_parser = PathChoice::parse)]
+    path: PathChoice,
+    /// Raster occlusion culling for rasterizing techniques (direct).
+    #[arg(long, default_value = "on", value_parser = ["on", "off"])]
+    culling: String,
+}
+
+pub fn appearance(iso: &IsoArgs, tets: &TetArgs) -> Result<Appearance> {
+    Ok(Appearance {
+        iso: iso.value(),
+        integrand: tets.integrate,
+        transfer: TransferFunction::load(&tets.tf)?,
+        density: tets.density,
+        range: tets.range,
+        absorption: tets.absorption,
+        background: None,
+    })
+}
+
+pub fn load_options(volume: &VolumeArgs, param: &ParamArgs) -> LoadOptions {
+    LoadOptions {
+        raw: volume.raw_options(),
+        basis: param.basis,
+        u_range: param.u_range,
+        v_range: param.v_range,
+    }
+}
+
+pub fn renderer_options(paths: &PathArgs, param: &ParamArgs) -> RendererOptions {
+    RendererOptions {
+        path: paths.path,
+        culling: paths.culling == "on",
+        supersample: param.supersample,
+        msaa: param.msaa,
+        pre_split: param.pre_split,
+    }
+}
