@@ -8,6 +8,7 @@ use tessera::iso::direct::compute::{ComputeTarget, DirectCompute};
 use tessera::iso::direct::compute_cull::ComputeCullState;
 use tessera::iso::direct::Direct;
 use tessera::iso::PreparedVolume;
+use tessera::target::Target;
 use tessera_data::OrbitCamera;
 use tessera_gpu::{Gpu, Recorder, Timer};
 
@@ -25,14 +26,15 @@ pub(crate) fn measure_compute_culled(
     let camera = OrbitCamera::default();
     let (w, h) = (r.width, r.height);
     let target = ComputeTarget::new(gpu, w, h, capacity)?;
+    let pixels = Target::new(gpu, w, h)?;
     let state = ComputeCullState::new(gpu, prepared, &target)?;
     let stages = time_culled_frames(gpu, plan, |frame, rec, timer| {
         let params = Direct::params(prepared, iso_of(frame), &camera, w, h, capacity);
-        compute.record_culled_timed(
+        compute.record_culled(
             rec,
             prepared,
             &target,
-            &target.pixels,
+            &pixels,
             &params,
             &state,
             Some(timer),

@@ -141,26 +141,28 @@ fn measure(
     if let Some(compute) = &t.direct_compute {
         // Lists sized from the largest count over the isovalues this scenario visits.
         let probe = ComputeTarget::new(gpu, 1, 1, 1)?;
+        let probe_pixels = Target::new(gpu, 1, 1)?;
         let mut most = 0u32;
         for frame in 0..64 {
             let params = Direct::params(prepared, iso_of(frame), &camera, 1, 1, 1);
             gpu.submit("count triangles", |rec| {
-                compute.record(rec, prepared, &probe, &params)
+                compute.record(rec, prepared, &probe, &probe_pixels, &params)
             })?;
             most = most.max(compute.read_stats(gpu)?.triangles);
             if sweep.is_none() {
                 break;
             }
         }
-        drop(probe);
+        drop((probe, probe_pixels));
         let capacity = most + most / 4 + 1024;
         let target = ComputeTarget::new(gpu, w, h, capacity)?;
+        let pixels = Target::new(gpu, w, h)?;
         let mut frame = 0u32;
         let stages = time_frames(gpu, plan, 1, |rec, timer| {
             let params = Direct::params(prepared, iso_of(frame), &camera, w, h, capacity);
             frame += 1;
             timer.scope(rec, "direct", |rec| {
-                compute.record(rec, prepared, &target, &params)
+                compute.record(rec, prepared, &target, &pixels, &params)
             });
         });
         let stats = compute.read_stats(gpu)?;
@@ -319,6 +321,7 @@ pub fn time_varying(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sin
                 // Lists sized for the largest step's isosurface.
                 let mut most = 0u32;
                 let probe = ComputeTarget::new(gpu, 1, 1, 1)?;
+                let probe_pixels = Target::new(gpu, 1, 1)?;
                 for (k, step) in staged.iter().enumerate() {
                     let params = Direct::params(&prepared, isos[k], &camera, 1, 1, 1);
                     gpu.submit("count triangles", |rec| {
@@ -326,18 +329,19 @@ pub fn time_varying(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sin
                         rec.barrier();
                         builder.record(rec, &prepared.volume, &prepared.octree);
                         rec.barrier();
-                        compute.record(rec, &prepared, &probe, &params);
+                        compute.record(rec, &prepared, &probe, &probe_pixels, &params);
                     })?;
                     most = most.max(compute.read_stats(gpu)?.triangles);
                 }
-                drop(probe);
+                drop((probe, probe_pixels));
                 let capacity = most + most / 8 + 1024;
                 let target = ComputeTarget::new(gpu, w, h, capacity)?;
+                let pixels = Target::new(gpu, w, h)?;
                 let stages = time_frames(gpu, plan, 3, |rec, timer| {
                     let k = next_step(rec, timer, &mut frame);
                     let params = Direct::params(&prepared, isos[k], &camera, w, h, capacity);
                     timer.scope(rec, "direct", |rec| {
-                        compute.record(rec, &prepared, &target, &params)
+                        compute.record(rec, &prepared, &target, &pixels, &params)
                     });
                 });
                 let mut r = BenchRecord::new(gpu, "time-varying", "direct", "compute", &dataset);

@@ -5,17 +5,16 @@
 //! stage and the drawing timed apart.
 
 use crate::bench::{BenchArgs, Sink};
-use crate::param_renderer::ParamRenderer;
 use anyhow::Result;
 use tessera::bench::{time_frames, BenchRecord, FramePlan};
-use tessera::param::scene::ParamScene;
+use tessera::renderer::{self, RendererOptions, Target, Technique};
+use tessera_data::scene::{Dataset, LoadOptions};
 use tessera_data::OrbitCamera;
 use tessera_gpu::Gpu;
 
 pub fn param(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -> Result<()> {
-    let compiler = tessera::shaders::compiler();
     let size = if args.quick { (320, 180) } else { (1920, 1080) };
-    let basis = tessera_data::scene::param_spec::default_basis("");
+    let load = |spec: &str| Dataset::load(spec, &LoadOptions::default());
     let orders: &[u32] = if args.quick {
         &[2, 8]
     } else {
@@ -23,26 +22,16 @@ pub fn param(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -> R
     };
     for &order in orders {
         let spec = format!("param:sh-glyph:order{order}");
-        let scene = tessera_data::scene::param_spec::named_scene(&spec, basis)?;
+        let scene = load(&spec)?;
         let camera = OrbitCamera {
             distance: 3.0,
             ..OrbitCamera::default()
         };
-        measure(
-            gpu,
-            &compiler,
-            &scene,
-            &spec,
-            &[("single", camera)],
-            ALL,
-            size,
-            plan,
-            sink,
-        )?;
+        measure(gpu, &scene, &[("single", camera)], ALL, size, plan, sink)?;
     }
     let grid = if args.quick { "20x20" } else { "140x140" };
     let spec = format!("param:sh-glyphs:{grid}:order12");
-    let scene = tessera_data::scene::param_spec::named_scene(&spec, basis)?;
+    let scene = load(&spec)?;
     let at = |distance: f32| OrbitCamera {
         azimuth_deg: 0.0,
         elevation_deg: 0.0,
@@ -50,20 +39,16 @@ pub fn param(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -> R
         ..OrbitCamera::default()
     };
     let views = [("far", at(1.2)), ("mid", at(0.5)), ("close", at(0.15))];
-    measure(gpu, &compiler, &scene, &spec, &views, ALL, size, plan, sink)?;
+    measure(gpu, &scene, &views, ALL, size, plan, sink)?;
     // Paper E §5.3: a knitted curtain of 235 × 254 loops (59,690 yarn curves), and a seashell.
-    let shapes = ["param-points", "param-tess"];
+    let shapes = [Technique::ParamPoints, Technique::ParamTess];
     let yarn = if args.quick {
         "param:yarn:10x10"
     } else {
         "param:yarn:235x254"
     };
-    let scene = tessera_data::scene::param_spec::named_scene(yarn, basis)?;
     let views = [("whole", at(1.3)), ("close", at(0.3))];
-    measure(
-        gpu, &compiler, &scene, yarn, &views, &shapes, size, plan, sink,
-    )?;
-    let scene = tessera_data::scene::param_spec::named_scene("param:seashell", basis)?;
+    measure(gpu, &load(yarn)?, &views, &shapes, size, plan, sink)?;
     let views = [(
         "whole",
         OrbitCamera {
@@ -73,9 +58,7 @@ pub fn param(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -> R
     )];
     measure(
         gpu,
-        &compiler,
-        &scene,
-        "param:seashell",
+        &load("param:seashell")?,
         &views,
         &shapes,
         size,
@@ -85,41 +68,58 @@ pub fn param(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -> R
 }
 
 /// Every parametric technique; ray tracing draws SH glyphs only.
-const ALL: &[&str] = &["param-points", "param-tess", "sh-raytrace"];
+const ALL: &[Technique] = &[
+    Technique::ParamPoints,
+    Technique::ParamTess,
+    Technique::ShRaytrace,
+];
 
-#[allow(clippy::too_many_arguments)]
 fn measure(
     gpu: &Gpu,
-    compiler: &tessera_gpu::ShaderCompiler,
-    scene: &ParamScene,
-    name: &str,
+    data: &Dataset,
     views: &[(&str, OrbitCamera)],
-    techniques: &[&str],
+    techniques: &[Technique],
     size: (u32, u32),
     plan: FramePlan,
     sink: &mut Sink,
 ) -> Result<()> {
+    let Dataset::Param(param) = data else {
+        anyhow::bail!("{}: not a parametric scene", data.name());
+    };
+    let target = Target::new(gpu, size.0, size.1)?;
     for &technique in techniques {
         for supersample in [1, 2] {
-            let renderer = ParamRenderer::new(gpu, compiler, technique, supersample, 1, 1)?;
-            let gpu_scene = renderer.prepare(gpu, scene)?;
+            let options = RendererOptions {
+                supersample,
+                ..RendererOptions::default()
+            };
+            let mut renderer = renderer::create(gpu, technique, &options)?;
+            renderer.set_data(gpu, data)?;
             views.iter().try_for_each(|(view_name, camera)| {
-                let view = renderer.view(&gpu_scene, camera, size)?;
-                let frame = renderer.frame(gpu, &view, size)?;
-                let background = [0.1, 0.1, 0.12];
+                let view = renderer.view(camera, size)?;
+                renderer.prepare_frame(gpu, &view)?;
+                let mut recorded = Ok(());
                 let stages = time_frames(gpu, plan, 2, |rec, timer| {
-                    renderer.record_timed(rec, timer, &gpu_scene, &view, &frame, background)
+                    if let Err(e) = renderer.record(rec, &view, &target, timer) {
+                        recorded = Err(e);
+                    }
                 });
-                let patches = renderer.patches(gpu, &gpu_scene, &view, &frame, background)?;
-                let dataset = format!("{name}, {view_name}");
-                let path = renderer.path();
-                let mut r = BenchRecord::new(gpu, "param", renderer.name(), path, &dataset);
+                recorded?;
+                renderer.finish_frame(gpu)?;
+                let patches = renderer.stats().patches.unwrap_or(0);
+                let dataset = format!("{}, {view_name}", param.name);
+                // Records name the tessellation variant's pipeline as the papers do.
+                let path = match technique {
+                    Technique::ParamTess => "tessellation",
+                    _ => renderer.path().name(),
+                };
+                let mut r = BenchRecord::new(gpu, "param", technique.name(), path, &dataset);
                 r.variant = format!("{supersample}x{supersample} samples per pixel");
                 (r.width, r.height, r.warmup, r.frames, r.stages) =
                     (size.0, size.1, plan.warmup, plan.frames, stages?);
                 r.counts
-                    .insert("objects".into(), scene.objects.len() as f64);
-                r.counts.insert("patches".into(), f64::from(patches));
+                    .insert("objects".into(), param.scene.objects.len() as f64);
+                r.counts.insert("patches".into(), patches as f64);
                 let lod = r.median_ms("lod").unwrap_or(0.0);
                 let draw = r.median_ms("draw").unwrap_or(0.0);
                 if lod + draw > 0.0 {

@@ -123,34 +123,44 @@ pub fn stereo(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -> 
 
         if let Some(compute) = &t.direct_compute {
             let probe = ComputeTarget::new(gpu, 1, 1, 1)?;
+            let probe_pixels = Target::new(gpu, 1, 1)?;
             gpu.submit("count triangles", |rec| {
                 compute.record(
                     rec,
                     &prepared,
                     &probe,
+                    &probe_pixels,
                     &Direct::params(&prepared, iso, &camera, 1, 1, 1),
                 )
             })?;
-            drop(probe);
+            drop((probe, probe_pixels));
             let capacity = compute.read_stats(gpu)?.triangles + 1024;
             let targets = [
                 ComputeTarget::new(gpu, w, h, capacity)?,
                 ComputeTarget::new(gpu, w, h, capacity)?,
             ];
+            let pixels = [Target::new(gpu, w, h)?, Target::new(gpu, w, h)?];
             let frame = tessera_data::GridFrame::new(volume.dims(), volume.spacing());
             let right = tessera_data::Projection::new(&eyes[1], &frame, w, h).world_to_clip;
             let params = eyes.map(|c| Direct::params(&prepared, iso, &c, w, h, capacity));
             let mono_params = Direct::params(&prepared, iso, &camera, w, h, capacity);
             let mono = time_frames(gpu, plan, 1, |rec, timer| {
                 timer.scope(rec, "mono", |rec| {
-                    compute.record(rec, &prepared, &targets[0], &mono_params)
+                    compute.record(rec, &prepared, &targets[0], &pixels[0], &mono_params)
                 });
             })?;
             let pair = time_frames(gpu, plan, 1, |rec, timer| {
                 timer.scope(rec, "stereo", |rec| {
-                    compute.record(rec, &prepared, &targets[0], &params[0]);
+                    compute.record(rec, &prepared, &targets[0], &pixels[0], &params[0]);
                     rec.barrier();
-                    compute.record_second_view(rec, &targets[0], &targets[1], &params[1], right);
+                    compute.record_second_view(
+                        rec,
+                        &targets[0],
+                        &targets[1],
+                        &pixels[1],
+                        &params[1],
+                        right,
+                    );
                 });
             })?;
             emit("direct", "compute", mono, pair)?;

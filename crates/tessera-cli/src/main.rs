@@ -12,7 +12,6 @@ mod extract;
 mod info;
 mod look;
 mod output;
-mod param_renderer;
 mod render;
 
 use anyhow::Result;

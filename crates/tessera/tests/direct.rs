@@ -267,9 +267,17 @@ fn isovalue_outside_range_draws_nothing() {
     if gpu.caps().buffer_int64_atomics {
         let compute = DirectCompute::new(&gpu, &compiler, ScalarType::U8).unwrap();
         let target = ComputeTarget::new(&gpu, 40, 30, 16).unwrap();
-        target.pixels.poison(&gpu, u32::MAX).unwrap();
+        let pixels = tessera::target::Target::new(&gpu, 40, 30).unwrap();
+        pixels.poison(&gpu, u32::MAX).unwrap();
         let (image, _, stats) = compute
-            .render(&gpu, &prepared, &target, 300.0, &OrbitCamera::default())
+            .render(
+                &gpu,
+                &prepared,
+                &target,
+                &pixels,
+                300.0,
+                &OrbitCamera::default(),
+            )
             .unwrap();
         assert_eq!(stats.triangles, 0);
         assert_eq!(

@@ -10,6 +10,7 @@ use tessera::iso::direct::Direct;
 use tessera::iso::minmax::MinMaxBuilder;
 use tessera::iso::PreparedVolume;
 use tessera::shaders;
+use tessera::target::Target;
 use tessera_data::marching_cubes::marching_cubes;
 use tessera_data::procedural::{generate, ProceduralKind};
 use tessera_data::{IsoValue, OrbitCamera, ScalarType, Volume};
@@ -130,9 +131,10 @@ fn compute_path_images_match_cpu_rasterized_marching_cubes() {
             let iso = volume.iso_to_texel(IsoValue::Normalized(fraction));
             let mesh = marching_cubes(volume, iso);
             let target = ComputeTarget::new(&gpu, w, h, mesh.triangle_count() as u32 + 16).unwrap();
-            target.pixels.poison(&gpu, u32::MAX).unwrap();
+            let pixels = Target::new(&gpu, w, h).unwrap();
+            pixels.poison(&gpu, u32::MAX).unwrap();
             let (image, _ms, stats) = compute
-                .render(&gpu, &prepared, &target, iso, &camera)
+                .render(&gpu, &prepared, &target, &pixels, iso, &camera)
                 .unwrap();
             assert_eq!(stats.triangles as usize, mesh.triangle_count());
             assert!(!image.pixels.contains(&u32::MAX), "unwritten pixels");
@@ -163,26 +165,30 @@ fn compute_stereo_second_view_equals_a_mono_render_from_that_eye() {
     let [left, right] = OrbitCamera::default().stereo_pair(0.3);
     let first = ComputeTarget::new(&gpu, w, h, capacity).unwrap();
     let second = ComputeTarget::new(&gpu, w, h, capacity).unwrap();
+    let pixels = [(); 2].map(|_| Target::new(&gpu, w, h).unwrap());
     let params = [left, right].map(|c| Direct::params(&prepared, iso, &c, w, h, capacity));
     let frame = tessera_data::GridFrame::new(volume.dims(), volume.spacing());
     let right_projection = tessera_data::Projection::new(&right, &frame, w, h);
     gpu.submit("stereo", |rec| {
-        compute.record(rec, &prepared, &first, &params[0]);
+        compute.record(rec, &prepared, &first, &pixels[0], &params[0]);
         rec.barrier();
         compute.record_second_view(
             rec,
             &first,
             &second,
+            &pixels[1],
             &params[1],
             right_projection.world_to_clip,
         );
     })
     .unwrap();
-    let left_image = first.pixels.read(&gpu).unwrap();
-    let right_image = second.pixels.read(&gpu).unwrap();
+    let left_image = pixels[0].read(&gpu).unwrap();
+    let right_image = pixels[1].read(&gpu).unwrap();
     let mono = ComputeTarget::new(&gpu, w, h, capacity).unwrap();
-    let (mono_right, _, _) = compute.render(&gpu, &prepared, &mono, iso, &right).unwrap();
-    let (mono_left, _, _) = compute.render(&gpu, &prepared, &mono, iso, &left).unwrap();
+    let mono_pixels = Target::new(&gpu, w, h).unwrap();
+    let render = |camera| compute.render(&gpu, &prepared, &mono, &mono_pixels, iso, camera);
+    let (mono_right, _, _) = render(&right).unwrap();
+    let (mono_left, _, _) = render(&left).unwrap();
     assert_eq!(left_image, mono_left);
     let diff = right_image.compare(&mono_right, 2);
     assert!(

@@ -9,6 +9,7 @@ use tessera::iso::direct::compute_cull::{
     hzb_levels, ComputeCullState, ComputeCullStats, HzbTestParams,
 };
 use tessera::shaders;
+use tessera::target::Target;
 use tessera_data::marching_cubes::marching_cubes;
 use tessera_data::procedural::{generate, ProceduralKind};
 use tessera_data::{IsoValue, OrbitCamera, ScalarType, Volume};
@@ -49,16 +50,17 @@ fn run_path(
         .unwrap();
     let plain_target = ComputeTarget::new(gpu, w, h, capacity).unwrap();
     let target = ComputeTarget::new(gpu, w, h, capacity).unwrap();
+    let pixels = Target::new(gpu, w, h).unwrap();
     let state = ComputeCullState::new(gpu, &prepared, &target).unwrap();
     let mut frames = Vec::new();
     for (frame, (fraction, camera)) in path.iter().enumerate() {
         let iso = volume.iso_to_texel(IsoValue::Normalized(*fraction));
         let (plain, _, plain_stats) = compute
-            .render(gpu, &prepared, &plain_target, iso, camera)
+            .render(gpu, &prepared, &plain_target, &pixels, iso, camera)
             .unwrap();
-        target.pixels.poison(gpu, u32::MAX).unwrap();
+        pixels.poison(gpu, u32::MAX).unwrap();
         let (culled, _, stats) = compute
-            .render_culled(gpu, &prepared, &target, &state, iso, camera)
+            .render_culled(gpu, &prepared, &target, &pixels, &state, iso, camera)
             .unwrap();
         eprintln!(
             "{name} frame {frame}: {stats:?}, {} triangles of {}",
@@ -250,6 +252,7 @@ fn reset_forgets_what_was_seen() {
     let prepared = compute.prepare(&gpu, &volume).unwrap();
     let capacity = marching_cubes(&volume, iso).triangle_count() as u32;
     let target = ComputeTarget::new(&gpu, 64, 48, capacity).unwrap();
+    let pixels = Target::new(&gpu, 64, 48).unwrap();
     let state = ComputeCullState::new(&gpu, &prepared, &target).unwrap();
     let camera = OrbitCamera::default();
     let mut images = Vec::new();
@@ -258,7 +261,7 @@ fn reset_forgets_what_was_seen() {
             state.reset(&gpu).unwrap();
         }
         let (image, _, stats) = compute
-            .render_culled(&gpu, &prepared, &target, &state, iso, &camera)
+            .render_culled(&gpu, &prepared, &target, &pixels, &state, iso, &camera)
             .unwrap();
         assert_eq!(stats.blocks_drawn_first == 0, images.is_empty() || reset);
         images.push(image);
@@ -267,8 +270,9 @@ fn reset_forgets_what_was_seen() {
     assert!(images[1].compare(&images[0], 2).fraction_within >= 0.999);
     // A state for another frame size is refused.
     let other = ComputeTarget::new(&gpu, 32, 48, capacity).unwrap();
+    let other_pixels = Target::new(&gpu, 32, 48).unwrap();
     assert!(compute
-        .render_culled(&gpu, &prepared, &other, &state, iso, &camera)
+        .render_culled(&gpu, &prepared, &other, &other_pixels, &state, iso, &camera)
         .is_err());
     assert_clean(&gpu);
 }

@@ -16,6 +16,7 @@ use tessera::param::{
     ParamScene, PointsFrame,
 };
 use tessera::shaders;
+use tessera::target::Target;
 use tessera_data::image::coverage_of;
 use tessera_data::param::reference::{render_reference, world_position, DEFAULT_MAX_CELL_PX};
 use tessera_data::param::sh::{sh_basis, sh_coefficient_count};
@@ -228,11 +229,12 @@ fn assert_image_matches(
     let gpu_scene = GpuParamScene::upload(gpu, scene).unwrap();
     let view = points.view(&gpu_scene, cam, SIZE).unwrap();
     let frame = PointsFrame::new(gpu, &view).unwrap();
-    frame.pixels.poison(gpu, POISON).unwrap();
+    let pixels = Target::new(gpu, SIZE.0, SIZE.1).unwrap();
+    pixels.poison(gpu, POISON).unwrap();
     let info = points
-        .render_frame(gpu, &gpu_scene, &view, &frame, BACKGROUND)
+        .render_frame(gpu, &gpu_scene, &view, &frame, &pixels, BACKGROUND)
         .unwrap();
-    let image = frame.pixels.read(gpu).unwrap();
+    let image = pixels.read(gpu).unwrap();
     assert!(
         !image.pixels.contains(&POISON),
         "{name}: pixels never written"

@@ -15,6 +15,7 @@ use tessera::param::{
     GpuParamScene, ParamObject, ParamPoints, ParamPointsOptions, ParamScene, PointsFrame, View,
 };
 use tessera::shaders;
+use tessera::target::Target;
 use tessera_data::param::reference::{
     render_reference, world_normal, world_position, DEFAULT_MAX_CELL_PX,
 };
@@ -295,15 +296,16 @@ fn assert_images_match(
         render_reference(&objects, &view.reference(), BACKGROUND, DEFAULT_MAX_CELL_PX).unwrap();
     let reference_s = clock.elapsed().as_secs_f64();
 
+    let pixels = Target::new(gpu, size.0, size.1).unwrap();
     let frame = PointsFrame::new(gpu, &view).unwrap();
-    frame.pixels.poison(gpu, POISON).unwrap();
-    let info = (points.render_frame(gpu, &gpu_scene, &view, &frame, BACKGROUND)).unwrap();
-    let by_points = (frame.pixels.read(gpu).unwrap(), info);
+    pixels.poison(gpu, POISON).unwrap();
+    let info = (points.render_frame(gpu, &gpu_scene, &view, &frame, &pixels, BACKGROUND)).unwrap();
+    let by_points = (pixels.read(gpu).unwrap(), info);
     drop(frame);
     let frame = tess.frame(gpu, &view).unwrap();
-    frame.pixels.poison(gpu, POISON).unwrap();
-    let info = (tess.render_frame(gpu, &gpu_scene, &view, &frame, BACKGROUND)).unwrap();
-    let by_tess = (frame.pixels.read(gpu).unwrap(), info);
+    pixels.poison(gpu, POISON).unwrap();
+    let info = (tess.render_frame(gpu, &gpu_scene, &view, &frame, &pixels, BACKGROUND)).unwrap();
+    let by_tess = (pixels.read(gpu).unwrap(), info);
 
     let mut failures = Vec::new();
     for (technique, (image, info)) in [("points", by_points), ("tess", by_tess)] {

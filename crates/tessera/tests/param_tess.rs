@@ -13,6 +13,7 @@ use tessera::param::tess::{
 };
 use tessera::param::{GpuParamScene, ParamPoints, ParamScene, View};
 use tessera::shaders;
+use tessera::target::Target;
 use tessera_data::param::reference::{
     reference_fragments, render_reference, shade_point, ReferenceView, DEFAULT_MAX_CELL_PX,
 };
@@ -98,12 +99,13 @@ fn render(gpu: &Gpu, scene: &ParamScene, cam: &OrbitCamera, options: ParamTessOp
     let gpu_scene = GpuParamScene::upload(gpu, scene).unwrap();
     let view = tess.view(&gpu_scene, cam, SIZE).unwrap();
     let frame = tess.frame(gpu, &view).unwrap();
-    frame.pixels.poison(gpu, POISON).unwrap();
+    let pixels = Target::new(gpu, SIZE.0, SIZE.1).unwrap();
+    pixels.poison(gpu, POISON).unwrap();
     tess.poison(gpu).unwrap();
     let info = tess
-        .render_frame(gpu, &gpu_scene, &view, &frame, BACKGROUND)
+        .render_frame(gpu, &gpu_scene, &view, &frame, &pixels, BACKGROUND)
         .unwrap();
-    let image = frame.pixels.read(gpu).unwrap();
+    let image = pixels.read(gpu).unwrap();
     let args = tess.read_draw_args(gpu).unwrap();
     let per = tess.patches_per_instance();
     assert!(!image.pixels.contains(&POISON), "pixels never written");
@@ -423,12 +425,26 @@ fn bad_options_are_refused() {
     let view = tess.view(&scene, &cam, SIZE).unwrap();
     let other = tess.view(&scene, &cam, (SIZE.0 / 2, SIZE.1)).unwrap();
     let frame = tess.frame(&gpu, &other).unwrap();
+    let pixels = Target::new(&gpu, SIZE.0, SIZE.1).unwrap();
+    let other_pixels = Target::new(&gpu, SIZE.0 / 2, SIZE.1).unwrap();
     assert!(tess
-        .render_frame(&gpu, &scene, &view, &frame, BACKGROUND)
+        .render_frame(&gpu, &scene, &view, &frame, &pixels, BACKGROUND)
         .is_err());
+    assert!(
+        tess.render_frame(
+            &gpu,
+            &scene,
+            &view,
+            &tess.frame(&gpu, &view).unwrap(),
+            &other_pixels,
+            BACKGROUND
+        )
+        .is_err(),
+        "an image of another size is refused"
+    );
     let msaa4 = TessFrame::new(&gpu, &view, 4).unwrap();
     assert!(tess
-        .render_frame(&gpu, &scene, &view, &msaa4, BACKGROUND)
+        .render_frame(&gpu, &scene, &view, &msaa4, &pixels, BACKGROUND)
         .is_err());
     assert_clean(&gpu);
 }

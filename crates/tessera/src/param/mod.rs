@@ -184,21 +184,8 @@ impl ParamPoints {
 
     /// [`Self::record`] with the LOD stage and the drawing (points and resolve) in timer scopes
     /// "lod" and "draw".
-    pub fn record_timed(
-        &self,
-        rec: &Recorder,
-        timer: &mut tessera_gpu::Timer,
-        scene: &GpuParamScene,
-        view: &View,
-        frame: &PointsFrame,
-        background: [f32; 3],
-    ) {
-        self.record_timed_into(rec, timer, scene, view, frame, &frame.pixels, background);
-    }
-
-    /// [`Self::record_timed`], the image written into `pixels` (of the view's image size).
     #[allow(clippy::too_many_arguments)]
-    pub fn record_timed_into(
+    pub fn record_timed(
         &self,
         rec: &Recorder,
         timer: &mut tessera_gpu::Timer,
@@ -245,10 +232,11 @@ impl ParamPoints {
         scene: &GpuParamScene,
         view: &View,
         frame: &PointsFrame,
+        pixels: &Target,
         background: [f32; 3],
     ) {
         self.lod.record(rec, scene, view, None);
-        self.record_draw(rec, scene, view, frame, &frame.pixels, background);
+        self.record_draw(rec, scene, view, frame, pixels, background);
     }
 
     /// Renders `scene` from `camera` at `size` in front of `background`: the image and the GPU
@@ -263,8 +251,9 @@ impl ParamPoints {
     ) -> Result<(RgbaImage, f64)> {
         let view = self.view(scene, camera, size)?;
         let frame = PointsFrame::new(gpu, &view)?;
-        let info = self.render_frame(gpu, scene, &view, &frame, background)?;
-        Ok((frame.pixels.read(gpu)?, info.gpu_ms))
+        let pixels = Target::new(gpu, size.0, size.1)?;
+        let info = self.render_frame(gpu, scene, &view, &frame, &pixels, background)?;
+        Ok((pixels.read(gpu)?, info.gpu_ms))
     }
 
     /// Renders into `frame` and reports the frame's counters.
@@ -274,10 +263,22 @@ impl ParamPoints {
         scene: &GpuParamScene,
         view: &View,
         frame: &PointsFrame,
+        pixels: &Target,
         background: [f32; 3],
     ) -> Result<ParamFrameInfo> {
+        let raster = (frame.raster.width, frame.raster.height);
+        if raster != view.raster_size() || (pixels.width, pixels.height) != view.size {
+            return Err(Error::Invalid(format!(
+                "param-points: a raster of {raster:?} and an image of {}x{} for a view of \
+                 {:?}, raster {:?}",
+                pixels.width,
+                pixels.height,
+                view.size,
+                view.raster_size()
+            )));
+        }
         let gpu_ms = crate::bench::time_once(gpu, "param-points", |rec| {
-            self.record(rec, scene, view, frame, background);
+            self.record(rec, scene, view, frame, pixels, background);
             Ok(())
         })?;
         let stats = self.lod.read_stats(gpu)?;

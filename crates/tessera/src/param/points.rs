@@ -77,19 +77,18 @@ pub struct ResolveParams {
     pub uv_bits: u32,
 }
 
-/// The frame a parametric render writes: the depth|payload raster and the image.
+/// The depth|payload raster a point frame draws into (its image is the caller's `Target`).
 pub struct PointsFrame {
     pub raster: RasterFrame,
-    pub pixels: Target,
 }
 
 impl PointsFrame {
-    /// Buffers for `view`'s raster and image sizes.
+    /// The raster of `view`'s size.
     pub fn new(gpu: &Gpu, view: &View) -> Result<PointsFrame> {
         let (rw, rh) = view.raster_size();
-        let raster = RasterFrame::new(gpu, rw, rh)?;
-        let pixels = Target::new(gpu, view.size.0, view.size.1)?;
-        Ok(PointsFrame { raster, pixels })
+        Ok(PointsFrame {
+            raster: RasterFrame::new(gpu, rw, rh)?,
+        })
     }
 }
 

@@ -229,29 +229,17 @@ impl ParamTess {
         scene: &GpuParamScene,
         view: &View,
         frame: &TessFrame,
+        pixels: &Target,
         background: [f32; 3],
     ) {
         self.lod.record(rec, scene, view, None);
-        self.record_draw(rec, scene, view, frame, &frame.pixels, background);
+        self.record_draw(rec, scene, view, frame, pixels, background);
     }
 
     /// [`Self::record`] with the LOD stage and the drawing (draw and downsample) in timer
     /// scopes "lod" and "draw".
-    pub fn record_timed(
-        &self,
-        rec: &Recorder,
-        timer: &mut Timer,
-        scene: &GpuParamScene,
-        view: &View,
-        frame: &TessFrame,
-        background: [f32; 3],
-    ) {
-        self.record_timed_into(rec, timer, scene, view, frame, &frame.pixels, background);
-    }
-
-    /// [`Self::record_timed`], the image written into `pixels` (of the view's image size).
     #[allow(clippy::too_many_arguments)]
-    pub fn record_timed_into(
+    pub fn record_timed(
         &self,
         rec: &Recorder,
         timer: &mut Timer,
@@ -349,8 +337,9 @@ impl ParamTess {
     ) -> Result<(RgbaImage, f64)> {
         let view = self.view(scene, camera, size)?;
         let frame = self.frame(gpu, &view)?;
-        let info = self.render_frame(gpu, scene, &view, &frame, background)?;
-        Ok((frame.pixels.read(gpu)?, info.gpu_ms))
+        let pixels = Target::new(gpu, size.0, size.1)?;
+        let info = self.render_frame(gpu, scene, &view, &frame, &pixels, background)?;
+        Ok((pixels.read(gpu)?, info.gpu_ms))
     }
 
     /// Renders into `frame` and reports the frame's counters.
@@ -360,13 +349,14 @@ impl ParamTess {
         scene: &GpuParamScene,
         view: &View,
         frame: &TessFrame,
+        pixels: &Target,
         background: [f32; 3],
     ) -> Result<ParamFrameInfo> {
-        let pixels = (frame.pixels.width, frame.pixels.height);
+        let image = (pixels.width, pixels.height);
         let msaa = self.options.msaa;
-        if frame.raster != view.raster_size() || pixels != view.size || frame.samples != msaa {
+        if frame.raster != view.raster_size() || image != view.size || frame.samples != msaa {
             return Err(Error::Invalid(format!(
-                "param-tess: a frame of {pixels:?} pixels, raster {:?} and {} samples for a \
+                "param-tess: a frame of {image:?} pixels, raster {:?} and {} samples for a \
                  view of {:?}, raster {:?} and {msaa} samples",
                 frame.raster,
                 frame.samples,
@@ -375,7 +365,7 @@ impl ParamTess {
             )));
         }
         let gpu_ms = crate::bench::time_once(gpu, "param-tess", |rec| {
-            self.record(rec, scene, view, frame, background);
+            self.record(rec, scene, view, frame, pixels, background);
             Ok(())
         })?;
         let stats = self.lod.read_stats(gpu)?;

@@ -252,11 +252,11 @@ impl Renderer for IsoRenderer {
                     Direct::params_for_view(prepared, self.iso, view, frame.lists.capacity);
                 match culling {
                     Some(state) => timer.scope(rec, "direct-compute-culled", |rec| {
-                        d.record_culled_timed(rec, prepared, frame, target, &params, state, None)
+                        d.record_culled(rec, prepared, frame, target, &params, state, None)
                     }),
                     None => {
                         timer.scope(rec, "direct-compute", |rec| {
-                            d.record_into(rec, prepared, frame, target, &params)
+                            d.record(rec, prepared, frame, target, &params)
                         });
                         Ok(())
                     }

@@ -253,10 +253,10 @@ impl Renderer for ParamRenderer {
         let frame = self.frame.as_ref().map(|f| &f.1);
         match (pipelines, scene, frame) {
             (Pipelines::Points(p), SceneOnGpu::Plain(s), Some(FrameBuffers::Points(f))) => {
-                p.record_timed_into(rec, timer, s, view, f, target, self.background);
+                p.record_timed(rec, timer, s, view, f, target, self.background);
             }
             (Pipelines::Tess(t), SceneOnGpu::Plain(s), Some(FrameBuffers::Tess(f))) => {
-                t.record_timed_into(rec, timer, s, view, f, target, self.background);
+                t.record_timed(rec, timer, s, view, f, target, self.background);
             }
             (Pipelines::Raytrace(r), SceneOnGpu::Raytrace(s), _) => {
                 r.check_scene(s)?;

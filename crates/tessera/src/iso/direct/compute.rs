@@ -160,12 +160,11 @@ pub struct ResolveParams {
     pub size: [u32; 4],
 }
 
-/// Everything a compute-path frame writes: the triangle lists, the rasterizer's depth|index
-/// frame and the shaded pixels.
+/// What a compute-path frame writes besides its pixels (which go to a [`Target`] of the
+/// caller's): the triangle lists and the rasterizer's depth|index frame.
 pub struct ComputeTarget {
     pub lists: TriangleLists,
     pub frame: RasterFrame,
-    pub pixels: Target,
 }
 
 impl ComputeTarget {
@@ -173,13 +172,20 @@ impl ComputeTarget {
     pub fn new(gpu: &Gpu, width: u32, height: u32, capacity: u32) -> Result<ComputeTarget> {
         let lists = TriangleLists::new(gpu, capacity)?;
         let frame = RasterFrame::new(gpu, width, height)?;
-        let pixels = Target::new(gpu, width, height)?;
-        Ok(ComputeTarget {
-            lists,
-            frame,
-            pixels,
-        })
+        Ok(ComputeTarget { lists, frame })
     }
+}
+
+/// Refuses an image of another size than the frame's (the resolve would write past it).
+pub(super) fn check_pixels(target: &ComputeTarget, pixels: &Target) -> Result<()> {
+    let frame = (target.frame.width, target.frame.height);
+    if frame != (pixels.width, pixels.height) {
+        return Err(Error::Invalid(format!(
+            "direct: a {}x{} image for a {}x{} frame",
+            pixels.width, pixels.height, frame.0, frame.1
+        )));
+    }
+    Ok(())
 }
 
 /// `direct` on compute alone: extraction, the shared compute rasterizer, a shading resolve;
@@ -225,19 +231,9 @@ impl DirectCompute {
         PreparedVolume::new(gpu, &self.builder, volume)
     }
 
-    /// Records a frame; `params.dims[3]` must be `target.lists.capacity`.
+    /// Records a frame shaded into `pixels` (of the frame's size); `params.dims[3]` must be
+    /// `target.lists.capacity`.
     pub fn record(
-        &self,
-        rec: &Recorder,
-        prepared: &PreparedVolume,
-        target: &ComputeTarget,
-        params: &DirectParams,
-    ) {
-        self.record_into(rec, prepared, target, &target.pixels, params);
-    }
-
-    /// [`Self::record`], shading into `pixels` (of the frame's size) instead of the target's.
-    pub fn record_into(
         &self,
         rec: &Recorder,
         prepared: &PreparedVolume,
@@ -264,6 +260,7 @@ impl DirectCompute {
         rec: &Recorder,
         first: &ComputeTarget,
         second: &ComputeTarget,
+        second_pixels: &Target,
         params: &DirectParams,
         world_to_clip: glam::Mat4,
     ) {
@@ -290,7 +287,7 @@ impl DirectCompute {
             &second.lists.counts,
             &second.frame,
         );
-        self.record_resolve(rec, second, &first.lists.attributes, &second.pixels, params);
+        self.record_resolve(rec, second, &first.lists.attributes, second_pixels, params);
     }
 
     fn record_resolve(
@@ -320,22 +317,25 @@ impl DirectCompute {
         );
     }
 
-    /// Renders one frame: the image, the GPU time in milliseconds and what extraction did.
+    /// Renders one frame into `pixels`: the image, the GPU time in milliseconds and what
+    /// extraction did.
     pub fn render(
         &self,
         gpu: &Gpu,
         prepared: &PreparedVolume,
         target: &ComputeTarget,
+        pixels: &Target,
         iso: f32,
         camera: &OrbitCamera,
     ) -> Result<(RgbaImage, f64, ExtractStats)> {
         let (w, h) = (target.frame.width, target.frame.height);
+        check_pixels(target, pixels)?;
         let params = Direct::params(prepared, iso, camera, w, h, target.lists.capacity);
         let mut timer = Timer::new(gpu, 1)?;
         timer.reset(gpu);
         let submitted = gpu.submit("direct (compute path)", |rec| {
             timer.scope(rec, "direct-compute", |rec| {
-                self.record(rec, prepared, target, &params)
+                self.record(rec, prepared, target, pixels, &params)
             });
         });
         let ms = submitted
@@ -348,7 +348,7 @@ impl DirectCompute {
                 stats.triangles, target.lists.capacity
             )));
         }
-        Ok((target.pixels.read(gpu)?, ms, stats))
+        Ok((pixels.read(gpu)?, ms, stats))
     }
 
     pub fn read_stats(&self, gpu: &Gpu) -> Result<ExtractStats> {

@@ -12,24 +12,12 @@ use tessera_data::{OrbitCamera, RgbaImage};
 use tessera_gpu::{Binding, Buffer, Gpu, Pipeline, Recorder, Timer};
 
 impl DirectCompute {
-    /// Records a culled frame into `target` with `state` (made for this target and volume);
-    /// `params.dims[3]` must be `target.lists.capacity`. See the module's description.
-    pub fn record_culled(
-        &self,
-        rec: &Recorder,
-        prepared: &PreparedVolume,
-        target: &ComputeTarget,
-        params: &DirectParams,
-        state: &ComputeCullState,
-    ) -> Result<()> {
-        self.record_culled_timed(rec, prepared, target, &target.pixels, params, state, None)
-    }
-
-    /// [`Self::record_culled`] shading into `pixels`, timing its stages in `timer` when given
-    /// (four scopes:
-    /// `cull-pass-a`, `cull-test`, `cull-pass-b`, `cull-resolve`).
+    /// Records a culled frame into `target` and `pixels` with `state` (made for this target and
+    /// volume); `params.dims[3]` must be `target.lists.capacity`. With a `timer`, its stages
+    /// are timed in four scopes: `cull-pass-a`, `cull-test`, `cull-pass-b`, `cull-resolve`.
+    /// See the module's description.
     #[allow(clippy::too_many_arguments)]
-    pub fn record_culled_timed(
+    pub fn record_culled(
         &self,
         rec: &Recorder,
         prepared: &PreparedVolume,
@@ -43,6 +31,7 @@ impl DirectCompute {
             Some(t) => t.scope(rec, name, body),
             None => body(rec),
         };
+        super::compute::check_pixels(target, pixels)?;
         let b = prepared.octree.level_dims[0];
         let (w, h) = (target.frame.width, target.frame.height);
         if (w, h) != (state.width, state.height) || b[0] * b[1] * b[2] != state.block_count {
@@ -210,11 +199,13 @@ impl DirectCompute {
     }
 
     /// Renders one culled frame: the image, the GPU time in milliseconds and what culling did.
+    #[allow(clippy::too_many_arguments)]
     pub fn render_culled(
         &self,
         gpu: &Gpu,
         prepared: &PreparedVolume,
         target: &ComputeTarget,
+        pixels: &Target,
         state: &ComputeCullState,
         iso: f32,
         camera: &OrbitCamera,
@@ -226,7 +217,7 @@ impl DirectCompute {
         let mut recorded = Ok(());
         let submitted = gpu.submit("direct (compute path, culled)", |rec| {
             recorded = timer.scope(rec, "direct-compute-culled", |rec| {
-                self.record_culled(rec, prepared, target, &params, state)
+                self.record_culled(rec, prepared, target, pixels, &params, state, None)
             });
         });
         let ms = submitted
@@ -244,6 +235,6 @@ impl DirectCompute {
                 )));
             }
         }
-        Ok((target.pixels.read(gpu)?, ms, stats))
+        Ok((pixels.read(gpu)?, ms, stats))
     }
 }

@@ -1,24 +1,22 @@
-//! The attachments `param-tess` draws into and the packed image they end in.
+//! The attachments `param-tess` draws into (the image they end in is the caller's `Target`).
 
 use super::{COLOR_FORMAT, DEPTH_FORMAT};
 use crate::error::Result;
-use crate::target::Target;
 use tessera_data::View;
 use tessera_gpu::{vk, Gpu, Image};
 
-/// The attachments of one view's raster and the image they end in.
+/// The attachments of one view's raster.
 pub struct TessFrame {
     /// Single-sample colour: drawn into, or the MSAA resolve's target; read by the downsample.
     pub colour: Image,
     pub msaa_colour: Option<Image>,
     pub depth: Image,
-    pub pixels: Target,
     pub(super) raster: (u32, u32),
     pub(super) samples: u32,
 }
 
 impl TessFrame {
-    /// Attachments for `view`'s raster with `msaa` samples per pixel, and its image.
+    /// Attachments for `view`'s raster with `msaa` samples per pixel.
     pub fn new(gpu: &Gpu, view: &View, msaa: u32) -> Result<TessFrame> {
         let (w, h) = view.raster_size();
         let attachment = vk::ImageUsageFlags::COLOR_ATTACHMENT;
@@ -43,12 +41,10 @@ impl TessFrame {
         } else {
             None
         };
-        let pixels = Target::new(gpu, view.size.0, view.size.1)?;
         Ok(TessFrame {
             colour,
             msaa_colour,
             depth,
-            pixels,
             raster: (w, h),
             samples: msaa,
         })
