@@ -7,6 +7,8 @@ pub mod config;
 pub mod error;
 pub mod gpu_volume;
 pub mod iso;
+#[cfg(test)]
+mod layout_tests;
 pub mod param;
 pub mod path;
 pub mod raster;

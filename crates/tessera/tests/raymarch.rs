@@ -141,8 +141,17 @@ fn push_constant_layout_matches_shader() {
     let offsets = tessera_gpu::spirv::struct_offsets(&spirv.words, "RaymarchParams").unwrap();
     let host = [
         ("eye", std::mem::offset_of!(RaymarchParams, eye)),
+        ("isovalue", std::mem::offset_of!(RaymarchParams, isovalue)),
         ("forward", std::mem::offset_of!(RaymarchParams, forward)),
+        (
+            "tan_half_fov_x",
+            std::mem::offset_of!(RaymarchParams, tan_half_fov_x),
+        ),
         ("right", std::mem::offset_of!(RaymarchParams, right)),
+        (
+            "tan_half_fov_y",
+            std::mem::offset_of!(RaymarchParams, tan_half_fov_y),
+        ),
         ("up", std::mem::offset_of!(RaymarchParams, up)),
         ("light", std::mem::offset_of!(RaymarchParams, light)),
         (
@@ -150,6 +159,10 @@ fn push_constant_layout_matches_shader() {
             std::mem::offset_of!(RaymarchParams, grid_to_world),
         ),
         ("dims", std::mem::offset_of!(RaymarchParams, dims)),
+        (
+            "octree_levels",
+            std::mem::offset_of!(RaymarchParams, octree_levels),
+        ),
         ("image", std::mem::offset_of!(RaymarchParams, image)),
     ];
     assert_eq!(offsets.len(), host.len());

@@ -10,10 +10,10 @@ use tessera_gpu::{Binding, Buffer, Gpu, Pipeline, Recorder, ShaderCompiler, Slot
 /// Push constants of `raster_prepare.comp.glsl`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
-struct PrepareParams {
-    max_groups: [u32; 2],
-    group_size: u32,
-    _pad: u32,
+pub(crate) struct PrepareParams {
+    pub(crate) max_groups: [u32; 2],
+    pub(crate) group_size: u32,
+    pub(crate) _pad: u32,
 }
 
 pub struct IndirectArgs {

@@ -47,7 +47,7 @@
 //! [`ComputeRasterizer::record_raster`]; or all three with [`ComputeRasterizer::record`]. Each
 //! `record_*` ends with a barrier, so the next pass sees its writes.
 
-mod indirect;
+pub(crate) mod indirect;
 
 pub use indirect::IndirectArgs;
 
@@ -87,10 +87,10 @@ pub struct RasterCounts {
 /// Push constants of `raster.comp.glsl`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
-struct RasterParams {
-    size: [u32; 2],
-    capacity: u32,
-    index_base: u32,
+pub(crate) struct RasterParams {
+    pub(crate) size: [u32; 2],
+    pub(crate) capacity: u32,
+    pub(crate) index_base: u32,
 }
 
 /// Splits a frame value into (NDC depth, triangle index); `None` for an empty pixel.
@@ -160,6 +160,15 @@ pub struct ComputeRasterizer {
     raster: Pipeline,
 }
 
+/// The reference's constants, defined once in tessera_data.
+pub(crate) fn raster_defines() -> Vec<(String, String)> {
+    vec![
+        ("SUBPIXEL_BITS".into(), SUBPIXEL_BITS.to_string()),
+        ("MIN_W".into(), format!("{:?}", MIN_W as f32)),
+        ("GUARD_BAND".into(), format!("{:?}", GUARD_BAND as f32)),
+    ]
+}
+
 impl ComputeRasterizer {
     /// Builds the passes; the device must have 64-bit buffer atomics
     /// (`caps().buffer_int64_atomics`).
@@ -170,13 +179,7 @@ impl ComputeRasterizer {
                 gpu.caps().device_name
             )));
         }
-        // The reference's constants, defined once in tessera_data.
-        let defines = vec![
-            ("SUBPIXEL_BITS".into(), SUBPIXEL_BITS.to_string()),
-            ("MIN_W".into(), format!("{:?}", MIN_W as f32)),
-            ("GUARD_BAND".into(), format!("{:?}", GUARD_BAND as f32)),
-        ];
-        let raster = compiler.compile(&builtin_shader!("raster.comp.glsl"), &defines)?;
+        let raster = compiler.compile(&builtin_shader!("raster.comp.glsl"), &raster_defines())?;
         let raster = gpu.compute_pipeline("raster", &raster, &[Slot::StorageBuffer; 3])?;
         let prepare = IndirectArgs::new(gpu, compiler)?;
         Ok(ComputeRasterizer { prepare, raster })

@@ -113,7 +113,7 @@ impl DirectExtract {
     }
 
     /// Records the extraction of every occupied block's triangles into `lists`;
-    /// `params.dims[3]` must be the lists' capacity.
+    /// `params.triangle_capacity` must be the lists' capacity.
     pub fn record(
         &self,
         rec: &Recorder,
@@ -231,7 +231,7 @@ impl DirectCompute {
         PreparedVolume::new(gpu, &self.builder, volume)
     }
 
-    /// Records a frame shaded into `pixels` (of the frame's size); `params.dims[3]` must be
+    /// Records a frame shaded into `pixels` (of the frame's size); `params.triangle_capacity` must be
     /// `target.lists.capacity`.
     pub fn record(
         &self,

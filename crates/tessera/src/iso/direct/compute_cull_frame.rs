@@ -13,7 +13,7 @@ use tessera_gpu::{Binding, Buffer, Gpu, Pipeline, Recorder, Timer};
 
 impl DirectCompute {
     /// Records a culled frame into `target` and `pixels` with `state` (made for this target and
-    /// volume); `params.dims[3]` must be `target.lists.capacity`. With a `timer`, its stages
+    /// volume); `params.triangle_capacity` must be `target.lists.capacity`. With a `timer`, its stages
     /// are timed in four scopes: `cull-pass-a`, `cull-test`, `cull-pass-b`, `cull-resolve`.
     /// See the module's description.
     #[allow(clippy::too_many_arguments)]
@@ -67,7 +67,7 @@ impl DirectCompute {
         };
         let extract = |rec: &Recorder, lists: &TriangleLists, stats: &Buffer, blocks: &Buffer| {
             let mut p = *params;
-            p.dims[3] = lists.capacity;
+            p.triangle_capacity = lists.capacity;
             rec.dispatch_indirect(
                 &c.extract_list,
                 &[
@@ -129,7 +129,7 @@ impl DirectCompute {
                     levels.len() as u32,
                 ],
                 size: [w, h, 0, 0],
-                iso: [params.eye_world[3], 0.0, 0.0, 0.0],
+                iso: [params.isovalue, 0.0, 0.0, 0.0],
             };
             rec.dispatch_groups(
                 &c.test,

@@ -25,7 +25,7 @@ void main() {
         return;
     }
     visible[region] = 0u;
-    float iso = params.eye_world.w;
+    float iso = params.isovalue;
     if (block_holds(cull_region_block(region, 0u, dims), iso)
             || block_holds(cull_region_block(region, 1u, dims), iso)) {
         occupied[atomicAdd(occupied_count, 1u)] = region;

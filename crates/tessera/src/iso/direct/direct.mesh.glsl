@@ -33,7 +33,7 @@ void main() {
     uint list = payload.lists[gl_WorkGroupID.x];
     uint cell_count = list >> 16;
     uvec3 dims = params.dims.xyz;
-    float iso = params.eye_world.w;
+    float iso = params.isovalue;
 
     uint case_index = 0u;
     uvec3 cell = uvec3(0u);
@@ -84,12 +84,12 @@ void main() {
             tri[j] = v0 + bitCount(edges & ((1u << e) - 1u));
         }
         gl_PrimitiveTriangleIndicesEXT[t0 + k] = tri;
-        if (params.dims.w != 0u) {
-            // Debug capture of the grid-space triangle, for tests against the CPU reference;
-            // dims.w is the capture capacity in triangles. The count goes on past it, so an
+        if (params.triangle_capacity != 0u) {
+            // Debug capture of the grid-space triangle, for tests against the CPU reference.
+            // The count goes on past the capacity, so an
             // overflow is seen rather than silently truncated.
             uint slot = atomicAdd(captured, 1u);
-            if (slot >= params.dims.w) {
+            if (slot >= params.triangle_capacity) {
                 continue;
             }
             for (uint j = 0u; j < 3u; ++j) {

@@ -30,7 +30,7 @@ shared uint list_count;
 void main() {
     uint me = gl_LocalInvocationIndex;
     uvec3 dims = params.dims.xyz;
-    float iso = params.eye_world.w;
+    float iso = params.isovalue;
     uvec3 block_dims = (dims - 2u) / uvec3(BLOCK_X, BLOCK_Y, BLOCK_Z) + 1u;
 #if BLOCK_LIST
     uint listed = block_list[gl_WorkGroupID.x];

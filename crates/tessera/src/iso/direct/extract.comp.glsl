@@ -37,8 +37,8 @@ shared uint base;
 void main() {
     uint me = gl_LocalInvocationIndex;
     uvec3 dims = params.dims.xyz;
-    float iso = params.eye_world.w;
-    uint capacity = params.dims.w;
+    float iso = params.isovalue;
+    uint capacity = params.triangle_capacity;
     uvec3 block_dims = (dims - 2u) / uvec3(BLOCK_X, BLOCK_Y, BLOCK_Z) + 1u;
 #ifdef BLOCK_LIST
     uint listed = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;

@@ -47,10 +47,13 @@ pub(crate) const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct DirectParams {
     pub grid_to_clip: [[f32; 4]; 4],
-    pub eye_world: [f32; 4],
+    pub eye_world: [f32; 3],
+    pub isovalue: f32,
     pub grid_to_world: [f32; 4],
     pub light: [f32; 4],
-    pub dims: [u32; 4],
+    pub dims: [u32; 3],
+    /// Triangles the mesh path's debug capture (0: off) or the compute path's list holds.
+    pub triangle_capacity: u32,
 }
 
 /// What one frame did.
@@ -250,10 +253,12 @@ impl Direct {
         let e = view.eye;
         DirectParams {
             grid_to_clip: view.grid_to_clip(&frame).to_cols_array_2d(),
-            eye_world: [e.x, e.y, e.z, iso],
+            eye_world: e.to_array(),
+            isovalue: iso,
             grid_to_world: frame.grid_to_world.extend(0.0).to_array(),
             light: view.light.extend(0.0).to_array(),
-            dims: [dims[0], dims[1], dims[2], capture_capacity],
+            dims,
+            triangle_capacity: capture_capacity,
         }
     }
 
@@ -281,7 +286,7 @@ impl Direct {
     }
 
     /// Records one frame into `target`, with occlusion culling when `culling` is given.
-    /// `capture` must be bound whenever `params.dims[3]` (the capture capacity) is non-zero.
+    /// `capture` must be bound whenever `params.triangle_capacity` is non-zero.
     pub fn record(
         &self,
         rec: &Recorder,

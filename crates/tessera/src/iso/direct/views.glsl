@@ -10,5 +10,5 @@ mat4 view_grid_to_clip() { return views_grid_to_clip[gl_ViewIndex]; }
 vec3 view_eye_world() { return views_eye_world[gl_ViewIndex].xyz; }
 #else
 mat4 view_grid_to_clip() { return params.grid_to_clip; }
-vec3 view_eye_world() { return params.eye_world.xyz; }
+vec3 view_eye_world() { return params.eye_world; }
 #endif

@@ -91,6 +91,16 @@ pub struct MinMaxBuilder {
     scalar: ScalarType,
 }
 
+/// Defines of the block pass: the volume's, and which reduction it uses.
+pub(crate) fn block_defines(scalar: ScalarType, subgroups: bool) -> Vec<(String, String)> {
+    let mut defines = volume_defines(scalar);
+    defines.push((
+        "SUBGROUP_ARITHMETIC".into(),
+        u32::from(subgroups).to_string(),
+    ));
+    defines
+}
+
 impl MinMaxBuilder {
     pub fn new(gpu: &Gpu, compiler: &ShaderCompiler, scalar: ScalarType) -> Result<MinMaxBuilder> {
         Self::with_reduction(gpu, compiler, scalar, gpu.caps().subgroup_arithmetic)
@@ -105,11 +115,7 @@ impl MinMaxBuilder {
         subgroups: bool,
     ) -> Result<MinMaxBuilder> {
         let defines = volume_defines(scalar);
-        let mut block_defines = defines.clone();
-        block_defines.push((
-            "SUBGROUP_ARITHMETIC".into(),
-            u32::from(subgroups).to_string(),
-        ));
+        let block_defines = block_defines(scalar, subgroups);
         let blocks =
             compiler.compile(&builtin_shader!("minmax_blocks.comp.glsl"), &block_defines)?;
         let reduce = compiler.compile(&builtin_shader!("minmax_reduce.comp.glsl"), &defines)?;

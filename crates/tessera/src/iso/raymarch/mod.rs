@@ -21,13 +21,17 @@ use tessera_gpu::{Binding, Gpu, Pipeline, Recorder, ShaderCompiler, Slot, Timer}
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct RaymarchParams {
-    pub eye: [f32; 4],
-    pub forward: [f32; 4],
-    pub right: [f32; 4],
+    pub eye: [f32; 3],
+    pub isovalue: f32,
+    pub forward: [f32; 3],
+    pub tan_half_fov_x: f32,
+    pub right: [f32; 3],
+    pub tan_half_fov_y: f32,
     pub up: [f32; 4],
     pub light: [f32; 4],
     pub grid_to_world: [f32; 4],
-    pub dims: [u32; 4],
+    pub dims: [u32; 3],
+    pub octree_levels: u32,
     pub image: [u32; 4],
 }
 
@@ -85,18 +89,17 @@ impl Raymarch {
         let (width, height) = view.size;
         let v4 = |v: glam::Vec3, w: f32| [v.x, v.y, v.z, w];
         RaymarchParams {
-            eye: v4(cam.eye, iso),
-            forward: v4(cam.forward, cam.tan_half_fov_x),
-            right: v4(cam.right, cam.tan_half_fov_y),
+            eye: cam.eye.to_array(),
+            isovalue: iso,
+            forward: cam.forward.to_array(),
+            tan_half_fov_x: cam.tan_half_fov_x,
+            right: cam.right.to_array(),
+            tan_half_fov_y: cam.tan_half_fov_y,
             up: v4(cam.up, 0.0),
             light: v4(cam.light_world, 0.0),
             grid_to_world: v4(frame.grid_to_world, 0.0),
-            dims: [
-                dims[0],
-                dims[1],
-                dims[2],
-                prepared.octree.level_dims.len() as u32,
-            ],
+            dims,
+            octree_levels: prepared.octree.level_dims.len() as u32,
             image: [width, height, 0, 0],
         }
     }

@@ -13,13 +13,17 @@ layout(binding = 2) readonly buffer Levels { uvec4 levels[]; };  // xyz nodes pe
 layout(binding = 3) writeonly buffer Pixels { uint pixels[]; };
 
 layout(push_constant) uniform RaymarchParams {
-    vec4 eye;            // grid space; w = isovalue
-    vec4 forward;        // grid space; w = tan(fov_x / 2)
-    vec4 right;          // grid space; w = tan(fov_y / 2)
-    vec4 up;             // grid space; w unused
+    vec3 eye;            // grid space
+    float isovalue;
+    vec3 forward;        // grid space
+    float tan_half_fov_x;
+    vec3 right;          // grid space
+    float tan_half_fov_y;
+    vec4 up;             // grid space (xyz)
     vec4 light;          // world space, towards the light
     vec4 grid_to_world;  // xyz world units per grid unit
-    uvec4 dims;          // xyz samples per axis, w = octree levels
+    uvec3 dims;          // samples per axis
+    uint octree_levels;
     uvec4 image;         // x width, y height
 } params;
 
@@ -36,7 +40,7 @@ float empty_exit(vec3 p, vec3 origin, vec3 inv_dir, float iso) {
     uvec3 dims = params.dims.xyz;
     uvec3 cell = uvec3(clamp(ivec3(floor(p)), ivec3(0), ivec3(dims) - 2));
     int found = -1;
-    for (uint level = 0; level < params.dims.w; ++level) {
+    for (uint level = 0; level < params.octree_levels; ++level) {
         if (!node_empty(level, cell / (BLOCK << level), iso)) {
             break;
         }
@@ -75,11 +79,11 @@ void main() {
         return;
     }
     vec2 size = vec2(params.image.xy);
-    float sx = (2.0 * (float(pixel.x) + 0.5) / size.x - 1.0) * params.forward.w;
-    float sy = (1.0 - 2.0 * (float(pixel.y) + 0.5) / size.y) * params.right.w;
-    vec3 dir = normalize(params.forward.xyz + sx * params.right.xyz + sy * params.up.xyz);
-    vec3 origin = params.eye.xyz;
-    float iso = params.eye.w;
+    float sx = (2.0 * (float(pixel.x) + 0.5) / size.x - 1.0) * params.tan_half_fov_x;
+    float sy = (1.0 - 2.0 * (float(pixel.y) + 0.5) / size.y) * params.tan_half_fov_y;
+    vec3 dir = normalize(params.forward + sx * params.right + sy * params.up.xyz);
+    vec3 origin = params.eye;
+    float iso = params.isovalue;
     uvec3 dims = params.dims.xyz;
     vec3 inv_dir = 1.0 / dir;
 

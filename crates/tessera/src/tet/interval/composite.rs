@@ -21,6 +21,14 @@ pub struct Composite {
     pipeline: Pipeline,
 }
 
+/// The interval defines, and where the accumulation is read from (a buffer on the compute path).
+pub(crate) fn composite_defines(defines: &[(String, String)], path: Path) -> Vec<(String, String)> {
+    let mut defines = defines.to_vec();
+    let from_buffer = path == Path::Compute;
+    defines.push(("SOURCE_BUFFER".into(), u32::from(from_buffer).to_string()));
+    defines
+}
+
 impl Composite {
     pub fn new(
         gpu: &Gpu,
@@ -28,9 +36,8 @@ impl Composite {
         defines: &[(String, String)],
         path: Path,
     ) -> Result<Composite> {
-        let mut defines = defines.to_vec();
         let from_buffer = path == Path::Compute;
-        defines.push(("SOURCE_BUFFER".into(), u32::from(from_buffer).to_string()));
+        let defines = composite_defines(defines, path);
         let spirv = compiler.compile(&builtin_shader!("composite.comp.glsl"), &defines)?;
         let source = if from_buffer {
             Slot::StorageBuffer

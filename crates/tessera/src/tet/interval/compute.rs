@@ -46,6 +46,20 @@ pub struct IntervalCompute {
     max_groups_x: u32,
 }
 
+/// The interval defines, and the tile pass's sizes.
+pub(crate) fn compute_defines(
+    defines: &[(String, String)],
+    capacity: TileCapacity,
+) -> Vec<(String, String)> {
+    let mut defines = defines.to_vec();
+    defines.extend([
+        ("TILE".into(), TILE.to_string()),
+        ("TILED_CAPACITY".into(), format!("{}u", capacity.tets)),
+        ("TILE_CAPACITY".into(), format!("{}u", capacity.tiles)),
+    ]);
+    defines
+}
+
 impl IntervalCompute {
     pub fn new(
         gpu: &Gpu,
@@ -59,12 +73,7 @@ impl IntervalCompute {
                 gpu.caps().device_name
             )));
         }
-        let mut defines = defines.to_vec();
-        defines.extend([
-            ("TILE".into(), TILE.to_string()),
-            ("TILED_CAPACITY".into(), format!("{}u", capacity.tets)),
-            ("TILE_CAPACITY".into(), format!("{}u", capacity.tiles)),
-        ]);
+        let defines = compute_defines(defines, capacity);
         let slots = [Slot::StorageBuffer; super::COMMON_BINDINGS + 4];
         let raster = compiler.compile(&builtin_shader!("interval_raster.comp.glsl"), &defines)?;
         let tiles = compiler.compile(&builtin_shader!("interval_tiles.comp.glsl"), &defines)?;

@@ -233,7 +233,7 @@ impl Interval {
         })
     }
 
-    fn defines(options: &IntervalOptions) -> Vec<(String, String)> {
+    pub(crate) fn defines(options: &IntervalOptions) -> Vec<(String, String)> {
         let mut defines = crate::config::common_defines();
         defines.extend([
             ("INTEGRAND_TET_ABSORPTION".into(), "0".into()),
