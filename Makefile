@@ -10,8 +10,13 @@ deps:
 	@./scripts/fetch-bunny.sh
 	@./scripts/fetch-dwi.sh
 
+# Tests a device cannot run are reported as skipped by name; the list is printed at the end.
+SKIP_LOG := $(CURDIR)/target/skipped-tests.txt
+
 test: deps
-	$(CARGO) test --workspace
+	@mkdir -p target && rm -f $(SKIP_LOG)
+	TESSERA_SKIP_LOG=$(SKIP_LOG) $(CARGO) test --workspace
+	@./scripts/report-skips.sh $(SKIP_LOG)
 
 demo: deps
 	$(CARGO) run --release -p tessera-cli -- demo --out out

@@ -72,19 +72,20 @@ pub fn run(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
     let mut renderer = built.with_context(|| format!("preparing {}", args.data))?;
     let prepare_s = started.elapsed().as_secs_f64();
     let view = renderer.view(&args.camera, args.size)?;
-    let views = match args.stereo {
-        None => vec![view],
-        Some(separation) => view.stereo_pair(separation).to_vec(),
-    };
     let mut frame = Frame::new(&gpu, args.size)?;
-    let (mut images, mut gpu_ms) = (Vec::new(), 0.0);
-    for view in &views {
-        gpu_ms += frame.render(&gpu, renderer.as_mut(), view)?.total_ms();
-        images.push(frame.target.read(&gpu)?);
-    }
-    let image = match &images[..] {
-        [left, right] => side_by_side(left, right),
-        _ => images.swap_remove(0),
+    let (image, gpu_ms) = match args.stereo {
+        None => {
+            let ms = frame.render(&gpu, renderer.as_mut(), &view)?.total_ms();
+            (frame.target.read(&gpu)?, ms)
+        }
+        Some(separation) => {
+            let eyes = view.stereo_pair(separation);
+            let mut right = Frame::new(&gpu, args.size)?;
+            let times =
+                renderer::render_stereo(&gpu, renderer.as_mut(), &eyes, &mut frame, &mut right)?;
+            let image = side_by_side(&frame.target.read(&gpu)?, &right.target.read(&gpu)?);
+            (image, times.total_ms())
+        }
     };
     crate::output::write_png(&args.output, &image)?;
     let stats = renderer.stats();

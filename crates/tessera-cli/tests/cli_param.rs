@@ -151,10 +151,8 @@ fn renders_diffusion_glyphs_from_a_coefficient_volume() {
         .unwrap();
     let file = base.join("dwi/small_64D_csa8.nii.gz");
     if !file.exists() {
-        eprintln!(
-            "skipped: {} not found (scripts/fetch-dwi.sh)",
-            file.display()
-        );
+        let reason = format!("{} not found (scripts/fetch-dwi.sh)", file.display());
+        tessera_test::skip("", &reason);
         return;
     }
     let dir = scratch("dwi");

@@ -5,14 +5,14 @@ use tessera_gpu::{
 };
 
 /// The default device with validation, or `None` (after saying so) where none opens.
-fn open(test: &str) -> Option<Gpu> {
+fn open() -> Option<Gpu> {
     match Gpu::new(&GpuOptions {
         device_index: None,
         validation: true,
     }) {
         Ok(gpu) => Some(gpu),
         Err(e) => {
-            eprintln!("skipped: {test}: no Vulkan device ({e})");
+            tessera_test::skip("", &format!("no Vulkan device ({e})"));
             None
         }
     }
@@ -37,7 +37,7 @@ void main() {
 /// device is destroyed) sees nothing wrong.
 #[test]
 fn objects_outlive_the_gpu_handle() {
-    let Some(gpu) = open("objects_outlive_the_gpu_handle") else {
+    let Some(gpu) = open() else {
         return;
     };
     let log = gpu.validation_log();
@@ -102,7 +102,7 @@ fn objects_outlive_the_gpu_handle() {
 /// than lavapipe's heap on small machines, and shows in the allocator's bookkeeping anyway.
 #[test]
 fn dropped_buffers_give_their_memory_back() {
-    let Some(gpu) = open("dropped_buffers_give_their_memory_back") else {
+    let Some(gpu) = open() else {
         return;
     };
     const SIZE: u64 = 64 << 20;

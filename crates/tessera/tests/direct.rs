@@ -5,7 +5,9 @@ mod common;
 
 use tessera::iso::direct::FrameOptions;
 
-use common::{assert_clean, assert_matches_cpu_raster, assert_same_triangles, checkerboard, gpu};
+use common::{
+    assert_clean, assert_matches_cpu_raster, assert_same_triangles, checkerboard, Need, TestGpu,
+};
 use tessera::iso::direct::compute::{ComputeTarget, DirectCompute};
 use tessera::iso::direct::cull::CullState;
 use tessera::iso::direct::{Direct, RasterTarget};
@@ -13,18 +15,9 @@ use tessera::shaders;
 use tessera_data::marching_cubes::marching_cubes;
 use tessera_data::procedural::{generate, ProceduralKind};
 use tessera_data::{IsoValue, OrbitCamera, ScalarType, Volume};
-use tessera_gpu::Gpu;
 
-fn mesh_gpu() -> Option<Gpu> {
-    let gpu = gpu();
-    if !gpu.caps().mesh_shader || !gpu.caps().task_shader {
-        eprintln!(
-            "skipped: {} has no task/mesh shaders",
-            gpu.caps().device_name
-        );
-        return None;
-    }
-    Some(gpu)
+fn mesh_gpu() -> Option<TestGpu> {
+    TestGpu::with(&[Need::MeshShaders])
 }
 
 #[test]
@@ -291,14 +284,9 @@ fn isovalue_outside_range_draws_nothing() {
 
 #[test]
 fn multiview_layers_equal_single_eye_renders() {
-    let Some(gpu) = mesh_gpu() else { return };
-    if !gpu.caps().mesh_multiview {
-        eprintln!(
-            "skipped: {} has no multiview mesh shaders",
-            gpu.caps().device_name
-        );
+    let Some(gpu) = TestGpu::with(&[Need::MeshShaders, Need::MultiviewMeshShaders]) else {
         return;
-    }
+    };
     let compiler = shaders::compiler();
     let volume = generate(ProceduralKind::MarschnerLobb, 33, ScalarType::U8).unwrap();
     let iso = volume.iso_to_texel(IsoValue::Normalized(0.5));

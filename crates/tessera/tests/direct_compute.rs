@@ -3,7 +3,10 @@
 
 mod common;
 
-use common::{assert_clean, assert_matches_cpu_raster, assert_same_triangles, checkerboard, gpu};
+use common::{
+    assert_clean, assert_matches_cpu_raster, assert_same_triangles, checkerboard, gpu, Need,
+    TestGpu,
+};
 use glam::Vec3;
 use tessera::iso::direct::compute::{ComputeTarget, DirectCompute, DirectExtract, TriangleLists};
 use tessera::iso::direct::Direct;
@@ -101,14 +104,9 @@ fn compute_extraction_equals_cpu_marching_cubes() {
 
 #[test]
 fn compute_path_images_match_cpu_rasterized_marching_cubes() {
-    let gpu = gpu();
-    if !gpu.caps().buffer_int64_atomics {
-        eprintln!(
-            "skipped: {} has no 64-bit buffer atomics",
-            gpu.caps().device_name
-        );
+    let Some(gpu) = TestGpu::with(&[Need::BufferInt64Atomics]) else {
         return;
-    }
+    };
     let compiler = shaders::compiler();
     let (w, h) = (120, 96);
     let camera = OrbitCamera {
@@ -147,14 +145,9 @@ fn compute_path_images_match_cpu_rasterized_marching_cubes() {
 
 #[test]
 fn compute_stereo_second_view_equals_a_mono_render_from_that_eye() {
-    let gpu = gpu();
-    if !gpu.caps().buffer_int64_atomics {
-        eprintln!(
-            "skipped: {} has no 64-bit buffer atomics",
-            gpu.caps().device_name
-        );
+    let Some(gpu) = TestGpu::with(&[Need::BufferInt64Atomics]) else {
         return;
-    }
+    };
     let compiler = shaders::compiler();
     let volume = generate(ProceduralKind::MarschnerLobb, 33, ScalarType::U8).unwrap();
     let iso = volume.iso_to_texel(IsoValue::Normalized(0.5));

@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{assert_clean, assert_matches_cpu_raster, gpu};
+use common::{assert_clean, assert_matches_cpu_raster, Need, TestGpu};
 use tessera::iso::direct::compute::{ComputeTarget, DirectCompute};
 use tessera::iso::direct::compute_cull::{
     hzb_levels, ComputeCullState, ComputeCullStats, HzbTestParams,
@@ -15,16 +15,8 @@ use tessera_data::procedural::{generate, ProceduralKind};
 use tessera_data::{IsoValue, OrbitCamera, ScalarType, Volume};
 use tessera_gpu::Gpu;
 
-fn atomics_gpu() -> Option<Gpu> {
-    let gpu = gpu();
-    if !gpu.caps().buffer_int64_atomics {
-        eprintln!(
-            "skipped: {} has no 64-bit buffer atomics",
-            gpu.caps().device_name
-        );
-        return None;
-    }
-    Some(gpu)
+fn atomics_gpu() -> Option<TestGpu> {
+    TestGpu::with(&[Need::BufferInt64Atomics])
 }
 
 /// One camera and isovalue path, culled frame by frame against unculled renders of the same

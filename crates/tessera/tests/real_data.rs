@@ -5,7 +5,7 @@ mod common;
 
 use tessera::iso::direct::FrameOptions;
 
-use common::{assert_clean, assert_images_match, gpu};
+use common::{assert_clean, assert_images_match, gpu, skip, Need, TestGpu};
 use std::path::Path;
 use tessera::iso::raymarch::Raymarch;
 use tessera::shaders;
@@ -20,7 +20,10 @@ const T1_TEMPLATE: &str = "/usr/share/mricron/templates/ch2.nii.gz";
 fn brainsmall() -> Option<Volume> {
     let path = Path::new(BRAINSMALL);
     if !path.exists() {
-        eprintln!("skipped: {BRAINSMALL} not found (Debian package libvolpack1-dev)");
+        skip(
+            "",
+            &format!("{BRAINSMALL} not found (Debian package libvolpack1-dev)"),
+        );
         return None;
     }
     let opts = RawOptions {
@@ -79,7 +82,10 @@ fn raymarch_mri_head_matches_cpu_reference() {
 fn raymarch_t1_brain_template_matches_cpu_reference() {
     let path = Path::new(T1_TEMPLATE);
     if !path.exists() {
-        eprintln!("skipped: {T1_TEMPLATE} not found (Debian package mricron-data)");
+        skip(
+            "",
+            &format!("{T1_TEMPLATE} not found (Debian package mricron-data)"),
+        );
         return;
     }
     let volume = tessera_data::load::load_volume(path, &RawOptions::default()).expect("ch2 loads");
@@ -102,11 +108,9 @@ fn raymarch_t1_brain_template_matches_cpu_reference() {
 #[test]
 fn direct_mri_head_triangles_equal_cpu_marching_cubes() {
     let Some(volume) = brainsmall() else { return };
-    let gpu = gpu();
-    if !gpu.caps().mesh_shader {
-        eprintln!("skipped: no mesh shaders on {}", gpu.caps().device_name);
+    let Some(gpu) = TestGpu::with(&[Need::MeshShaders]) else {
         return;
-    }
+    };
     let compiler = shaders::compiler();
     let direct = tessera::iso::direct::Direct::new(&gpu, &compiler, volume.scalar_type()).unwrap();
     let prepared = direct.prepare(&gpu, &volume).unwrap();

@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{assert_clean, gpu};
+use common::{assert_clean, gpu, skip};
 use std::path::PathBuf;
 use tessera::path::Path;
 use tessera::shaders;
@@ -30,9 +30,9 @@ fn bunny_dir() -> PathBuf {
 fn bunny() -> Option<TetMesh> {
     let node = bunny_dir().join("bunny.1.node");
     if !node.exists() {
-        eprintln!(
-            "skipped: {} not found (scripts/fetch-bunny.sh)",
-            node.display()
+        skip(
+            "",
+            &format!("{} not found (scripts/fetch-bunny.sh)", node.display()),
         );
         return None;
     }

@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{assert_clean, gpu};
+use common::{assert_clean, gpu, skip, Need, TestGpu};
 use tessera::path::PathChoice;
 use tessera::renderer::{self, Frame, Renderer, RendererOptions, Technique};
 use tessera_data::scene::{Appearance, Dataset, LoadOptions};
@@ -78,7 +78,7 @@ fn a_still_camera_draws_last_frame_s_visible_blocks_first() {
             ..RendererOptions::default()
         };
         let Ok(mut culled) = renderer::create(&gpu, Technique::Direct, &options) else {
-            eprintln!("skipped: a_still_camera_draws_last_frame_s_visible_blocks_first ({path:?} path): the device lacks its features");
+            skip(&format!("{path:?} path"), "the device lacks its features");
             continue;
         };
         culled.set_data(&gpu, &data).unwrap();
@@ -208,4 +208,69 @@ fn data_of_another_kind_is_refused_by_name() {
         "{error}"
     );
     assert_clean(&gpu);
+}
+
+#[test]
+fn compute_stereo_through_the_trait_equals_two_mono_frames() {
+    let Some(gpu) = TestGpu::with(&[Need::BufferInt64Atomics]) else {
+        return;
+    };
+    let data = load("procedural:marschner-lobb:33:uint8");
+    let options = RendererOptions {
+        path: PathChoice::Compute,
+        ..RendererOptions::default()
+    };
+    let mut stereo = with_data(&gpu, Technique::Direct, options, &data);
+    let eyes = stereo.view(&camera(), SIZE).unwrap().stereo_pair(0.3);
+    assert!(
+        stereo.prepare_stereo(&gpu, &eyes).unwrap(),
+        "the compute path re-projects"
+    );
+    let (mut left, mut right) = (
+        Frame::new(&gpu, SIZE).unwrap(),
+        Frame::new(&gpu, SIZE).unwrap(),
+    );
+    for frame in [&left, &right] {
+        frame.target.poison(&gpu, u32::MAX).unwrap();
+    }
+    let times =
+        renderer::render_stereo(&gpu, stereo.as_mut(), &eyes, &mut left, &mut right).unwrap();
+    assert_eq!(
+        times.scopes.len(),
+        1,
+        "one pass for both eyes: {:?}",
+        times.scopes
+    );
+    let pair = [
+        left.target.read(&gpu).unwrap(),
+        right.target.read(&gpu).unwrap(),
+    ];
+    let no_culling = RendererOptions {
+        culling: false,
+        ..options
+    };
+    let mut mono = with_data(&gpu, Technique::Direct, no_culling, &data);
+    let mut frame = Frame::new(&gpu, SIZE).unwrap();
+    for (eye, image) in eyes.iter().zip(&pair) {
+        assert!(!image.pixels.contains(&u32::MAX), "unwritten pixels");
+        frame.render(&gpu, mono.as_mut(), eye).unwrap();
+        let expected = frame.target.read(&gpu).unwrap();
+        let diff = image.compare(&expected, 2);
+        assert!(
+            diff.fraction_within >= 0.999,
+            "{} pixels differ",
+            diff.pixels_outside
+        );
+    }
+    assert_eq!(
+        pair[0].pixels,
+        frame_pixels_of(&gpu, mono.as_mut(), &eyes[0])
+    );
+}
+
+/// The image of one mono frame of `view`.
+fn frame_pixels_of(gpu: &Gpu, renderer: &mut dyn Renderer, view: &tessera_data::View) -> Vec<u32> {
+    let mut frame = Frame::new(gpu, view.size).unwrap();
+    frame.render(gpu, renderer, view).unwrap();
+    frame.target.read(gpu).unwrap().pixels
 }

@@ -51,6 +51,10 @@ pub(super) struct IsoRenderer {
     mesh_culling: Option<CullState>,
     no_capture: Option<Buffer>,
     frame: FrameBuffers,
+    /// Compute path: the second eye's lists and raster of a stereo pair.
+    second_eye: Option<Box<ComputeTarget>>,
+    /// Whether the last recording was a stereo pair (drawn without culling).
+    stereo: bool,
     /// Compute path: triangles a frame's list holds (grown on overflow).
     capacity: u32,
     stats: FrameStats,
@@ -82,6 +86,8 @@ impl IsoRenderer {
             mesh_culling: None,
             no_capture: None,
             frame: FrameBuffers::None,
+            second_eye: None,
+            stereo: false,
             // A modest list first; an overflow reports the exact count for the retry.
             capacity: 0,
             stats: FrameStats::default(),
@@ -214,6 +220,7 @@ impl Renderer for IsoRenderer {
         target: &Target,
         timer: &mut Timer,
     ) -> Result<()> {
+        self.stereo = false;
         let (pipelines, prepared) = loaded(self.technique, &self.pipelines, &self.prepared)?;
         match (pipelines, &self.frame) {
             (Pipelines::Raymarch(r), _) => {
@@ -269,6 +276,58 @@ impl Renderer for IsoRenderer {
         }
     }
 
+    /// The compute path extracts once and re-projects the world-space triangles for the
+    /// second eye; the pair is drawn without occlusion culling (its state follows one eye).
+    fn prepare_stereo(&mut self, gpu: &Gpu, eyes: &[View; 2]) -> Result<bool> {
+        if !matches!(self.pipelines, Some((_, Pipelines::Compute(_)))) {
+            return Ok(false);
+        }
+        self.prepare_frame(gpu, &eyes[0])?;
+        let (w, h) = eyes[1].size;
+        let fits = self.second_eye.as_ref().is_some_and(|t| {
+            (t.frame.width, t.frame.height) == (w, h) && t.lists.capacity == self.capacity
+        });
+        if !fits {
+            self.second_eye = None;
+            self.second_eye = Some(Box::new(ComputeTarget::new(gpu, w, h, self.capacity)?));
+        }
+        Ok(true)
+    }
+
+    fn record_stereo(
+        &mut self,
+        rec: &Recorder,
+        eyes: &[View; 2],
+        targets: [&Target; 2],
+        timer: &mut Timer,
+    ) -> Result<()> {
+        self.stereo = true;
+        let (pipelines, prepared) = loaded(self.technique, &self.pipelines, &self.prepared)?;
+        let (Pipelines::Compute(d), FrameBuffers::Compute { target: first, .. }, Some(second)) =
+            (pipelines, &self.frame, &self.second_eye)
+        else {
+            return Err(Error::Invalid(format!(
+                "{}: record_stereo before prepare_stereo",
+                self.technique.name()
+            )));
+        };
+        let capacity = first.lists.capacity;
+        let params = eyes.map(|eye| Direct::params_for_view(prepared, self.iso, &eye, capacity));
+        timer.scope(rec, "direct-compute-stereo", |rec| {
+            d.record(rec, prepared, first, targets[0], &params[0]);
+            rec.barrier();
+            d.record_second_view(
+                rec,
+                first,
+                second,
+                targets[1],
+                &params[1],
+                eyes[1].world_to_clip,
+            );
+        });
+        Ok(())
+    }
+
     fn finish_frame(&mut self, gpu: &Gpu) -> Result<FrameOutcome> {
         let Some((_, pipelines)) = &self.pipelines else {
             return Err(no_data(self.technique));
@@ -289,7 +348,7 @@ impl Renderer for IsoRenderer {
             (Pipelines::Compute(d), FrameBuffers::Compute { target, culling }) => {
                 let capacity = target.lists.capacity;
                 // Each of a culled frame's two lists holds `capacity` triangles.
-                let made = match culling {
+                let made = match culling.as_ref().filter(|_| !self.stereo) {
                     Some(state) => {
                         let s = state.read_stats(gpu)?;
                         self.stats.blocks_drawn = Some((

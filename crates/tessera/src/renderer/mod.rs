@@ -217,7 +217,26 @@ pub trait Renderer {
         target: &Target,
         timer: &mut Timer,
     ) -> Result<()>;
-    /// Reads the counters of the frame just submitted.
+    /// Makes the buffers a stereo pair of `eyes` needs where the technique draws both eyes
+    /// more cheaply than two frames (re-projecting one extraction, paper D's stereo); `false`
+    /// when it has no such way, and the caller renders the eyes as two frames.
+    fn prepare_stereo(&mut self, _gpu: &Gpu, _eyes: &[View; 2]) -> Result<bool> {
+        Ok(false)
+    }
+    /// Records both eyes into `targets` after [`Renderer::prepare_stereo`] said `true`.
+    fn record_stereo(
+        &mut self,
+        _rec: &Recorder,
+        _eyes: &[View; 2],
+        _targets: [&Target; 2],
+        _timer: &mut Timer,
+    ) -> Result<()> {
+        Err(Error::Invalid(format!(
+            "{}: no stereo path (render the eyes as two frames)",
+            self.technique().name()
+        )))
+    }
+    /// Reads the counters of the frame (or stereo pair) just submitted.
     fn finish_frame(&mut self, gpu: &Gpu) -> Result<FrameOutcome>;
     fn stats(&self) -> FrameStats;
     fn counters(&self) -> WorkCounters;
@@ -312,6 +331,50 @@ impl Frame {
             renderer.technique().name()
         )))
     }
+}
+
+/// Renders the two eyes of a stereo pair into `left` and `right`: in one pass where the
+/// renderer has a stereo path, else as two frames. Returns the GPU times of all passes.
+pub fn render_stereo(
+    gpu: &Gpu,
+    renderer: &mut dyn Renderer,
+    eyes: &[View; 2],
+    left: &mut Frame,
+    right: &mut Frame,
+) -> Result<FrameTimes> {
+    for (eye, frame) in eyes.iter().zip([&*left, &*right]) {
+        if eye.size != (frame.target.width, frame.target.height) {
+            return Err(Error::Invalid(format!(
+                "a {}x{} eye for a {}x{} target",
+                eye.size.0, eye.size.1, frame.target.width, frame.target.height
+            )));
+        }
+    }
+    for _ in 0..=MAX_RETRIES {
+        if !renderer.prepare_stereo(gpu, eyes)? {
+            let mut times = left.render(gpu, renderer, &eyes[0])?;
+            times
+                .scopes
+                .extend(right.render(gpu, renderer, &eyes[1])?.scopes);
+            return Ok(times);
+        }
+        left.timer.reset(gpu);
+        let mut recorded = Ok(());
+        let (timer, targets) = (&mut left.timer, [&left.target, &right.target]);
+        gpu.submit(renderer.technique().name(), |rec| {
+            recorded = renderer.record_stereo(rec, eyes, targets, timer);
+        })?;
+        recorded?;
+        if renderer.finish_frame(gpu)? == FrameOutcome::Done {
+            return Ok(FrameTimes {
+                scopes: left.timer.read_ms(gpu)?,
+            });
+        }
+    }
+    Err(Error::Invalid(format!(
+        "{}: the stereo pair still overflowed after {MAX_RETRIES} larger tries",
+        renderer.technique().name()
+    )))
 }
 
 /// One image with its GPU time and counters.

@@ -11,17 +11,19 @@ use std::collections::HashMap;
 use std::path::PathBuf;
 use tessera_data::RgbaImage;
 use tessera_data::{Samples, Volume};
-use tessera_gpu::{Gpu, GpuOptions};
+use tessera_gpu::Gpu;
 
-/// Opens the default device with validation. Tests must end with [`assert_clean`].
-pub fn gpu() -> Gpu {
-    Gpu::new(&GpuOptions {
-        device_index: None,
-        validation: true,
-    })
-    .unwrap_or_else(|e| panic!("cannot open a Vulkan device for tests: {e}"))
+// Not every test binary uses every piece.
+#[allow(unused_imports)]
+pub use tessera_test::{skip, Need, TestGpu};
+
+/// Opens the default device with validation; its validation errors fail the test when it is
+/// dropped, after the test's GPU objects.
+pub fn gpu() -> TestGpu {
+    TestGpu::new()
 }
 
+/// Fails on the validation errors seen so far (the device checks again when dropped).
 pub fn assert_clean(gpu: &Gpu) {
     let errors = gpu.validation_errors();
     assert!(
