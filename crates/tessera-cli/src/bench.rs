@@ -4,25 +4,9 @@ use anyhow::{bail, Context, Result};
 use clap::Args;
 use std::io::Write;
 use std::path::PathBuf;
-use tessera::bench::{time_frames, BenchRecord, FramePlan};
-use tessera::iso::raymarch::Raymarch;
-use tessera::target::Target;
-use tessera_data::minmax::MinMaxOctree;
-use tessera_data::scene::DataKind;
-use tessera_data::{IsoValue, OrbitCamera, ScalarType, Volume};
-use tessera_gpu::{vk, Gpu, GpuOptions, MemoryLocation};
-
-const SCENARIOS: &[&str] = &[
-    "pipeline-throughput",
-    "raymarch",
-    "minmax-build",
-    "isosurface",
-    "iso-sweep",
-    "time-varying",
-    "stereo",
-    "interval",
-    "param",
-];
+use tessera::bench::{BenchConfig, BenchRecord, FramePlan, RecordSink, SCENARIOS};
+use tessera::path::{Path, PathChoice};
+use tessera_gpu::GpuOptions;
 
 #[derive(Args)]
 pub struct BenchArgs {
@@ -53,19 +37,32 @@ pub struct BenchArgs {
     #[command(flatten)]
     volume: crate::data::VolumeArgs,
     /// Paths to measure for `interval` (default: every path the device has).
-    #[arg(long, value_delimiter = ',', value_parser = ["graphics", "compute"])]
-    pub(crate) paths: Vec<String>,
+    #[arg(long, value_delimiter = ',', value_parser = parse_path)]
+    pub(crate) paths: Vec<Path>,
     /// Image sizes to measure, in this order (default 1280x720,1920x1080,3840x2160).
     #[arg(long, value_delimiter = ',', value_parser = crate::data::parse_size)]
     pub(crate) sizes: Vec<(u32, u32)>,
 }
 
-pub(crate) struct Sink {
+fn parse_path(text: &str) -> std::result::Result<Path, String> {
+    match PathChoice::parse(text) {
+        Ok(PathChoice::Graphics) => Ok(Path::Graphics),
+        Ok(PathChoice::Compute) => Ok(Path::Compute),
+        _ => Err(format!("'{text}': choose graphics or compute")),
+    }
+}
+
+/// Prints each record as table rows and appends it to the JSON-lines file.
+struct Sink {
     file: Option<std::fs::File>,
 }
 
-impl Sink {
-    pub(crate) fn emit(&mut self, r: &BenchRecord) -> Result<()> {
+impl RecordSink for Sink {
+    fn note(&mut self, text: &str) {
+        println!("note: {text}");
+    }
+
+    fn emit(&mut self, r: &BenchRecord) -> tessera::Result<()> {
         for s in &r.stages {
             println!(
                 "{:<20} {:<10} {:<9} {:<32} {:>5}x{:<5} {:<14} {:>10.3} {:>10.3} {:>10.3}",
@@ -93,7 +90,10 @@ impl Sink {
             println!("{:<20} {}", "", counts.join("  "));
         }
         if let Some(f) = &mut self.file {
-            writeln!(f, "{}", serde_json::to_string(r)?)?;
+            let line = serde_json::to_string(r)
+                .map_err(|e| tessera::Error::Invalid(format!("a record as JSON: {e}")))?;
+            writeln!(f, "{line}")
+                .map_err(|e| tessera::Error::Invalid(format!("writing a record: {e}")))?;
         }
         Ok(())
     }
@@ -137,184 +137,20 @@ pub fn run(options: &GpuOptions, args: &BenchArgs) -> Result<()> {
         "min ms",
         "max ms"
     );
-    let plan = FramePlan {
-        warmup: args.warmup,
-        frames: args.frames.max(1),
+    let config = BenchConfig {
+        plan: FramePlan {
+            warmup: args.warmup,
+            frames: args.frames.max(1),
+        },
+        quick: args.quick,
+        iso_fraction: args.iso_fraction,
+        data: args.data.clone(),
+        raw: args.volume.raw_options(),
+        paths: args.paths.clone(),
+        sizes: args.sizes.clone(),
     };
     for scenario in scenarios {
-        match scenario {
-            "pipeline-throughput" => throughput(&gpu, args, plan, &mut sink)?,
-            "raymarch" => raymarch(&gpu, args, plan, &mut sink)?,
-            "minmax-build" => minmax_build(&gpu, args, plan, &mut sink)?,
-            "isosurface" => crate::bench_iso::isosurface(&gpu, args, plan, &mut sink)?,
-            "iso-sweep" => crate::bench_iso::iso_sweep(&gpu, args, plan, &mut sink)?,
-            "time-varying" => crate::bench_iso::time_varying(&gpu, args, plan, &mut sink)?,
-            "stereo" => crate::bench_stereo::stereo(&gpu, args, plan, &mut sink)?,
-            "interval" => crate::bench_tet::interval(&gpu, args, plan, &mut sink)?,
-            "param" => crate::bench_param::param(&gpu, args, plan, &mut sink)?,
-            _ => unreachable!("scenario list checked above"),
-        }
+        tessera::bench::run(&gpu, scenario, &config, &mut sink)?;
     }
     crate::check_validation(&gpu)
-}
-
-fn throughput(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -> Result<()> {
-    let compiler = tessera::shaders::compiler();
-    let mut opts = tessera::throughput::ThroughputOptions {
-        plan,
-        ..Default::default()
-    };
-    if args.quick {
-        opts.width = 256;
-        opts.height = 144;
-        opts.triangles = 20_000;
-        opts.iterations = 16;
-    }
-    for note in tessera::throughput::notes(gpu) {
-        println!("note: {note}");
-    }
-    let records = tessera::throughput::run(gpu, &compiler, &opts)?;
-    for r in &records {
-        sink.emit(r)?;
-    }
-    for (what, ratio) in tessera::throughput::summarize(&records) {
-        println!(
-            "{:<20} {what}: graphics path {ratio:.2}x the compute time",
-            ""
-        );
-    }
-    Ok(())
-}
-
-/// The volumes of the isosurface scenarios: `--data`, or head-like phantoms of DESIGN §6's sizes.
-pub(crate) fn bench_volumes(args: &BenchArgs) -> Vec<String> {
-    if let Some(data) = args
-        .data
-        .as_ref()
-        .filter(|d| DataKind::of_spec(d) == DataKind::Volume)
-    {
-        return vec![data.clone()];
-    }
-    let sizes: &[(u32, ScalarType)] = if args.quick {
-        &[(64, ScalarType::U8), (96, ScalarType::U16)]
-    } else {
-        &[
-            (256, ScalarType::U8),
-            (512, ScalarType::U8),
-            (1024, ScalarType::U16),
-        ]
-    };
-    sizes
-        .iter()
-        .map(|(size, scalar)| format!("procedural:head:{size}:{}", scalar.name()))
-        .collect()
-}
-
-pub(crate) fn bench_sizes(args: &BenchArgs) -> Vec<(u32, u32)> {
-    if !args.sizes.is_empty() {
-        return args.sizes.clone();
-    }
-    if args.quick {
-        vec![(256, 144)]
-    } else {
-        vec![(1280, 720), (1920, 1080), (3840, 2160)]
-    }
-}
-
-/// Renders for a while right after a volume arrives on the GPU. Measured on the H200: with
-/// only the per-measurement warm-up, the first size timed after uploading a 2 GiB volume came
-/// out 2–4× slower than the same size timed later (docs/BENCHMARKS.md, run 16).
-pub(crate) fn settle(
-    gpu: &Gpu,
-    raymarch: &Raymarch,
-    prepared: &tessera::iso::PreparedVolume,
-    iso: f32,
-) -> Result<()> {
-    const SETTLE_FRAMES: u32 = 100;
-    let target = Target::new(gpu, 1280, 720)?;
-    let params = Raymarch::params(prepared, iso, &OrbitCamera::default(), 1280, 720);
-    let result = gpu.submit("settle", |rec| {
-        for _ in 0..SETTLE_FRAMES {
-            raymarch.record(rec, prepared, &target, &params);
-        }
-    });
-    Ok(result?)
-}
-
-pub(crate) fn make_volume(gpu: &Gpu, spec: &str, args: &BenchArgs) -> Result<Volume> {
-    crate::data::check_fits(gpu, spec, &args.volume)?;
-    crate::data::load(spec, &args.volume)
-}
-
-fn raymarch(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -> Result<()> {
-    let compiler = tessera::shaders::compiler();
-    let camera = OrbitCamera::default();
-    for spec in bench_volumes(args) {
-        let volume = make_volume(gpu, &spec, args)?;
-        let scalar = volume.scalar_type();
-        let iso = volume.iso_to_texel(IsoValue::Normalized(args.iso_fraction));
-        let occupied = MinMaxOctree::build(&volume).occupied_fraction(iso);
-        let rm = Raymarch::new(gpu, &compiler, scalar)?;
-        let prepared = rm.prepare(gpu, &volume)?;
-        settle(gpu, &rm, &prepared, iso)?;
-        for (w, h) in bench_sizes(args) {
-            let target = Target::new(gpu, w, h)?;
-            let params = Raymarch::params(&prepared, iso, &camera, w, h);
-            let stages = time_frames(gpu, plan, 1, |rec, timer| {
-                timer.scope(rec, "raymarch", |rec| {
-                    rm.record(rec, &prepared, &target, &params)
-                });
-            })?;
-            let mut r = BenchRecord::new(gpu, "raymarch", "raymarch", "compute", volume.name());
-            (r.width, r.height, r.warmup, r.frames, r.stages) =
-                (w, h, plan.warmup, plan.frames, stages);
-            r.counts.insert("iso".into(), iso as f64);
-            r.counts.insert("occupied_block_fraction".into(), occupied);
-            if let Some(ms) = r.median_ms("raymarch") {
-                r.counts
-                    .insert("mrays_per_s".into(), (w * h) as f64 / ms / 1e3);
-            }
-            sink.emit(&r)?;
-        }
-    }
-    Ok(())
-}
-
-/// The octree build reads the volume once; a buffer copy of the same bytes shows what the
-/// memory system allows.
-fn minmax_build(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -> Result<()> {
-    let compiler = tessera::shaders::compiler();
-    for spec in bench_volumes(args) {
-        let volume = make_volume(gpu, &spec, args)?;
-        let scalar = volume.scalar_type();
-        let name = volume.name().to_string();
-        let bytes = volume.size_bytes();
-        let rm = Raymarch::new(gpu, &compiler, scalar)?;
-        let prepared = rm.prepare(gpu, &volume)?;
-        let usage = vk::BufferUsageFlags::TRANSFER_SRC | vk::BufferUsageFlags::TRANSFER_DST;
-        let src = gpu.upload_buffer("copy source", volume.bytes(), usage)?;
-        let dst = gpu.create_buffer("copy destination", bytes, usage, MemoryLocation::GpuOnly)?;
-        drop(volume);
-        let stages = time_frames(gpu, plan, 2, |rec, timer| {
-            timer.scope(rec, "octree-build", |rec| rm.record_build(rec, &prepared));
-            rec.barrier();
-            timer.scope(rec, "copy", |rec| rec.copy_buffer(&src, &dst, bytes));
-        })?;
-        let mut r = BenchRecord::new(gpu, "minmax-build", "minmax-octree", "compute", &name);
-        (r.warmup, r.frames, r.stages) = (plan.warmup, plan.frames, stages);
-        r.counts.insert("volume_bytes".into(), bytes as f64);
-        r.counts
-            .insert("octree_nodes".into(), prepared.octree.node_count() as f64);
-        if let (Some(build), Some(copy)) = (r.median_ms("octree-build"), r.median_ms("copy")) {
-            r.counts
-                .insert("build_read_gb_per_s".into(), bytes as f64 / build / 1e6);
-            r.counts.insert(
-                "copy_read_write_gb_per_s".into(),
-                2.0 * bytes as f64 / copy / 1e6,
-            );
-            r.counts.insert("build_over_copy".into(), build / copy);
-        }
-        sink.emit(&r)?;
-    }
-    Ok(())
 }

@@ -1,11 +1,6 @@
 //! `tessera`: render, measure and export scientific data on the GPU.
 
 mod bench;
-mod bench_hzb;
-mod bench_iso;
-mod bench_param;
-mod bench_stereo;
-mod bench_tet;
 mod data;
 mod demo;
 mod extract;

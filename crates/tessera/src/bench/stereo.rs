@@ -1,37 +1,48 @@
 //! The stereo benchmark: a pair of eyes against one, on every isosurface path.
 
-use crate::bench::{bench_volumes, make_volume, BenchArgs, Sink};
-use crate::bench_iso::techniques;
-use anyhow::Result;
-use tessera::bench::{time_frames, BenchRecord, FramePlan};
-use tessera::iso::direct::compute::ComputeTarget;
-use tessera::iso::direct::cull::CullState;
-use tessera::iso::direct::{Direct, RasterTarget};
-use tessera::iso::raymarch::Raymarch;
-use tessera::iso::PreparedVolume;
-use tessera::target::Target;
+use super::basic::{bench_volumes, make_volume};
+use super::iso::techniques;
+use super::{time_frames, BenchRecord, FramePlan};
+use super::{BenchConfig, RecordSink};
+use crate::error::{Error, Result};
+use crate::iso::direct::compute::ComputeTarget;
+use crate::iso::direct::cull::CullState;
+use crate::iso::direct::{Direct, RasterTarget};
+use crate::iso::raymarch::Raymarch;
+use crate::iso::PreparedVolume;
+use crate::target::Target;
 use tessera_data::{IsoValue, OrbitCamera};
 use tessera_gpu::{Gpu, ShaderCompiler};
 
 /// Two eyes against one: how much a stereo pair costs over a single view (paper D §4.1.3).
 /// Ray marching traces both eyes; the mesh path runs twice (with occlusion culling, a state
 /// per eye); the compute path extracts once and re-projects for the second eye.
-pub fn stereo(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -> Result<()> {
-    let compiler = tessera::shaders::compiler();
-    let (w, h) = if args.quick { (256, 144) } else { (3840, 2160) };
+pub fn stereo(
+    gpu: &Gpu,
+    config: &BenchConfig,
+    plan: FramePlan,
+    sink: &mut dyn RecordSink,
+) -> Result<()> {
+    let compiler = crate::shaders::compiler();
+    let (w, h) = if config.quick {
+        (256, 144)
+    } else {
+        (3840, 2160)
+    };
     let separation = 0.06;
     let camera = OrbitCamera::default();
     let eyes = camera.stereo_pair(separation);
-    for spec in bench_volumes(args) {
-        let volume = make_volume(gpu, &spec, args)?;
-        let iso = volume.iso_to_texel(IsoValue::Normalized(args.iso_fraction));
-        let t = techniques(gpu, &compiler, &volume)?;
+    for spec in bench_volumes(config) {
+        let volume = make_volume(gpu, &spec, config)?;
+        let iso = volume.iso_to_texel(IsoValue::Normalized(config.iso_fraction));
+        let t = techniques(gpu, &compiler, &volume, sink)?;
+        let mut multiview_match = None;
         let prepared = t.raymarch.prepare(gpu, &volume)?;
-        crate::bench::settle(gpu, &t.raymarch, &prepared, iso)?;
+        super::basic::settle(gpu, &t.raymarch, &prepared, iso)?;
         let mut emit = |technique: &str,
                         path: &str,
-                        mono: Vec<tessera::bench::StageStats>,
-                        pair: Vec<tessera::bench::StageStats>|
+                        mono: Vec<crate::bench::StageStats>,
+                        pair: Vec<crate::bench::StageStats>|
          -> Result<()> {
             let mut r = BenchRecord::new(gpu, "stereo", technique, path, volume.name());
             (r.width, r.height, r.warmup, r.frames) = (w, h, plan.warmup, plan.frames);
@@ -99,10 +110,10 @@ pub fn stereo(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -> 
             });
             // Freed before the multiview run makes its own targets.
             drop((targets, states, capture));
-            recorded.map_err(anyhow::Error::msg)?;
+            recorded.map_err(Error::Invalid)?;
             emit("direct+roc", "mesh", mono?, pair?)?;
             if gpu.caps().mesh_multiview {
-                multiview(
+                multiview_match = Some(multiview(
                     gpu,
                     &compiler,
                     direct,
@@ -112,12 +123,7 @@ pub fn stereo(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -> 
                     &eyes,
                     plan,
                     &mut emit,
-                )?;
-            } else {
-                println!(
-                    "note: {} has no multiview mesh shaders",
-                    gpu.caps().device_name
-                );
+                )?);
             }
         }
 
@@ -165,16 +171,20 @@ pub fn stereo(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -> 
             })?;
             emit("direct", "compute", mono, pair)?;
         }
+        match multiview_match {
+            Some(fraction) => sink.note(&format!(
+                "multiview layers match single-eye renders: {fraction:.4} of pixels"
+            )),
+            None => sink.note(&format!(
+                "{} has no multiview mesh shaders",
+                gpu.caps().device_name
+            )),
+        }
     }
     Ok(())
 }
 
-type Emit<'a> = dyn FnMut(
-        &str,
-        &str,
-        Vec<tessera::bench::StageStats>,
-        Vec<tessera::bench::StageStats>,
-    ) -> Result<()>
+type Emit<'a> = dyn FnMut(&str, &str, Vec<crate::bench::StageStats>, Vec<crate::bench::StageStats>) -> Result<()>
     + 'a;
 
 /// Both eyes in one multiview pass against one eye, without culling; also checks that each
@@ -190,9 +200,9 @@ fn multiview(
     eyes: &[OrbitCamera; 2],
     plan: FramePlan,
     emit: &mut Emit,
-) -> Result<()> {
-    use tessera::iso::direct::stereo::DirectMultiview;
-    use tessera::iso::direct::FrameOptions;
+) -> Result<f64> {
+    use crate::iso::direct::stereo::DirectMultiview;
+    use crate::iso::direct::FrameOptions;
     let mv = DirectMultiview::new(gpu, compiler, prepared.volume.scalar)?;
     let params = eyes.map(|c| Direct::params(prepared, iso, &c, w, h, 0));
     let views = DirectMultiview::views_buffer(gpu, &params)?;
@@ -235,11 +245,8 @@ fn multiview(
             matches = matches.min(layer.compare(&single.image, 2).fraction_within);
         }
     }
-    recorded.map_err(anyhow::Error::msg)?;
+    recorded.map_err(Error::Invalid)?;
     layers?;
-    println!(
-        "{:<20} multiview layers match single-eye renders: {:.4} of pixels",
-        "", matches
-    );
-    emit("direct-multiview", "mesh", mono?, pair?)
+    emit("direct-multiview", "mesh", mono?, pair?)?;
+    Ok(matches)
 }

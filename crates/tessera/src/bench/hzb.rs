@@ -2,19 +2,19 @@
 //! benchmarks: its culling state carries over from frame to frame, and its four stages are
 //! timed apart.
 
-use anyhow::Result;
-use tessera::bench::{BenchRecord, FramePlan, StageStats};
-use tessera::iso::direct::compute::{ComputeTarget, DirectCompute};
-use tessera::iso::direct::compute_cull::ComputeCullState;
-use tessera::iso::direct::Direct;
-use tessera::iso::PreparedVolume;
-use tessera::target::Target;
+use super::{BenchRecord, FramePlan, StageStats};
+use crate::error::{Error, Result};
+use crate::iso::direct::compute::{ComputeTarget, DirectCompute};
+use crate::iso::direct::compute_cull::ComputeCullState;
+use crate::iso::direct::Direct;
+use crate::iso::PreparedVolume;
+use crate::target::Target;
 use tessera_data::OrbitCamera;
 use tessera_gpu::{Gpu, Recorder, Timer};
 
 /// Times the compute path with HZB occlusion culling (`direct+hzb`) into `r` (frame size and
 /// plan already set), its culling state carried from frame to frame.
-pub(crate) fn measure_compute_culled(
+pub(super) fn measure_compute_culled(
     gpu: &Gpu,
     compute: &DirectCompute,
     prepared: &PreparedVolume,
@@ -42,10 +42,10 @@ pub(crate) fn measure_compute_culled(
     });
     let (stages, stats) = (stages?, state.read_stats(gpu)?);
     if stats.triangles_first.max(stats.triangles_new) > capacity {
-        anyhow::bail!(
+        return Err(Error::Invalid(format!(
             "direct+hzb: a pass made {} triangles, the lists hold {capacity}",
             stats.triangles_first.max(stats.triangles_new)
-        );
+        )));
     }
     r.stages = stages;
     let counts = [
@@ -64,12 +64,12 @@ pub(crate) fn measure_compute_culled(
     Ok(())
 }
 
-/// Like `tessera::bench::time_frames` for culled frames, whose four stages are timed apart: their
+/// Like `crate::bench::time_frames` for culled frames, whose four stages are timed apart: their
 /// statistics, then those of "direct", each frame's stages summed (they follow each other).
 fn time_culled_frames(
     gpu: &Gpu,
     plan: FramePlan,
-    mut record: impl FnMut(u32, &Recorder, &mut Timer) -> tessera::Result<()>,
+    mut record: impl FnMut(u32, &Recorder, &mut Timer) -> crate::Result<()>,
 ) -> Result<Vec<StageStats>> {
     let mut timer = Timer::new(gpu, 4)?;
     let mut samples: Vec<(String, Vec<f64>)> = Vec::new();

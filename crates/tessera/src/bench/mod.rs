@@ -1,9 +1,96 @@
-//! GPU-timed benchmark frames and the JSON-lines records `tessera bench` writes.
+//! The benchmark scenarios of the papers, GPU-timed, as records (`tessera bench` prints them
+//! and writes them as JSON lines): frame timing, records, and one module per family of
+//! scenarios.
 
-use crate::error::Result;
+mod basic;
+mod hzb;
+mod interval;
+mod iso;
+mod param;
+mod stereo;
+
+use crate::error::{Error, Result};
+use crate::path::Path;
 use serde::Serialize;
 use std::collections::BTreeMap;
+use tessera_data::raw::RawOptions;
 use tessera_gpu::{Gpu, Recorder, Timer};
+
+/// The scenarios, by name.
+pub const SCENARIOS: &[&str] = &[
+    "pipeline-throughput",
+    "raymarch",
+    "minmax-build",
+    "isosurface",
+    "iso-sweep",
+    "time-varying",
+    "stereo",
+    "interval",
+    "param",
+];
+
+/// What the scenarios measure beyond their own built-in data.
+#[derive(Debug, Clone)]
+pub struct BenchConfig {
+    pub plan: FramePlan,
+    /// Small volumes and images, for CPU drivers and smoke tests.
+    pub quick: bool,
+    /// Isovalue as a fraction of the value range for the isosurface scenarios.
+    pub iso_fraction: f32,
+    /// A volume for the isosurface scenarios instead of the head phantoms, or a tet mesh for
+    /// `interval` besides the procedural meshes (a file or a spec).
+    pub data: Option<String>,
+    /// How to read `data` when it is a raw volume.
+    pub raw: RawOptions,
+    /// Paths `interval` measures (empty: every path the device has).
+    pub paths: Vec<Path>,
+    /// Image sizes to measure, in this order (empty: each scenario's own).
+    pub sizes: Vec<(u32, u32)>,
+}
+
+impl Default for BenchConfig {
+    fn default() -> Self {
+        BenchConfig {
+            plan: FramePlan {
+                warmup: 10,
+                frames: 100,
+            },
+            quick: false,
+            iso_fraction: 0.3,
+            data: None,
+            raw: RawOptions::default(),
+            paths: Vec::new(),
+            sizes: Vec::new(),
+        }
+    }
+}
+
+/// Where the records go as they are measured.
+pub trait RecordSink {
+    fn emit(&mut self, record: &BenchRecord) -> Result<()>;
+    /// A remark about the device or a result that is not a record (a skipped path, a ratio).
+    fn note(&mut self, text: &str);
+}
+
+/// Runs the scenario `name` (one of [`SCENARIOS`]).
+pub fn run(gpu: &Gpu, name: &str, config: &BenchConfig, sink: &mut dyn RecordSink) -> Result<()> {
+    let plan = config.plan;
+    match name {
+        "pipeline-throughput" => basic::throughput(gpu, config, plan, sink),
+        "raymarch" => basic::raymarch(gpu, config, plan, sink),
+        "minmax-build" => basic::minmax_build(gpu, config, plan, sink),
+        "isosurface" => iso::isosurface(gpu, config, plan, sink),
+        "iso-sweep" => iso::iso_sweep(gpu, config, plan, sink),
+        "time-varying" => iso::time_varying(gpu, config, plan, sink),
+        "stereo" => stereo::stereo(gpu, config, plan, sink),
+        "interval" => interval::interval(gpu, config, plan, sink),
+        "param" => param::param(gpu, config, plan, sink),
+        _ => Err(Error::Invalid(format!(
+            "unknown scenario '{name}'; choose one of {} or all",
+            SCENARIOS.join(", ")
+        ))),
+    }
+}
 
 /// Frame counts for one measurement.
 #[derive(Debug, Clone, Copy)]

@@ -4,18 +4,27 @@
 //! (Peters et al.); a knitted curtain of 59,690 yarn curves and a seashell (§5.3); the LOD
 //! stage and the drawing timed apart.
 
-use crate::bench::{BenchArgs, Sink};
-use anyhow::Result;
-use tessera::bench::{time_frames, BenchRecord, FramePlan};
-use tessera::renderer::{self, RendererOptions, Target, Technique};
+use super::{time_frames, BenchRecord, FramePlan};
+use super::{BenchConfig, RecordSink};
+use crate::error::{Error, Result};
+use crate::renderer::{self, RendererOptions, Target, Technique};
 use tessera_data::scene::{Dataset, LoadOptions};
 use tessera_data::OrbitCamera;
 use tessera_gpu::Gpu;
 
-pub fn param(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -> Result<()> {
-    let size = if args.quick { (320, 180) } else { (1920, 1080) };
+pub fn param(
+    gpu: &Gpu,
+    config: &BenchConfig,
+    plan: FramePlan,
+    sink: &mut dyn RecordSink,
+) -> Result<()> {
+    let size = if config.quick {
+        (320, 180)
+    } else {
+        (1920, 1080)
+    };
     let load = |spec: &str| Dataset::load(spec, &LoadOptions::default());
-    let orders: &[u32] = if args.quick {
+    let orders: &[u32] = if config.quick {
         &[2, 8]
     } else {
         &[2, 4, 6, 8, 10, 12]
@@ -29,7 +38,7 @@ pub fn param(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -> R
         };
         measure(gpu, &scene, &[("single", camera)], ALL, size, plan, sink)?;
     }
-    let grid = if args.quick { "20x20" } else { "140x140" };
+    let grid = if config.quick { "20x20" } else { "140x140" };
     let spec = format!("param:sh-glyphs:{grid}:order12");
     let scene = load(&spec)?;
     let at = |distance: f32| OrbitCamera {
@@ -42,7 +51,7 @@ pub fn param(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -> R
     measure(gpu, &scene, &views, ALL, size, plan, sink)?;
     // Paper E §5.3: a knitted curtain of 235 × 254 loops (59,690 yarn curves), and a seashell.
     let shapes = [Technique::ParamPoints, Technique::ParamTess];
-    let yarn = if args.quick {
+    let yarn = if config.quick {
         "param:yarn:10x10"
     } else {
         "param:yarn:235x254"
@@ -81,10 +90,13 @@ fn measure(
     techniques: &[Technique],
     size: (u32, u32),
     plan: FramePlan,
-    sink: &mut Sink,
+    sink: &mut dyn RecordSink,
 ) -> Result<()> {
     let Dataset::Param(param) = data else {
-        anyhow::bail!("{}: not a parametric scene", data.name());
+        return Err(Error::Invalid(format!(
+            "{}: not a parametric scene",
+            data.name()
+        )));
     };
     let target = Target::new(gpu, size.0, size.1)?;
     for &technique in techniques {

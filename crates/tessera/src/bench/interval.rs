@@ -1,13 +1,13 @@
 //! Tetrahedral-mesh benchmark scenarios.
 
-use crate::bench::{BenchArgs, Sink};
-use anyhow::Result;
-use tessera::bench::{time_frames, BenchRecord, FramePlan};
-use tessera::path::Path;
-use tessera::tet::interval::{
+use super::{time_frames, BenchRecord, FramePlan};
+use super::{BenchConfig, RecordSink};
+use crate::error::{Error, Result};
+use crate::path::Path;
+use crate::tet::interval::{
     path_support, GpuTetMesh, Integrand, Interval, IntervalOptions, OpticalTarget,
 };
-use tessera_data::scene::{DataKind, Dataset, TetData};
+use tessera_data::scene::{DataKind, Dataset, LoadOptions, TetData};
 use tessera_data::tet::procedural::box_mesh;
 use tessera_data::tet::scalar_integral::mapping_range;
 use tessera_data::transfer::{IntegrandTable, ScalarMode, TransferFunction, TABLE_KNOTS};
@@ -20,19 +20,25 @@ struct Variant {
     label: String,
 }
 
+/// The paths the device has, of those `wanted` (all where none is named).
+fn wanted_support(gpu: &Gpu, wanted: &[Path]) -> crate::path::Support {
+    let mut support = path_support(gpu.caps());
+    let wants = |p: Path| wanted.is_empty() || wanted.contains(&p);
+    support.graphics &= wants(Path::Graphics);
+    support.compute &= wants(Path::Compute);
+    support
+}
+
 /// `small`: whether the untiled compute variant is affordable (it takes seconds per frame from
 /// inside meshes, and on large ones close up).
 fn variants(
     gpu: &Gpu,
-    wanted: &[String],
+    wanted: &[Path],
     view: &str,
     scalar: Option<&Integrand>,
     small: bool,
 ) -> Vec<Variant> {
-    let mut support = path_support(gpu.caps());
-    let wants = |p: &str| wanted.is_empty() || wanted.iter().any(|w| w == p);
-    support.graphics &= wants("graphics");
-    support.compute &= wants("compute");
+    let support = wanted_support(gpu, wanted);
     let mut out = Vec::new();
     let integrand = scalar.cloned().unwrap_or(Integrand::TetAbsorption);
     let kind = if scalar.is_some() {
@@ -91,12 +97,21 @@ fn variants(
 /// image), on both paths with their variants, and scalar integration through a transfer
 /// function on the middle mesh; then the asteroid field. `--data` measures one mesh instead: a
 /// file (e.g. the tetgen bunny), `tets:box:N`, `tets:sphere:N` or `tets:asteroids:COUNT`.
-pub fn interval(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -> Result<()> {
-    let compiler = tessera::shaders::compiler();
-    let size = if args.quick { (256, 144) } else { (3840, 2160) };
+pub fn interval(
+    gpu: &Gpu,
+    config: &BenchConfig,
+    plan: FramePlan,
+    sink: &mut dyn RecordSink,
+) -> Result<()> {
+    let compiler = crate::shaders::compiler();
+    let size = if config.quick {
+        (256, 144)
+    } else {
+        (3840, 2160)
+    };
     let bench = MeshBench {
         compiler: &compiler,
-        paths: &args.paths,
+        paths: &config.paths,
         plan,
         size,
     };
@@ -106,7 +121,7 @@ pub fn interval(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -
         mode: ScalarMode::Absorption,
         table: IntegrandTable::new(&tf, ScalarMode::Absorption, 4.0, TABLE_KNOTS),
     };
-    if let Some(spec) = args
+    if let Some(spec) = config
         .data
         .as_deref()
         .filter(|d| DataKind::of_spec(d) == DataKind::Tets)
@@ -114,10 +129,10 @@ pub fn interval(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -
         if let Some(count) = spec.strip_prefix("tets:asteroids:") {
             let count = count
                 .parse()
-                .map_err(|_| anyhow::anyhow!("'{spec}': bad COUNT"))?;
-            return asteroids(gpu, &compiler, &args.paths, count, plan, sink, size);
+                .map_err(|_| Error::Invalid(format!("'{spec}': bad COUNT")))?;
+            return asteroids(gpu, &compiler, &config.paths, count, plan, sink, size);
         }
-        let tets = crate::data::load_dataset(spec, &Default::default())?;
+        let tets = Dataset::load(spec, &LoadOptions::default())?;
         let Dataset::Tets(TetData { mesh, .. }) = tets else {
             unreachable!("tet specs load as meshes")
         };
@@ -128,20 +143,24 @@ pub fn interval(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -
         return bench.run(gpu, &mesh, &name, &views, scalar, sink);
     }
     // n³ cells of 6 tets each.
-    let cells: &[u32] = if args.quick { &[6, 10] } else { &[22, 54, 74] };
+    let cells: &[u32] = if config.quick {
+        &[6, 10]
+    } else {
+        &[22, 54, 74]
+    };
     for (i, &n) in cells.iter().enumerate() {
         let mesh = box_mesh(n);
         let scalar = (i == cells.len() / 2).then_some(&scalar);
         bench.run(gpu, &mesh, "box", &views, scalar, sink)?;
     }
-    let count = if args.quick { 500 } else { 10_000 };
-    asteroids(gpu, &compiler, &args.paths, count, plan, sink, size)
+    let count = if config.quick { 500 } else { 10_000 };
+    asteroids(gpu, &compiler, &config.paths, count, plan, sink, size)
 }
 
 /// Times one mesh's views with every variant.
 struct MeshBench<'a> {
     compiler: &'a tessera_gpu::ShaderCompiler,
-    paths: &'a [String],
+    paths: &'a [Path],
     plan: FramePlan,
     size: (u32, u32),
 }
@@ -154,7 +173,7 @@ impl MeshBench<'_> {
         name: &str,
         views: &[(&str, f32)],
         scalar: Option<&Integrand>,
-        sink: &mut Sink,
+        sink: &mut dyn RecordSink,
     ) -> Result<()> {
         if scalar.is_some() {
             // The same check as before the upload: scalars with a finite range.
@@ -200,18 +219,15 @@ impl MeshBench<'_> {
 fn asteroids(
     gpu: &Gpu,
     compiler: &tessera_gpu::ShaderCompiler,
-    paths: &[String],
+    paths: &[Path],
     count: u32,
     plan: FramePlan,
-    sink: &mut Sink,
+    sink: &mut dyn RecordSink,
     (w, h): (u32, u32),
 ) -> Result<()> {
     let mesh = tessera_data::tet::asteroids::asteroid_field(count, 1);
     let gpu_mesh = GpuTetMesh::upload_asteroids(gpu, &mesh)?;
-    let mut support = path_support(gpu.caps());
-    let wants = |p: &str| paths.is_empty() || paths.iter().any(|w| w == p);
-    support.graphics &= wants("graphics");
-    support.compute &= wants("compute");
+    let support = wanted_support(gpu, paths);
     let mut all = Vec::new();
     if support.graphics {
         for n in [1, 16] {
@@ -251,7 +267,7 @@ fn asteroids(
 }
 
 struct Timed {
-    stages: Vec<tessera::bench::StageStats>,
+    stages: Vec<crate::bench::StageStats>,
     tiled: u32,
     overflowed: u32,
 }
@@ -307,7 +323,7 @@ fn run_frames(
         });
         recorded = recorded.clone().and(r.map_err(|e| e.to_string()));
     });
-    recorded.map_err(anyhow::Error::msg)?;
+    recorded.map_err(Error::Invalid)?;
     // One more frame for the counters.
     let frame = interval.render(gpu, mesh, target, camera)?;
     Ok(Timed {

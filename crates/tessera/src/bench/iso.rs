@@ -1,14 +1,15 @@
 //! Isosurface benchmark scenarios that set techniques side by side in one run.
 
-use crate::bench::{bench_sizes, bench_volumes, make_volume, BenchArgs, Sink};
-use anyhow::Result;
-use tessera::bench::{time_frames, BenchRecord, FramePlan};
-use tessera::iso::direct::compute::{ComputeTarget, DirectCompute};
-use tessera::iso::direct::cull::CullState;
-use tessera::iso::direct::{Direct, RasterTarget};
-use tessera::iso::raymarch::Raymarch;
-use tessera::iso::PreparedVolume;
-use tessera::target::Target;
+use super::basic::{bench_sizes, bench_volumes, make_volume};
+use super::{time_frames, BenchRecord, FramePlan};
+use super::{BenchConfig, RecordSink};
+use crate::error::{Error, Result};
+use crate::iso::direct::compute::{ComputeTarget, DirectCompute};
+use crate::iso::direct::cull::CullState;
+use crate::iso::direct::{Direct, RasterTarget};
+use crate::iso::raymarch::Raymarch;
+use crate::iso::PreparedVolume;
+use crate::target::Target;
 use tessera_data::{IsoValue, OrbitCamera, ScalarType, Volume};
 use tessera_gpu::{Gpu, ShaderCompiler};
 
@@ -21,28 +22,29 @@ pub(crate) struct Techniques {
     pub(crate) direct_compute: Option<DirectCompute>,
 }
 
-pub(crate) fn techniques(
+pub(super) fn techniques(
     gpu: &Gpu,
     compiler: &ShaderCompiler,
     volume: &Volume,
+    sink: &mut dyn RecordSink,
 ) -> Result<Techniques> {
     let scalar = volume.scalar_type();
     let direct = if gpu.caps().mesh_shader && gpu.caps().task_shader {
         Some(Direct::new(gpu, compiler, scalar)?)
     } else {
-        println!(
-            "note: {} has no task/mesh shaders; direct is skipped",
+        sink.note(&format!(
+            "{} has no task/mesh shaders; direct is skipped",
             gpu.caps().device_name
-        );
+        ));
         None
     };
     let direct_compute = if gpu.caps().buffer_int64_atomics {
         Some(DirectCompute::new(gpu, compiler, scalar)?)
     } else {
-        println!(
-            "note: {} has no 64-bit buffer atomics; direct's compute path is skipped",
+        sink.note(&format!(
+            "{} has no 64-bit buffer atomics; direct's compute path is skipped",
             gpu.caps().device_name
-        );
+        ));
         None
     };
     Ok(Techniques {
@@ -60,14 +62,14 @@ fn measure(
     volume: &Volume,
     (w, h): (u32, u32),
     scenario: &str,
-    args: &BenchArgs,
+    config: &BenchConfig,
     plan: FramePlan,
     sweep: Sweep,
-    sink: &mut Sink,
+    sink: &mut dyn RecordSink,
 ) -> Result<()> {
     let camera = OrbitCamera::default();
     let iso_of = |frame: u32| {
-        let fraction = sweep.map_or(args.iso_fraction, |f| f(frame));
+        let fraction = sweep.map_or(config.iso_fraction, |f| f(frame));
         volume.iso_to_texel(IsoValue::Normalized(fraction))
     };
     let record = |technique: &str, path: &str| {
@@ -112,7 +114,7 @@ fn measure(
             });
             let stats = direct.read_stats(gpu);
             let cull_stats = state.as_ref().map(|s| s.read_stats(gpu)).transpose();
-            recorded.map_err(anyhow::Error::msg)?;
+            recorded.map_err(Error::Invalid)?;
             let (stats, cull_stats) = (stats?, cull_stats?);
             let mut r = record(if culling { "direct+roc" } else { "direct" }, "mesh");
             r.stages = stages?;
@@ -179,7 +181,7 @@ fn measure(
         }
         sink.emit(&r)?;
         let mut r = record("direct+hzb", "compute");
-        crate::bench_hzb::measure_compute_culled(
+        super::hzb::measure_compute_culled(
             gpu, compute, prepared, capacity, plan, &iso_of, &mut r,
         )?;
         if let (Some(d), Some(rm)) = (r.median_ms("direct"), raymarch_ms) {
@@ -192,22 +194,22 @@ fn measure(
 
 fn run_scenario(
     gpu: &Gpu,
-    args: &BenchArgs,
+    config: &BenchConfig,
     plan: FramePlan,
-    sink: &mut Sink,
+    sink: &mut dyn RecordSink,
     scenario: &str,
     sweep: Sweep,
 ) -> Result<()> {
-    let compiler = tessera::shaders::compiler();
-    for spec in bench_volumes(args) {
-        let volume = make_volume(gpu, &spec, args)?;
-        let t = techniques(gpu, &compiler, &volume)?;
+    let compiler = crate::shaders::compiler();
+    for spec in bench_volumes(config) {
+        let volume = make_volume(gpu, &spec, config)?;
+        let t = techniques(gpu, &compiler, &volume, sink)?;
         let prepared = t.raymarch.prepare(gpu, &volume)?;
-        let iso = volume.iso_to_texel(IsoValue::Normalized(args.iso_fraction));
-        crate::bench::settle(gpu, &t.raymarch, &prepared, iso)?;
-        for size in bench_sizes(args) {
+        let iso = volume.iso_to_texel(IsoValue::Normalized(config.iso_fraction));
+        super::basic::settle(gpu, &t.raymarch, &prepared, iso)?;
+        for size in bench_sizes(config) {
             measure(
-                gpu, &t, &prepared, &volume, size, scenario, args, plan, sweep, sink,
+                gpu, &t, &prepared, &volume, size, scenario, config, plan, sweep, sink,
             )?;
         }
     }
@@ -215,28 +217,43 @@ fn run_scenario(
 }
 
 /// `raymarch` against `direct` on the same volumes, sizes and camera.
-pub fn isosurface(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -> Result<()> {
-    run_scenario(gpu, args, plan, sink, "isosurface", None)
+pub fn isosurface(
+    gpu: &Gpu,
+    config: &BenchConfig,
+    plan: FramePlan,
+    sink: &mut dyn RecordSink,
+) -> Result<()> {
+    run_scenario(gpu, config, plan, sink, "isosurface", None)
 }
 
 /// The isovalue moves every frame, from 20 % to 60 % of the value range and back, as when a
 /// user drags a slider: nothing may be precomputed per isovalue.
-pub fn iso_sweep(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -> Result<()> {
+pub fn iso_sweep(
+    gpu: &Gpu,
+    config: &BenchConfig,
+    plan: FramePlan,
+    sink: &mut dyn RecordSink,
+) -> Result<()> {
     let period = 64u32;
     let sweep = move |frame: u32| {
         let phase = (frame % period) as f32 / period as f32;
         0.2 + 0.4 * (1.0 - (2.0 * phase - 1.0).abs())
     };
-    run_scenario(gpu, args, plan, sink, "iso-sweep", Some(&sweep))
+    run_scenario(gpu, config, plan, sink, "iso-sweep", Some(&sweep))
 }
 
 /// A new volume every frame, as when playing back a simulation's time steps: each frame copies
 /// the next step from host memory into the volume texture, rebuilds the octree and renders.
 /// The steps are the four procedural fields at one size and type, staged in host memory.
-pub fn time_varying(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sink) -> Result<()> {
+pub fn time_varying(
+    gpu: &Gpu,
+    config: &BenchConfig,
+    plan: FramePlan,
+    sink: &mut dyn RecordSink,
+) -> Result<()> {
     use tessera_data::procedural::{generate, ProceduralKind};
-    let compiler = tessera::shaders::compiler();
-    let sizes: &[(u32, ScalarType)] = if args.quick {
+    let compiler = crate::shaders::compiler();
+    let sizes: &[(u32, ScalarType)] = if config.quick {
         &[(48, ScalarType::U8)]
     } else {
         &[(256, ScalarType::U8), (512, ScalarType::U8)]
@@ -259,10 +276,10 @@ pub fn time_varying(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sin
             .collect::<std::result::Result<_, _>>()?;
         let isos: Vec<f32> = steps
             .iter()
-            .map(|v| v.iso_to_texel(IsoValue::Normalized(args.iso_fraction)))
+            .map(|v| v.iso_to_texel(IsoValue::Normalized(config.iso_fraction)))
             .collect();
-        let t = techniques(gpu, &compiler, &steps[0])?;
-        let builder = tessera::iso::minmax::MinMaxBuilder::new(gpu, &compiler, scalar)?;
+        let t = techniques(gpu, &compiler, &steps[0], sink)?;
+        let builder = crate::iso::minmax::MinMaxBuilder::new(gpu, &compiler, scalar)?;
         let prepared = PreparedVolume::new(gpu, &builder, &steps[0])?;
         // Each frame copies the next time step in and rebuilds the octree; returns its index.
         let next_step =
@@ -280,7 +297,7 @@ pub fn time_varying(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sin
                 k
             };
         let dataset = format!("{size}^3 {} x{} steps", scalar.name(), steps.len());
-        for (w, h) in bench_sizes(args) {
+        for (w, h) in bench_sizes(config) {
             let mut frame = 0usize;
             let target = Target::new(gpu, w, h)?;
             let stages = time_frames(gpu, plan, 3, |rec, timer| {
@@ -309,7 +326,7 @@ pub fn time_varying(gpu: &Gpu, args: &BenchArgs, plan: FramePlan, sink: &mut Sin
                     });
                     recorded = recorded.clone().and(result.map_err(|e| e.to_string()));
                 });
-                recorded.map_err(anyhow::Error::msg)?;
+                recorded.map_err(Error::Invalid)?;
                 let mut r = BenchRecord::new(gpu, "time-varying", "direct", "mesh", &dataset);
                 (r.width, r.height, r.warmup, r.frames) = (w, h, plan.warmup, plan.frames);
                 r.stages = stages?;

@@ -1,0 +1,189 @@
+//! The scenarios that need no technique of their own: graphics against compute throughput,
+//! ray marching, the octree build; and what the volume scenarios share (their volumes, image
+//! sizes, the settling after an upload).
+
+use super::{time_frames, BenchConfig, BenchRecord, FramePlan, RecordSink};
+use crate::error::Result;
+use crate::iso::raymarch::Raymarch;
+use crate::target::Target;
+use tessera_data::minmax::MinMaxOctree;
+use tessera_data::scene::{expected_volume_bytes, load_volume_spec, DataKind};
+use tessera_data::{IsoValue, OrbitCamera, ScalarType, Volume};
+use tessera_gpu::{vk, Gpu, MemoryLocation};
+
+pub(super) fn throughput(
+    gpu: &Gpu,
+    config: &BenchConfig,
+    plan: FramePlan,
+    sink: &mut dyn RecordSink,
+) -> Result<()> {
+    let compiler = crate::shaders::compiler();
+    let mut opts = crate::throughput::ThroughputOptions {
+        plan,
+        ..Default::default()
+    };
+    if config.quick {
+        opts.width = 256;
+        opts.height = 144;
+        opts.triangles = 20_000;
+        opts.iterations = 16;
+    }
+    for note in crate::throughput::notes(gpu) {
+        sink.note(&note);
+    }
+    let records = crate::throughput::run(gpu, &compiler, &opts)?;
+    for r in &records {
+        sink.emit(r)?;
+    }
+    for (what, ratio) in crate::throughput::summarize(&records) {
+        sink.note(&format!(
+            "{what}: graphics path {ratio:.2}x the compute time"
+        ));
+    }
+    Ok(())
+}
+
+/// The volumes of the isosurface scenarios: `--data`, or head-like phantoms of DESIGN §6's sizes.
+pub(super) fn bench_volumes(config: &BenchConfig) -> Vec<String> {
+    if let Some(data) = config
+        .data
+        .as_ref()
+        .filter(|d| DataKind::of_spec(d) == DataKind::Volume)
+    {
+        return vec![data.clone()];
+    }
+    let sizes: &[(u32, ScalarType)] = if config.quick {
+        &[(64, ScalarType::U8), (96, ScalarType::U16)]
+    } else {
+        &[
+            (256, ScalarType::U8),
+            (512, ScalarType::U8),
+            (1024, ScalarType::U16),
+        ]
+    };
+    sizes
+        .iter()
+        .map(|(size, scalar)| format!("procedural:head:{size}:{}", scalar.name()))
+        .collect()
+}
+
+pub(super) fn bench_sizes(config: &BenchConfig) -> Vec<(u32, u32)> {
+    if !config.sizes.is_empty() {
+        return config.sizes.clone();
+    }
+    if config.quick {
+        vec![(256, 144)]
+    } else {
+        vec![(1280, 720), (1920, 1080), (3840, 2160)]
+    }
+}
+
+/// Renders for a while right after a volume arrives on the GPU. Measured on the H200: with
+/// only the per-measurement warm-up, the first size timed after uploading a 2 GiB volume came
+/// out 2–4× slower than the same size timed later (docs/BENCHMARKS.md, run 16).
+pub(super) fn settle(
+    gpu: &Gpu,
+    raymarch: &Raymarch,
+    prepared: &crate::iso::PreparedVolume,
+    iso: f32,
+) -> Result<()> {
+    const SETTLE_FRAMES: u32 = 100;
+    let target = Target::new(gpu, 1280, 720)?;
+    let params = Raymarch::params(prepared, iso, &OrbitCamera::default(), 1280, 720);
+    let result = gpu.submit("settle", |rec| {
+        for _ in 0..SETTLE_FRAMES {
+            raymarch.record(rec, prepared, &target, &params);
+        }
+    });
+    Ok(result?)
+}
+
+pub(super) fn make_volume(gpu: &Gpu, spec: &str, config: &BenchConfig) -> Result<Volume> {
+    if let Some(bytes) = expected_volume_bytes(spec, &config.raw) {
+        gpu.check_fits(spec, bytes)?;
+    }
+    Ok(load_volume_spec(spec, &config.raw)?)
+}
+
+pub(super) fn raymarch(
+    gpu: &Gpu,
+    config: &BenchConfig,
+    plan: FramePlan,
+    sink: &mut dyn RecordSink,
+) -> Result<()> {
+    let compiler = crate::shaders::compiler();
+    let camera = OrbitCamera::default();
+    for spec in bench_volumes(config) {
+        let volume = make_volume(gpu, &spec, config)?;
+        let scalar = volume.scalar_type();
+        let iso = volume.iso_to_texel(IsoValue::Normalized(config.iso_fraction));
+        let occupied = MinMaxOctree::build(&volume).occupied_fraction(iso);
+        let rm = Raymarch::new(gpu, &compiler, scalar)?;
+        let prepared = rm.prepare(gpu, &volume)?;
+        settle(gpu, &rm, &prepared, iso)?;
+        for (w, h) in bench_sizes(config) {
+            let target = Target::new(gpu, w, h)?;
+            let params = Raymarch::params(&prepared, iso, &camera, w, h);
+            let stages = time_frames(gpu, plan, 1, |rec, timer| {
+                timer.scope(rec, "raymarch", |rec| {
+                    rm.record(rec, &prepared, &target, &params)
+                });
+            })?;
+            let mut r = BenchRecord::new(gpu, "raymarch", "raymarch", "compute", volume.name());
+            (r.width, r.height, r.warmup, r.frames, r.stages) =
+                (w, h, plan.warmup, plan.frames, stages);
+            r.counts.insert("iso".into(), iso as f64);
+            r.counts.insert("occupied_block_fraction".into(), occupied);
+            if let Some(ms) = r.median_ms("raymarch") {
+                r.counts
+                    .insert("mrays_per_s".into(), (w * h) as f64 / ms / 1e3);
+            }
+            sink.emit(&r)?;
+        }
+    }
+    Ok(())
+}
+
+/// The octree build reads the volume once; a buffer copy of the same bytes shows what the
+/// memory system allows.
+pub(super) fn minmax_build(
+    gpu: &Gpu,
+    config: &BenchConfig,
+    plan: FramePlan,
+    sink: &mut dyn RecordSink,
+) -> Result<()> {
+    let compiler = crate::shaders::compiler();
+    for spec in bench_volumes(config) {
+        let volume = make_volume(gpu, &spec, config)?;
+        let scalar = volume.scalar_type();
+        let name = volume.name().to_string();
+        let bytes = volume.size_bytes();
+        let rm = Raymarch::new(gpu, &compiler, scalar)?;
+        let prepared = rm.prepare(gpu, &volume)?;
+        let usage = vk::BufferUsageFlags::TRANSFER_SRC | vk::BufferUsageFlags::TRANSFER_DST;
+        let src = gpu.upload_buffer("copy source", volume.bytes(), usage)?;
+        let dst = gpu.create_buffer("copy destination", bytes, usage, MemoryLocation::GpuOnly)?;
+        drop(volume);
+        let stages = time_frames(gpu, plan, 2, |rec, timer| {
+            timer.scope(rec, "octree-build", |rec| rm.record_build(rec, &prepared));
+            rec.barrier();
+            timer.scope(rec, "copy", |rec| rec.copy_buffer(&src, &dst, bytes));
+        })?;
+        let mut r = BenchRecord::new(gpu, "minmax-build", "minmax-octree", "compute", &name);
+        (r.warmup, r.frames, r.stages) = (plan.warmup, plan.frames, stages);
+        r.counts.insert("volume_bytes".into(), bytes as f64);
+        r.counts
+            .insert("octree_nodes".into(), prepared.octree.node_count() as f64);
+        if let (Some(build), Some(copy)) = (r.median_ms("octree-build"), r.median_ms("copy")) {
+            r.counts
+                .insert("build_read_gb_per_s".into(), bytes as f64 / build / 1e6);
+            r.counts.insert(
+                "copy_read_write_gb_per_s".into(),
+                2.0 * bytes as f64 / copy / 1e6,
+            );
+            r.counts.insert("build_over_copy".into(), build / copy);
+        }
+        sink.emit(&r)?;
+    }
+    Ok(())
+}
