@@ -17,6 +17,7 @@ pub mod shader;
 mod shared;
 pub mod spirv;
 pub mod timer;
+pub mod timing;
 
 pub use ash::vk;
 pub use caps::Capabilities;

@@ -395,7 +395,7 @@ impl LodStage {
 
     /// The counters of the last recorded frame.
     pub fn read_stats(&self, gpu: &Gpu) -> Result<LodStats> {
-        let w = crate::bench::read_words(gpu, &self.state)?;
+        let w = tessera_gpu::timing::read_words(gpu, &self.state)?;
         let entry = |i: u32| w[(STATE_HEADER_BYTES / 4 + u64::from(i) * 4) as usize];
         Ok(LodStats {
             culled: w[0],

@@ -277,9 +277,9 @@ impl ParamPoints {
                 view.raster_size()
             )));
         }
-        let gpu_ms = crate::bench::time_once(gpu, "param-points", |rec| {
+        let gpu_ms = tessera_gpu::timing::time_once(gpu, "param-points", |rec| {
             self.record(rec, scene, view, frame, pixels, background);
-            Ok(())
+            Ok::<(), Error>(())
         })?;
         let stats = self.lod.read_stats(gpu)?;
         if stats.dropped > 0 {

@@ -410,7 +410,7 @@ impl ShRaytrace {
                 target.width, target.height, view.size
             )));
         }
-        crate::bench::time_once(gpu, "sh-raytrace", |rec| {
+        tessera_gpu::timing::time_once(gpu, "sh-raytrace", |rec| {
             self.record(rec, scene, view, target, background);
             Ok(())
         })

@@ -364,9 +364,9 @@ impl ParamTess {
                 view.raster_size()
             )));
         }
-        let gpu_ms = crate::bench::time_once(gpu, "param-tess", |rec| {
+        let gpu_ms = tessera_gpu::timing::time_once(gpu, "param-tess", |rec| {
             self.record(rec, scene, view, frame, pixels, background);
-            Ok(())
+            Ok::<(), Error>(())
         })?;
         let stats = self.lod.read_stats(gpu)?;
         if stats.dropped > 0 {
@@ -381,7 +381,7 @@ impl ParamTess {
     /// The last frame's indirect draw arguments: (vertices = patches per instance, instances,
     /// first vertex, first instance).
     pub fn read_draw_args(&self, gpu: &Gpu) -> Result<[u32; 4]> {
-        let w = crate::bench::read_words(gpu, &self.draw_args)?;
+        let w = tessera_gpu::timing::read_words(gpu, &self.draw_args)?;
         Ok([w[0], w[1], w[2], w[3]])
     }
 

@@ -312,7 +312,7 @@ impl Interval {
 
     /// The counters of the last frame.
     pub fn read_counts(&self, gpu: &Gpu) -> Result<IntervalCounts> {
-        let stats = crate::bench::read_words(gpu, &self.stats)?;
+        let stats = tessera_gpu::timing::read_words(gpu, &self.stats)?;
         Ok(IntervalCounts {
             clipped_near: stats[0],
             tiled: stats[1].min(self.options.tile_capacity.tets),
@@ -365,7 +365,7 @@ impl Interval {
         camera: &OrbitCamera,
     ) -> Result<IntervalFrame> {
         let params = self.params(mesh, camera, target.width, target.height);
-        let gpu_ms = crate::bench::time_once(gpu, "interval shading", |rec| {
+        let gpu_ms = tessera_gpu::timing::time_once(gpu, "interval shading", |rec| {
             self.record(rec, mesh, target, &params)
         })?;
         let counts = self.read_counts(gpu)?;
