@@ -132,7 +132,8 @@ fn interval_structs_match_their_shaders() {
         host!(
             IntervalParams,
             world_to_clip,
-            view,
+            tan_half_fov,
+            near_depth,
             counts,
             eye,
             scalar_range

@@ -12,6 +12,6 @@ float interval_length(vec4 attrs, vec2 ndc) {
     float depth = abs(attrs.y) / (attrs.x * second_inverse_depth(attrs));
     // The view-space ray through the pixel has forward component 1; its length turns a depth
     // difference into a distance.
-    vec2 slope = vec2(ndc.x * params.view.x, -ndc.y * params.view.y);
+    vec2 slope = vec2(ndc.x * params.tan_half_fov.x, -ndc.y * params.tan_half_fov.y);
     return depth * sqrt(1.0 + dot(slope, slope));
 }

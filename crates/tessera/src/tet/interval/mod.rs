@@ -41,7 +41,10 @@ pub(crate) const COMMON_BINDINGS: usize = 5;
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct IntervalParams {
     pub world_to_clip: [[f32; 4]; 4],
-    pub view: [f32; 4],
+    pub tan_half_fov: [f32; 2],
+    /// View-space depth of the near plane.
+    pub near_depth: f32,
+    pub pad0: f32,
     /// Tets, width, height, and the compute path's limit on pixels drawn by one invocation.
     pub counts: [u32; 4],
     /// The eye in world space (w unused).
@@ -277,7 +280,9 @@ impl Interval {
         let (width, height) = view.size;
         IntervalParams {
             world_to_clip: view.world_to_clip.to_cols_array_2d(),
-            view: [view.tan_half_fov.x, view.tan_half_fov.y, 0.0, view.near],
+            tan_half_fov: view.tan_half_fov.to_array(),
+            near_depth: view.near,
+            pad0: 0.0,
             counts: [
                 mesh.tet_count,
                 width,

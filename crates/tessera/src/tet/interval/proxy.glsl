@@ -135,7 +135,7 @@ uint tet_proxies(uint tet, out Proxy proxies[3], out bool clipped) {
     uint back[4];
     uint n_front = 0u;
     uint n_back = 0u;
-    float near = params.view.w;
+    float near = params.near_depth;
     for (uint i = 0u; i < 4u; ++i) {
         vec4 v = vertices_world[ids[i]];
         c[i] = params.world_to_clip * vec4(v.xyz, 1.0);
