@@ -100,5 +100,6 @@ pub fn renderer_options(paths: &PathArgs, param: &ParamArgs) -> RendererOptions 
         supersample: param.supersample,
         msaa: param.msaa,
         pre_split: param.pre_split,
+        ..RendererOptions::default()
     }
 }

@@ -37,6 +37,25 @@ impl Recorder<'_> {
         };
     }
 
+    /// Writes `data` (a multiple of 4 bytes, at most 65,536) to the start of `dst` in the
+    /// command stream, for small per-frame values that must not need a staging buffer.
+    pub fn update_buffer(&self, dst: &Buffer, data: &[u8]) {
+        assert!(
+            data.len() % 4 == 0 && data.len() <= 65536 && data.len() as u64 <= dst.size,
+            "update of {} bytes into '{}' ({} bytes)",
+            data.len(),
+            dst.name,
+            dst.size
+        );
+        // SAFETY: `self.cmd` is recording and `dst` is a live buffer of this device, created
+        // with TRANSFER_DST usage by the caller; the size rules were checked above.
+        unsafe {
+            self.gpu
+                .device
+                .cmd_update_buffer(self.cmd, dst.handle, 0, data)
+        };
+    }
+
     pub fn fill_buffer(&self, dst: &Buffer, value: u32) {
         // SAFETY: `self.cmd` is recording and `dst` is a live buffer of this device; the fill
         // covers the whole buffer.
@@ -100,14 +119,24 @@ impl Recorder<'_> {
         );
     }
 
-    /// Copies a 2-D image in `GENERAL` layout into a buffer, tightly packed.
+    /// Copies a 2-D image in `GENERAL` layout into a buffer, tightly packed, layer after layer.
     pub fn copy_image_to_buffer(&self, src: &Image, dst: &Buffer) {
+        self.copy_layers_to_buffer(src, 0..src.layers, dst);
+    }
+
+    /// Copies one layer of a layered 2-D image in `GENERAL` layout into a buffer.
+    pub fn copy_image_layer_to_buffer(&self, src: &Image, layer: u32, dst: &Buffer) {
+        assert!(layer < src.layers, "layer {layer} of {} ('{}')", src.layers, src.name);
+        self.copy_layers_to_buffer(src, layer..layer + 1, dst);
+    }
+
+    fn copy_layers_to_buffer(&self, src: &Image, layers: std::ops::Range<u32>, dst: &Buffer) {
         let region = [vk::BufferImageCopy::default()
             .image_subresource(vk::ImageSubresourceLayers {
                 aspect_mask: aspect_of(src.format),
                 mip_level: 0,
-                base_array_layer: 0,
-                layer_count: src.layers,
+                base_array_layer: layers.start,
+                layer_count: layers.len() as u32,
             })
             .image_extent(src.extent)];
         // SAFETY: `self.cmd` is recording; `src` is a live image the caller left in `GENERAL`
@@ -488,7 +517,7 @@ impl Gpu {
     ///
     /// Because it waits, no work is in flight once it returns, so any [`crate::Buffer`],
     /// [`crate::Image`], [`crate::Pipeline`] or [`crate::Timer`] may be dropped afterwards;
-    /// keep it waiting (or make objects live until their work is done) if this ever changes.
+    /// objects dropped inside `record` are destroyed once the submission completed.
     pub fn submit(&self, pass: &str, record: impl FnOnce(&Recorder)) -> Result<()> {
         let alloc = vk::CommandBufferAllocateInfo::default()
             .command_pool(self.command_pool)
@@ -498,10 +527,13 @@ impl Gpu {
         // `Sync`, so no other thread records or submits at the same time.
         let cmd = unsafe { self.device.allocate_command_buffers(&alloc) }
             .call("vkAllocateCommandBuffers")?[0];
+        // Objects dropped from here until the guard goes (after the fence wait) are kept.
+        let open = self.shared.open_submission();
         let result = self.record_and_run(pass, cmd, record);
         // SAFETY: the command buffer came from this pool and is no longer pending:
         // `record_and_run` waited for its fence (or it was never submitted).
         unsafe { self.device.free_command_buffers(self.command_pool, &[cmd]) };
+        drop(open);
         result
     }
 

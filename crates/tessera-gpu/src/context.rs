@@ -9,6 +9,7 @@ use std::cell::Cell;
 use std::ffi::{c_void, CStr, CString};
 use std::marker::PhantomData;
 use std::mem::ManuallyDrop;
+use std::sync::atomic::AtomicU32;
 use std::sync::{Arc, Mutex};
 
 const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
@@ -276,6 +277,8 @@ impl Gpu {
             messenger,
             validation,
             _entry: entry,
+            open_submissions: AtomicU32::new(0),
+            retired: Mutex::new(Vec::new()),
         });
         // From here on `shared` owns the device and instance: a failure drops it, which destroys
         // them exactly once.

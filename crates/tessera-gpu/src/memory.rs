@@ -2,7 +2,7 @@
 
 use crate::context::Gpu;
 use crate::error::{GpuError, Result, VkContext};
-use crate::shared::DeviceShared;
+use crate::shared::{DeviceShared, Retired};
 use ash::vk;
 use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
 pub use gpu_allocator::MemoryLocation;
@@ -11,10 +11,9 @@ use std::sync::Arc;
 /// A buffer with its memory. Dropping it destroys the buffer and frees the memory; it keeps the
 /// device alive meanwhile, so it may outlive the [`Gpu`] that made it.
 ///
-/// Dropping is safe whenever the buffer is not in a recording that is still being made: every
-/// [`Gpu::submit`] waits for its fence before it returns, so no work submitted through Tessera
-/// is still running when the caller gets control back. Keep it that way: a submission that
-/// returned before the GPU finished would make dropping its resources a use-after-free.
+/// Dropping is always safe: every [`Gpu::submit`] waits for its fence before it returns, and a
+/// buffer dropped while a submission is recorded or runs is destroyed only after that
+/// submission completes (`shared.rs`).
 pub struct Buffer {
     pub handle: vk::Buffer,
     pub size: u64,
@@ -35,13 +34,8 @@ impl Buffer {
 
 impl Drop for Buffer {
     fn drop(&mut self) {
-        // SAFETY: the buffer was created on this device (kept alive by `shared`) and no
-        // submitted work uses it: submissions wait for their fence (see the type's docs). The
-        // buffer goes before the memory bound to it.
-        unsafe { self.shared.device.destroy_buffer(self.handle, None) };
-        if let Some(a) = self.allocation.take() {
-            self.shared.free(a);
-        }
+        self.shared
+            .retire(Retired::Buffer(self.handle, self.allocation.take()));
     }
 }
 
@@ -61,17 +55,11 @@ pub struct Image {
 
 impl Drop for Image {
     fn drop(&mut self) {
-        // SAFETY: the image and its view (possibly still null when creation failed half-way,
-        // which Vulkan ignores) were created on this device, kept alive by `shared`; no
-        // submitted work uses them (submissions wait for their fence). The view goes before
-        // the image, the image before its memory.
-        unsafe {
-            self.shared.device.destroy_image_view(self.view, None);
-            self.shared.device.destroy_image(self.handle, None);
-        }
-        if let Some(a) = self.allocation.take() {
-            self.shared.free(a);
-        }
+        self.shared.retire(Retired::Image {
+            view: self.view,
+            image: self.handle,
+            allocation: self.allocation.take(),
+        });
     }
 }
 

@@ -4,7 +4,7 @@
 use crate::context::Gpu;
 use crate::error::{GpuError, Result, VkContext};
 use crate::shader::Spirv;
-use crate::shared::DeviceShared;
+use crate::shared::{DeviceShared, Retired};
 use ash::vk;
 use std::ffi::CStr;
 use std::sync::Arc;
@@ -63,16 +63,11 @@ pub struct Pipeline {
 
 impl Drop for Pipeline {
     fn drop(&mut self) {
-        // SAFETY: the three objects were created on this device (kept alive by `shared`), or
-        // are still null when creation failed half-way (which Vulkan ignores); no submitted
-        // work uses them, as submissions wait for their fence. The pipeline goes before its
-        // layout, the layout before the set layout it was made from.
-        unsafe {
-            let device = &self.shared.device;
-            device.destroy_pipeline(self.handle, None);
-            device.destroy_pipeline_layout(self.layout, None);
-            device.destroy_descriptor_set_layout(self.set_layout, None);
-        }
+        self.shared.retire(Retired::Pipeline {
+            pipeline: self.handle,
+            layout: self.layout,
+            set_layout: self.set_layout,
+        });
     }
 }
 

@@ -45,7 +45,7 @@ pub fn local_size(words: &[u32]) -> Option<[u32; 3]> {
 pub fn struct_offsets(words: &[u32], type_name: &str) -> Option<Vec<(String, u32)>> {
     let id = instructions(words).find_map(|(op, args)| {
         (op == OP_NAME && args.len() >= 2 && literal_string(&args[1..]) == type_name)
-            .then_some(args[0])
+            .then(|| args[0])
     })?;
     let mut names = std::collections::BTreeMap::new();
     let mut offsets = std::collections::BTreeMap::new();

@@ -2,8 +2,8 @@
 
 use crate::commands::Recorder;
 use crate::context::Gpu;
-use crate::error::{Result, VkContext};
-use crate::shared::DeviceShared;
+use crate::error::{GpuError, Result, VkContext};
+use crate::shared::{DeviceShared, Retired};
 use ash::vk;
 use std::sync::Arc;
 
@@ -17,9 +17,7 @@ pub struct Timer {
 
 impl Drop for Timer {
     fn drop(&mut self) {
-        // SAFETY: the pool was created on this device (kept alive by `shared`) and no
-        // submitted work writes it: submissions wait for their fence.
-        unsafe { self.shared.device.destroy_query_pool(self.pool, None) };
+        self.shared.retire(Retired::QueryPool(self.pool));
     }
 }
 
@@ -69,17 +67,25 @@ impl Timer {
             return Ok(vec![]);
         }
         let mut ticks = vec![0u64; n * 2];
-        // SAFETY: the queries asked for were written by the last submission (recorded by
-        // `scope`); `ticks` holds exactly two 64-bit results per scope.
-        unsafe {
+        // No WAIT: submissions wait for their fence, so the results of a submitted frame are
+        // there; scopes recorded into a frame that was never submitted would wait forever.
+        // SAFETY: `ticks` holds exactly two 64-bit results per scope, queries 0..2n.
+        let read = unsafe {
             gpu.device.get_query_pool_results(
                 self.pool,
                 0,
                 &mut ticks,
-                vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT,
+                vk::QueryResultFlags::TYPE_64,
             )
+        };
+        match read {
+            Err(vk::Result::NOT_READY) => {
+                return Err(GpuError::TimerNotSubmitted {
+                    scopes: self.names.join(", "),
+                })
+            }
+            other => other.call("vkGetQueryPoolResults")?,
         }
-        .call("vkGetQueryPoolResults")?;
         let period = gpu.caps().timestamp_period_ns as f64;
         Ok(self
             .names

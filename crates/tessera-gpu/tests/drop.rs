@@ -133,3 +133,86 @@ fn dropped_buffers_give_their_memory_back() {
     let errors = gpu.validation_errors();
     assert!(errors.is_empty(), "{}", errors.join("\n"));
 }
+
+/// A buffer and a pipeline dropped inside the submission that recorded them are destroyed only
+/// after it completed: the validation layer reports a command buffer naming a destroyed object
+/// otherwise, and the work they recorded still lands.
+#[test]
+fn objects_dropped_while_recording_wait_for_the_submission() {
+    let Some(gpu) = open() else {
+        return;
+    };
+    let compiler = ShaderCompiler::new().without_disk_cache();
+    let spirv = compiler
+        .compile(&Source::new("fill.comp.glsl", FILL), &[])
+        .unwrap();
+    let usage = vk::BufferUsageFlags::STORAGE_BUFFER
+        | vk::BufferUsageFlags::TRANSFER_SRC
+        | vk::BufferUsageFlags::TRANSFER_DST;
+    let kept = gpu
+        .create_buffer("kept", 256, usage, MemoryLocation::GpuOnly)
+        .unwrap();
+    let image = gpu
+        .create_image(
+            "picture",
+            [8, 8, 1],
+            vk::Format::R8G8B8A8_UNORM,
+            vk::ImageUsageFlags::STORAGE,
+            false,
+        )
+        .unwrap();
+    let baseline = gpu.allocated_bytes();
+    gpu.submit("fill, then copy from a buffer dropped at once", |rec| {
+        let pipeline = gpu
+            .compute_pipeline("fill", &spirv, &[Slot::StorageBuffer, Slot::StorageImage])
+            .unwrap();
+        let scratch = gpu
+            .create_buffer("scratch", 256, usage, MemoryLocation::GpuOnly)
+            .unwrap();
+        rec.discard_to_general(&image);
+        let bindings = [Binding::Buffer(&scratch), Binding::StorageImage(&image)];
+        rec.dispatch(&pipeline, &bindings, &[], [64, 1, 1]);
+        rec.barrier();
+        rec.copy_buffer(&scratch, &kept, 256);
+        drop(scratch);
+        drop(pipeline);
+        // Still held: the copy above has not run yet.
+        assert!(gpu.allocated_bytes() > baseline);
+    })
+    .unwrap();
+    assert_eq!(gpu.allocated_bytes(), baseline, "the scratch buffer was kept");
+    let words: Vec<u32> =
+        bytemuck::allocation::pod_collect_to_vec(&gpu.read_buffer(&kept).unwrap());
+    assert_eq!(words[..4], [0, 3, 6, 9]);
+    let errors = gpu.validation_errors();
+    assert!(errors.is_empty(), "{}", errors.join("\n"));
+}
+
+/// Reading a timer whose scopes were recorded but never submitted is an error, not a wait
+/// without end.
+#[test]
+fn a_timer_never_submitted_is_an_error() {
+    let Some(gpu) = open() else {
+        return;
+    };
+    let mut timer = Timer::new(&gpu, 2).unwrap();
+    timer.reset(&gpu);
+    let buffer = gpu
+        .create_buffer(
+            "words",
+            256,
+            vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuOnly,
+        )
+        .unwrap();
+    // Recorded into a submission whose recording is thrown away by a panic: never submitted.
+    let recorded = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        gpu.submit("abandoned", |rec| {
+            timer.scope(rec, "fill", |rec| rec.fill_buffer(&buffer, 1));
+            panic!("abandon the recording");
+        })
+    }));
+    assert!(recorded.is_err());
+    let error = timer.read_ms(&gpu).unwrap_err().to_string();
+    assert!(error.contains("fill") && error.contains("never submitted"), "{error}");
+}

@@ -14,6 +14,7 @@ const COMMON: &[(&str, &str)] = &[
         "common/shading.glsl",
         include_str!("shaders/common/shading.glsl"),
     ),
+    ("common/exact.glsl", include_str!("shaders/common/exact.glsl")),
     (
         "common/mc_cell.glsl",
         include_str!("shaders/common/mc_cell.glsl"),
@@ -64,6 +65,10 @@ const COMMON: &[(&str, &str)] = &[
         include_str!("tet/interval/sdf.glsl"),
     ),
     ("iso/direct/hzb.glsl", include_str!("iso/direct/hzb.glsl")),
+    (
+        "iso/direct/block_list.glsl",
+        include_str!("iso/direct/block_list.glsl"),
+    ),
     (
         "iso/direct/views.glsl",
         include_str!("iso/direct/views.glsl"),

@@ -6,7 +6,7 @@ mod common;
 use common::{assert_clean, assert_matches_cpu_raster, Need, TestGpu};
 use tessera::iso::direct::compute::{ComputeTarget, DirectCompute};
 use tessera::iso::direct::compute_cull::{
-    hzb_levels, ComputeCullState, ComputeCullStats, HzbTestParams,
+    hzb_levels, ComputeCullState, ComputeCullStats,
 };
 use tessera::shaders;
 use tessera::target::Target;
@@ -279,33 +279,3 @@ fn pyramid_levels_end_at_one_texel() {
     assert_eq!(hzb_levels(5, 1), vec![[3, 1], [2, 1], [1, 1]]);
 }
 
-#[test]
-fn hzb_test_push_constant_layout_matches_shader() {
-    let compiler = shaders::compiler();
-    let spirv = compiler
-        .compile(
-            &shaders::builtin(
-                "crates/tessera/src/iso/direct/compute_cull.rs",
-                "hzb_test.comp.glsl",
-                include_str!("../src/iso/direct/hzb_test.comp.glsl"),
-            ),
-            &tessera::config::volume_defines(ScalarType::U8),
-        )
-        .unwrap();
-    let offsets = tessera_gpu::spirv::struct_offsets(&spirv.words, "HzbTestParams").unwrap();
-    let offsets: Vec<_> = offsets
-        .iter()
-        .map(|(n, o)| (n.as_str(), *o as usize))
-        .collect();
-    let host = vec![
-        (
-            "grid_to_clip",
-            std::mem::offset_of!(HzbTestParams, grid_to_clip),
-        ),
-        ("dims", std::mem::offset_of!(HzbTestParams, dims)),
-        ("size", std::mem::offset_of!(HzbTestParams, size)),
-        ("iso", std::mem::offset_of!(HzbTestParams, iso)),
-    ];
-    assert_eq!(offsets, host);
-    assert!(std::mem::size_of::<HzbTestParams>() <= tessera_gpu::PUSH_CONSTANT_BYTES as usize);
-}

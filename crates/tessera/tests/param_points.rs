@@ -8,11 +8,8 @@ use common::param::*;
 
 use common::{assert_clean, gpu, out_dir, write_png};
 use glam::{Mat4, Vec3};
-use tessera::param::lod::{LodParams, PrepareParams};
-use tessera::param::points::{points_defines, PointsParams, ResolveParams};
-use tessera::param::scene::GpuObject;
 use tessera::param::{
-    Footprint, GpuParamScene, GpuPatch, LodSample, ParamObject, ParamPoints, ParamPointsOptions,
+    Footprint, GpuParamScene, ParamObject, ParamPoints, ParamPointsOptions,
     ParamScene, PointsFrame,
 };
 use tessera::shaders;
@@ -26,74 +23,6 @@ use tessera_data::OrbitCamera;
 use tessera_gpu::Gpu;
 
 const NON_LEGACY: ShBasis = ShBasis::Descoteaux07 { legacy: false };
-
-// ---------------------------------------------------------------------------------------------
-// Layouts
-
-#[test]
-fn host_structs_match_shader_layouts() {
-    let compiler = shaders::compiler();
-    let compile = |name: &str, text: &str, defines: &[(String, String)]| {
-        let source = shaders::builtin("crates/tessera/src/param/mod.rs", name, text);
-        compiler.compile(&source, defines).unwrap()
-    };
-    let (lod, points) = (tessera::param::lod::lod_defines(), points_defines());
-    macro_rules! shader {
-        ($file:literal, $defines:expr) => {
-            compile(
-                $file,
-                include_str!(concat!("../src/param/", $file)),
-                $defines,
-            )
-        };
-    }
-    let step = shader!("lod_step.comp.glsl", &lod);
-    let prepare = shader!("lod_prepare.comp.glsl", &lod);
-    let init = shader!("lod_init.comp.glsl", &lod);
-    let draw = shader!("points.comp.glsl", &points);
-    let resolve = shader!("resolve.comp.glsl", &points);
-    macro_rules! offsets {
-        ($t:ty, $($f:ident),*) => {
-            vec![$((stringify!($f), std::mem::offset_of!($t, $f))),*]
-        };
-    }
-    // A struct also copied into locals has a second, undecorated SPIR-V type of the same name;
-    // `init` only indexes the buffers, so its first type of each name is the buffer's.
-    let check = |spirv: &tessera_gpu::Spirv, block: &str, host: Vec<(&str, usize)>| {
-        let found = tessera_gpu::spirv::struct_offsets(&spirv.words, block).unwrap();
-        let found: Vec<(&str, usize)> = found
-            .iter()
-            .map(|(n, o)| (n.as_str(), *o as usize))
-            .filter(|(n, _)| !n.starts_with("pad"))
-            .collect();
-        let host: Vec<_> = host.into_iter().filter(|(n, _)| *n != "pad").collect();
-        assert_eq!(found, host, "{block}");
-    };
-    #[rustfmt::skip]
-    let expected = [
-        (&step, "LodParams", offsets!(LodParams, world_to_clip, viewport, thresholds, step, last,
-            eval_capacity, render_capacity, culling, capture_capacity, object_count, pre_split)),
-        (&prepare, "PrepareParams", offsets!(PrepareParams, max_groups, entry, capacity, per_group)),
-        (&draw, "PointsParams", offsets!(PointsParams, world_to_clip, viewport, density, max_side,
-            raster, uv_bits, render_capacity, footprint)),
-        (&resolve, "ResolveParams", offsets!(ResolveParams, eye, light, background, size,
-            supersample, uv_bits)),
-        (&init, "ParamObject", offsets!(GpuObject, model, colour, domain, radius_map, kind, params,
-            order, flags)),
-        (&init, "Patch", offsets!(GpuPatch, u, v, extent, object, info)),
-        (&step, "LodSample", offsets!(LodSample, object, u, v, x, y)),
-    ];
-    for (spirv, block, host) in expected {
-        check(spirv, block, host);
-    }
-    for size in [
-        std::mem::size_of::<LodParams>(),
-        std::mem::size_of::<PointsParams>(),
-        std::mem::size_of::<ResolveParams>(),
-    ] {
-        assert!(size <= tessera_gpu::PUSH_CONSTANT_BYTES as usize);
-    }
-}
 
 // ---------------------------------------------------------------------------------------------
 // Functions

@@ -9,7 +9,7 @@ use common::{assert_clean, gpu, out_dir, skip, write_png};
 use glam::Vec3;
 use std::collections::{BTreeMap, BTreeSet};
 use tessera::param::tess::{
-    ArgsParams, DownsampleParams, ParamTess, ParamTessOptions, TessFrame, TessLevels, TessParams,
+    ParamTess, ParamTessOptions, TessFrame, TessLevels,
 };
 use tessera::param::{GpuParamScene, ParamPoints, ParamScene, View};
 use tessera::shaders;
@@ -30,52 +30,6 @@ macro_rules! opts {
 }
 
 const FIXED: TessLevels = TessLevels::Fixed(24);
-
-// ---------------------------------------------------------------------------------------------
-// Layouts
-
-#[test]
-fn host_structs_match_shader_layouts() {
-    let compiler = shaders::compiler();
-    let defines = tessera::param::points::points_defines();
-    let compile = |name: &str, text: &str| {
-        let source = shaders::builtin("crates/tessera/src/param/tess.rs", name, text);
-        compiler.compile(&source, &defines).unwrap()
-    };
-    let control = compile(
-        "tess.tesc.glsl",
-        include_str!("../src/param/tess.tesc.glsl"),
-    );
-    let downsample = compile(
-        "tess_downsample.comp.glsl",
-        include_str!("../src/param/tess_downsample.comp.glsl"),
-    );
-    let args = compile(
-        "tess_args.comp.glsl",
-        include_str!("../src/param/tess_args.comp.glsl"),
-    );
-    macro_rules! offsets {
-        ($t:ty, $($f:ident),*) => {
-            vec![$((stringify!($f).to_string(), std::mem::offset_of!($t, $f) as u32)),*]
-        };
-    }
-    #[rustfmt::skip]
-    let expected = [
-        (&control, "TessParams", offsets!(TessParams, world_to_clip, eye, light, viewport,
-            pixels_per_segment, fixed_level, min_level, max_level, render_capacity,
-            patches_per_instance)),
-        (&downsample, "DownsampleParams", offsets!(DownsampleParams, size, supersample)),
-        (&args, "TessArgsParams", offsets!(ArgsParams, render_capacity, patches_per_instance)),
-    ];
-    for (spirv, block, host) in expected {
-        let found = tessera_gpu::spirv::struct_offsets(&spirv.words, block).unwrap();
-        assert_eq!(found, host, "{block}");
-    }
-    assert_eq!(
-        std::mem::size_of::<TessParams>(),
-        tessera_gpu::PUSH_CONSTANT_BYTES as usize
-    );
-}
 
 // ---------------------------------------------------------------------------------------------
 // Images

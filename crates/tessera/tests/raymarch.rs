@@ -5,7 +5,7 @@ mod common;
 use common::{assert_clean, assert_images_match, gpu};
 use tessera::gpu_volume::GpuVolume;
 use tessera::iso::minmax::{MinMaxBuilder, MinMaxOctreeGpu};
-use tessera::iso::raymarch::{Raymarch, RaymarchParams};
+use tessera::iso::raymarch::Raymarch;
 use tessera::shaders;
 use tessera::target::Target;
 use tessera_data::minmax::MinMaxOctree;
@@ -125,49 +125,3 @@ fn isovalue_outside_range_renders_background_only() {
     assert_clean(&gpu);
 }
 
-#[test]
-fn push_constant_layout_matches_shader() {
-    let compiler = shaders::compiler();
-    let spirv = compiler
-        .compile(
-            &tessera::shaders::builtin(
-                "crates/tessera/src/iso/raymarch/mod.rs",
-                "raymarch.comp.glsl",
-                include_str!("../src/iso/raymarch/raymarch.comp.glsl"),
-            ),
-            &tessera::config::volume_defines(ScalarType::U8),
-        )
-        .unwrap();
-    let offsets = tessera_gpu::spirv::struct_offsets(&spirv.words, "RaymarchParams").unwrap();
-    let host = [
-        ("eye", std::mem::offset_of!(RaymarchParams, eye)),
-        ("isovalue", std::mem::offset_of!(RaymarchParams, isovalue)),
-        ("forward", std::mem::offset_of!(RaymarchParams, forward)),
-        (
-            "tan_half_fov_x",
-            std::mem::offset_of!(RaymarchParams, tan_half_fov_x),
-        ),
-        ("right", std::mem::offset_of!(RaymarchParams, right)),
-        (
-            "tan_half_fov_y",
-            std::mem::offset_of!(RaymarchParams, tan_half_fov_y),
-        ),
-        ("up", std::mem::offset_of!(RaymarchParams, up)),
-        ("light", std::mem::offset_of!(RaymarchParams, light)),
-        (
-            "grid_to_world",
-            std::mem::offset_of!(RaymarchParams, grid_to_world),
-        ),
-        ("dims", std::mem::offset_of!(RaymarchParams, dims)),
-        (
-            "octree_levels",
-            std::mem::offset_of!(RaymarchParams, octree_levels),
-        ),
-        ("image", std::mem::offset_of!(RaymarchParams, image)),
-    ];
-    assert_eq!(offsets.len(), host.len());
-    for ((name, off), (hname, hoff)) in offsets.iter().zip(host) {
-        assert_eq!((name.as_str(), *off as usize), (hname, hoff));
-    }
-    assert!(std::mem::size_of::<RaymarchParams>() <= tessera_gpu::PUSH_CONSTANT_BYTES as usize);
-}

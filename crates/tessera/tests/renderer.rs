@@ -212,29 +212,41 @@ fn data_of_another_kind_is_refused_by_name() {
 
 #[test]
 fn compute_stereo_through_the_trait_equals_two_mono_frames() {
-    let Some(gpu) = TestGpu::with(&[Need::BufferInt64Atomics]) else {
-        return;
-    };
+    if let Some(gpu) = TestGpu::with(&[Need::BufferInt64Atomics]) {
+        stereo_equals_two_mono_frames(&gpu, PathChoice::Compute);
+    }
+}
+
+#[test]
+fn multiview_stereo_through_the_trait_equals_two_mono_frames() {
+    if let Some(gpu) = TestGpu::with(&[Need::MeshShaders, Need::MultiviewMeshShaders]) {
+        stereo_equals_two_mono_frames(&gpu, PathChoice::Graphics);
+    }
+}
+
+/// A stereo pair drawn in one pass (the compute path re-projects one extraction, the mesh
+/// path draws both eyes with multiview) equals two mono frames of the eyes.
+fn stereo_equals_two_mono_frames(gpu: &Gpu, path: PathChoice) {
     let data = load("procedural:marschner-lobb:33:uint8");
     let options = RendererOptions {
-        path: PathChoice::Compute,
+        path,
         ..RendererOptions::default()
     };
-    let mut stereo = with_data(&gpu, Technique::Direct, options, &data);
+    let mut stereo = with_data(gpu, Technique::Direct, options, &data);
     let eyes = stereo.view(&camera(), SIZE).unwrap().stereo_pair(0.3);
     assert!(
-        stereo.prepare_stereo(&gpu, &eyes).unwrap(),
-        "the compute path re-projects"
+        stereo.prepare_stereo(gpu, &eyes).unwrap(),
+        "{path:?}: one pass for both eyes"
     );
     let (mut left, mut right) = (
-        Frame::new(&gpu, SIZE).unwrap(),
-        Frame::new(&gpu, SIZE).unwrap(),
+        Frame::new(gpu, SIZE).unwrap(),
+        Frame::new(gpu, SIZE).unwrap(),
     );
     for frame in [&left, &right] {
-        frame.target.poison(&gpu, u32::MAX).unwrap();
+        frame.target.poison(gpu, u32::MAX).unwrap();
     }
     let times =
-        renderer::render_stereo(&gpu, stereo.as_mut(), &eyes, &mut left, &mut right).unwrap();
+        renderer::render_stereo(gpu, stereo.as_mut(), &eyes, &mut left, &mut right).unwrap();
     assert_eq!(
         times.scopes.len(),
         1,
@@ -242,19 +254,20 @@ fn compute_stereo_through_the_trait_equals_two_mono_frames() {
         times.scopes
     );
     let pair = [
-        left.target.read(&gpu).unwrap(),
-        right.target.read(&gpu).unwrap(),
+        left.target.read(gpu).unwrap(),
+        right.target.read(gpu).unwrap(),
     ];
+    assert_ne!(pair[0], pair[1], "the eyes see different images");
     let no_culling = RendererOptions {
         culling: false,
         ..options
     };
-    let mut mono = with_data(&gpu, Technique::Direct, no_culling, &data);
-    let mut frame = Frame::new(&gpu, SIZE).unwrap();
+    let mut mono = with_data(gpu, Technique::Direct, no_culling, &data);
+    let mut frame = Frame::new(gpu, SIZE).unwrap();
     for (eye, image) in eyes.iter().zip(&pair) {
         assert!(!image.pixels.contains(&u32::MAX), "unwritten pixels");
-        frame.render(&gpu, mono.as_mut(), eye).unwrap();
-        let expected = frame.target.read(&gpu).unwrap();
+        frame.render(gpu, mono.as_mut(), eye).unwrap();
+        let expected = frame.target.read(gpu).unwrap();
         let diff = image.compare(&expected, 2);
         assert!(
             diff.fraction_within >= 0.999,
@@ -262,10 +275,12 @@ fn compute_stereo_through_the_trait_equals_two_mono_frames() {
             diff.pixels_outside
         );
     }
-    assert_eq!(
-        pair[0].pixels,
-        frame_pixels_of(&gpu, mono.as_mut(), &eyes[0])
-    );
+    if path == PathChoice::Compute {
+        assert_eq!(
+            pair[0].pixels,
+            frame_pixels_of(gpu, mono.as_mut(), &eyes[0])
+        );
+    }
 }
 
 /// The image of one mono frame of `view`.

@@ -10,7 +10,7 @@ use common::param::*;
 use common::{assert_clean, gpu, out_dir, write_png};
 use glam::{DVec3, Mat4, Quat, Vec3};
 use tessera::param::raytrace::{
-    camera_rays, raytrace_defines, GpuRtGlyph, RayHit, RaytraceParams, ShRaytrace,
+    camera_rays, RayHit, ShRaytrace,
     ShRaytraceOptions,
 };
 use tessera::param::{GpuParamScene, ParamObject, ParamPoints, ParamPointsOptions, ParamScene};
@@ -83,57 +83,6 @@ fn field() -> ParamScene {
         })
         .collect();
     ParamScene::new(objects)
-}
-
-// ---------------------------------------------------------------------------------------------
-// Layouts
-
-#[test]
-fn host_structs_match_shader_layouts() {
-    let compiler = shaders::compiler();
-    let defines = raytrace_defines(12);
-    let compile = |name: &str, text: &str| {
-        let source = shaders::builtin("crates/tessera/src/param/raytrace.rs", name, text);
-        compiler.compile(&source, &defines).unwrap()
-    };
-    let render = compile(
-        "raytrace.comp.glsl",
-        include_str!("../src/param/raytrace.comp.glsl"),
-    );
-    let probe = compile(
-        "raytrace_probe.comp.glsl",
-        include_str!("../src/param/raytrace_probe.comp.glsl"),
-    );
-    macro_rules! offsets {
-        ($t:ty, $($f:ident),*) => {
-            vec![$((stringify!($f).to_string(), std::mem::offset_of!($t, $f) as u32)),*]
-        };
-    }
-    let check = |spirv: &tessera_gpu::Spirv, block: &str, host: Vec<(String, u32)>| {
-        let found = tessera_gpu::spirv::struct_offsets(&spirv.words, block).unwrap();
-        let found: Vec<_> = found
-            .into_iter()
-            .filter(|(n, _)| !n.starts_with("pad"))
-            .collect();
-        assert_eq!(found, host, "{block}");
-    };
-    #[rustfmt::skip]
-    let params = offsets!(RaytraceParams, eye, ray_centre, ray_x, ray_y, light, background, size,
-        supersample, count);
-    check(&render, "RaytraceParams", params.clone());
-    check(&probe, "RaytraceParams", params);
-    check(
-        &render,
-        "RtGlyph",
-        offsets!(GpuRtGlyph, to_object, sphere, shape),
-    );
-    check(
-        &probe,
-        "RayHit",
-        offsets!(RayHit, position, normal, colour, glyph),
-    );
-    assert!(std::mem::size_of::<RaytraceParams>() <= tessera_gpu::PUSH_CONSTANT_BYTES as usize);
-    assert_eq!(std::mem::size_of::<RayHit>(), 64);
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -7,12 +7,12 @@ mod common;
 use common::{assert_clean, gpu};
 use tessera::bench::FramePlan;
 use tessera::shaders;
-use tessera::throughput::arithmetic::{Arithmetic, ArithmeticParams};
+use tessera::throughput::arithmetic::Arithmetic;
 use tessera::throughput::triangles::{
-    create_splat_buffer, read_splat, reference_coverage, TriangleParams, Triangles, COVERED,
+    create_splat_buffer, read_splat, reference_coverage, Triangles, COVERED,
 };
 use tessera::throughput::{
-    clear_target, create_target, read_target, run, shader_defines, summarize, ThroughputOptions,
+    clear_target, create_target, read_target, run, summarize, ThroughputOptions,
 };
 
 const W: u32 = 64;
@@ -179,57 +179,3 @@ fn run_times_every_path() {
     assert_clean(&gpu);
 }
 
-#[test]
-fn push_constant_layouts_match_shaders() {
-    let compiler = shaders::compiler();
-    let compile = |name: &str, text: &str| {
-        let source = shaders::builtin("crates/tessera/src/throughput/mod.rs", name, text);
-        compiler.compile(&source, &shader_defines()).unwrap()
-    };
-    let arithmetic = [
-        ("size", std::mem::offset_of!(ArithmeticParams, size)),
-        (
-            "iterations",
-            std::mem::offset_of!(ArithmeticParams, iterations),
-        ),
-    ];
-    let triangles = [
-        ("size", std::mem::offset_of!(TriangleParams, size)),
-        ("triangles", std::mem::offset_of!(TriangleParams, triangles)),
-    ];
-    let shaders = [
-        (
-            "busy.frag.glsl",
-            include_str!("../src/throughput/busy.frag.glsl"),
-            "ArithmeticParams",
-            &arithmetic,
-        ),
-        (
-            "busy.comp.glsl",
-            include_str!("../src/throughput/busy.comp.glsl"),
-            "ArithmeticParams",
-            &arithmetic,
-        ),
-        (
-            "grid.mesh.glsl",
-            include_str!("../src/throughput/grid.mesh.glsl"),
-            "TriangleParams",
-            &triangles,
-        ),
-        (
-            "splat.comp.glsl",
-            include_str!("../src/throughput/splat.comp.glsl"),
-            "TriangleParams",
-            &triangles,
-        ),
-    ];
-    for (name, text, block, host) in shaders {
-        let spirv = compile(name, text);
-        let offsets = tessera_gpu::spirv::struct_offsets(&spirv.words, block).unwrap();
-        let offsets: Vec<_> = offsets
-            .iter()
-            .map(|(n, o)| (n.as_str(), *o as usize))
-            .collect();
-        assert_eq!(offsets, host.to_vec(), "{name}");
-    }
-}

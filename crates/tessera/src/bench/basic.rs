@@ -1,13 +1,14 @@
 //! The scenarios that need no technique of their own: graphics against compute throughput,
 //! ray marching, the octree build; and what the volume scenarios share (their volumes, image
-//! sizes, the settling after an upload).
+//! sizes).
 
+use super::frames::{settle_after_upload, time_mono};
 use super::{time_frames, BenchConfig, BenchRecord, FramePlan, RecordSink};
 use crate::error::Result;
 use crate::iso::raymarch::Raymarch;
-use crate::target::Target;
+use crate::renderer::{self, RendererOptions, Technique};
 use tessera_data::minmax::MinMaxOctree;
-use tessera_data::scene::{expected_volume_bytes, load_volume_spec, DataKind};
+use tessera_data::scene::{expected_volume_bytes, load_volume_spec, Appearance, DataKind, Dataset};
 use tessera_data::{IsoValue, OrbitCamera, ScalarType, Volume};
 use tessera_gpu::{vk, Gpu, MemoryLocation};
 
@@ -78,26 +79,6 @@ pub(super) fn bench_sizes(config: &BenchConfig) -> Vec<(u32, u32)> {
     }
 }
 
-/// Renders for a while right after a volume arrives on the GPU. Measured on the H200: with
-/// only the per-measurement warm-up, the first size timed after uploading a 2 GiB volume came
-/// out 2–4× slower than the same size timed later (docs/BENCHMARKS.md, run 16).
-pub(super) fn settle(
-    gpu: &Gpu,
-    raymarch: &Raymarch,
-    prepared: &crate::iso::PreparedVolume,
-    iso: f32,
-) -> Result<()> {
-    const SETTLE_FRAMES: u32 = 100;
-    let target = Target::new(gpu, 1280, 720)?;
-    let params = Raymarch::params(prepared, iso, &OrbitCamera::default(), 1280, 720);
-    let result = gpu.submit("settle", |rec| {
-        for _ in 0..SETTLE_FRAMES {
-            raymarch.record(rec, prepared, &target, &params);
-        }
-    });
-    Ok(result?)
-}
-
 pub(super) fn make_volume(gpu: &Gpu, spec: &str, config: &BenchConfig) -> Result<Volume> {
     if let Some(bytes) = expected_volume_bytes(spec, &config.raw) {
         gpu.check_fits(spec, bytes)?;
@@ -111,25 +92,26 @@ pub(super) fn raymarch(
     plan: FramePlan,
     sink: &mut dyn RecordSink,
 ) -> Result<()> {
-    let compiler = crate::shaders::compiler();
     let camera = OrbitCamera::default();
+    let look = Appearance {
+        iso: IsoValue::Normalized(config.iso_fraction),
+        ..Appearance::default()
+    };
     for spec in bench_volumes(config) {
         let volume = make_volume(gpu, &spec, config)?;
-        let scalar = volume.scalar_type();
-        let iso = volume.iso_to_texel(IsoValue::Normalized(config.iso_fraction));
+        let iso = volume.iso_to_texel(look.iso);
         let occupied = MinMaxOctree::build(&volume).occupied_fraction(iso);
-        let rm = Raymarch::new(gpu, &compiler, scalar)?;
-        let prepared = rm.prepare(gpu, &volume)?;
-        settle(gpu, &rm, &prepared, iso)?;
+        let name = volume.name().to_string();
+        let data = Dataset::Volume(volume);
+        let mut rm = renderer::create(gpu, Technique::Raymarch, &RendererOptions::default())?;
+        rm.set_appearance(gpu, &look)?;
+        rm.set_data(gpu, &data)?;
+        drop(data);
+        settle_after_upload(gpu, rm.as_mut())?;
         for (w, h) in bench_sizes(config) {
-            let target = Target::new(gpu, w, h)?;
-            let params = Raymarch::params(&prepared, iso, &camera, w, h);
-            let stages = time_frames(gpu, plan, 1, |rec, timer| {
-                timer.scope(rec, "raymarch", |rec| {
-                    rm.record(rec, &prepared, &target, &params)
-                });
-            })?;
-            let mut r = BenchRecord::new(gpu, "raymarch", "raymarch", "compute", volume.name());
+            let view = rm.view(&camera, (w, h))?;
+            let stages = time_mono(gpu, rm.as_mut(), &view, plan, 1, None)?;
+            let mut r = BenchRecord::new(gpu, "raymarch", "raymarch", "compute", &name);
             (r.width, r.height, r.warmup, r.frames, r.stages) =
                 (w, h, plan.warmup, plan.frames, stages);
             r.counts.insert("iso".into(), iso as f64);

@@ -1,23 +1,44 @@
-//! Tetrahedral-mesh benchmark scenarios.
+//! Tetrahedral-mesh benchmark scenarios: interval shading through the front door, one
+//! renderer per variant (path, tets per workgroup, tile limit, integrand).
 
-use super::{time_frames, BenchRecord, FramePlan};
-use super::{BenchConfig, RecordSink};
-use crate::error::{Error, Result};
-use crate::path::Path;
-use crate::tet::interval::{
-    path_support, GpuTetMesh, Integrand, Interval, IntervalOptions, OpticalTarget,
-};
-use tessera_data::scene::{DataKind, Dataset, LoadOptions, TetData};
-use tessera_data::tet::procedural::box_mesh;
-use tessera_data::tet::scalar_integral::mapping_range;
-use tessera_data::transfer::{IntegrandTable, ScalarMode, TransferFunction, TABLE_KNOTS};
+use super::frames::time_mono;
+use super::{BenchConfig, BenchRecord, FramePlan, RecordSink};
+use crate::error::Result;
+use crate::path::{Path, PathChoice};
+use crate::renderer::{self, IntervalTuning, Renderer, RendererOptions, Technique};
+use crate::tet::interval::path_support;
+use std::collections::BTreeMap;
+use tessera_data::scene::{Appearance, DataKind, Dataset, IntegrandChoice, LoadOptions};
+use tessera_data::transfer::ScalarMode;
 use tessera_data::OrbitCamera;
 use tessera_gpu::Gpu;
 
 /// One configuration of interval shading to time.
 struct Variant {
-    options: IntervalOptions,
+    options: RendererOptions,
+    look: Appearance,
     label: String,
+}
+
+impl Variant {
+    fn new(path: Path, tuning: IntervalTuning, integrand: IntegrandChoice, label: String) -> Self {
+        let choice = match path {
+            Path::Graphics => PathChoice::Graphics,
+            Path::Compute => PathChoice::Compute,
+        };
+        Variant {
+            options: RendererOptions {
+                path: choice,
+                interval: tuning,
+                ..RendererOptions::default()
+            },
+            look: Appearance {
+                integrand,
+                ..Appearance::default()
+            },
+            label,
+        }
+    }
 }
 
 /// The paths the device has, of those `wanted` (all where none is named).
@@ -31,43 +52,37 @@ fn wanted_support(gpu: &Gpu, wanted: &[Path]) -> crate::path::Support {
 
 /// `small`: whether the untiled compute variant is affordable (it takes seconds per frame from
 /// inside meshes, and on large ones close up).
-fn variants(
-    gpu: &Gpu,
-    wanted: &[Path],
-    view: &str,
-    scalar: Option<&Integrand>,
-    small: bool,
-) -> Vec<Variant> {
+fn variants(gpu: &Gpu, wanted: &[Path], view: &str, scalar: bool, small: bool) -> Vec<Variant> {
     let support = wanted_support(gpu, wanted);
     let mut out = Vec::new();
-    let integrand = scalar.cloned().unwrap_or(Integrand::TetAbsorption);
-    let kind = if scalar.is_some() {
-        "scalar absorption"
+    let (integrand, kind) = if scalar {
+        (
+            IntegrandChoice::Scalar(ScalarMode::Absorption),
+            "scalar absorption",
+        )
     } else {
-        "tet absorption"
+        (IntegrandChoice::TetAbsorption, "tet absorption")
     };
     if support.graphics {
         // Several tets per mesh workgroup against one (paper A §3.2); the far view suffices.
-        let groups: &[u32] = if view == "far" && scalar.is_none() {
+        let groups: &[u32] = if view == "far" && !scalar {
             &[1, 4, 16]
         } else {
             &[16]
         };
         for &n in groups {
-            out.push(Variant {
-                options: IntervalOptions {
-                    integrand: integrand.clone(),
-                    tets_per_workgroup: n,
-                    ..IntervalOptions::new(Path::Graphics)
-                },
-                label: format!("{kind}, {n} tets/workgroup"),
-            });
+            let tuning = IntervalTuning {
+                tets_per_workgroup: n,
+                ..IntervalTuning::default()
+            };
+            let label = format!("{kind}, {n} tets/workgroup");
+            out.push(Variant::new(Path::Graphics, tuning, integrand, label));
         }
     }
     if support.compute {
         // The pixel limit above which a tet goes to the tile pass; u32::MAX never tiles.
         // None: the automatic limit.
-        let limits: &[Option<u32>] = if scalar.is_some() {
+        let limits: &[Option<u32>] = if scalar {
             &[None]
         } else if small && view != "inside" {
             &[None, Some(256), Some(4096), Some(65536), Some(u32::MAX)]
@@ -75,18 +90,16 @@ fn variants(
             &[None, Some(256), Some(4096), Some(65536)]
         };
         for &limit in limits {
-            out.push(Variant {
-                options: IntervalOptions {
-                    integrand: integrand.clone(),
-                    inline_pixel_limit: limit,
-                    ..IntervalOptions::new(Path::Compute)
-                },
-                label: match limit {
-                    None => format!("{kind}, automatic tile limit"),
-                    Some(u32::MAX) => format!("{kind}, untiled"),
-                    Some(limit) => format!("{kind}, tiles above {limit} px"),
-                },
-            });
+            let tuning = IntervalTuning {
+                inline_pixel_limit: limit,
+                ..IntervalTuning::default()
+            };
+            let label = match limit {
+                None => format!("{kind}, automatic tile limit"),
+                Some(u32::MAX) => format!("{kind}, untiled"),
+                Some(limit) => format!("{kind}, tiles above {limit} px"),
+            };
+            out.push(Variant::new(Path::Compute, tuning, integrand, label));
         }
     }
     out
@@ -103,44 +116,31 @@ pub fn interval(
     plan: FramePlan,
     sink: &mut dyn RecordSink,
 ) -> Result<()> {
-    let compiler = crate::shaders::compiler();
     let size = if config.quick {
         (256, 144)
     } else {
         (3840, 2160)
     };
     let bench = MeshBench {
-        compiler: &compiler,
         paths: &config.paths,
         plan,
         size,
     };
     let views = [("far", 2.4f32), ("close", 1.4), ("inside", 0.3)];
-    let tf = TransferFunction::preset("cool-warm")?;
-    let scalar = Integrand::Scalar {
-        mode: ScalarMode::Absorption,
-        table: IntegrandTable::new(&tf, ScalarMode::Absorption, 4.0, TABLE_KNOTS),
-    };
+    let load = |spec: &str| Dataset::load(spec, &LoadOptions::default());
     if let Some(spec) = config
         .data
         .as_deref()
         .filter(|d| DataKind::of_spec(d) == DataKind::Tets)
     {
-        if let Some(count) = spec.strip_prefix("tets:asteroids:") {
-            let count = count
-                .parse()
-                .map_err(|_| Error::Invalid(format!("'{spec}': bad COUNT")))?;
-            return asteroids(gpu, &compiler, &config.paths, count, plan, sink, size);
+        let data = load(spec)?;
+        if spec.starts_with("tets:asteroids:") {
+            return bench.asteroids(gpu, &data, sink);
         }
-        let tets = Dataset::load(spec, &LoadOptions::default())?;
-        let Dataset::Tets(TetData { mesh, .. }) = tets else {
-            unreachable!("tet specs load as meshes")
-        };
         let name = std::path::Path::new(spec)
             .file_name()
             .map_or(spec.to_string(), |n| n.to_string_lossy().into_owned());
-        let scalar = mesh.scalars.is_some().then_some(&scalar);
-        return bench.run(gpu, &mesh, &name, &views, scalar, sink);
+        return bench.run(gpu, &data, &name, &views, true, sink);
     }
     // n³ cells of 6 tets each.
     let cells: &[u32] = if config.quick {
@@ -149,186 +149,145 @@ pub fn interval(
         &[22, 54, 74]
     };
     for (i, &n) in cells.iter().enumerate() {
-        let mesh = box_mesh(n);
-        let scalar = (i == cells.len() / 2).then_some(&scalar);
-        bench.run(gpu, &mesh, "box", &views, scalar, sink)?;
+        let data = load(&format!("tets:box:{n}"))?;
+        bench.run(gpu, &data, "box", &views, i == cells.len() / 2, sink)?;
     }
     let count = if config.quick { 500 } else { 10_000 };
-    asteroids(gpu, &compiler, &config.paths, count, plan, sink, size)
+    bench.asteroids(gpu, &load(&format!("tets:asteroids:{count}"))?, sink)
 }
 
 /// Times one mesh's views with every variant.
 struct MeshBench<'a> {
-    compiler: &'a tessera_gpu::ShaderCompiler,
     paths: &'a [Path],
     plan: FramePlan,
     size: (u32, u32),
 }
 
 impl MeshBench<'_> {
+    /// `scalar`: also through the transfer function, where the mesh has vertex scalars.
     fn run(
         &self,
         gpu: &Gpu,
-        mesh: &tessera_data::tet::TetMesh,
+        data: &Dataset,
         name: &str,
         views: &[(&str, f32)],
-        scalar: Option<&Integrand>,
+        scalar: bool,
         sink: &mut dyn RecordSink,
     ) -> Result<()> {
-        if scalar.is_some() {
-            // The same check as before the upload: scalars with a finite range.
-            mapping_range(mesh, None, name)?;
-        }
-        let gpu_mesh = GpuTetMesh::upload(gpu, mesh)?;
-        let result = views.iter().try_for_each(|&(view, distance)| {
-            let camera = OrbitCamera {
-                distance,
-                ..OrbitCamera::default()
-            };
-            let small = mesh.tets.len() < 100_000;
-            let mut all = variants(gpu, self.paths, view, None, small);
-            if let Some(s) = scalar {
-                all.extend(variants(gpu, self.paths, view, Some(s), small));
-            }
-            all.iter().try_for_each(|variant| {
-                let dataset = format!("{name} {} tets, {view}", mesh.tets.len());
-                let timed = time_variant(
-                    gpu,
-                    self.compiler,
-                    variant,
-                    &gpu_mesh,
-                    &camera,
-                    self.size,
-                    self.plan,
-                )?;
-                let mut r = timed.into_record(gpu, &dataset, variant, self.plan, self.size);
-                r.counts.insert("tets".into(), mesh.tets.len() as f64);
-                if let Some(ms) = r.median_ms("interval") {
-                    r.counts
-                        .insert("mtets_per_s".into(), mesh.tets.len() as f64 / ms / 1e3);
-                }
-                sink.emit(&r)
-            })
-        });
-        result
-    }
-}
-
-/// Paper A's asteroid field: `count` (10,000 in the paper) asteroids, one bounding tet each, sphere-traced along
-/// their intervals; seen from outside and from within the field.
-fn asteroids(
-    gpu: &Gpu,
-    compiler: &tessera_gpu::ShaderCompiler,
-    paths: &[Path],
-    count: u32,
-    plan: FramePlan,
-    sink: &mut dyn RecordSink,
-    (w, h): (u32, u32),
-) -> Result<()> {
-    let mesh = tessera_data::tet::asteroids::asteroid_field(count, 1);
-    let gpu_mesh = GpuTetMesh::upload_asteroids(gpu, &mesh)?;
-    let support = wanted_support(gpu, paths);
-    let mut all = Vec::new();
-    if support.graphics {
-        for n in [1, 16] {
-            all.push(Variant {
-                options: IntervalOptions {
-                    integrand: Integrand::Asteroids,
-                    tets_per_workgroup: n,
-                    ..IntervalOptions::new(Path::Graphics)
-                },
-                label: format!("asteroids, {n} tets/workgroup"),
-            });
-        }
-    }
-    if support.compute && gpu.caps().buffer_int64_atomics {
-        all.push(Variant {
-            options: IntervalOptions {
-                integrand: Integrand::Asteroids,
-                ..IntervalOptions::new(Path::Compute)
-            },
-            label: "asteroids, automatic tile limit".into(),
-        });
-    }
-    for (view, distance) in [("outside", 1.5f32), ("inside", 0.15)] {
-        let camera = OrbitCamera {
-            distance,
-            ..OrbitCamera::default()
+        let Dataset::Tets(tets) = data else {
+            return Err(renderer::wrong_data(Technique::Interval, data));
         };
-        for variant in &all {
-            let dataset = format!("asteroids {count}, {view}");
-            let timed = time_variant(gpu, compiler, variant, &gpu_mesh, &camera, (w, h), plan)?;
-            let mut r = timed.into_record(gpu, &dataset, variant, plan, (w, h));
-            r.counts.insert("tets".into(), f64::from(count));
-            sink.emit(&r)?;
+        let count = tets.mesh.tets.len();
+        let scalar = scalar && tets.mesh.scalars.is_some();
+        let small = count < 100_000;
+        // A renderer per variant, made (and the mesh uploaded) the first time it is needed.
+        let mut renderers: BTreeMap<String, Box<dyn Renderer>> = BTreeMap::new();
+        for &(view, distance) in views {
+            let mut all = variants(gpu, self.paths, view, false, small);
+            if scalar {
+                all.extend(variants(gpu, self.paths, view, true, small));
+            }
+            for variant in &all {
+                let dataset = format!("{name} {count} tets, {view}");
+                let camera = OrbitCamera {
+                    distance,
+                    ..OrbitCamera::default()
+                };
+                let r = match renderers.entry(variant.label.clone()) {
+                    std::collections::btree_map::Entry::Occupied(e) => e.into_mut(),
+                    std::collections::btree_map::Entry::Vacant(e) => {
+                        e.insert(interval_renderer(gpu, variant, data)?)
+                    }
+                };
+                let mut record = self.time(gpu, r.as_mut(), &camera, &dataset, variant)?;
+                record.counts.insert("tets".into(), count as f64);
+                if let Some(ms) = record.median_ms("interval") {
+                    record
+                        .counts
+                        .insert("mtets_per_s".into(), count as f64 / ms / 1e3);
+                }
+                sink.emit(&record)?;
+            }
         }
+        Ok(())
     }
-    Ok(())
-}
 
-struct Timed {
-    stages: Vec<crate::bench::StageStats>,
-    tiled: u32,
-    overflowed: u32,
-}
+    /// Paper A's asteroid field (10,000 asteroids in the paper), one bounding tet each,
+    /// sphere-traced along their intervals; seen from outside and from within the field.
+    fn asteroids(&self, gpu: &Gpu, data: &Dataset, sink: &mut dyn RecordSink) -> Result<()> {
+        let Dataset::Tets(tets) = data else {
+            return Err(renderer::wrong_data(Technique::Interval, data));
+        };
+        let count = tets.mesh.tets.len();
+        let support = wanted_support(gpu, self.paths);
+        let mut all = Vec::new();
+        // The integrand follows the data: asteroids are always sphere-traced.
+        let integrand = IntegrandChoice::Auto;
+        if support.graphics {
+            for n in [1, 16] {
+                let tuning = IntervalTuning {
+                    tets_per_workgroup: n,
+                    ..IntervalTuning::default()
+                };
+                let label = format!("asteroids, {n} tets/workgroup");
+                all.push(Variant::new(Path::Graphics, tuning, integrand, label));
+            }
+        }
+        if support.compute && gpu.caps().buffer_int64_atomics {
+            let label = "asteroids, automatic tile limit".to_string();
+            all.push(Variant::new(
+                Path::Compute,
+                IntervalTuning::default(),
+                integrand,
+                label,
+            ));
+        }
+        for variant in &all {
+            let mut r = interval_renderer(gpu, variant, data)?;
+            for (view, distance) in [("outside", 1.5f32), ("inside", 0.15)] {
+                let camera = OrbitCamera {
+                    distance,
+                    ..OrbitCamera::default()
+                };
+                let dataset = format!("asteroids {count}, {view}");
+                let mut record = self.time(gpu, r.as_mut(), &camera, &dataset, variant)?;
+                record.counts.insert("tets".into(), count as f64);
+                sink.emit(&record)?;
+            }
+        }
+        Ok(())
+    }
 
-impl Timed {
-    fn into_record(
-        self,
+    fn time(
+        &self,
         gpu: &Gpu,
+        r: &mut dyn Renderer,
+        camera: &OrbitCamera,
         dataset: &str,
         variant: &Variant,
-        plan: FramePlan,
-        (w, h): (u32, u32),
-    ) -> BenchRecord {
-        let path = variant.options.path.name();
-        let mut r = BenchRecord::new(gpu, "interval", "interval", path, dataset);
-        (r.width, r.height, r.warmup, r.frames, r.stages) =
-            (w, h, plan.warmup, plan.frames, self.stages);
-        r.variant = variant.label.clone();
-        r.counts.insert("tiled_tets".into(), f64::from(self.tiled));
-        r.counts
-            .insert("overflowed_tets".into(), f64::from(self.overflowed));
-        r
+    ) -> Result<BenchRecord> {
+        let view = r.view(camera, self.size)?;
+        let stages = time_mono(gpu, r, &view, self.plan, 1, None)?;
+        let path = r.path().name();
+        let mut record = BenchRecord::new(gpu, "interval", "interval", path, dataset);
+        (record.width, record.height, record.warmup, record.frames, record.stages) = (
+            self.size.0,
+            self.size.1,
+            self.plan.warmup,
+            self.plan.frames,
+            stages,
+        );
+        record.variant = variant.label.clone();
+        for (name, &n) in &r.stats().details {
+            record.counts.insert((*name).into(), n as f64);
+        }
+        Ok(record)
     }
 }
 
-fn time_variant(
-    gpu: &Gpu,
-    compiler: &tessera_gpu::ShaderCompiler,
-    variant: &Variant,
-    mesh: &GpuTetMesh,
-    camera: &OrbitCamera,
-    (w, h): (u32, u32),
-    plan: FramePlan,
-) -> Result<Timed> {
-    let interval = Interval::new(gpu, compiler, &variant.options)?;
-    let target = interval.target(gpu, w, h)?;
-    run_frames(gpu, &interval, mesh, &target, camera, plan)
-}
-
-fn run_frames(
-    gpu: &Gpu,
-    interval: &Interval,
-    mesh: &GpuTetMesh,
-    target: &OpticalTarget,
-    camera: &OrbitCamera,
-    plan: FramePlan,
-) -> Result<Timed> {
-    let params = interval.params(mesh, camera, target.width, target.height);
-    let mut recorded = Ok(());
-    let stages = time_frames(gpu, plan, 1, |rec, timer| {
-        let r = timer.scope(rec, "interval", |rec| {
-            interval.record(rec, mesh, target, &params)
-        });
-        recorded = recorded.clone().and(r.map_err(|e| e.to_string()));
-    });
-    recorded.map_err(Error::Invalid)?;
-    // One more frame for the counters.
-    let frame = interval.render(gpu, mesh, target, camera)?;
-    Ok(Timed {
-        stages: stages?,
-        tiled: frame.tiled,
-        overflowed: frame.overflowed,
-    })
+fn interval_renderer(gpu: &Gpu, variant: &Variant, data: &Dataset) -> Result<Box<dyn Renderer>> {
+    let mut r = renderer::create(gpu, Technique::Interval, &variant.options)?;
+    r.set_appearance(gpu, &variant.look)?;
+    r.set_data(gpu, data)?;
+    Ok(r)
 }

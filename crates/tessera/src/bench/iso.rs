@@ -1,195 +1,121 @@
-//! Isosurface benchmark scenarios that set techniques side by side in one run.
+//! Isosurface benchmark scenarios that set techniques side by side in one run, every one
+//! driven through the front door.
 
 use super::basic::{bench_sizes, bench_volumes, make_volume};
+use super::frames::{settle_after_upload, time_mono, EachFrame};
 use super::{time_frames, BenchRecord, FramePlan};
 use super::{BenchConfig, RecordSink};
 use crate::error::{Error, Result};
 use crate::iso::direct::compute::{ComputeTarget, DirectCompute};
-use crate::iso::direct::cull::CullState;
 use crate::iso::direct::{Direct, RasterTarget};
 use crate::iso::raymarch::Raymarch;
 use crate::iso::PreparedVolume;
+use crate::path::PathChoice;
+use crate::renderer::{self, Renderer, RendererOptions, Technique};
 use crate::target::Target;
+use std::collections::BTreeMap;
+use tessera_data::scene::{Appearance, Dataset};
 use tessera_data::{IsoValue, OrbitCamera, ScalarType, Volume};
 use tessera_gpu::{Gpu, ShaderCompiler};
 
 /// Each frame's isovalue as a fraction of the value range; `None` keeps it fixed.
 type Sweep<'a> = Option<&'a dyn Fn(u32) -> f32>;
 
-pub(crate) struct Techniques {
-    pub(crate) raymarch: Raymarch,
-    pub(crate) direct: Option<Direct>,
-    pub(crate) direct_compute: Option<DirectCompute>,
+/// Frames with distinct isovalues in a sweep's period: the settling renders each once.
+const SWEEP_PERIOD: u32 = 64;
+
+/// One way of drawing the isosurface, as the records name it.
+pub(super) struct IsoTechnique {
+    pub(super) technique: Technique,
+    pub(super) options: RendererOptions,
+    /// The record's technique and path names.
+    pub(super) name: &'static str,
+    pub(super) path: &'static str,
 }
 
-pub(super) fn techniques(
-    gpu: &Gpu,
-    compiler: &ShaderCompiler,
-    volume: &Volume,
-    sink: &mut dyn RecordSink,
-) -> Result<Techniques> {
-    let scalar = volume.scalar_type();
-    let direct = if gpu.caps().mesh_shader && gpu.caps().task_shader {
-        Some(Direct::new(gpu, compiler, scalar)?)
+/// Ray marching, then `direct` on each path the device has, without and with culling.
+pub(super) fn iso_techniques(gpu: &Gpu, sink: &mut dyn RecordSink) -> Vec<IsoTechnique> {
+    let with = |path, culling| RendererOptions {
+        path,
+        culling,
+        ..RendererOptions::default()
+    };
+    let mut out = vec![IsoTechnique {
+        technique: Technique::Raymarch,
+        options: with(PathChoice::Compute, false),
+        name: "raymarch",
+        path: "compute",
+    }];
+    let caps = gpu.caps();
+    if caps.mesh_shader && caps.task_shader {
+        for (culling, name) in [(false, "direct"), (true, "direct+roc")] {
+            out.push(IsoTechnique {
+                technique: Technique::Direct,
+                options: with(PathChoice::Graphics, culling),
+                name,
+                path: "mesh",
+            });
+        }
     } else {
         sink.note(&format!(
             "{} has no task/mesh shaders; direct is skipped",
-            gpu.caps().device_name
+            caps.device_name
         ));
-        None
-    };
-    let direct_compute = if gpu.caps().buffer_int64_atomics {
-        Some(DirectCompute::new(gpu, compiler, scalar)?)
+    }
+    if caps.buffer_int64_atomics {
+        for (culling, name) in [(false, "direct"), (true, "direct+hzb")] {
+            out.push(IsoTechnique {
+                technique: Technique::Direct,
+                options: with(PathChoice::Compute, culling),
+                name,
+                path: "compute",
+            });
+        }
     } else {
         sink.note(&format!(
             "{} has no 64-bit buffer atomics; direct's compute path is skipped",
-            gpu.caps().device_name
+            caps.device_name
         ));
-        None
-    };
-    Ok(Techniques {
-        raymarch: Raymarch::new(gpu, compiler, scalar)?,
-        direct,
-        direct_compute,
-    })
+    }
+    out
 }
 
-#[allow(clippy::too_many_arguments)]
-fn measure(
+/// The look of frame `k`: the scenario's isovalue, or the sweep's.
+fn look_of(config: &BenchConfig, sweep: Sweep, k: u32) -> Appearance {
+    let fraction = sweep.map_or(config.iso_fraction, |f| f(k));
+    Appearance {
+        iso: IsoValue::Normalized(fraction),
+        ..Appearance::default()
+    }
+}
+
+/// A renderer of `t` holding `data`, settled after the upload.
+pub(super) fn iso_renderer(
     gpu: &Gpu,
-    t: &Techniques,
-    prepared: &PreparedVolume,
-    volume: &Volume,
-    (w, h): (u32, u32),
-    scenario: &str,
-    config: &BenchConfig,
-    plan: FramePlan,
-    sweep: Sweep,
-    sink: &mut dyn RecordSink,
-) -> Result<()> {
-    let camera = OrbitCamera::default();
-    let iso_of = |frame: u32| {
-        let fraction = sweep.map_or(config.iso_fraction, |f| f(frame));
-        volume.iso_to_texel(IsoValue::Normalized(fraction))
-    };
-    let record = |technique: &str, path: &str| {
-        let mut r = BenchRecord::new(gpu, scenario, technique, path, volume.name());
-        (r.width, r.height, r.warmup, r.frames) = (w, h, plan.warmup, plan.frames);
-        r
-    };
+    t: &IsoTechnique,
+    data: &Dataset,
+    look: &Appearance,
+) -> Result<Box<dyn Renderer>> {
+    let mut r = renderer::create(gpu, t.technique, &t.options)?;
+    r.set_appearance(gpu, look)?;
+    r.set_data(gpu, data)?;
+    settle_after_upload(gpu, r.as_mut())?;
+    Ok(r)
+}
 
-    let target = Target::new(gpu, w, h)?;
-    let mut frame = 0u32;
-    let stages = time_frames(gpu, plan, 1, |rec, timer| {
-        let params = Raymarch::params(prepared, iso_of(frame), &camera, w, h);
-        frame += 1;
-        timer.scope(rec, "raymarch", |rec| {
-            t.raymarch.record(rec, prepared, &target, &params)
-        });
-    })?;
-    drop(target);
-    let mut r = record("raymarch", "compute");
-    r.stages = stages;
-    let raymarch_ms = r.median_ms("raymarch");
-    sink.emit(&r)?;
-
-    if let Some(direct) = &t.direct {
-        for culling in [false, true] {
-            let state = if culling {
-                Some(CullState::new(gpu, prepared)?)
-            } else {
-                None
-            };
-            let target = RasterTarget::new(gpu, w, h)?;
-            let capture = Direct::no_capture(gpu)?;
-            let mut frame = 0u32;
-            let mut recorded = Ok(());
-            let stages = time_frames(gpu, plan, 1, |rec, timer| {
-                let params = Direct::params(prepared, iso_of(frame), &camera, w, h, 0);
-                frame += 1;
-                let result = timer.scope(rec, "direct", |rec| {
-                    direct.record(rec, prepared, &target, &params, &capture, state.as_ref())
-                });
-                recorded = recorded.clone().and(result.map_err(|e| e.to_string()));
-            });
-            let stats = direct.read_stats(gpu);
-            let cull_stats = state.as_ref().map(|s| s.read_stats(gpu)).transpose();
-            recorded.map_err(Error::Invalid)?;
-            let (stats, cull_stats) = (stats?, cull_stats?);
-            let mut r = record(if culling { "direct+roc" } else { "direct" }, "mesh");
-            r.stages = stages?;
-            r.counts
-                .insert("triangles_last_frame".into(), stats.triangles as f64);
-            r.counts.insert(
-                "mesh_workgroups_last_frame".into(),
-                stats.mesh_workgroups as f64,
-            );
-            if let Some(c) = cull_stats {
-                r.counts
-                    .insert("regions_occupied".into(), c.regions_occupied as f64);
-                r.counts
-                    .insert("blocks_visible".into(), c.blocks_visible as f64);
-                r.counts.insert(
-                    "blocks_drawn".into(),
-                    (c.blocks_drawn_first + c.blocks_drawn_new) as f64,
-                );
-            }
-            if let (Some(d), Some(rm)) = (r.median_ms("direct"), raymarch_ms) {
-                r.counts.insert("speedup_over_raymarch".into(), rm / d);
-            }
-            sink.emit(&r)?;
-        }
+/// The frame's counters as record counts.
+fn frame_counts(stats: &renderer::FrameStats, r: &mut BenchRecord) {
+    if let Some(t) = stats.triangles {
+        r.counts.insert("triangles_last_frame".into(), t as f64);
     }
-    if let Some(compute) = &t.direct_compute {
-        // Lists sized from the largest count over the isovalues this scenario visits.
-        let probe = ComputeTarget::new(gpu, 1, 1, 1)?;
-        let probe_pixels = Target::new(gpu, 1, 1)?;
-        let mut most = 0u32;
-        for frame in 0..64 {
-            let params = Direct::params(prepared, iso_of(frame), &camera, 1, 1, 1);
-            gpu.submit("count triangles", |rec| {
-                compute.record(rec, prepared, &probe, &probe_pixels, &params)
-            })?;
-            most = most.max(compute.read_stats(gpu)?.triangles);
-            if sweep.is_none() {
-                break;
-            }
-        }
-        drop((probe, probe_pixels));
-        let capacity = most + most / 4 + 1024;
-        let target = ComputeTarget::new(gpu, w, h, capacity)?;
-        let pixels = Target::new(gpu, w, h)?;
-        let mut frame = 0u32;
-        let stages = time_frames(gpu, plan, 1, |rec, timer| {
-            let params = Direct::params(prepared, iso_of(frame), &camera, w, h, capacity);
-            frame += 1;
-            timer.scope(rec, "direct", |rec| {
-                compute.record(rec, prepared, &target, &pixels, &params)
-            });
-        });
-        let stats = compute.read_stats(gpu)?;
-        // The culled run below makes lists of the same capacity: free these first.
-        drop(target);
-        let mut r = record("direct", "compute");
-        r.stages = stages?;
-        r.counts
-            .insert("triangles_last_frame".into(), stats.triangles as f64);
-        r.counts
-            .insert("blocks_classified".into(), stats.blocks_classified as f64);
-        if let (Some(d), Some(rm)) = (r.median_ms("direct"), raymarch_ms) {
-            r.counts.insert("speedup_over_raymarch".into(), rm / d);
-        }
-        sink.emit(&r)?;
-        let mut r = record("direct+hzb", "compute");
-        super::hzb::measure_compute_culled(
-            gpu, compute, prepared, capacity, plan, &iso_of, &mut r,
-        )?;
-        if let (Some(d), Some(rm)) = (r.median_ms("direct"), raymarch_ms) {
-            r.counts.insert("speedup_over_raymarch".into(), rm / d);
-        }
-        sink.emit(&r)?;
+    if let Some((first, new)) = stats.blocks_drawn {
+        r.counts.insert("blocks_drawn".into(), (first + new) as f64);
+        r.counts.insert("blocks_drawn_first".into(), first as f64);
+        r.counts.insert("blocks_drawn_new".into(), new as f64);
     }
-    Ok(())
+    for (name, &n) in &stats.details {
+        r.counts.insert((*name).into(), n as f64);
+    }
 }
 
 fn run_scenario(
@@ -200,17 +126,39 @@ fn run_scenario(
     scenario: &str,
     sweep: Sweep,
 ) -> Result<()> {
-    let compiler = crate::shaders::compiler();
+    let camera = OrbitCamera::default();
+    let techniques = iso_techniques(gpu, sink);
     for spec in bench_volumes(config) {
-        let volume = make_volume(gpu, &spec, config)?;
-        let t = techniques(gpu, &compiler, &volume, sink)?;
-        let prepared = t.raymarch.prepare(gpu, &volume)?;
-        let iso = volume.iso_to_texel(IsoValue::Normalized(config.iso_fraction));
-        super::basic::settle(gpu, &t.raymarch, &prepared, iso)?;
-        for size in bench_sizes(config) {
-            measure(
-                gpu, &t, &prepared, &volume, size, scenario, config, plan, sweep, sink,
-            )?;
+        let data = Dataset::Volume(make_volume(gpu, &spec, config)?);
+        let volume_name = data.name().to_string();
+        // Ray marching's median per image size, for the speed-ups.
+        let mut raymarch_ms: BTreeMap<(u32, u32), f64> = BTreeMap::new();
+        for t in &techniques {
+            let mut r = iso_renderer(gpu, t, &data, &look_of(config, sweep, 0))?;
+            let each_frame = |k: u32, r: &mut dyn Renderer| r.set_appearance(gpu, &look_of(config, sweep, k));
+            let each: EachFrame = sweep.map(|_| &each_frame as &dyn Fn(u32, &mut dyn Renderer) -> Result<()>);
+            let distinct = if sweep.is_some() { SWEEP_PERIOD } else { 1 };
+            for size in bench_sizes(config) {
+                let view = r.view(&camera, size)?;
+                let stages = time_mono(gpu, r.as_mut(), &view, plan, distinct, each)?;
+                let mut record = BenchRecord::new(gpu, scenario, t.name, t.path, &volume_name);
+                (record.width, record.height, record.warmup, record.frames) =
+                    (size.0, size.1, plan.warmup, plan.frames);
+                record.stages = stages;
+                frame_counts(&r.stats(), &mut record);
+                match (t.technique, record.frame_ms()) {
+                    (Technique::Raymarch, Some(ms)) => {
+                        raymarch_ms.insert(size, ms);
+                    }
+                    (_, Some(ms)) => {
+                        if let Some(rm) = raymarch_ms.get(&size) {
+                            record.counts.insert("speedup_over_raymarch".into(), rm / ms);
+                        }
+                    }
+                    _ => {}
+                }
+                sink.emit(&record)?;
+            }
         }
     }
     Ok(())
@@ -234,12 +182,33 @@ pub fn iso_sweep(
     plan: FramePlan,
     sink: &mut dyn RecordSink,
 ) -> Result<()> {
-    let period = 64u32;
     let sweep = move |frame: u32| {
-        let phase = (frame % period) as f32 / period as f32;
+        let phase = (frame % SWEEP_PERIOD) as f32 / SWEEP_PERIOD as f32;
         0.2 + 0.4 * (1.0 - (2.0 * phase - 1.0).abs())
     };
     run_scenario(gpu, config, plan, sink, "iso-sweep", Some(&sweep))
+}
+
+/// The pipelines of the time-varying scenario, which streams volume steps into one upload:
+/// something the front door has no call for yet, so it drives the techniques directly.
+struct Techniques {
+    raymarch: Raymarch,
+    direct: Option<Direct>,
+    direct_compute: Option<DirectCompute>,
+}
+
+fn techniques(gpu: &Gpu, compiler: &ShaderCompiler, scalar: ScalarType) -> Result<Techniques> {
+    let caps = gpu.caps();
+    Ok(Techniques {
+        raymarch: Raymarch::new(gpu, compiler, scalar)?,
+        direct: (caps.mesh_shader && caps.task_shader)
+            .then(|| Direct::new(gpu, compiler, scalar))
+            .transpose()?,
+        direct_compute: caps
+            .buffer_int64_atomics
+            .then(|| DirectCompute::new(gpu, compiler, scalar))
+            .transpose()?,
+    })
 }
 
 /// A new volume every frame, as when playing back a simulation's time steps: each frame copies
@@ -278,7 +247,7 @@ pub fn time_varying(
             .iter()
             .map(|v| v.iso_to_texel(IsoValue::Normalized(config.iso_fraction)))
             .collect();
-        let t = techniques(gpu, &compiler, &steps[0], sink)?;
+        let t = techniques(gpu, &compiler, scalar)?;
         let builder = crate::iso::minmax::MinMaxBuilder::new(gpu, &compiler, scalar)?;
         let prepared = PreparedVolume::new(gpu, &builder, &steps[0])?;
         // Each frame copies the next time step in and rebuilds the octree; returns its index.

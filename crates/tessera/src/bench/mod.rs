@@ -3,7 +3,7 @@
 //! scenarios.
 
 mod basic;
-mod hzb;
+mod frames;
 mod interval;
 mod iso;
 mod param;
@@ -138,6 +138,15 @@ impl BenchRecord {
             counts: BTreeMap::new(),
             device: caps.device_name.clone(),
             driver: format!("{} {}", caps.driver_name, caps.driver_info),
+        }
+    }
+
+    /// The median time of a whole frame: the sum of its stages where it has several, else its
+    /// one stage.
+    pub fn frame_ms(&self) -> Option<f64> {
+        match self.stages.as_slice() {
+            [one] => Some(one.median_ms),
+            _ => self.median_ms(frames::FRAME_STAGE),
         }
     }
 

@@ -11,6 +11,7 @@
 // (per pattern: child count << 16 | nibble i = u part | v part << 2; 0 lower, 1 upper, 2 whole)
 // are generated from tessera_data's SplitPattern (param/lod.rs).
 #define PARAM_STATE_BINDING 3
+#include "common/exact.glsl"
 #include "param/functions.glsl"
 #include "param/view.glsl"
 #include "param/patch.glsl"
@@ -66,19 +67,6 @@ uint take_sample(uint index, uint object, float u, float v) {
         captured[slot] = LodSample(object, u, v, front ? pixel.x : uintBitsToFloat(0x7fc00000u), pixel.y);
     }
     return outcode(front, pixel);
-}
-
-// The error of the product a * b = p: a * b == p + error exactly (Dekker's product on Veltkamp
-// halves, exact in plain IEEE arithmetic, which `precise` keeps from being fused).
-float product_error(float a, float b, float p) {
-    precise float ca = 4097.0 * a;
-    precise float a_hi = ca - (ca - a);
-    precise float a_lo = a - a_hi;
-    precise float cb = 4097.0 * b;
-    precise float b_hi = cb - (cb - b);
-    precise float b_lo = b - b_hi;
-    precise float e = ((a_hi * b_hi - p) + a_hi * b_lo + a_lo * b_hi) + a_lo * b_lo;
-    return e;
 }
 
 // x / 7 correctly rounded, as the CPU computes it. Vulkan lets `/` be off by 2.5 ulp (NVIDIA's

@@ -1,6 +1,6 @@
 //! Indirect dispatch arguments from a count a GPU pass wrote: one workgroup per `group_size`
 //! items, on a 2-D grid of workgroups where one row would exceed the device's limit (the pass
-//! flattens the grid again). Counts buffer layout: `uint count; uint dispatch_x, y, z;`.
+//! flattens the grid again). Counts buffer layout: `uint count; uint dispatch[3];`.
 
 use crate::builtin_shader;
 use crate::error::Result;

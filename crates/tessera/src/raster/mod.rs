@@ -26,7 +26,7 @@
 //!   `struct RasterTriangle { vec4 clip[3]; }` (48 bytes, clip-space corners), from offset 0
 //!   with nothing before them. Only the first `min(triangle_count, buffer size / 48)` are read.
 //! * **Counts** — a 16-byte buffer, [`RasterCounts`]: `uint triangle_count` (written by the
-//!   generating pass) then `uint dispatch_x, dispatch_y, dispatch_z`, the indirect dispatch
+//!   generating pass) then `uint dispatch[3]`, the indirect dispatch
 //!   arguments [`ComputeRasterizer::record_prepare_dispatch`] fills. Usage must include
 //!   `STORAGE_BUFFER | INDIRECT_BUFFER` ([`create_counts_buffer`] makes one).
 //! * **Frame** — [`RasterFrame`]: `uint64_t depth_payload[width * height]`, row-major from the

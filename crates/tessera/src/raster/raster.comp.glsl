@@ -9,15 +9,14 @@
 // reference's LESS test in list order (equal depths keep the lower index).
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_EXT_shader_atomic_int64 : require
+#include "common/exact.glsl"
 #include "raster/raster.glsl"
 
 layout(local_size_x = 64) in;
 layout(binding = 0) readonly buffer Triangles { RasterTriangle triangles[]; };
 layout(binding = 1) readonly buffer Counts {
     uint triangle_count;
-    uint dispatch_x;
-    uint dispatch_y;
-    uint dispatch_z;
+    uint dispatch[3];
 };
 layout(binding = 2) buffer Frame { uint64_t depth_payload[]; };
 
@@ -69,20 +68,6 @@ bool lexically_before_or_equal(vec4 a, vec4 b) {
 // an edge get bit-identical new corners and stay watertight.
 vec4 intersect(vec4 a, float da, vec4 b, float db) {
     return lexically_before_or_equal(a, b) ? mix(a, b, da / (da - db)) : mix(b, a, db / (db - da));
-}
-
-// The rounding error of a * b = p (a * b == p + error exactly), by Dekker's product on
-// Veltkamp halves: exact with plain IEEE arithmetic, where `precise` keeps the compiler from
-// fusing or reassociating, so it needs no hardware fma (lavapipe's is not fused).
-float product_error(float a, float b, float p) {
-    precise float ca = 4097.0 * a;
-    precise float a_hi = ca - (ca - a);
-    precise float a_lo = a - a_hi;
-    precise float cb = 4097.0 * b;
-    precise float b_hi = cb - (cb - b);
-    precise float b_lo = b - b_hi;
-    precise float e = ((a_hi * b_hi - p) + a_hi * b_lo + a_lo * b_hi) + a_lo * b_lo;
-    return e;
 }
 
 // round(s * (x / w + 1)) with halves away from zero, as if computed exactly: a double-float

@@ -6,9 +6,7 @@
 layout(local_size_x = 1) in;
 layout(binding = 0) buffer Counts {
     uint triangle_count;
-    uint dispatch_x;
-    uint dispatch_y;
-    uint dispatch_z;
+    uint dispatch[3];
 };
 
 layout(push_constant) uniform PrepareParams {
@@ -21,7 +19,5 @@ void main() {
     uint groups = n / params.group_size + (n % params.group_size != 0u ? 1u : 0u);
     uint x = min(groups, params.max_groups.x);
     uint y = x == 0u ? 1u : groups / x + (groups % x != 0u ? 1u : 0u);
-    dispatch_x = x;
-    dispatch_y = min(y, params.max_groups.y);
-    dispatch_z = 1u;
+    dispatch = uint[3](x, min(y, params.max_groups.y), 1u);
 }

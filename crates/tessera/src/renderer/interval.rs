@@ -9,7 +9,9 @@ use super::{
 };
 use crate::error::Result;
 use crate::path::Path;
-use crate::tet::interval::{self, GpuTetMesh, Integrand, Interval, IntervalOptions, OpticalTarget};
+use crate::tet::interval::{
+    self, GpuTetMesh, Integrand, Interval, IntervalOptions, IntervalTuning, OpticalTarget,
+};
 use tessera_data::scene::{Appearance, DataKind, Dataset, ResolvedIntegrand, TetData};
 use tessera_data::View;
 use tessera_gpu::{Gpu, Recorder, Timer};
@@ -23,6 +25,7 @@ struct MeshOnGpu {
 
 pub(super) struct IntervalRenderer {
     path: Path,
+    tuning: IntervalTuning,
     data: Option<MeshOnGpu>,
     look: Appearance,
     /// Built for the integrand of the current look.
@@ -46,6 +49,7 @@ impl IntervalRenderer {
         )?;
         Ok(IntervalRenderer {
             path,
+            tuning: options.interval,
             data: None,
             look: Appearance::default(),
             pipelines: None,
@@ -83,7 +87,7 @@ impl IntervalRenderer {
             self.pipelines = None;
             let options = IntervalOptions {
                 integrand,
-                ..IntervalOptions::new(self.path)
+                ..IntervalOptions::tuned(self.path, self.tuning)
             };
             self.pipelines = Some(Interval::new(gpu, &crate::shaders::compiler(), &options)?);
             self.counters.pipeline_builds += 1;
@@ -167,11 +171,13 @@ impl Renderer for IntervalRenderer {
             return Err(no_data(Technique::Interval));
         };
         let params = pipelines.params_for_view(&data.mesh, view);
-        timer.scope(rec, "interval", |rec| {
-            let recorded = pipelines.record(rec, &data.mesh, accumulation, &params);
-            pipelines.record_composite(rec, accumulation, target, self.background);
-            recorded
-        })
+        let recorded = timer.scope(rec, "interval", |rec| {
+            pipelines.record(rec, &data.mesh, accumulation, &params)
+        });
+        timer.scope(rec, "composite", |rec| {
+            pipelines.record_composite(rec, accumulation, target, self.background)
+        });
+        recorded
     }
 
     fn finish_frame(&mut self, gpu: &Gpu) -> Result<FrameOutcome> {
@@ -182,13 +188,18 @@ impl Renderer for IntervalRenderer {
         let counts = pipelines.read_counts(gpu)?;
         self.stats = FrameStats {
             tets_clipped: Some(u64::from(counts.clipped_near)),
+            details: [
+                ("tiled_tets", u64::from(counts.tiled)),
+                ("overflowed_tets", u64::from(counts.overflowed)),
+            ]
+            .into(),
             ..FrameStats::default()
         };
         Ok(FrameOutcome::Done)
     }
 
     fn stats(&self) -> FrameStats {
-        self.stats
+        self.stats.clone()
     }
 
     fn counters(&self) -> WorkCounters {

@@ -9,6 +9,7 @@ use crate::error::{Error, Result};
 use crate::iso::direct::compute::{ComputeTarget, DirectCompute, TriangleLists};
 use crate::iso::direct::compute_cull::ComputeCullState;
 use crate::iso::direct::cull::CullState;
+use crate::iso::direct::stereo::DirectMultiview;
 use crate::iso::direct::{Direct, RasterTarget};
 use crate::iso::raymarch::Raymarch;
 use crate::iso::PreparedVolume;
@@ -53,6 +54,10 @@ pub(super) struct IsoRenderer {
     frame: FrameBuffers,
     /// Compute path: the second eye's lists and raster of a stereo pair.
     second_eye: Option<Box<ComputeTarget>>,
+    /// Mesh path with multiview: the stereo pipeline (for the sample type it was built for)
+    /// and its two-layer attachments.
+    multiview: Option<(ScalarType, Box<DirectMultiview>)>,
+    stereo_raster: Option<Box<RasterTarget>>,
     /// Whether the last recording was a stereo pair (drawn without culling).
     stereo: bool,
     /// Compute path: triangles a frame's list holds (grown on overflow).
@@ -87,6 +92,8 @@ impl IsoRenderer {
             no_capture: None,
             frame: FrameBuffers::None,
             second_eye: None,
+            multiview: None,
+            stereo_raster: None,
             stereo: false,
             // A modest list first; an overflow reports the exact count for the retry.
             capacity: 0,
@@ -258,11 +265,13 @@ impl Renderer for IsoRenderer {
                 let params =
                     Direct::params_for_view(prepared, self.iso, view, frame.lists.capacity);
                 match culling {
-                    Some(state) => timer.scope(rec, "direct-compute-culled", |rec| {
-                        d.record_culled(rec, prepared, frame, target, &params, state, None)
-                    }),
+                    // Its passes are timed one by one (first pass, occlusion test, second
+                    // pass, resolve).
+                    Some(state) => {
+                        d.record_culled(rec, prepared, frame, target, &params, state, Some(timer))
+                    }
                     None => {
-                        timer.scope(rec, "direct-compute", |rec| {
+                        timer.scope(rec, "direct", |rec| {
                             d.record(rec, prepared, frame, target, &params)
                         });
                         Ok(())
@@ -277,13 +286,38 @@ impl Renderer for IsoRenderer {
     }
 
     /// The compute path extracts once and re-projects the world-space triangles for the
-    /// second eye; the pair is drawn without occlusion culling (its state follows one eye).
+    /// second eye; the mesh path draws both eyes in one multiview pass where the device has
+    /// multiview mesh shaders (paper D §4.1.3). Pairs are drawn without occlusion culling (its
+    /// state follows one eye).
     fn prepare_stereo(&mut self, gpu: &Gpu, eyes: &[View; 2]) -> Result<bool> {
-        if !matches!(self.pipelines, Some((_, Pipelines::Compute(_)))) {
-            return Ok(false);
-        }
+        let scalar = match &self.pipelines {
+            Some((scalar, Pipelines::Compute(_))) => *scalar,
+            Some((scalar, Pipelines::Mesh(_)))
+                if gpu.caps().mesh_multiview && eyes[0].size == eyes[1].size =>
+            {
+                *scalar
+            }
+            _ => return Ok(false),
+        };
         self.prepare_frame(gpu, &eyes[0])?;
         let (w, h) = eyes[1].size;
+        if matches!(self.pipelines, Some((_, Pipelines::Mesh(_)))) {
+            if self.multiview.as_ref().map(|m| m.0) != Some(scalar) {
+                let compiler = crate::shaders::compiler();
+                let pipeline = DirectMultiview::new(gpu, &compiler, scalar)?;
+                self.counters.pipeline_builds += 1;
+                self.multiview = Some((scalar, Box::new(pipeline)));
+            }
+            let fits = self
+                .stereo_raster
+                .as_ref()
+                .is_some_and(|t| (t.width, t.height) == (w, h));
+            if !fits {
+                self.stereo_raster = None;
+                self.stereo_raster = Some(Box::new(RasterTarget::with_views(gpu, w, h, 2)?));
+            }
+            return Ok(true);
+        }
         let fits = self.second_eye.as_ref().is_some_and(|t| {
             (t.frame.width, t.frame.height) == (w, h) && t.lists.capacity == self.capacity
         });
@@ -303,29 +337,50 @@ impl Renderer for IsoRenderer {
     ) -> Result<()> {
         self.stereo = true;
         let (pipelines, prepared) = loaded(self.technique, &self.pipelines, &self.prepared)?;
-        let (Pipelines::Compute(d), FrameBuffers::Compute { target: first, .. }, Some(second)) =
-            (pipelines, &self.frame, &self.second_eye)
-        else {
-            return Err(Error::Invalid(format!(
+        let before_prepare = || {
+            Error::Invalid(format!(
                 "{}: record_stereo before prepare_stereo",
                 self.technique.name()
-            )));
+            ))
         };
-        let capacity = first.lists.capacity;
-        let params = eyes.map(|eye| Direct::params_for_view(prepared, self.iso, &eye, capacity));
-        timer.scope(rec, "direct-compute-stereo", |rec| {
-            d.record(rec, prepared, first, targets[0], &params[0]);
-            rec.barrier();
-            d.record_second_view(
-                rec,
-                first,
-                second,
-                targets[1],
-                &params[1],
-                eyes[1].world_to_clip,
-            );
-        });
-        Ok(())
+        match (pipelines, &self.frame) {
+            (Pipelines::Compute(d), FrameBuffers::Compute { target: first, .. }) => {
+                let second = self.second_eye.as_ref().ok_or_else(before_prepare)?;
+                let capacity = first.lists.capacity;
+                let params =
+                    eyes.map(|eye| Direct::params_for_view(prepared, self.iso, &eye, capacity));
+                timer.scope(rec, "direct-compute-stereo", |rec| {
+                    d.record(rec, prepared, first, targets[0], &params[0]);
+                    rec.barrier();
+                    d.record_second_view(
+                        rec,
+                        first,
+                        second,
+                        targets[1],
+                        &params[1],
+                        eyes[1].world_to_clip,
+                    );
+                });
+                Ok(())
+            }
+            (Pipelines::Mesh(d), _) => {
+                let (Some((_, multiview)), Some(raster)) = (&self.multiview, &self.stereo_raster)
+                else {
+                    return Err(before_prepare());
+                };
+                let params = eyes.map(|eye| Direct::params_for_view(prepared, self.iso, &eye, 0));
+                let capture = self.no_capture.as_ref().expect("made with the data");
+                let recorded = timer.scope(rec, "direct-multiview", |rec| {
+                    multiview.record(rec, d, prepared, raster, &params, capture)
+                });
+                // Each layer into its eye's target, outside the timed pass (as mono frames).
+                for (layer, target) in targets.into_iter().enumerate() {
+                    raster.record_layer_copy_to(rec, layer as u32, target);
+                }
+                recorded
+            }
+            _ => Err(before_prepare()),
+        }
     }
 
     fn finish_frame(&mut self, gpu: &Gpu) -> Result<FrameOutcome> {
@@ -336,13 +391,24 @@ impl Renderer for IsoRenderer {
         match (pipelines, &self.frame) {
             (Pipelines::Raymarch(_), _) => {}
             (Pipelines::Mesh(d), _) => {
-                self.stats.triangles = Some(u64::from(d.read_stats(gpu)?.triangles));
-                if let Some(state) = &self.mesh_culling {
+                let s = d.read_stats(gpu)?;
+                self.stats.triangles = Some(u64::from(s.triangles));
+                self.stats
+                    .details
+                    .insert("mesh_workgroups", u64::from(s.mesh_workgroups));
+                if let Some(state) = self.mesh_culling.as_ref().filter(|_| !self.stereo) {
                     let s = state.read_stats(gpu)?;
                     self.stats.blocks_drawn = Some((
                         u64::from(s.blocks_drawn_first),
                         u64::from(s.blocks_drawn_new),
                     ));
+                    let details = [
+                        ("regions_occupied", s.regions_occupied),
+                        ("blocks_visible", s.blocks_visible),
+                    ];
+                    self.stats
+                        .details
+                        .extend(details.map(|(k, v)| (k, u64::from(v))));
                 }
             }
             (Pipelines::Compute(d), FrameBuffers::Compute { target, culling }) => {
@@ -356,12 +422,24 @@ impl Renderer for IsoRenderer {
                             u64::from(s.blocks_drawn_new),
                         ));
                         self.stats.triangles = Some(u64::from(s.triangles()));
+                        let details = [
+                            ("triangles_first_pass", s.triangles_first),
+                            ("triangles_second_pass", s.triangles_new),
+                            ("blocks_occupied", s.blocks_occupied),
+                            ("blocks_visible", s.blocks_visible),
+                        ];
+                        self.stats
+                            .details
+                            .extend(details.map(|(k, v)| (k, u64::from(v))));
                         s.triangles_first.max(s.triangles_new)
                     }
                     None => {
-                        let made = d.read_stats(gpu)?.triangles;
-                        self.stats.triangles = Some(u64::from(made));
-                        made
+                        let s = d.read_stats(gpu)?;
+                        self.stats.triangles = Some(u64::from(s.triangles));
+                        self.stats
+                            .details
+                            .insert("blocks_classified", u64::from(s.blocks_classified));
+                        s.triangles
                     }
                 };
                 if made > capacity {
@@ -371,7 +449,9 @@ impl Renderer for IsoRenderer {
                             "the isosurface has {made} triangles, more than fit in device memory ({limit})"
                         )));
                     }
-                    self.capacity = made;
+                    // Headroom, so that the next frames of a moving camera or isovalue
+                    // rarely overflow again.
+                    self.capacity = made.saturating_add(made / 4 + 1024).min(limit);
                     return Ok(FrameOutcome::Retry);
                 }
             }
@@ -381,7 +461,7 @@ impl Renderer for IsoRenderer {
     }
 
     fn stats(&self) -> FrameStats {
-        self.stats
+        self.stats.clone()
     }
 
     fn counters(&self) -> WorkCounters {

@@ -25,7 +25,9 @@ mod iso;
 mod param;
 
 use crate::error::{Error, Result};
+use std::collections::BTreeMap;
 use crate::path::{Path, PathChoice};
+pub use crate::tet::interval::IntervalTuning;
 pub use crate::target::Target;
 use tessera_data::scene::{Appearance, DataKind, Dataset};
 use tessera_data::{DepthFit, OrbitCamera, RgbaImage, View};
@@ -141,6 +143,8 @@ pub struct RendererOptions {
     pub msaa: u32,
     /// Each parametric object starts as `pre_split`² patches before the LOD stage.
     pub pre_split: u32,
+    /// Interval shading's speed settings.
+    pub interval: IntervalTuning,
 }
 
 impl Default for RendererOptions {
@@ -151,12 +155,13 @@ impl Default for RendererOptions {
             supersample: 1,
             msaa: 1,
             pre_split: 1,
+            interval: IntervalTuning::default(),
         }
     }
 }
 
 /// What the last frame did, where a technique counts it.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[derive(Debug, Clone, Default, PartialEq)]
 pub struct FrameStats {
     /// Triangles rasterized (isosurface techniques).
     pub triangles: Option<u64>,
@@ -167,6 +172,8 @@ pub struct FrameStats {
     pub patches: Option<u64>,
     /// Tets clipped at the near plane (interval shading).
     pub tets_clipped: Option<u64>,
+    /// Further counters of the technique's passes, by name (benchmarks record them).
+    pub details: BTreeMap<&'static str, u64>,
 }
 
 /// Work a renderer did on the data side, so callers (and tests) can see that an appearance

@@ -299,7 +299,7 @@ impl Renderer for ParamRenderer {
     }
 
     fn stats(&self) -> FrameStats {
-        self.stats
+        self.stats.clone()
     }
 
     fn counters(&self) -> WorkCounters {

@@ -34,6 +34,7 @@
 use crate::builtin_shader;
 use crate::config::volume_defines;
 use crate::error::Result;
+use crate::iso::direct::block_list;
 use crate::iso::direct::compute::{ComputeTarget, TriangleLists};
 use crate::iso::PreparedVolume;
 use bytemuck::{Pod, Zeroable};
@@ -185,7 +186,7 @@ impl ComputeCullState {
             .iter()
             .map(|d| d[0] as u64 * d[1] as u64)
             .sum();
-        let list = 16 + 4 * blocks as u64;
+        let list = block_list::bytes(blocks as u64);
         let specs = [
             ("hzb cull block flags", 4 * blocks as u64),
             ("hzb cull first blocks A", list),

@@ -5,7 +5,7 @@ use crate::iso::direct::compute::{ComputeTarget, DirectCompute, ResolveParams, T
 use crate::iso::direct::compute_cull::{
     groups_2d, hzb_levels, ComputeCullState, ComputeCullStats, HzbTestParams,
 };
-use crate::iso::direct::{Direct, DirectParams};
+use crate::iso::direct::{block_list, Direct, DirectParams};
 use crate::iso::PreparedVolume;
 use crate::target::Target;
 use tessera_data::{OrbitCamera, RgbaImage};
@@ -81,7 +81,7 @@ impl DirectCompute {
                 ],
                 bytemuck::bytes_of(&p),
                 blocks,
-                4,
+                block_list::ARGS_OFFSET,
             );
             rec.barrier();
         };

@@ -10,13 +10,19 @@
 use crate::builtin_shader;
 use crate::config::common_defines;
 use crate::error::Result;
-use crate::iso::direct::{DirectParams, COLOR_FORMAT, DEPTH_FORMAT};
+use crate::iso::direct::{block_list, DirectParams, COLOR_FORMAT, DEPTH_FORMAT};
 use crate::iso::PreparedVolume;
 use std::cell::Cell;
 use tessera_gpu::{
     vk, Binding, Buffer, Gpu, MemoryLocation, Pipeline, Recorder, RenderTargets, ShaderCompiler,
     Slot,
 };
+
+/// Modes of `cull_setup.comp.glsl`: empty the frame's lists; the occupied-region count to the
+/// quad draw's workgroups; the block counts to the task draws' workgroups.
+const SETUP_CLEAR: u32 = 0;
+const SETUP_QUADS: u32 = 1;
+const SETUP_BLOCK_DRAWS: u32 = 2;
 
 /// Cells per region along each axis: two blocks stacked in z.
 pub const REGION_CELLS: [u32; 3] = [8, 8, 8];
@@ -88,14 +94,12 @@ pub struct CullState {
     frame: Cell<usize>,
 }
 
-fn list_buffer(gpu: &Gpu, name: &str, entries: u64) -> Result<Buffer> {
+/// One word per region.
+fn flag_buffer(gpu: &Gpu, name: &str, regions: u64) -> Result<Buffer> {
     Ok(gpu.create_buffer(
         name,
-        16 + 4 * entries,
-        vk::BufferUsageFlags::STORAGE_BUFFER
-            | vk::BufferUsageFlags::INDIRECT_BUFFER
-            | vk::BufferUsageFlags::TRANSFER_SRC
-            | vk::BufferUsageFlags::TRANSFER_DST,
+        4 * regions,
+        vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
         MemoryLocation::GpuOnly,
     )?)
 }
@@ -107,14 +111,14 @@ impl CullState {
         let b = prepared.octree.level_dims[0];
         let blocks = (b[0] * b[1] * b[2]) as u64;
         let state = CullState {
-            occupied: list_buffer(gpu, "cull occupied regions", regions)?,
-            visible: list_buffer(gpu, "cull visible flags", regions)?,
-            previous: list_buffer(gpu, "cull previous flags", regions)?,
+            occupied: block_list::create(gpu, "cull occupied regions", regions)?,
+            visible: flag_buffer(gpu, "cull visible flags", regions)?,
+            previous: flag_buffer(gpu, "cull previous flags", regions)?,
             lists: [
-                list_buffer(gpu, "cull occluder blocks A", blocks)?,
-                list_buffer(gpu, "cull occluder blocks B", blocks)?,
+                block_list::create(gpu, "cull occluder blocks A", blocks)?,
+                block_list::create(gpu, "cull occluder blocks B", blocks)?,
             ],
-            new_blocks: list_buffer(gpu, "cull new blocks", blocks)?,
+            new_blocks: block_list::create(gpu, "cull new blocks", blocks)?,
             frame: Cell::new(0),
         };
         state.reset(gpu)?;
@@ -140,16 +144,13 @@ impl CullState {
     }
 
     pub fn read_stats(&self, gpu: &Gpu) -> Result<CullStats> {
-        let word = |b: &Buffer, i: usize| -> Result<u32> {
-            let bytes = gpu.read_buffer(b)?;
-            Ok(bytemuck::pod_read_unaligned(&bytes[4 * i..4 * i + 4]))
-        };
+        let count = |b: &Buffer| -> Result<u32> { Ok(block_list::count(&gpu.read_buffer(b)?)) };
         // After a frame the lists have turned over: the one drawn first is now `rebuilt()`.
         Ok(CullStats {
-            regions_occupied: word(&self.occupied, 3)?,
-            blocks_visible: word(self.drawn_first(), 0)?,
-            blocks_drawn_first: word(self.rebuilt(), 0)?,
-            blocks_drawn_new: word(&self.new_blocks, 0)?,
+            regions_occupied: count(&self.occupied)?,
+            blocks_visible: count(self.drawn_first())?,
+            blocks_drawn_first: count(self.rebuilt())?,
+            blocks_drawn_new: count(&self.new_blocks)?,
         })
     }
 }
@@ -176,17 +177,20 @@ impl CullPipelines {
     ) -> Result<()> {
         let push = bytemuck::bytes_of(params);
         let next = state.rebuilt();
-        rec.dispatch_groups(
-            &self.setup,
-            &[
-                Binding::Buffer(&state.occupied),
-                Binding::Buffer(&state.new_blocks),
-                Binding::Buffer(next),
-            ],
-            &0u32.to_le_bytes(),
-            [1, 1, 1],
-        );
-        rec.barrier();
+        let setup = |mode: u32| {
+            rec.dispatch_groups(
+                &self.setup,
+                &[
+                    Binding::Buffer(&state.occupied),
+                    Binding::Buffer(&state.new_blocks),
+                    Binding::Buffer(next),
+                ],
+                &mode.to_le_bytes(),
+                [1, 1, 1],
+            );
+            rec.barrier();
+        };
+        setup(SETUP_CLEAR);
         let r = region_dims(prepared.volume.dims);
         rec.dispatch_groups(
             &self.occupied,
@@ -199,17 +203,7 @@ impl CullPipelines {
             tessera_gpu::spread_groups((r[0] * r[1] * r[2]).div_ceil(64), self.max_groups_x),
         );
         rec.barrier();
-        rec.dispatch_groups(
-            &self.setup,
-            &[
-                Binding::Buffer(&state.occupied),
-                Binding::Buffer(&state.new_blocks),
-                Binding::Buffer(next),
-            ],
-            &1u32.to_le_bytes(),
-            [1, 1, 1],
-        );
-        rec.barrier();
+        setup(SETUP_QUADS);
         rec.begin_rendering_ops(color, Some(depth), Some(clear));
         draw.draw_blocks(rec, state.drawn_first())?;
         rec.draw_mesh_tasks_indirect(
@@ -220,7 +214,7 @@ impl CullPipelines {
             ],
             push,
             &state.occupied,
-            0,
+            block_list::ARGS_OFFSET,
         )?;
         rec.end_rendering();
         rec.barrier();
@@ -236,6 +230,7 @@ impl CullPipelines {
             tessera_gpu::spread_groups((r[0] * r[1] * r[2]).div_ceil(64), self.max_groups_x),
         );
         rec.barrier();
+        setup(SETUP_BLOCK_DRAWS);
         rec.begin_rendering_ops(color, Some(depth), None);
         draw.draw_blocks(rec, &state.new_blocks)?;
         rec.end_rendering();

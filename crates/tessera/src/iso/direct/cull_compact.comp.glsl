@@ -4,12 +4,13 @@
 // kept as next frame's "drawn first" set.
 #include "iso/direct/params.glsl"
 #include "iso/direct/cull.glsl"
+#include "iso/direct/block_list.glsl"
 
 layout(local_size_x = 64) in;
 layout(binding = 0) readonly buffer Visible { uint visible[]; };
 layout(binding = 1) buffer Previous { uint previous[]; };
-layout(binding = 2) buffer NewBlocks { uint new_args[3]; uint new_pad; uint new_blocks[]; };
-layout(binding = 3) buffer NextBlocks { uint next_args[3]; uint next_pad; uint next_blocks[]; };
+layout(binding = 2) buffer NewBlocks { BlockListHeader new_list; uint new_blocks[]; };
+layout(binding = 3) buffer NextBlocks { BlockListHeader next_list; uint next_blocks[]; };
 
 void main() {
     // Workgroups spread over x and y (tessera_gpu::spread_groups).
@@ -29,9 +30,9 @@ void main() {
         if (block == ~0u) {
             continue;
         }
-        next_blocks[atomicAdd(next_args[0], 1u)] = block;
+        next_blocks[atomicAdd(next_list.count, 1u)] = block;
         if (drawn_first == 0u) {
-            new_blocks[atomicAdd(new_args[0], 1u)] = block;
+            new_blocks[atomicAdd(new_list.count, 1u)] = block;
         }
     }
 }

@@ -3,10 +3,11 @@
 // their visibility flags.
 #include "iso/direct/params.glsl"
 #include "iso/direct/cull.glsl"
+#include "iso/direct/block_list.glsl"
 
 layout(local_size_x = 64) in;
 layout(binding = 0) readonly buffer Nodes { vec2 minmax_nodes[]; };
-layout(binding = 1) buffer Occupied { uint quad_groups[3]; uint occupied_count; uint occupied[]; };
+layout(binding = 1) buffer Occupied { BlockListHeader occupied_list; uint occupied[]; };
 layout(binding = 2) writeonly buffer Visible { uint visible[]; };
 
 bool block_holds(uint block, float iso) {
@@ -28,6 +29,6 @@ void main() {
     float iso = params.isovalue;
     if (block_holds(cull_region_block(region, 0u, dims), iso)
             || block_holds(cull_region_block(region, 1u, dims), iso)) {
-        occupied[atomicAdd(occupied_count, 1u)] = region;
+        occupied[atomicAdd(occupied_list.count, 1u)] = region;
     }
 }

@@ -5,10 +5,11 @@
 #extension GL_EXT_mesh_shader : require
 #include "iso/direct/params.glsl"
 #include "iso/direct/cull.glsl"
+#include "iso/direct/block_list.glsl"
 
 layout(local_size_x = 32) in;
 layout(triangles, max_vertices = 128, max_primitives = 64) out;
-layout(binding = 0) readonly buffer Occupied { uint quad_groups[3]; uint occupied_count; uint occupied[]; };
+layout(binding = 0) readonly buffer Occupied { BlockListHeader occupied_list; uint occupied[]; };
 layout(binding = 1) writeonly buffer Visible { uint visible[]; };
 
 layout(location = 0) flat out uint region_id[];
@@ -23,7 +24,7 @@ void main() {
     uint region = 0u;
     vec3 lo_ndc = vec3(1e30);
     vec3 hi_ndc = vec3(-1e30);
-    if (i < occupied_count) {
+    if (i < occupied_list.count) {
         region = occupied[i];
         uvec3 lo = cull_region_coords(region, dims) * REGION_CELLS;
         uvec3 hi = min(lo + REGION_CELLS, dims - 1u);

@@ -7,6 +7,7 @@
 #include "common/volume.glsl"
 #include "common/mc_tables.glsl"
 #include "common/mc_cell.glsl"
+#include "iso/direct/block_list.glsl"
 #include "iso/direct/payload.glsl"
 #include "iso/direct/params.glsl"
 
@@ -15,7 +16,7 @@ layout(binding = 0) uniform VOLUME_SAMPLER volume_tex;
 layout(binding = 1) readonly buffer Nodes { vec2 minmax_nodes[]; };
 #if BLOCK_LIST
 // With occlusion culling, task workgroups take their blocks from a list (linear block ids).
-layout(binding = 4) readonly buffer Blocks { uint block_args[3]; uint block_pad; uint block_list[]; };
+layout(binding = 4) readonly buffer Blocks { BlockListHeader block_header; uint block_list[]; };
 #endif
 
 taskPayloadSharedEXT TaskPayload payload;

@@ -10,6 +10,7 @@
 #include "common/mc_tables.glsl"
 #include "common/mc_cell.glsl"
 #include "iso/direct/params.glsl"
+#include "iso/direct/block_list.glsl"
 #include "iso/direct/attributes.glsl"
 #include "raster/raster.glsl"
 
@@ -26,7 +27,7 @@ layout(binding = 5) buffer Stats { uint stats[]; };
 #ifdef BLOCK_LIST
 // A block list: its length, the indirect dispatch arguments (a 2-D grid of workgroups when
 // one row would exceed the device's limit), then linear block ids.
-layout(binding = 6) readonly buffer Blocks { uint block_count; uint block_args[3]; uint block_list[]; };
+layout(binding = 6) readonly buffer Blocks { BlockListHeader block_header; uint block_list[]; };
 #endif
 
 const uint CELLS = BLOCK_X * BLOCK_Y * BLOCK_Z;
@@ -42,7 +43,7 @@ void main() {
     uvec3 block_dims = (dims - 2u) / uvec3(BLOCK_X, BLOCK_Y, BLOCK_Z) + 1u;
 #ifdef BLOCK_LIST
     uint listed = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
-    if (listed >= block_count) {
+    if (listed >= block_header.count) {
         return;  // the last row of a 2-D grid; uniform across the workgroup
     }
     uint block_id = block_list[listed];

@@ -3,10 +3,11 @@
 // (bit 0 of their flags, set by the resolve) become next frame's first-pass list, and their
 // flags become "drawn first" (bit 1) for next frame's occlusion test.
 #include "iso/direct/hzb.glsl"
+#include "iso/direct/block_list.glsl"
 
 layout(local_size_x = 256) in;
 layout(binding = 0) buffer BlockFlags { uint block_flags[]; };
-layout(binding = 1) buffer NextBlocks { uint next_count; uint next_args[3]; uint next_blocks[]; };
+layout(binding = 1) buffer NextBlocks { BlockListHeader next_list; uint next_blocks[]; };
 layout(binding = 2) buffer Stats { uint stats[4]; };
 
 layout(push_constant) uniform CompactParams {
@@ -38,7 +39,7 @@ void main() {
     }
     barrier();
     if (me == 0u) {
-        group_base = group_seen > 0u ? atomicAdd(next_count, group_seen) : 0u;
+        group_base = group_seen > 0u ? atomicAdd(next_list.count, group_seen) : 0u;
         if (group_seen > 0u) {
             atomicAdd(stats[3], group_seen);
         }

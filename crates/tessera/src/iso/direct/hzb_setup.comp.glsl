@@ -5,9 +5,10 @@
 // Mode 0 (frame start): dispatch arguments for the first pass's list, the other lists emptied,
 // the statistics restarted. Mode 1 (after the occlusion test): arguments for the second pass.
 layout(local_size_x = 1) in;
-layout(binding = 0) buffer FirstBlocks { uint first_count; uint first_args[3]; uint first_blocks[]; };
-layout(binding = 1) buffer NewBlocks { uint new_count; uint new_args[3]; uint new_blocks[]; };
-layout(binding = 2) buffer NextBlocks { uint next_count; uint next_args[3]; uint next_blocks[]; };
+#include "iso/direct/block_list.glsl"
+layout(binding = 0) buffer FirstBlocks { BlockListHeader first_list; uint first_blocks[]; };
+layout(binding = 1) buffer NewBlocks { BlockListHeader new_list; uint new_blocks[]; };
+layout(binding = 2) buffer NextBlocks { BlockListHeader next_list; uint next_blocks[]; };
 // [0] occupied blocks, [1] blocks drawn first, [2] blocks drawn second, [3] blocks seen
 layout(binding = 3) buffer Stats { uint stats[4]; };
 
@@ -24,15 +25,14 @@ uvec3 groups_for(uint n) {
 
 void main() {
     if (setup.mode == 0u) {
-        uvec3 g = groups_for(first_count);
-        first_args = uint[3](g.x, g.y, g.z);
-        new_count = 0u;
-        new_args = uint[3](0u, 1u, 1u);
-        next_count = 0u;
-        stats = uint[4](0u, first_count, 0u, 0u);
+        uvec3 g = groups_for(first_list.count);
+        first_list.args = uint[3](g.x, g.y, g.z);
+        new_list = BlockListHeader(0u, uint[3](0u, 1u, 1u));
+        next_list.count = 0u;
+        stats = uint[4](0u, first_list.count, 0u, 0u);
     } else {
-        uvec3 g = groups_for(new_count);
-        new_args = uint[3](g.x, g.y, g.z);
-        stats[2] = new_count;
+        uvec3 g = groups_for(new_list.count);
+        new_list.args = uint[3](g.x, g.y, g.z);
+        stats[2] = new_list.count;
     }
 }

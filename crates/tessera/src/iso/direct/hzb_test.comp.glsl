@@ -5,13 +5,14 @@
 // reaches the near plane, or when over the pixels its box could cover (a pixel's margin) the
 // max-depth pyramid of the first pass holds a depth at or behind the box's nearest point.
 #include "iso/direct/hzb.glsl"
+#include "iso/direct/block_list.glsl"
 
 layout(local_size_x = 256) in;
 layout(binding = 0) readonly buffer Nodes { vec2 minmax_nodes[]; };
 // Bit 1: the block was drawn in the first pass (it was seen last frame).
 layout(binding = 1) readonly buffer BlockFlags { uint block_flags[]; };
 layout(binding = 2) readonly buffer Hzb { float hzb[]; };
-layout(binding = 3) buffer NewBlocks { uint new_count; uint new_args[3]; uint new_blocks[]; };
+layout(binding = 3) buffer NewBlocks { BlockListHeader new_list; uint new_blocks[]; };
 // [0] occupied blocks
 layout(binding = 4) buffer Stats { uint stats[]; };
 
@@ -116,7 +117,7 @@ void main() {
         if (group_occupied > 0u) {
             atomicAdd(stats[0], group_occupied);
         }
-        group_base = group_new > 0u ? atomicAdd(new_count, group_new) : 0u;
+        group_base = group_new > 0u ? atomicAdd(new_list.count, group_new) : 0u;
     }
     barrier();
     if (listed) {

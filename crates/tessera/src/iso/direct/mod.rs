@@ -10,6 +10,7 @@
 //! `stereo`, and the compute path for GPUs with few graphics units, with its own occlusion
 //! culling, in `compute` and `compute_cull`.
 
+pub mod block_list;
 pub mod compute;
 pub mod compute_cull;
 mod compute_cull_frame;
@@ -122,6 +123,11 @@ impl RasterTarget {
         rec.copy_image_to_buffer(&self.color, &target.pixels);
     }
 
+    /// Records a copy of view `layer`'s colour into `target` (of this size).
+    pub fn record_layer_copy_to(&self, rec: &Recorder, layer: u32, target: &Target) {
+        rec.copy_image_layer_to_buffer(&self.color, layer, &target.pixels);
+    }
+
     /// One image per view (layer).
     pub fn read_views(&self, gpu: &Gpu) -> Result<Vec<RgbaImage>> {
         gpu.submit("copy direct colour", |rec| {
@@ -170,7 +176,7 @@ impl DrawBlockList for ListDraw<'_> {
             &bindings,
             bytemuck::bytes_of(self.params),
             list,
-            0,
+            block_list::ARGS_OFFSET,
         )?;
         Ok(())
     }

@@ -9,14 +9,35 @@ use crate::iso::direct::{Direct, DirectParams, RasterTarget, COLOR_FORMAT, DEPTH
 use crate::iso::PreparedVolume;
 use tessera_data::shading::BACKGROUND;
 use tessera_data::ScalarType;
+use bytemuck::{Pod, Zeroable};
+use std::mem::size_of;
 use tessera_gpu::{
-    vk, Binding, Buffer, Gpu, Pipeline, Recorder, RenderTargets, ShaderCompiler, Slot,
+    vk, Binding, Buffer, Gpu, MemoryLocation, Pipeline, Recorder, RenderTargets, ShaderCompiler,
+    Slot,
 };
 
-pub struct DirectMultiview {
-    pipeline: Pipeline,
+/// The two eyes' projections and positions, as `views.glsl` reads them by `gl_ViewIndex`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub struct StereoViews {
+    pub grid_to_clip: [[[f32; 4]; 4]; 2],
+    pub eye_world: [[f32; 4]; 2],
 }
 
+impl StereoViews {
+    pub fn of(eyes: &[DirectParams; 2]) -> StereoViews {
+        StereoViews {
+            grid_to_clip: eyes.map(|e| e.grid_to_clip),
+            eye_world: eyes.map(|e| [e.eye_world[0], e.eye_world[1], e.eye_world[2], 0.0]),
+        }
+    }
+}
+
+/// The multiview pipeline and its per-view buffer, written in the command stream each frame.
+pub struct DirectMultiview {
+    pipeline: Pipeline,
+    views: Buffer,
+}
 impl DirectMultiview {
     pub fn new(
         gpu: &Gpu,
@@ -47,38 +68,28 @@ impl DirectMultiview {
             &slots,
             &targets,
         )?;
-        Ok(DirectMultiview { pipeline })
-    }
-
-    /// The per-view data (`iso/direct/views.glsl`) of the two eyes.
-    pub fn views_buffer(gpu: &Gpu, eyes: &[DirectParams; 2]) -> Result<Buffer> {
-        let mut data: Vec<f32> = Vec::with_capacity(40);
-        for e in eyes {
-            data.extend(e.grid_to_clip.iter().flatten());
-        }
-        for e in eyes {
-            data.extend([e.eye_world[0], e.eye_world[1], e.eye_world[2], 0.0]);
-        }
-        Ok(gpu.upload_buffer(
+        let views = gpu.create_buffer(
             "direct views",
-            bytemuck::cast_slice(&data),
-            vk::BufferUsageFlags::STORAGE_BUFFER,
-        )?)
+            size_of::<StereoViews>() as u64,
+            vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuOnly,
+        )?;
+        Ok(DirectMultiview { pipeline, views })
     }
 
     /// Records both eyes into the two layers of `target` (made with
-    /// [`RasterTarget::with_views`]); `params` supplies the isovalue, light and volume.
-    #[allow(clippy::too_many_arguments)]
+    /// [`RasterTarget::with_views`]); the first eye's parameters supply the isovalue, light and
+    /// volume.
     pub fn record(
         &self,
         rec: &Recorder,
         direct: &Direct,
         prepared: &PreparedVolume,
         target: &RasterTarget,
-        params: &DirectParams,
-        views: &Buffer,
+        eyes: &[DirectParams; 2],
         capture: &Buffer,
     ) -> Result<()> {
+        rec.update_buffer(&self.views, bytemuck::bytes_of(&StereoViews::of(eyes)));
         direct.record_stats_reset(rec);
         rec.discard_to_general(&target.color);
         rec.discard_to_general(&target.depth);
@@ -92,9 +103,9 @@ impl DirectMultiview {
                 stats,
                 capture_binding,
                 Binding::Buffer(capture),
-                Binding::Buffer(views),
+                Binding::Buffer(&self.views),
             ],
-            bytemuck::bytes_of(params),
+            bytemuck::bytes_of(&eyes[0]),
             prepared.octree.level_dims[0],
         );
         rec.end_rendering();

@@ -111,13 +111,36 @@ pub struct IntervalOptions {
     pub tile_capacity: TileCapacity,
 }
 
+/// The settings of interval shading that trade speed between meshes and views, without
+/// changing the image (the benchmarks compare them).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct IntervalTuning {
+    /// Graphics path: tets per mesh workgroup (1 to 16).
+    pub tets_per_workgroup: u32,
+    /// Compute path: the tile pass's pixel limit (`None`: automatic).
+    pub inline_pixel_limit: Option<u32>,
+}
+
+impl Default for IntervalTuning {
+    fn default() -> Self {
+        IntervalTuning {
+            tets_per_workgroup: graphics::MAX_TETS_PER_WORKGROUP,
+            inline_pixel_limit: None,
+        }
+    }
+}
+
 impl IntervalOptions {
     pub fn new(path: Path) -> IntervalOptions {
+        Self::tuned(path, IntervalTuning::default())
+    }
+
+    pub fn tuned(path: Path, tuning: IntervalTuning) -> IntervalOptions {
         IntervalOptions {
             path,
             integrand: Integrand::TetAbsorption,
-            tets_per_workgroup: graphics::MAX_TETS_PER_WORKGROUP,
-            inline_pixel_limit: None,
+            tets_per_workgroup: tuning.tets_per_workgroup,
+            inline_pixel_limit: tuning.inline_pixel_limit,
             tile_capacity: TileCapacity::default(),
         }
     }

@@ -1,0 +1,263 @@
+//! Timed frames of renderers behind the front door: what every technique scenario shares.
+//!
+//! One rule sizes the buffers a frame fills (triangle lists, tile lists): the renderer grows
+//! them itself when a frame overflows ([`Renderer::finish_frame`]). A scenario therefore
+//! renders each distinct frame once untimed ("settling"), so that timed frames find every
+//! buffer large enough; a timed frame that still overflows is an error, not a silent
+//! truncation.
+
+use super::{FramePlan, StageStats};
+use crate::error::{Error, Result};
+use crate::renderer::{FrameOutcome, Renderer, Target, MAX_TIMER_SCOPES};
+use tessera_data::{OrbitCamera, View};
+use tessera_gpu::{Gpu, Recorder, Timer};
+
+/// Sets frame `k`'s look on the renderer before it is recorded (an isovalue sweep); `None`
+/// keeps the look fixed.
+pub(super) type EachFrame<'a> = Option<&'a dyn Fn(u32, &mut dyn Renderer) -> Result<()>>;
+
+/// A kind of timed frame: how it is recorded and what is checked after it ran.
+trait TimedFrame {
+    fn record(&mut self, frame: u32, rec: &Recorder, timer: &mut Timer) -> Result<()>;
+    fn finish(&mut self, gpu: &Gpu) -> Result<()>;
+}
+
+/// Per timed frame, the GPU milliseconds of its scopes in recording order.
+type ScopeTimes = Vec<Vec<(String, f64)>>;
+
+fn time_loop(gpu: &Gpu, plan: FramePlan, timed: &mut dyn TimedFrame) -> Result<ScopeTimes> {
+    let mut timer = Timer::new(gpu, MAX_TIMER_SCOPES)?;
+    let mut frames = Vec::with_capacity(plan.frames as usize);
+    for frame in 0..plan.warmup + plan.frames {
+        timer.reset(gpu);
+        let mut recorded = Ok(());
+        gpu.submit("benchmark frame", |rec| {
+            recorded = timed.record(frame, rec, &mut timer)
+        })?;
+        recorded?;
+        timed.finish(gpu)?;
+        if frame >= plan.warmup {
+            frames.push(timer.read_ms(gpu)?);
+        }
+    }
+    Ok(frames)
+}
+
+/// The stage that sums a frame's stages when it has several.
+pub(super) const FRAME_STAGE: &str = "frame";
+
+/// Statistics per scope (by position), then, when a frame has several scopes, of their sum
+/// as [`FRAME_STAGE`] (the stages follow each other).
+fn stage_stats(frames: &ScopeTimes) -> Vec<StageStats> {
+    let scopes = frames.first().map_or(0, Vec::len);
+    let mut stages: Vec<StageStats> = (0..scopes)
+        .map(|i| {
+            let samples: Vec<f64> = frames.iter().map(|f| f[i].1).collect();
+            StageStats::from_samples(&frames[0][i].0, &samples)
+        })
+        .collect();
+    if scopes > 1 {
+        stages.push(sum_stats(frames, FRAME_STAGE));
+    }
+    stages
+}
+
+/// Statistics of each frame's scopes summed, as one stage `name`.
+fn sum_stats(frames: &ScopeTimes, name: &str) -> StageStats {
+    let totals: Vec<f64> = frames
+        .iter()
+        .map(|f| f.iter().map(|s| s.1).sum())
+        .collect();
+    StageStats::from_samples(name, &totals)
+}
+
+/// The error for a timed frame that overflowed although settling sized its buffers.
+fn overflowed(renderer: &dyn Renderer) -> Error {
+    Error::Invalid(format!(
+        "{}: a timed frame overflowed its buffers after settling",
+        renderer.technique().name()
+    ))
+}
+
+struct MonoFrames<'a> {
+    renderer: &'a mut dyn Renderer,
+    view: &'a View,
+    target: &'a Target,
+    each_frame: EachFrame<'a>,
+    /// The frame being recorded (its look is set).
+    frame: u32,
+}
+
+impl TimedFrame for MonoFrames<'_> {
+    fn record(&mut self, _frame: u32, rec: &Recorder, timer: &mut Timer) -> Result<()> {
+        self.renderer.record(rec, self.view, self.target, timer)
+    }
+
+    fn finish(&mut self, gpu: &Gpu) -> Result<()> {
+        if self.renderer.finish_frame(gpu)? == FrameOutcome::Retry {
+            return Err(overflowed(self.renderer));
+        }
+        // The next frame's look is set between submissions, as a user's slider would.
+        self.frame += 1;
+        match self.each_frame {
+            Some(each) => each(self.frame, &mut *self.renderer),
+            None => Ok(()),
+        }
+    }
+}
+
+/// Renders `frames` frames of `view` untimed (frame k with its look), growing buffers as
+/// frames overflow, so that timed frames find them large enough.
+fn settle_frames(
+    gpu: &Gpu,
+    renderer: &mut dyn Renderer,
+    view: &View,
+    frames: u32,
+    each_frame: EachFrame,
+) -> Result<()> {
+    let mut frame = crate::renderer::Frame::new(gpu, view.size)?;
+    for k in 0..frames {
+        if let Some(each) = each_frame {
+            each(k, renderer)?;
+        }
+        frame.render(gpu, renderer, view)?;
+    }
+    if let Some(each) = each_frame {
+        each(0, renderer)?;
+    }
+    Ok(())
+}
+
+/// Times `plan` frames of `view` after settling on the first `distinct` frames' looks.
+/// Stages are the renderer's scopes, and their sum as [`FRAME_STAGE`] when there are several.
+pub(super) fn time_mono(
+    gpu: &Gpu,
+    renderer: &mut dyn Renderer,
+    view: &View,
+    plan: FramePlan,
+    distinct: u32,
+    each_frame: EachFrame,
+) -> Result<Vec<StageStats>> {
+    settle_frames(gpu, renderer, view, distinct.max(1), each_frame)?;
+    renderer.prepare_frame(gpu, view)?;
+    let target = Target::new(gpu, view.size.0, view.size.1)?;
+    let mut timed = MonoFrames {
+        renderer,
+        view,
+        target: &target,
+        each_frame,
+        frame: 0,
+    };
+    Ok(stage_stats(&time_loop(gpu, plan, &mut timed)?))
+}
+
+/// Times one frame of `view` as a whole (all its stages summed) under `name`.
+pub(super) fn time_mono_total(
+    gpu: &Gpu,
+    renderer: &mut dyn Renderer,
+    view: &View,
+    plan: FramePlan,
+    name: &str,
+) -> Result<StageStats> {
+    settle_frames(gpu, renderer, view, 1, None)?;
+    renderer.prepare_frame(gpu, view)?;
+    let target = Target::new(gpu, view.size.0, view.size.1)?;
+    let mut timed = MonoFrames {
+        renderer,
+        view,
+        target: &target,
+        each_frame: None,
+        frame: 0,
+    };
+    Ok(sum_stats(&time_loop(gpu, plan, &mut timed)?, name))
+}
+
+/// How a stereo pair is drawn.
+pub(super) enum Pair<'a> {
+    /// In one pass by a renderer whose `prepare_stereo` said so (multiview, re-projection).
+    OnePass(&'a mut dyn Renderer),
+    /// As two frames, each eye by its own renderer (its own culling state).
+    TwoFrames([&'a mut dyn Renderer; 2]),
+}
+
+struct StereoFrames<'p, 'a> {
+    pair: Pair<'p>,
+    eyes: &'a [View; 2],
+    targets: [&'a Target; 2],
+}
+
+impl TimedFrame for StereoFrames<'_, '_> {
+    fn record(&mut self, _frame: u32, rec: &Recorder, timer: &mut Timer) -> Result<()> {
+        match &mut self.pair {
+            Pair::OnePass(r) => r.record_stereo(rec, self.eyes, self.targets, timer),
+            Pair::TwoFrames(rs) => (0..2)
+                .try_for_each(|e| rs[e].record(rec, &self.eyes[e], self.targets[e], timer)),
+        }
+    }
+
+    fn finish(&mut self, gpu: &Gpu) -> Result<()> {
+        let renderers: Vec<&mut dyn Renderer> = match &mut self.pair {
+            Pair::OnePass(r) => vec![&mut **r],
+            Pair::TwoFrames([a, b]) => vec![&mut **a, &mut **b],
+        };
+        for r in renderers {
+            if r.finish_frame(gpu)? == FrameOutcome::Retry {
+                return Err(overflowed(r));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Times `plan` stereo pairs of `eyes`, all stages of a pair summed under `name`. A one-pass
+/// renderer must have said yes to `prepare_stereo` for these eyes.
+pub(super) fn time_stereo(
+    gpu: &Gpu,
+    mut pair: Pair,
+    eyes: &[View; 2],
+    plan: FramePlan,
+    name: &str,
+) -> Result<StageStats> {
+    let (w, h) = eyes[0].size;
+    let targets = [Target::new(gpu, w, h)?, Target::new(gpu, w, h)?];
+    // Settle: one pair recorded and finished untimed (buffers grown where it overflowed).
+    match &mut pair {
+        Pair::OnePass(r) => {
+            let mut left = crate::renderer::Frame::new(gpu, (w, h))?;
+            let mut right = crate::renderer::Frame::new(gpu, (w, h))?;
+            crate::renderer::render_stereo(gpu, &mut **r, eyes, &mut left, &mut right)?;
+            r.prepare_stereo(gpu, eyes)?;
+        }
+        Pair::TwoFrames(rs) => {
+            for (r, eye) in rs.iter_mut().zip(eyes) {
+                settle_frames(gpu, &mut **r, eye, 1, None)?;
+                r.prepare_frame(gpu, eye)?;
+            }
+        }
+    }
+    let mut timed = StereoFrames {
+        pair,
+        eyes,
+        targets: [&targets[0], &targets[1]],
+    };
+    Ok(sum_stats(&time_loop(gpu, plan, &mut timed)?, name))
+}
+
+/// Renders for a while right after data arrives on the GPU. Measured on the H200: with only
+/// the per-measurement warm-up, the first size timed after uploading a 2 GiB volume came out
+/// 2–4× slower than the same size timed later (docs/BENCHMARKS.md, run 16).
+pub(super) fn settle_after_upload(gpu: &Gpu, renderer: &mut dyn Renderer) -> Result<()> {
+    const SETTLE_FRAMES: u32 = 100;
+    let view = renderer.view(&OrbitCamera::default(), (1280, 720))?;
+    settle_frames(gpu, renderer, &view, 1, None)?;
+    let target = Target::new(gpu, 1280, 720)?;
+    let mut timer = Timer::new(gpu, SETTLE_FRAMES * MAX_TIMER_SCOPES)?;
+    timer.reset(gpu);
+    let mut recorded = Ok(());
+    gpu.submit("settle", |rec| {
+        recorded = (0..SETTLE_FRAMES).try_for_each(|_| renderer.record(rec, &view, &target, &mut timer));
+    })?;
+    recorded?;
+    renderer.finish_frame(gpu)?;
+    Ok(())
+}

@@ -1,0 +1,45 @@
+//! Lists of block or region ids on the GPU (`block_list.glsl`): a header with the entry count
+//! and the indirect arguments of one workgroup per entry, then the ids. The culling passes of
+//! both paths share this one layout.
+
+use crate::error::Result;
+use bytemuck::{Pod, Zeroable};
+use std::mem::{offset_of, size_of};
+use tessera_gpu::{vk, Buffer, Gpu, MemoryLocation};
+
+/// The header of a list, as `block_list.glsl` declares it.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub struct BlockListHeader {
+    pub count: u32,
+    pub args: [u32; 3],
+}
+
+/// Byte offset of the indirect arguments in a list buffer.
+pub const ARGS_OFFSET: u64 = offset_of!(BlockListHeader, args) as u64;
+/// Byte offset of the entry count.
+pub const COUNT_OFFSET: u64 = offset_of!(BlockListHeader, count) as u64;
+
+/// A list buffer with room for `entries` ids, usable for indirect draws and dispatches.
+pub fn create(gpu: &Gpu, name: &str, entries: u64) -> Result<Buffer> {
+    Ok(gpu.create_buffer(
+        name,
+        bytes(entries),
+        vk::BufferUsageFlags::STORAGE_BUFFER
+            | vk::BufferUsageFlags::INDIRECT_BUFFER
+            | vk::BufferUsageFlags::TRANSFER_SRC
+            | vk::BufferUsageFlags::TRANSFER_DST,
+        MemoryLocation::GpuOnly,
+    )?)
+}
+
+/// The entry count of a list read back from the GPU.
+pub fn count(bytes: &[u8]) -> u32 {
+    let at = COUNT_OFFSET as usize;
+    bytemuck::pod_read_unaligned(&bytes[at..at + 4])
+}
+
+/// Bytes of a list of `entries` ids.
+pub fn bytes(entries: u64) -> u64 {
+    size_of::<BlockListHeader>() as u64 + 4 * entries
+}
