@@ -41,7 +41,7 @@ impl Recorder<'_> {
     /// command stream, for small per-frame values that must not need a staging buffer.
     pub fn update_buffer(&self, dst: &Buffer, data: &[u8]) {
         assert!(
-            data.len() % 4 == 0 && data.len() <= 65536 && data.len() as u64 <= dst.size,
+            data.len().is_multiple_of(4) && data.len() <= 65536 && data.len() as u64 <= dst.size,
             "update of {} bytes into '{}' ({} bytes)",
             data.len(),
             dst.name,
@@ -126,7 +126,12 @@ impl Recorder<'_> {
 
     /// Copies one layer of a layered 2-D image in `GENERAL` layout into a buffer.
     pub fn copy_image_layer_to_buffer(&self, src: &Image, layer: u32, dst: &Buffer) {
-        assert!(layer < src.layers, "layer {layer} of {} ('{}')", src.layers, src.name);
+        assert!(
+            layer < src.layers,
+            "layer {layer} of {} ('{}')",
+            src.layers,
+            src.name
+        );
         self.copy_layers_to_buffer(src, layer..layer + 1, dst);
     }
 

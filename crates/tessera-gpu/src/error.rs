@@ -33,7 +33,9 @@ pub enum GpuError {
         limit: u64,
         what: &'static str,
     },
-    #[error("timer scopes {scopes} have no results: the frame that recorded them was never submitted")]
+    #[error(
+        "timer scopes {scopes} have no results: the frame that recorded them was never submitted"
+    )]
     TimerNotSubmitted { scopes: String },
     #[error("device lost during '{pass}'")]
     DeviceLost { pass: String },

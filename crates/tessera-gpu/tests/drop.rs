@@ -180,7 +180,11 @@ fn objects_dropped_while_recording_wait_for_the_submission() {
         assert!(gpu.allocated_bytes() > baseline);
     })
     .unwrap();
-    assert_eq!(gpu.allocated_bytes(), baseline, "the scratch buffer was kept");
+    assert_eq!(
+        gpu.allocated_bytes(),
+        baseline,
+        "the scratch buffer was kept"
+    );
     let words: Vec<u32> =
         bytemuck::allocation::pod_collect_to_vec(&gpu.read_buffer(&kept).unwrap());
     assert_eq!(words[..4], [0, 3, 6, 9]);
@@ -214,5 +218,8 @@ fn a_timer_never_submitted_is_an_error() {
     }));
     assert!(recorded.is_err());
     let error = timer.read_ms(&gpu).unwrap_err().to_string();
-    assert!(error.contains("fill") && error.contains("never submitted"), "{error}");
+    assert!(
+        error.contains("fill") && error.contains("never submitted"),
+        "{error}"
+    );
 }

@@ -14,7 +14,10 @@ const COMMON: &[(&str, &str)] = &[
         "common/shading.glsl",
         include_str!("shaders/common/shading.glsl"),
     ),
-    ("common/exact.glsl", include_str!("shaders/common/exact.glsl")),
+    (
+        "common/exact.glsl",
+        include_str!("shaders/common/exact.glsl"),
+    ),
     (
         "common/mc_cell.glsl",
         include_str!("shaders/common/mc_cell.glsl"),

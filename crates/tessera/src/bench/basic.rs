@@ -107,7 +107,7 @@ pub(super) fn raymarch(
         rm.set_appearance(gpu, &look)?;
         rm.set_data(gpu, &data)?;
         drop(data);
-        settle_after_upload(gpu, rm.as_mut())?;
+        settle_after_upload(gpu, rm.as_mut(), config.quick)?;
         for (w, h) in bench_sizes(config) {
             let view = rm.view(&camera, (w, h))?;
             let stages = time_mono(gpu, rm.as_mut(), &view, plan, 1, None)?;

@@ -64,10 +64,7 @@ fn stage_stats(frames: &ScopeTimes) -> Vec<StageStats> {
 
 /// Statistics of each frame's scopes summed, as one stage `name`.
 fn sum_stats(frames: &ScopeTimes, name: &str) -> StageStats {
-    let totals: Vec<f64> = frames
-        .iter()
-        .map(|f| f.iter().map(|s| s.1).sum())
-        .collect();
+    let totals: Vec<f64> = frames.iter().map(|f| f.iter().map(|s| s.1).sum()).collect();
     StageStats::from_samples(name, &totals)
 }
 
@@ -190,8 +187,9 @@ impl TimedFrame for StereoFrames<'_, '_> {
     fn record(&mut self, _frame: u32, rec: &Recorder, timer: &mut Timer) -> Result<()> {
         match &mut self.pair {
             Pair::OnePass(r) => r.record_stereo(rec, self.eyes, self.targets, timer),
-            Pair::TwoFrames(rs) => (0..2)
-                .try_for_each(|e| rs[e].record(rec, &self.eyes[e], self.targets[e], timer)),
+            Pair::TwoFrames(rs) => {
+                (0..2).try_for_each(|e| rs[e].record(rec, &self.eyes[e], self.targets[e], timer))
+            }
         }
     }
 
@@ -245,17 +243,26 @@ pub(super) fn time_stereo(
 
 /// Renders for a while right after data arrives on the GPU. Measured on the H200: with only
 /// the per-measurement warm-up, the first size timed after uploading a 2 GiB volume came out
-/// 2–4× slower than the same size timed later (docs/BENCHMARKS.md, run 16).
-pub(super) fn settle_after_upload(gpu: &Gpu, renderer: &mut dyn Renderer) -> Result<()> {
-    const SETTLE_FRAMES: u32 = 100;
-    let view = renderer.view(&OrbitCamera::default(), (1280, 720))?;
+/// 2–4× slower than the same size timed later (docs/BENCHMARKS.md, run 16). `quick` runs (CPU
+/// devices, smoke tests) render one small frame.
+pub(super) fn settle_after_upload(
+    gpu: &Gpu,
+    renderer: &mut dyn Renderer,
+    quick: bool,
+) -> Result<()> {
+    let (frames, size) = if quick {
+        (1, (64, 64))
+    } else {
+        (100, (1280, 720))
+    };
+    let view = renderer.view(&OrbitCamera::default(), size)?;
     settle_frames(gpu, renderer, &view, 1, None)?;
-    let target = Target::new(gpu, 1280, 720)?;
-    let mut timer = Timer::new(gpu, SETTLE_FRAMES * MAX_TIMER_SCOPES)?;
+    let target = Target::new(gpu, size.0, size.1)?;
+    let mut timer = Timer::new(gpu, frames * MAX_TIMER_SCOPES)?;
     timer.reset(gpu);
     let mut recorded = Ok(());
     gpu.submit("settle", |rec| {
-        recorded = (0..SETTLE_FRAMES).try_for_each(|_| renderer.record(rec, &view, &target, &mut timer));
+        recorded = (0..frames).try_for_each(|_| renderer.record(rec, &view, &target, &mut timer));
     })?;
     recorded?;
     renderer.finish_frame(gpu)?;

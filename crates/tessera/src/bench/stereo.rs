@@ -39,7 +39,7 @@ pub fn stereo(
         for t in &techniques {
             // Pairs are drawn without culling (its state follows one eye), except by two
             // renderers, one per eye, for the culled mesh path.
-            let mut r = iso_renderer(gpu, t, &data, &look)?;
+            let mut r = iso_renderer(gpu, t, &data, &look, config)?;
             let mono_view = r.view(&OrbitCamera::default(), size)?;
             let eyes = mono_view.stereo_pair(separation);
             let mono = time_mono_total(gpu, r.as_mut(), &mono_view, plan, "mono")?;
@@ -47,7 +47,7 @@ pub fn stereo(
                 if t.path != "mesh" {
                     continue;
                 }
-                let mut second = iso_renderer(gpu, t, &data, &look)?;
+                let mut second = iso_renderer(gpu, t, &data, &look, config)?;
                 let pair = Pair::TwoFrames([r.as_mut(), second.as_mut()]);
                 (t.name, time_stereo(gpu, pair, &eyes, plan, "stereo")?)
             } else if r.prepare_stereo(gpu, &eyes)? {
@@ -64,11 +64,22 @@ pub fn stereo(
                 // Without multiview the unculled mesh path adds nothing to the culled one.
                 continue;
             } else {
-                let mut second = iso_renderer(gpu, t, &data, &look)?;
+                let mut second = iso_renderer(gpu, t, &data, &look, config)?;
                 let pair = Pair::TwoFrames([r.as_mut(), second.as_mut()]);
                 (t.name, time_stereo(gpu, pair, &eyes, plan, "stereo")?)
             };
-            emit(gpu, sink, t, record_name, data.name(), size, plan, mono, pair, separation)?;
+            emit(
+                gpu,
+                sink,
+                t,
+                record_name,
+                data.name(),
+                size,
+                plan,
+                mono,
+                pair,
+                separation,
+            )?;
         }
         match multiview_match {
             Some(fraction) => sink.note(&format!(
@@ -115,7 +126,10 @@ fn layers_match(gpu: &Gpu, r: &mut dyn Renderer, eyes: &[View; 2]) -> Result<f64
     let mut matches = 1.0f64;
     for (eye, frame) in eyes.iter().zip([&left, &right]) {
         single.render(gpu, r, eye)?;
-        let diff = frame.target.read(gpu)?.compare(&single.target.read(gpu)?, 2);
+        let diff = frame
+            .target
+            .read(gpu)?
+            .compare(&single.target.read(gpu)?, 2);
         matches = matches.min(diff.fraction_within);
     }
     r.prepare_stereo(gpu, eyes)?;

@@ -7,10 +7,10 @@ use crate::config::volume_defines;
 use crate::error::{Error, Result};
 use crate::iso::direct::{Direct, DirectParams, RasterTarget, COLOR_FORMAT, DEPTH_FORMAT};
 use crate::iso::PreparedVolume;
-use tessera_data::shading::BACKGROUND;
-use tessera_data::ScalarType;
 use bytemuck::{Pod, Zeroable};
 use std::mem::size_of;
+use tessera_data::shading::BACKGROUND;
+use tessera_data::ScalarType;
 use tessera_gpu::{
     vk, Binding, Buffer, Gpu, MemoryLocation, Pipeline, Recorder, RenderTargets, ShaderCompiler,
     Slot,
