@@ -140,7 +140,7 @@ fn open_nifti(path: &Path, components: bool) -> Result<(Header, Samples)> {
     let (header, samples) = if got == magic.len() && magic == GZIP_MAGIC {
         let mut decoder = MultiGzDecoder::new(BufReader::new(file));
         read_nifti(&mut decoder, path, None, components).map_err(|e| match e {
-            DataError::Io { path, source } => gzip_error(&path, source),
+            DataError::Io { path, error } => gzip_error(&path, error),
             other => other,
         })?
     } else {

@@ -98,7 +98,7 @@ pub fn load_nrrd(path: &Path, nan_policy: NanPolicy) -> Result<Volume> {
             }
             read_samples(&mut decoder, count, header.source, header.endian, data_path).map_err(
                 |e| match e {
-                    DataError::Io { path, source } => gzip_error(&path, source),
+                    DataError::Io { path, error } => gzip_error(&path, error),
                     other => other,
                 },
             )?
