@@ -5,6 +5,7 @@
 pub mod camera;
 pub mod error;
 pub mod image;
+pub mod input;
 pub mod load;
 pub mod marching_cubes;
 pub mod mc_tables;
@@ -17,8 +18,11 @@ pub mod procedural;
 pub mod rasterize;
 pub mod raw;
 pub mod raycast;
+mod sample_data;
 pub mod scene;
 pub mod shading;
+#[cfg(test)]
+mod test_files;
 pub mod tet;
 pub mod transfer;
 pub mod view;

@@ -27,15 +27,16 @@
 //! leave `pixdim` at 0); a `vox_offset` of 0 means the data follows the header and its 4-byte
 //! extension flag; bytes after the data are ignored.
 
-use std::fs::File;
-use std::io::{self, BufReader, Read, Seek, SeekFrom};
+use std::io::{BufReader, Read, Seek, SeekFrom};
 use std::path::Path;
 
 use flate2::bufread::MultiGzDecoder;
 use rayon::prelude::*;
 
 use crate::error::{DataError, Result};
-use crate::raw::{fill, read_samples, sample_count, Endian, SourceType};
+use crate::input::{open_regular, sample_bytes};
+use crate::raw::{Endian, SourceType};
+use crate::sample_data::{fill, in_gzip, read_samples, sample_count, skip, Supply};
 use crate::volume::{NanPolicy, Samples, Volume};
 
 const GZIP_MAGIC: [u8; 2] = [0x1f, 0x8b];
@@ -132,17 +133,14 @@ pub fn load_nifti_components(path: &Path) -> Result<ComponentVolume> {
 /// Header and (scaled) samples of a single-file NIfTI, gzip-compressed or not.
 fn open_nifti(path: &Path, components: bool) -> Result<(Header, Samples)> {
     let io_err = |e| DataError::io(path, e);
-    let mut file = File::open(path).map_err(io_err)?;
+    let mut file = open_regular(path)?;
     let mut magic = [0u8; 2];
     let got = fill(&mut file, &mut magic).map_err(io_err)?;
     file.seek(SeekFrom::Start(0)).map_err(io_err)?;
 
     let (header, samples) = if got == magic.len() && magic == GZIP_MAGIC {
         let mut decoder = MultiGzDecoder::new(BufReader::new(file));
-        read_nifti(&mut decoder, path, None, components).map_err(|e| match e {
-            DataError::Io { path, error } => gzip_error(&path, error),
-            other => other,
-        })?
+        read_nifti(&mut decoder, path, None, components).map_err(in_gzip)?
     } else {
         let len = file.metadata().map_err(io_err)?.len();
         read_nifti(&mut BufReader::new(file), path, Some(len), components)?
@@ -166,7 +164,7 @@ fn read_nifti(
     let count = sample_count(path, header.dims)?
         .checked_mul(header.components as usize)
         .ok_or_else(|| DataError::format(path, "too many values".to_string()))?;
-    let need = count as u64 * header.source.size_bytes() as u64;
+    let need = sample_bytes(path, count as u64, header.source)?;
     let [nx, ny, nz] = header.dims;
     let what = if file_len.is_some() {
         ""
@@ -193,11 +191,17 @@ fn read_nifti(
     if skip(reader, gap).map_err(|e| DataError::io(path, e))? < gap {
         return Err(truncated(0));
     }
-    let samples =
-        read_samples(reader, count, header.source, header.endian, path).map_err(|e| match e {
+    // Only the length of an uncompressed file could be checked.
+    let supply = match file_len {
+        Some(_) => Supply::Checked,
+        None => Supply::Stream,
+    };
+    let samples = read_samples(reader, count, header.source, header.endian, supply, path).map_err(
+        |e| match e {
             DataError::SizeMismatch { found_bytes, .. } => truncated(found_bytes),
             other => other,
-        })?;
+        },
+    )?;
     Ok((header, samples))
 }
 
@@ -462,30 +466,6 @@ fn rescale(samples: Samples, slope: f64, inter: f64) -> Samples {
         }
     };
     Samples::F32(values)
-}
-
-/// Discards up to `n` bytes; returns how many there were.
-fn skip(reader: &mut impl Read, n: u64) -> io::Result<u64> {
-    let mut buf = [0u8; 8192];
-    let mut done = 0;
-    while done < n {
-        let want = (n - done).min(buf.len() as u64) as usize;
-        let got = fill(reader, &mut buf[..want])?;
-        done += got as u64;
-        if got < want {
-            break;
-        }
-    }
-    Ok(done)
-}
-
-fn gzip_error(path: &Path, e: io::Error) -> DataError {
-    match e.kind() {
-        io::ErrorKind::InvalidData | io::ErrorKind::InvalidInput => {
-            DataError::format(path, format!("corrupt gzip data: {e}"))
-        }
-        _ => DataError::io(path, e),
-    }
 }
 
 /// The file name without `.nii.gz` or `.nii` (any case), or else without its extension.

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use flate2::write::GzEncoder;
 
 use super::*;
-use crate::raw::test_path;
+use crate::test_files::{test_data, test_path, within};
 use crate::volume::ScalarType;
 
 /// A header to write: NIfTI-1 or -2, either byte order. `vox_offset` 0 means "right after
@@ -546,7 +546,7 @@ fn real_ch2_template() {
     if !path.exists() {
         // Written past the test harness's capture so that the skip is visible.
         let _ = writeln!(
-            io::stderr().lock(),
+            std::io::stderr().lock(),
             "skipped: {} not found (install mricron-data)",
             path.display()
         );
@@ -576,3 +576,45 @@ fn real_ch2_template() {
 
 #[path = "nifti_components_tests.rs"]
 mod components;
+
+#[test]
+fn huge_sizes_in_small_gzip_files_are_refused() {
+    // 32767^3 float64 samples declared in 52 bytes.
+    let (_, text) = load_err(&test_data("huge.nii.gz"));
+    assert!(text.contains("64 GiB"), "{text}");
+    // 58 GiB of float32, within the limit: the buffer grows with the 16 bytes there are.
+    let (err, _) = load_err(&test_data("large.nii.gz"));
+    assert!(
+        matches!(
+            err,
+            DataError::SizeMismatch {
+                found_bytes: 16,
+                ..
+            }
+        ),
+        "{err}"
+    );
+    // A 4-D coefficient volume: 1000^3 voxels of 1000 values.
+    let path = test_data("huge_sh.nii.gz");
+    let text = load_nifti_components(&path).expect_err("huge").to_string();
+    assert!(
+        text.contains("huge_sh.nii.gz") && text.contains("64 GiB"),
+        "{text}"
+    );
+}
+
+#[cfg(unix)]
+#[test]
+fn devices_and_pipes_are_refused() {
+    let text = within(10, || {
+        load_nifti(Path::new("/dev/zero"), NanPolicy::Reject).map(|v| v.name().to_string())
+    })
+    .expect_err("device")
+    .to_string();
+    assert!(text.contains("character device"), "{text}");
+    let pipe = crate::test_files::test_fifo("pipe.nii.gz");
+    let text = within(10, move || load_nifti_components(&pipe).map(|_| ()))
+        .expect_err("pipe")
+        .to_string();
+    assert!(text.contains("named pipe"), "{text}");
+}

@@ -1,10 +1,11 @@
 //! Tests of `nrrd`.
 use std::io::Write;
+use std::path::PathBuf;
 
 use flate2::write::GzEncoder;
 
 use super::*;
-use crate::raw::test_path;
+use crate::test_files::{test_data, test_path, within};
 use crate::volume::{Samples, ScalarType};
 
 fn write(name: &str, header: &str, data: &[u8]) -> PathBuf {
@@ -204,4 +205,66 @@ fn nan_policy_applies() {
     assert!(text.contains("(1, 1, 0)"), "{text}");
     let v = load_nrrd(&path, NanPolicy::Replace(-5.0)).expect("replaced");
     assert_eq!(v.texel(1, 1, 0), -5.0);
+}
+
+#[test]
+fn sizes_past_the_limit_are_refused_before_allocating() {
+    // 10^15 samples declared in a 101-byte file.
+    let text = load_err(&test_data("huge_gzip.nrrd"));
+    assert!(text.contains("64 GiB"), "{text}");
+    // 64 * 10^9 samples, within the limit: the buffer grows with the 16 bytes there are.
+    let err = load_nrrd(&test_data("large_gzip.nrrd"), NanPolicy::Reject).expect_err("short");
+    assert!(
+        matches!(
+            err,
+            DataError::SizeMismatch {
+                expected_bytes: 64_000_000_000,
+                found_bytes: 16,
+                ..
+            }
+        ),
+        "{err}"
+    );
+    assert!(err.to_string().contains("large_gzip.nrrd"), "{err}");
+}
+
+#[test]
+fn line_skip_stops_at_the_end_of_the_file() {
+    let path = test_data("line_skip.nrrd");
+    let text = within(10, move || load_err(&path));
+    assert!(
+        text.contains("line skip 9223372036854775807") && text.contains("ends after 1 line(s)"),
+        "{text}"
+    );
+}
+
+#[test]
+fn data_files_must_be_regular_files() {
+    let path = test_data("dev_zero.nhdr");
+    let text = within(10, move || load_err(&path));
+    assert!(
+        text.contains("data file")
+            && text.contains("/dev/zero")
+            && text.contains("not a regular file"),
+        "{text}"
+    );
+}
+
+#[cfg(unix)]
+#[test]
+fn named_pipes_are_refused() {
+    let pipe = crate::test_files::test_fifo("pipe.nrrd");
+    let text = within(10, move || load_err(&pipe));
+    assert!(text.contains("named pipe"), "{text}");
+
+    let data = crate::test_files::test_fifo("pipe.raw");
+    let head = "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 2 2 2\nencoding: raw\n\
+                data file: pipe.raw\n";
+    let header = data.with_file_name("pipe.nhdr");
+    std::fs::write(&header, head).expect("write header");
+    let text = within(10, move || load_err(&header));
+    assert!(
+        text.contains("pipe.raw") && text.contains("named pipe"),
+        "{text}"
+    );
 }

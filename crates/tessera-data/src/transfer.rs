@@ -72,6 +72,7 @@ impl TransferFunction {
         if !path.exists() {
             return TransferFunction::preset(spec);
         }
+        crate::input::regular_file(path)?;
         let text = std::fs::read_to_string(path).map_err(|e| DataError::io(path, e))?;
         TransferFunction::parse(&text).map_err(|message| DataError::Format {
             path: path.to_owned(),

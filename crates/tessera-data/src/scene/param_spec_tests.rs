@@ -1,7 +1,7 @@
 //! Tests of `param_spec`: every parametric spec form, the glyph placement, their errors.
 
 use super::*;
-use crate::raw::test_path;
+use crate::test_files::test_path;
 
 const BASIS: ShBasis = ShBasis::Tournier07 { legacy: false };
 

@@ -1,7 +1,7 @@
 //! Tests of `spec`: which loader a spec goes to, volume and tet-mesh specs, their errors.
 
 use super::*;
-use crate::raw::test_path;
+use crate::test_files::test_path;
 use crate::tet::{write_vtu_ascii, MeshReport};
 
 #[test]
