@@ -16,7 +16,8 @@
 //! [`NanPolicy::Replace`] applies after scaling, so its value is in scaled units.
 //!
 //! Only dimensions 1..3 may exceed 1: `dim[0]` must be 3, or 4..7 with every further
-//! dimension equal to 1 (time series and vector data are refused).
+//! dimension equal to 1 (time series and vector data are refused). [`load_nifti_components`]
+//! takes the further dimensions as values per voxel, and also volumes of one voxel or slice.
 //!
 //! Read from the header: `dim`, `datatype`, `pixdim[1..=3]` (the spacing), `vox_offset` and
 //! `scl_slope`/`scl_inter`. Ignored: the qform/sform orientation (samples stay in file order,
@@ -333,7 +334,16 @@ fn validate(
             )));
         }
     }
-    if dim[1..4].iter().any(|&d| d < 2) {
+    // A coefficient volume of one slice or one voxel still holds glyphs; a scalar volume
+    // needs cells to interpolate in.
+    if allow_components && dim[1..4].iter().any(|&d| d < 1) {
+        return Err(fail(format!(
+            "invalid dimensions {}x{}x{}: a coefficient volume needs at least 1 voxel along \
+             every axis",
+            dim[1], dim[2], dim[3]
+        )));
+    }
+    if !allow_components && dim[1..4].iter().any(|&d| d < 2) {
         return Err(DataError::InvalidDims {
             what: path.display().to_string(),
             dims: [dim[1], dim[2], dim[3]].map(|d| d.max(0) as u64),
