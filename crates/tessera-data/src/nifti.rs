@@ -19,10 +19,12 @@
 //! dimension equal to 1 (time series and vector data are refused). [`load_nifti_components`]
 //! takes the further dimensions as values per voxel, and also volumes of one voxel or slice.
 //!
-//! Read from the header: `dim`, `datatype`, `pixdim[1..=3]` (the spacing), `vox_offset` and
-//! `scl_slope`/`scl_inter`. Ignored: the qform/sform orientation (samples stay in file order,
-//! i fastest, then j, then k), units, intent codes, `cal_min`/`cal_max`; extensions are
-//! skipped by starting at `vox_offset`.
+//! Read from the header: `dim`, `datatype`, `pixdim[1..=3]` (the spacing), `vox_offset`,
+//! `scl_slope`/`scl_inter`, and the placement (see [`crate::Orientation`]): the sform when
+//! `sform_code` > 0, else the qform (quaternion, offsets and `qfac` = `pixdim[0]`) when
+//! `qform_code` > 0, else none; both name RAS world space. Samples stay in file order (i
+//! fastest, then j, then k). Ignored: units, intent codes, `cal_min`/`cal_max`; extensions
+//! are skipped by starting at `vox_offset`.
 //!
 //! Deliberate leniencies: a spacing that is zero, negative or not finite means 1 (many files
 //! leave `pixdim` at 0); a `vox_offset` of 0 means the data follows the header and its 4-byte
@@ -36,9 +38,13 @@ use rayon::prelude::*;
 
 use crate::error::{DataError, Result};
 use crate::input::{open_regular, sample_bytes};
+use crate::orientation::Orientation;
 use crate::raw::{Endian, SourceType};
 use crate::sample_data::{fill, in_gzip, read_samples, sample_count, skip, Supply};
 use crate::volume::{NanPolicy, Samples, Volume};
+
+#[path = "nifti_orientation.rs"]
+mod orientation;
 
 const GZIP_MAGIC: [u8; 2] = [0x1f, 0x8b];
 const NIFTI1_HEADER: usize = 348;
@@ -55,6 +61,7 @@ struct Header {
     /// Values per voxel: the product of dim[4..] (1 for scalar volumes).
     components: u32,
     spacing: [f32; 3],
+    orientation: Orientation,
     vox_offset: u64,
     /// `(slope, intercept)`, present only when it changes the values.
     scaling: Option<(f64, f64)>,
@@ -70,20 +77,28 @@ struct RawHeader {
     vox_offset: f64,
     scl_slope: f64,
     scl_inter: f64,
+    qform_code: i32,
+    sform_code: i32,
+    /// Quaternion parameters b, c, d (a follows from them).
+    quatern: [f64; 3],
+    qoffset: [f64; 3],
+    /// The first three rows of the sform affine.
+    srow: [[f64; 4]; 3],
 }
 
 /// Loads a single-file NIfTI-1 or NIfTI-2 volume, gzip-compressed or not. See the module
 /// documentation for type conversion, intensity scaling and what is ignored.
 pub fn load_nifti(path: &Path, nan_policy: NanPolicy) -> Result<Volume> {
     let (header, samples) = open_nifti(path, false)?;
-    Volume::with_nan_policy(
+    let volume = Volume::with_nan_policy(
         volume_name(path),
         header.dims,
         header.spacing,
         samples,
         nan_policy,
     )
-    .map_err(|e| e.in_file(path))
+    .map_err(|e| e.in_file(path))?;
+    Ok(volume.with_orientation(header.orientation))
 }
 
 /// A volume of several values per voxel (e.g. SH coefficients): component `c` of voxel
@@ -258,6 +273,13 @@ fn parse_nifti1(f: &Fields, path: &Path) -> Result<RawHeader> {
         vox_offset: f64::from(f.f32(108)),
         scl_slope: f64::from(f.f32(112)),
         scl_inter: f64::from(f.f32(116)),
+        qform_code: i32::from(f.i16(252)),
+        sform_code: i32::from(f.i16(254)),
+        quatern: std::array::from_fn(|i| f64::from(f.f32(256 + 4 * i))),
+        qoffset: std::array::from_fn(|i| f64::from(f.f32(268 + 4 * i))),
+        srow: std::array::from_fn(|r| {
+            std::array::from_fn(|c| f64::from(f.f32(280 + 16 * r + 4 * c)))
+        }),
     })
 }
 
@@ -271,6 +293,11 @@ fn parse_nifti2(f: &Fields, path: &Path) -> Result<RawHeader> {
         vox_offset: f.i64(168) as f64,
         scl_slope: f.f64(176),
         scl_inter: f.f64(184),
+        qform_code: f.i32(344),
+        sform_code: f.i32(348),
+        quatern: std::array::from_fn(|i| f.f64(352 + 8 * i)),
+        qoffset: std::array::from_fn(|i| f.f64(376 + 8 * i)),
+        srow: std::array::from_fn(|r| std::array::from_fn(|c| f.f64(400 + 32 * r + 8 * c))),
     })
 }
 
@@ -388,6 +415,7 @@ fn validate(
     let scaling = (slope.is_finite() && slope != 0.0 && (slope, inter) != (1.0, 0.0))
         .then_some((slope, inter));
 
+    let orientation = orientation::placement(&raw);
     Ok(Header {
         header_len,
         endian,
@@ -395,6 +423,7 @@ fn validate(
         dims,
         components,
         spacing,
+        orientation,
         vox_offset,
         scaling,
     })
@@ -449,6 +478,10 @@ impl Fields<'_> {
 
     fn i16(&self, at: usize) -> i16 {
         i16::from_le_bytes(self.take(at))
+    }
+
+    fn i32(&self, at: usize) -> i32 {
+        i32::from_le_bytes(self.take(at))
     }
 
     fn i64(&self, at: usize) -> i64 {

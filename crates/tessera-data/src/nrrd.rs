@@ -5,6 +5,11 @@
 //! Deliberate leniencies: a missing `endian` field means little-endian, NaN `spacings`
 //! entries mean 1, and bytes after the expected data are ignored (readers take exactly the
 //! bytes the header describes).
+//!
+//! Placement: the lengths of the `space directions` vectors are the spacing, their directions
+//! and `space origin` the volume's [`crate::Orientation`], and `space` (RAS, LAS, LPS) its
+//! anatomical space. Without `space directions` the spacing comes from `spacings` and the
+//! orientation is the default.
 
 use std::io::{BufRead, BufReader, Seek, SeekFrom};
 use std::path::Path;
@@ -42,8 +47,9 @@ fn into_volume(header: Header, samples: Samples, path: &Path, policy: NanPolicy)
     let name = path
         .file_stem()
         .map_or_else(|| "volume".into(), |s| s.to_string_lossy().into_owned());
-    Volume::with_nan_policy(name, header.dims, header.spacing, samples, policy)
-        .map_err(|e| e.in_file(path))
+    let volume = Volume::with_nan_policy(name, header.dims, header.spacing, samples, policy)
+        .map_err(|e| e.in_file(path))?;
+    Ok(volume.with_orientation(header.orientation))
 }
 
 /// The samples `header` (from `header_path`) describes, read from `reader`, which is at the

@@ -5,6 +5,7 @@ use std::io::{BufRead, Read};
 use std::path::{Path, PathBuf};
 
 use crate::error::{DataError, Result};
+use crate::orientation::{AnatomicalSpace, Orientation, OrientationSource};
 use crate::raw::{Endian, SourceType};
 
 const MAX_HEADER_LINE: u64 = 64 * 1024;
@@ -22,6 +23,7 @@ pub(super) struct Header {
     pub encoding: Encoding,
     pub endian: Endian,
     pub spacing: [f32; 3],
+    pub orientation: Orientation,
     pub data_file: Option<PathBuf>,
     pub byte_skip: i64,
     pub line_skip: u64,
@@ -98,7 +100,10 @@ struct Fields {
     encoding: Option<Encoding>,
     endian: Option<Endian>,
     spacings: Option<(Vec<Option<f64>>, usize)>,
-    directions: Option<(Vec<Option<f64>>, usize)>,
+    /// Per axis a world vector, or `None` for a non-spatial axis (`none`).
+    directions: Option<(Vec<Option<Vec<f64>>>, usize)>,
+    origin: Option<(Vec<f64>, usize)>,
+    space: Option<AnatomicalSpace>,
     data_file: Option<PathBuf>,
     byte_skip: i64,
     line_skip: u64,
@@ -170,9 +175,21 @@ impl Fields {
                 self.spacings = Some((list, line));
             }
             "space directions" => {
-                let dirs = parse_directions(&value).map_err(fail)?;
+                let dirs = parse_vectors(&value, "space directions").map_err(fail)?;
                 self.directions = Some((dirs, line));
             }
+            "space origin" => {
+                let origin = match parse_vectors(&value, "space origin").map_err(fail)?[..] {
+                    [Some(ref v)] => v.clone(),
+                    _ => {
+                        return Err(fail(format!(
+                            "bad space origin {value:?}: expected (x,y,z)"
+                        )))
+                    }
+                };
+                self.origin = Some((origin, line));
+            }
+            "space" => self.space = AnatomicalSpace::from_nrrd(&value),
             "data file" | "datafile" => {
                 let words: Vec<&str> = value.split_whitespace().collect();
                 if words
@@ -243,18 +260,24 @@ impl Fields {
                 dims: dims.map(u64::from),
             });
         }
+        let mut orientation = Orientation::default();
         let spacing = if let Some((dirs, line)) = self.directions {
-            let lengths: Vec<f64> = dirs.into_iter().flatten().collect();
-            if lengths.len() != 3 {
+            let axes: Vec<Vec<f64>> = dirs.into_iter().flatten().collect();
+            if axes.len() != 3 {
                 return Err(at(
                     line,
                     format!(
                         "space directions give {} spatial axes, expected 3",
-                        lengths.len()
+                        axes.len()
                     ),
                 ));
             }
-            [lengths[0], lengths[1], lengths[2]].map(|l| l as f32)
+            let length = |v: &[f64]| v.iter().map(|c| c * c).sum::<f64>().sqrt() as f32;
+            let spacing = [0, 1, 2].map(|i| length(&axes[i]));
+            if let Some(placed) = place(&axes, self.origin.as_ref(), self.space, path)? {
+                orientation = placed;
+            }
+            spacing
         } else if let Some((list, line)) = self.spacings {
             if list.len() != dimension {
                 return Err(at(
@@ -282,6 +305,7 @@ impl Fields {
             encoding,
             endian: self.endian.unwrap_or_default(),
             spacing,
+            orientation,
             data_file: self.data_file,
             byte_skip: self.byte_skip,
             line_skip: self.line_skip,
@@ -289,8 +313,40 @@ impl Fields {
     }
 }
 
-/// `(1,0,0) (0,2,0) none ...` -> vector lengths, `None` for `none`.
-fn parse_directions(value: &str) -> std::result::Result<Vec<Option<f64>>, String> {
+/// The orientation of three spatial `axes` in a 3-D world space, with the `space origin`
+/// (0 when absent); `None` when the space has another dimension or an axis has no length.
+fn place(
+    axes: &[Vec<f64>],
+    origin: Option<&(Vec<f64>, usize)>,
+    space: Option<AnatomicalSpace>,
+    path: &Path,
+) -> Result<Option<Orientation>> {
+    let [x, y, z] = axes else { return Ok(None) };
+    let vector = |v: &[f64]| <[f64; 3]>::try_from(v).ok();
+    let (Some(x), Some(y), Some(z)) = (vector(x), vector(y), vector(z)) else {
+        return Ok(None);
+    };
+    let origin = match origin {
+        None => [0.0; 3],
+        Some((o, line)) => vector(o).ok_or_else(|| {
+            let msg = format!(
+                "line {line}: space origin has {} components, the space directions 3",
+                o.len()
+            );
+            DataError::format(path, msg)
+        })?,
+    };
+    Ok(Orientation::new(
+        origin,
+        [x, y, z],
+        space,
+        OrientationSource::Nrrd,
+    ))
+}
+
+/// `(1,0,0) (0,2,0) none ...` -> the vectors, `None` for `none`; `field` names the field in
+/// errors.
+fn parse_vectors(value: &str, field: &str) -> std::result::Result<Vec<Option<Vec<f64>>>, String> {
     let mut out = Vec::new();
     let mut rest = value.trim_start();
     while !rest.is_empty() {
@@ -298,19 +354,19 @@ fn parse_directions(value: &str) -> std::result::Result<Vec<Option<f64>>, String
             out.push(None);
             rest = r.trim_start();
         } else if let Some(r) = rest.strip_prefix('(') {
-            let close = r.find(')').ok_or("unclosed '(' in space directions")?;
-            let mut sum = 0.0;
-            for c in r[..close].split(',') {
-                let v: f64 = c
-                    .trim()
-                    .parse()
-                    .map_err(|_| format!("bad component {c:?} in space directions"))?;
-                sum += v * v;
-            }
-            out.push(Some(sum.sqrt()));
+            let close = r.find(')').ok_or(format!("unclosed '(' in {field}"))?;
+            let vector = r[..close]
+                .split(',')
+                .map(|c| {
+                    c.trim()
+                        .parse::<f64>()
+                        .map_err(|_| format!("bad component {c:?} in {field}"))
+                })
+                .collect::<std::result::Result<Vec<_>, _>>()?;
+            out.push(Some(vector));
             rest = r[close + 1..].trim_start();
         } else {
-            return Err(format!("bad space directions {value:?}"));
+            return Err(format!("bad {field} {value:?}"));
         }
     }
     Ok(out)

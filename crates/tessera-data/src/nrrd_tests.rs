@@ -5,6 +5,7 @@ use std::path::PathBuf;
 use flate2::write::GzEncoder;
 
 use super::*;
+use crate::orientation::{AnatomicalSpace, OrientationSource};
 use crate::test_files::{test_data, test_path, within};
 use crate::volume::{Samples, ScalarType};
 
@@ -267,4 +268,53 @@ fn named_pipes_are_refused() {
         text.contains("pipe.raw") && text.contains("named pipe"),
         "{text}"
     );
+}
+
+#[test]
+fn orientation_from_space_fields() {
+    // LPS, axial slices stored from the head down, rows along -y, with 0.5/2/3 spacing.
+    let head = "NRRD0005\ntype: uchar\ndimension: 3\nsizes: 2 3 4\nencoding: raw\n\
+                space: left-posterior-superior\n\
+                space directions: (0.5,0,0) (0,-2,0) (0,0,-3)\n\
+                space origin: (-10.5, 20, 30.25)\n\n";
+    let v = load_nrrd(&write("lps.nrrd", head, &ramp()), NanPolicy::Reject).expect("load");
+    assert_eq!(v.spacing(), [0.5, 2.0, 3.0]);
+    let o = v.orientation();
+    assert_eq!(o.source(), OrientationSource::Nrrd);
+    assert_eq!(o.space(), Some(AnatomicalSpace::Lps));
+    assert_eq!(o.origin(), [-10.5, 20.0, 30.25]);
+    assert_eq!(
+        o.direction(),
+        [[1.0, 0.0, 0.0], [0.0, -1.0, 0.0], [0.0, 0.0, -1.0]]
+    );
+    assert_eq!(v.up_axis(), Some((2, -1)));
+
+    // A rotated grid in a space that is not anatomical: directions but no up.
+    let head = "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 2 3 4\nencoding: raw\n\
+                space: scanner-xyz\nspace directions: (0,0,1) (1,0,0) (0,1,0)\n\n";
+    let v = load_nrrd(&write("scanner.nrrd", head, &ramp()), NanPolicy::Reject).expect("load");
+    assert_eq!(v.orientation().origin(), [0.0; 3]);
+    assert_eq!(v.orientation().direction()[0], [0.0, 0.0, 1.0]);
+    assert_eq!(v.up_axis(), None);
+
+    // Without space directions only the spacing is known.
+    let path = write(
+        "plain.nrrd",
+        &format!("{U8_HEAD}encoding: raw\n\n"),
+        &ramp(),
+    );
+    let v = load_nrrd(&path, NanPolicy::Reject).expect("load");
+    assert_eq!(v.orientation().source(), OrientationSource::Default);
+
+    let head = "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 2 3 4\nencoding: raw\n\
+                space directions: (1,0,0) (0,1,0) (0,0,1)\nspace origin: (1,2)\n\n";
+    let text = load_err(&write("origin.nrrd", head, &ramp()));
+    assert!(
+        text.contains("line 7") && text.contains("space origin has 2 components"),
+        "{text}"
+    );
+    let head = "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 2 3 4\nencoding: raw\n\
+                space origin: none\n\n";
+    let text = load_err(&write("origin_none.nrrd", head, &ramp()));
+    assert!(text.contains("bad space origin"), "{text}");
 }
