@@ -30,7 +30,7 @@
 //! leave `pixdim` at 0); a `vox_offset` of 0 means the data follows the header and its 4-byte
 //! extension flag; bytes after the data are ignored.
 
-use std::io::{BufReader, Read, Seek, SeekFrom};
+use std::io::{BufRead, BufReader, Read, Seek, SeekFrom};
 use std::path::Path;
 
 use flate2::bufread::MultiGzDecoder;
@@ -89,7 +89,20 @@ struct RawHeader {
 /// Loads a single-file NIfTI-1 or NIfTI-2 volume, gzip-compressed or not. See the module
 /// documentation for type conversion, intensity scaling and what is ignored.
 pub fn load_nifti(path: &Path, nan_policy: NanPolicy) -> Result<Volume> {
-    let (header, samples) = open_nifti(path, false)?;
+    scalar_volume(open_nifti(path, false)?, path, nan_policy)
+}
+
+/// A NIfTI file held in memory, as [`load_nifti`] reads it from disk; `path` names it in
+/// errors and gives the volume its name.
+pub fn parse_bytes(bytes: &[u8], path: &Path, nan_policy: NanPolicy) -> Result<Volume> {
+    scalar_volume(decode_bytes(bytes, path, false)?, path, nan_policy)
+}
+
+fn scalar_volume(
+    (header, samples): (Header, Samples),
+    path: &Path,
+    nan_policy: NanPolicy,
+) -> Result<Volume> {
     let volume = Volume::with_nan_policy(
         volume_name(path),
         header.dims,
@@ -126,7 +139,16 @@ impl ComponentVolume {
 /// are converted to `f32` (with the header's scaling). Non-finite values are errors naming the
 /// file.
 pub fn load_nifti_components(path: &Path) -> Result<ComponentVolume> {
-    let (header, samples) = open_nifti(path, true)?;
+    component_volume(open_nifti(path, true)?, path)
+}
+
+/// A file of several values per voxel held in memory, as [`load_nifti_components`] reads it
+/// from disk; `path` names it in errors.
+pub fn parse_components_bytes(bytes: &[u8], path: &Path) -> Result<ComponentVolume> {
+    component_volume(decode_bytes(bytes, path, true)?, path)
+}
+
+fn component_volume((header, samples): (Header, Samples), path: &Path) -> Result<ComponentVolume> {
     let values: Vec<f32> = match samples {
         Samples::U8(v) => v.into_iter().map(f32::from).collect(),
         Samples::U16(v) => v.into_iter().map(f32::from).collect(),
@@ -153,13 +175,29 @@ fn open_nifti(path: &Path, components: bool) -> Result<(Header, Samples)> {
     let mut magic = [0u8; 2];
     let got = fill(&mut file, &mut magic).map_err(io_err)?;
     file.seek(SeekFrom::Start(0)).map_err(io_err)?;
+    let len = file.metadata().map_err(io_err)?.len();
+    let gzip = got == magic.len() && magic == GZIP_MAGIC;
+    decode(BufReader::new(file), gzip, len, path, components)
+}
 
-    let (header, samples) = if got == magic.len() && magic == GZIP_MAGIC {
-        let mut decoder = MultiGzDecoder::new(BufReader::new(file));
+fn decode_bytes(bytes: &[u8], path: &Path, components: bool) -> Result<(Header, Samples)> {
+    let gzip = bytes.starts_with(&GZIP_MAGIC);
+    decode(bytes, gzip, bytes.len() as u64, path, components)
+}
+
+/// Header and (scaled) samples from `input`, `len` bytes long (compressed, if `gzip`).
+fn decode(
+    mut input: impl BufRead,
+    gzip: bool,
+    len: u64,
+    path: &Path,
+    components: bool,
+) -> Result<(Header, Samples)> {
+    let (header, samples) = if gzip {
+        let mut decoder = MultiGzDecoder::new(input);
         read_nifti(&mut decoder, path, None, components).map_err(in_gzip)?
     } else {
-        let len = file.metadata().map_err(io_err)?.len();
-        read_nifti(&mut BufReader::new(file), path, Some(len), components)?
+        read_nifti(&mut input, path, Some(len), components)?
     };
     let samples = match header.scaling {
         Some((slope, inter)) => rescale(samples, slope, inter),

@@ -726,3 +726,37 @@ fn devices_and_pipes_are_refused() {
         .to_string();
     assert!(text.contains("named pipe"), "{text}");
 }
+
+#[test]
+fn bytes_in_memory_load_like_files() {
+    let mut nii = Nii::new([3, 2, 4], 2);
+    nii.sform_code = 1;
+    nii.srow = [
+        [1.0, 0.0, 0.0, 0.0],
+        [0.0, 0.0, 1.0, 0.0],
+        [0.0, -1.0, 0.0, 0.0],
+    ];
+    let data = ramp(24);
+    let from_file = load(&nii.write("mem.nii", &data));
+    for bytes in [nii.bytes(&data), gzip(&nii.bytes(&data))] {
+        let v = parse_bytes(&bytes, Path::new("mem.nii"), NanPolicy::Reject).expect("bytes");
+        assert_eq!(v.samples(), from_file.samples());
+        assert_eq!(v.orientation(), from_file.orientation());
+        assert_eq!(v.name(), "mem");
+    }
+    let cut = &nii.bytes(&data)[..360];
+    let err = parse_bytes(cut, Path::new("cut.nii"), NanPolicy::Reject).expect_err("short");
+    assert!(
+        matches!(err, DataError::SizeMismatch { found_bytes: 8, .. }),
+        "{err}"
+    );
+    assert!(err.to_string().contains("cut.nii"), "{err}");
+
+    let mut sh = Nii::new([1, 1, 1], 16);
+    sh.dim[0] = 4;
+    sh.dim[4] = 6;
+    let values: Vec<u8> = (0..6).flat_map(|i| (i as f32).to_le_bytes()).collect();
+    let v = parse_components_bytes(&gzip(&sh.bytes(&values)), Path::new("sh.nii.gz"))
+        .expect("components");
+    assert_eq!(v.voxel(0, 0, 0), vec![0.0, 1.0, 2.0, 3.0, 4.0, 5.0]);
+}

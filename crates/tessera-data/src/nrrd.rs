@@ -11,7 +11,7 @@
 //! anatomical space. Without `space directions` the spacing comes from `spacings` and the
 //! orientation is the default.
 
-use std::io::{BufRead, BufReader, Seek, SeekFrom};
+use std::io::{BufRead, BufReader, Cursor, Seek, SeekFrom};
 use std::path::Path;
 
 use flate2::bufread::MultiGzDecoder;
@@ -40,6 +40,20 @@ pub fn load_nrrd(path: &Path, nan_policy: NanPolicy) -> Result<Volume> {
         }
         None => read_data(&mut reader, &header, path, path)?,
     };
+    into_volume(header, samples, path, nan_policy)
+}
+
+/// A NRRD with attached data held in memory, as [`load_nrrd`] reads it from a file; `path`
+/// names it in errors and gives the volume its name. Headers naming a detached data file are
+/// refused.
+pub fn parse_bytes(bytes: &[u8], path: &Path, nan_policy: NanPolicy) -> Result<Volume> {
+    let mut reader = Cursor::new(bytes);
+    let header = parse_header(&mut reader, path)?;
+    if header.data_file.is_some() {
+        let msg = "names a detached data file, which only a NRRD on disk can have";
+        return Err(DataError::format(path, msg));
+    }
+    let samples = read_data(&mut reader, &header, path, path)?;
     into_volume(header, samples, path, nan_policy)
 }
 

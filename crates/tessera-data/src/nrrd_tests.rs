@@ -318,3 +318,24 @@ fn orientation_from_space_fields() {
     let text = load_err(&write("origin_none.nrrd", head, &ramp()));
     assert!(text.contains("bad space origin"), "{text}");
 }
+
+#[test]
+fn bytes_in_memory_load_like_files() {
+    let head = format!("{U8_HEAD}encoding: gzip\n\n");
+    let mut bytes = head.as_bytes().to_vec();
+    bytes.extend(gzip(&ramp()));
+    let path = write("mem.nrrd", "", &bytes);
+    let from_file = load_nrrd(&path, NanPolicy::Reject).expect("file");
+    let from_bytes = parse_bytes(&bytes, Path::new("mem.nrrd"), NanPolicy::Reject).expect("bytes");
+    assert_eq!(from_bytes.samples(), from_file.samples());
+    assert_eq!(from_bytes.name(), "mem");
+
+    let head = "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 2 2 2\nencoding: raw\n\
+                data file: other.raw\n";
+    let err =
+        parse_bytes(head.as_bytes(), Path::new("d.nhdr"), NanPolicy::Reject).expect_err("detached");
+    assert!(err.to_string().contains("detached data file"), "{err}");
+    let err =
+        parse_bytes(b"NRRD0004\n", Path::new("e.nrrd"), NanPolicy::Reject).expect_err("empty");
+    assert!(err.to_string().contains("e.nrrd"), "{err}");
+}
