@@ -11,12 +11,13 @@ pub const SUPPORTED_TYPES: &str =
 /// Everything that can go wrong while loading, generating or validating volume data.
 #[derive(Debug, thiserror::Error)]
 pub enum DataError {
-    /// The file could not be opened or read.
-    #[error("{}: {source}", .path.display())]
+    /// The file could not be opened or read. `error` is deliberately no `#[source]` (nor
+    /// named `source`): the message already holds it, and context chains printed with `{:#}`
+    /// (anyhow) would say "No such file or directory" twice.
+    #[error("{}: {error}", .path.display())]
     Io {
         path: PathBuf,
-        #[source]
-        source: std::io::Error,
+        error: std::io::Error,
     },
 
     /// A header or file name could not be understood.
@@ -49,7 +50,7 @@ pub enum DataError {
     /// NaN or infinite samples, which would poison value ranges, gradients and isosurfaces.
     #[error(
         "{path_or_name}: {count} non-finite (NaN/Inf) sample(s), first at voxel ({}, {}, {}); \
-         choose a replacement value (NanPolicy::Replace) to load it anyway",
+         pass --nan-fill VALUE to load it with VALUE in their place",
         .first[0], .first[1], .first[2]
     )]
     NonFinite {
@@ -85,10 +86,10 @@ fn size_problem(expected: u64, found: u64, detail: &str) -> String {
 }
 
 impl DataError {
-    pub(crate) fn io(path: &Path, source: std::io::Error) -> Self {
+    pub(crate) fn io(path: &Path, error: std::io::Error) -> Self {
         DataError::Io {
             path: path.to_path_buf(),
-            source,
+            error,
         }
     }
 
@@ -187,6 +188,29 @@ mod tests {
         let err = DataError::Invalid("bad N".into()).labelled("tets:box:0");
         assert_eq!(err.to_string(), "tets:box:0: bad N");
         assert!(std::error::Error::source(&err).is_none());
+    }
+
+    #[test]
+    fn io_error_shows_the_reason_once() {
+        let missing = std::io::Error::from(std::io::ErrorKind::NotFound);
+        let err = DataError::io(Path::new("/d/gone.nrrd"), missing);
+        assert!(err.to_string().starts_with("/d/gone.nrrd: "), "{err}");
+        // A chain printer (anyhow's `{:#}`) appends every source: there must be none.
+        assert!(std::error::Error::source(&err).is_none());
+    }
+
+    #[test]
+    fn non_finite_advice_names_the_flag() {
+        let err = DataError::NonFinite {
+            path_or_name: "v.nii".into(),
+            count: 1,
+            first: [0, 0, 0],
+        };
+        let text = err.to_string();
+        assert!(
+            text.contains("--nan-fill") && !text.contains("NanPolicy"),
+            "{text}"
+        );
     }
 
     #[test]

@@ -2,7 +2,8 @@
 
 use std::path::Path;
 
-use crate::error::{DataError, Result};
+use crate::error::Result;
+use crate::input::regular_file;
 use crate::nifti::load_nifti;
 use crate::nrrd::load_nrrd;
 use crate::raw::{load_raw, RawOptions};
@@ -10,14 +11,12 @@ use crate::volume::Volume;
 
 /// Loads `path` as NRRD (`.nrrd`, `.nhdr`), NIfTI (`.nii`, `.nii.gz`), extensions in any
 /// case, or else as a raw file. For NRRD and NIfTI files only `opts.nan_policy` applies; the
-/// header supplies everything else.
+/// header supplies everything else. Only regular files are read (no directories, devices or
+/// named pipes).
 pub fn load_volume(path: &Path, opts: &RawOptions) -> Result<Volume> {
     // Checked up front so that a mistyped path reports "not found" rather than, say, a
     // complaint about missing --dims for a raw file that does not exist.
-    let meta = std::fs::metadata(path).map_err(|e| DataError::io(path, e))?;
-    if meta.is_dir() {
-        return Err(DataError::format(path, "is a directory, not a volume file"));
-    }
+    regular_file(path)?;
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
@@ -37,7 +36,8 @@ pub fn load_volume(path: &Path, opts: &RawOptions) -> Result<Volume> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::raw::test_path;
+    use crate::error::DataError;
+    use crate::test_files::test_path;
     use crate::volume::ScalarType;
 
     #[test]
@@ -104,5 +104,35 @@ mod tests {
         std::fs::create_dir_all(&dir).expect("mkdir");
         let err = load_volume(&dir, &RawOptions::default()).expect_err("dir");
         assert!(err.to_string().contains("adir.raw"), "{err}");
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn pipes_and_devices_are_refused() {
+        use crate::test_files::{test_fifo, within};
+        for name in [
+            "pipe.nrrd",
+            "pipe.nii",
+            "pipe.nii.gz",
+            "pipe_2x2x2_uint8.raw",
+        ] {
+            let pipe = test_fifo(name);
+            let err = within(10, move || {
+                load_volume(&pipe, &RawOptions::default()).map(|v| v.name().to_string())
+            })
+            .expect_err("pipe");
+            let text = err.to_string();
+            assert!(text.contains(name) && text.contains("named pipe"), "{text}");
+        }
+        let opts = RawOptions {
+            dims: Some([2, 2, 2]),
+            dtype: Some("uint8".into()),
+            ..RawOptions::default()
+        };
+        let err = within(10, move || {
+            load_volume(Path::new("/dev/zero"), &opts).map(|_| ())
+        })
+        .expect_err("device");
+        assert!(err.to_string().contains("character device"), "{err}");
     }
 }

@@ -16,27 +16,35 @@
 //! [`NanPolicy::Replace`] applies after scaling, so its value is in scaled units.
 //!
 //! Only dimensions 1..3 may exceed 1: `dim[0]` must be 3, or 4..7 with every further
-//! dimension equal to 1 (time series and vector data are refused).
+//! dimension equal to 1 (time series and vector data are refused). [`load_nifti_components`]
+//! takes the further dimensions as values per voxel, and also volumes of one voxel or slice.
 //!
-//! Read from the header: `dim`, `datatype`, `pixdim[1..=3]` (the spacing), `vox_offset` and
-//! `scl_slope`/`scl_inter`. Ignored: the qform/sform orientation (samples stay in file order,
-//! i fastest, then j, then k), units, intent codes, `cal_min`/`cal_max`; extensions are
-//! skipped by starting at `vox_offset`.
+//! Read from the header: `dim`, `datatype`, `pixdim[1..=3]` (the spacing), `vox_offset`,
+//! `scl_slope`/`scl_inter`, and the placement (see [`crate::Orientation`]): the sform when
+//! `sform_code` > 0, else the qform (quaternion, offsets and `qfac` = `pixdim[0]`) when
+//! `qform_code` > 0, else none; both name RAS world space. Samples stay in file order (i
+//! fastest, then j, then k). Ignored: units, intent codes, `cal_min`/`cal_max`; extensions
+//! are skipped by starting at `vox_offset`.
 //!
 //! Deliberate leniencies: a spacing that is zero, negative or not finite means 1 (many files
 //! leave `pixdim` at 0); a `vox_offset` of 0 means the data follows the header and its 4-byte
 //! extension flag; bytes after the data are ignored.
 
-use std::fs::File;
-use std::io::{self, BufReader, Read, Seek, SeekFrom};
+use std::io::{BufRead, BufReader, Read, Seek, SeekFrom};
 use std::path::Path;
 
 use flate2::bufread::MultiGzDecoder;
 use rayon::prelude::*;
 
 use crate::error::{DataError, Result};
-use crate::raw::{fill, read_samples, sample_count, Endian, SourceType};
+use crate::input::{open_regular, sample_bytes};
+use crate::orientation::Orientation;
+use crate::raw::{Endian, SourceType};
+use crate::sample_data::{fill, in_gzip, read_samples, sample_count, skip, Supply};
 use crate::volume::{NanPolicy, Samples, Volume};
+
+#[path = "nifti_orientation.rs"]
+mod orientation;
 
 const GZIP_MAGIC: [u8; 2] = [0x1f, 0x8b];
 const NIFTI1_HEADER: usize = 348;
@@ -53,6 +61,7 @@ struct Header {
     /// Values per voxel: the product of dim[4..] (1 for scalar volumes).
     components: u32,
     spacing: [f32; 3],
+    orientation: Orientation,
     vox_offset: u64,
     /// `(slope, intercept)`, present only when it changes the values.
     scaling: Option<(f64, f64)>,
@@ -68,20 +77,41 @@ struct RawHeader {
     vox_offset: f64,
     scl_slope: f64,
     scl_inter: f64,
+    qform_code: i32,
+    sform_code: i32,
+    /// Quaternion parameters b, c, d (a follows from them).
+    quatern: [f64; 3],
+    qoffset: [f64; 3],
+    /// The first three rows of the sform affine.
+    srow: [[f64; 4]; 3],
 }
 
 /// Loads a single-file NIfTI-1 or NIfTI-2 volume, gzip-compressed or not. See the module
 /// documentation for type conversion, intensity scaling and what is ignored.
 pub fn load_nifti(path: &Path, nan_policy: NanPolicy) -> Result<Volume> {
-    let (header, samples) = open_nifti(path, false)?;
-    Volume::with_nan_policy(
+    scalar_volume(open_nifti(path, false)?, path, nan_policy)
+}
+
+/// A NIfTI file held in memory, as [`load_nifti`] reads it from disk; `path` names it in
+/// errors and gives the volume its name.
+pub fn parse_bytes(bytes: &[u8], path: &Path, nan_policy: NanPolicy) -> Result<Volume> {
+    scalar_volume(decode_bytes(bytes, path, false)?, path, nan_policy)
+}
+
+fn scalar_volume(
+    (header, samples): (Header, Samples),
+    path: &Path,
+    nan_policy: NanPolicy,
+) -> Result<Volume> {
+    let volume = Volume::with_nan_policy(
         volume_name(path),
         header.dims,
         header.spacing,
         samples,
         nan_policy,
     )
-    .map_err(|e| e.in_file(path))
+    .map_err(|e| e.in_file(path))?;
+    Ok(volume.with_orientation(header.orientation))
 }
 
 /// A volume of several values per voxel (e.g. SH coefficients): component `c` of voxel
@@ -109,7 +139,16 @@ impl ComponentVolume {
 /// are converted to `f32` (with the header's scaling). Non-finite values are errors naming the
 /// file.
 pub fn load_nifti_components(path: &Path) -> Result<ComponentVolume> {
-    let (header, samples) = open_nifti(path, true)?;
+    component_volume(open_nifti(path, true)?, path)
+}
+
+/// A file of several values per voxel held in memory, as [`load_nifti_components`] reads it
+/// from disk; `path` names it in errors.
+pub fn parse_components_bytes(bytes: &[u8], path: &Path) -> Result<ComponentVolume> {
+    component_volume(decode_bytes(bytes, path, true)?, path)
+}
+
+fn component_volume((header, samples): (Header, Samples), path: &Path) -> Result<ComponentVolume> {
     let values: Vec<f32> = match samples {
         Samples::U8(v) => v.into_iter().map(f32::from).collect(),
         Samples::U16(v) => v.into_iter().map(f32::from).collect(),
@@ -132,20 +171,33 @@ pub fn load_nifti_components(path: &Path) -> Result<ComponentVolume> {
 /// Header and (scaled) samples of a single-file NIfTI, gzip-compressed or not.
 fn open_nifti(path: &Path, components: bool) -> Result<(Header, Samples)> {
     let io_err = |e| DataError::io(path, e);
-    let mut file = File::open(path).map_err(io_err)?;
+    let mut file = open_regular(path)?;
     let mut magic = [0u8; 2];
     let got = fill(&mut file, &mut magic).map_err(io_err)?;
     file.seek(SeekFrom::Start(0)).map_err(io_err)?;
+    let len = file.metadata().map_err(io_err)?.len();
+    let gzip = got == magic.len() && magic == GZIP_MAGIC;
+    decode(BufReader::new(file), gzip, len, path, components)
+}
 
-    let (header, samples) = if got == magic.len() && magic == GZIP_MAGIC {
-        let mut decoder = MultiGzDecoder::new(BufReader::new(file));
-        read_nifti(&mut decoder, path, None, components).map_err(|e| match e {
-            DataError::Io { path, source } => gzip_error(&path, source),
-            other => other,
-        })?
+fn decode_bytes(bytes: &[u8], path: &Path, components: bool) -> Result<(Header, Samples)> {
+    let gzip = bytes.starts_with(&GZIP_MAGIC);
+    decode(bytes, gzip, bytes.len() as u64, path, components)
+}
+
+/// Header and (scaled) samples from `input`, `len` bytes long (compressed, if `gzip`).
+fn decode(
+    mut input: impl BufRead,
+    gzip: bool,
+    len: u64,
+    path: &Path,
+    components: bool,
+) -> Result<(Header, Samples)> {
+    let (header, samples) = if gzip {
+        let mut decoder = MultiGzDecoder::new(input);
+        read_nifti(&mut decoder, path, None, components).map_err(in_gzip)?
     } else {
-        let len = file.metadata().map_err(io_err)?.len();
-        read_nifti(&mut BufReader::new(file), path, Some(len), components)?
+        read_nifti(&mut input, path, Some(len), components)?
     };
     let samples = match header.scaling {
         Some((slope, inter)) => rescale(samples, slope, inter),
@@ -166,7 +218,7 @@ fn read_nifti(
     let count = sample_count(path, header.dims)?
         .checked_mul(header.components as usize)
         .ok_or_else(|| DataError::format(path, "too many values".to_string()))?;
-    let need = count as u64 * header.source.size_bytes() as u64;
+    let need = sample_bytes(path, count as u64, header.source)?;
     let [nx, ny, nz] = header.dims;
     let what = if file_len.is_some() {
         ""
@@ -193,11 +245,17 @@ fn read_nifti(
     if skip(reader, gap).map_err(|e| DataError::io(path, e))? < gap {
         return Err(truncated(0));
     }
-    let samples =
-        read_samples(reader, count, header.source, header.endian, path).map_err(|e| match e {
+    // Only the length of an uncompressed file could be checked.
+    let supply = match file_len {
+        Some(_) => Supply::Checked,
+        None => Supply::Stream,
+    };
+    let samples = read_samples(reader, count, header.source, header.endian, supply, path).map_err(
+        |e| match e {
             DataError::SizeMismatch { found_bytes, .. } => truncated(found_bytes),
             other => other,
-        })?;
+        },
+    )?;
     Ok((header, samples))
 }
 
@@ -253,6 +311,13 @@ fn parse_nifti1(f: &Fields, path: &Path) -> Result<RawHeader> {
         vox_offset: f64::from(f.f32(108)),
         scl_slope: f64::from(f.f32(112)),
         scl_inter: f64::from(f.f32(116)),
+        qform_code: i32::from(f.i16(252)),
+        sform_code: i32::from(f.i16(254)),
+        quatern: std::array::from_fn(|i| f64::from(f.f32(256 + 4 * i))),
+        qoffset: std::array::from_fn(|i| f64::from(f.f32(268 + 4 * i))),
+        srow: std::array::from_fn(|r| {
+            std::array::from_fn(|c| f64::from(f.f32(280 + 16 * r + 4 * c)))
+        }),
     })
 }
 
@@ -266,6 +331,11 @@ fn parse_nifti2(f: &Fields, path: &Path) -> Result<RawHeader> {
         vox_offset: f.i64(168) as f64,
         scl_slope: f.f64(176),
         scl_inter: f.f64(184),
+        qform_code: f.i32(344),
+        sform_code: f.i32(348),
+        quatern: std::array::from_fn(|i| f.f64(352 + 8 * i)),
+        qoffset: std::array::from_fn(|i| f.f64(376 + 8 * i)),
+        srow: std::array::from_fn(|r| std::array::from_fn(|c| f.f64(400 + 32 * r + 8 * c))),
     })
 }
 
@@ -329,7 +399,16 @@ fn validate(
             )));
         }
     }
-    if dim[1..4].iter().any(|&d| d < 2) {
+    // A coefficient volume of one slice or one voxel still holds glyphs; a scalar volume
+    // needs cells to interpolate in.
+    if allow_components && dim[1..4].iter().any(|&d| d < 1) {
+        return Err(fail(format!(
+            "invalid dimensions {}x{}x{}: a coefficient volume needs at least 1 voxel along \
+             every axis",
+            dim[1], dim[2], dim[3]
+        )));
+    }
+    if !allow_components && dim[1..4].iter().any(|&d| d < 2) {
         return Err(DataError::InvalidDims {
             what: path.display().to_string(),
             dims: [dim[1], dim[2], dim[3]].map(|d| d.max(0) as u64),
@@ -374,6 +453,7 @@ fn validate(
     let scaling = (slope.is_finite() && slope != 0.0 && (slope, inter) != (1.0, 0.0))
         .then_some((slope, inter));
 
+    let orientation = orientation::placement(&raw);
     Ok(Header {
         header_len,
         endian,
@@ -381,6 +461,7 @@ fn validate(
         dims,
         components,
         spacing,
+        orientation,
         vox_offset,
         scaling,
     })
@@ -437,6 +518,10 @@ impl Fields<'_> {
         i16::from_le_bytes(self.take(at))
     }
 
+    fn i32(&self, at: usize) -> i32 {
+        i32::from_le_bytes(self.take(at))
+    }
+
     fn i64(&self, at: usize) -> i64 {
         i64::from_le_bytes(self.take(at))
     }
@@ -462,30 +547,6 @@ fn rescale(samples: Samples, slope: f64, inter: f64) -> Samples {
         }
     };
     Samples::F32(values)
-}
-
-/// Discards up to `n` bytes; returns how many there were.
-fn skip(reader: &mut impl Read, n: u64) -> io::Result<u64> {
-    let mut buf = [0u8; 8192];
-    let mut done = 0;
-    while done < n {
-        let want = (n - done).min(buf.len() as u64) as usize;
-        let got = fill(reader, &mut buf[..want])?;
-        done += got as u64;
-        if got < want {
-            break;
-        }
-    }
-    Ok(done)
-}
-
-fn gzip_error(path: &Path, e: io::Error) -> DataError {
-    match e.kind() {
-        io::ErrorKind::InvalidData | io::ErrorKind::InvalidInput => {
-            DataError::format(path, format!("corrupt gzip data: {e}"))
-        }
-        _ => DataError::io(path, e),
-    }
 }
 
 /// The file name without `.nii.gz` or `.nii` (any case), or else without its extension.

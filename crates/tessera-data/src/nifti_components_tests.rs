@@ -32,3 +32,26 @@ fn several_values_per_voxel() {
         .to_string();
     assert!(err.contains("nan.nii") && err.contains("value 7"), "{err}");
 }
+
+#[test]
+fn one_voxel_and_one_slice_load() {
+    let v = load_nifti_components(&crate::test_files::test_data("sh_one_voxel.nii")).unwrap();
+    assert_eq!((v.dims, v.components), ([1, 1, 1], 6));
+    assert_eq!(v.voxel(0, 0, 0), vec![1.0, 0.2, -0.1, 0.05, 0.0, 0.3]);
+
+    let v = load_nifti_components(&crate::test_files::test_data("sh_one_slice.nii")).unwrap();
+    assert_eq!((v.dims, v.components), ([3, 2, 1], 6));
+    assert_eq!(v.voxel(2, 1, 0)[0], 1.0);
+
+    // No voxels at all is still an error, and scalar volumes still need two samples.
+    let mut nii = Nii::new([3, 0, 1], 16);
+    nii.dim[0] = 4;
+    nii.dim[4] = 6;
+    let err = load_nifti_components(&nii.write("empty.nii", &[]))
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("empty.nii") && err.contains("3x0x1"), "{err}");
+    let nii = Nii::new([3, 2, 1], 16);
+    let (_, text) = load_err(&nii.write("flat.nii", &[0; 24]));
+    assert!(text.contains("3x2x1"), "{text}");
+}

@@ -5,7 +5,8 @@ use std::path::PathBuf;
 use flate2::write::GzEncoder;
 
 use super::*;
-use crate::raw::test_path;
+use crate::orientation::{AnatomicalSpace, OrientationSource};
+use crate::test_files::{test_data, test_path, within};
 use crate::volume::ScalarType;
 
 /// A header to write: NIfTI-1 or -2, either byte order. `vox_offset` 0 means "right after
@@ -21,6 +22,11 @@ struct Nii {
     slope: f64,
     inter: f64,
     magic: Option<[u8; 4]>,
+    qform_code: i16,
+    sform_code: i16,
+    quatern: [f64; 3],
+    qoffset: [f64; 3],
+    srow: [[f64; 4]; 3],
 }
 
 impl Nii {
@@ -35,6 +41,11 @@ impl Nii {
             slope: 0.0,
             inter: 0.0,
             magic: None,
+            qform_code: 0,
+            sform_code: 0,
+            quatern: [0.0; 3],
+            qoffset: [0.0; 3],
+            srow: [[0.0; 4]; 3],
         }
     }
 
@@ -69,6 +80,14 @@ impl Nii {
             put(108, &(offset as f32).to_le_bytes());
             put(112, &(self.slope as f32).to_le_bytes());
             put(116, &(self.inter as f32).to_le_bytes());
+            put(252, &self.qform_code.to_le_bytes());
+            put(254, &self.sform_code.to_le_bytes());
+            for (i, v) in self.quatern.iter().chain(&self.qoffset).enumerate() {
+                put(256 + 4 * i, &(*v as f32).to_le_bytes());
+            }
+            for (i, v) in self.srow.iter().flatten().enumerate() {
+                put(280 + 4 * i, &(*v as f32).to_le_bytes());
+            }
         } else {
             put(12, &self.datatype.to_le_bytes());
             for (i, d) in self.dim.iter().enumerate() {
@@ -80,6 +99,14 @@ impl Nii {
             put(168, &(offset as i64).to_le_bytes());
             put(176, &self.slope.to_le_bytes());
             put(184, &self.inter.to_le_bytes());
+            put(344, &i32::from(self.qform_code).to_le_bytes());
+            put(348, &i32::from(self.sform_code).to_le_bytes());
+            for (i, v) in self.quatern.iter().chain(&self.qoffset).enumerate() {
+                put(352 + 8 * i, &v.to_le_bytes());
+            }
+            for (i, v) in self.srow.iter().flatten().enumerate() {
+                put(400 + 8 * i, &v.to_le_bytes());
+            }
         }
         let magic = self.magic.unwrap_or(match self.version {
             1 => *b"n+1\0",
@@ -546,7 +573,7 @@ fn real_ch2_template() {
     if !path.exists() {
         // Written past the test harness's capture so that the skip is visible.
         let _ = writeln!(
-            io::stderr().lock(),
+            std::io::stderr().lock(),
             "skipped: {} not found (install mricron-data)",
             path.display()
         );
@@ -576,3 +603,160 @@ fn real_ch2_template() {
 
 #[path = "nifti_components_tests.rs"]
 mod components;
+
+/// `a` and `b` agree to within float rounding.
+fn close(a: [[f32; 3]; 3], b: [[f32; 3]; 3]) -> bool {
+    a.iter()
+        .flatten()
+        .zip(b.iter().flatten())
+        .all(|(x, y)| (x - y).abs() < 1e-6)
+}
+
+#[test]
+fn sform_places_the_grid() {
+    for (version, big) in [(1, false), (2, true)] {
+        // A grid turned so that i runs towards the feet (spacing 2), j to the right and k
+        // to the front, at (10, -20, 30).
+        let mut nii = Nii::new([2, 2, 2], 2);
+        nii.version = version;
+        nii.big = big;
+        nii.sform_code = 2;
+        nii.srow = [
+            [0.0, 1.5, 0.0, 10.0],
+            [0.0, 0.0, 3.0, -20.0],
+            [-2.0, 0.0, 0.0, 30.0],
+        ];
+        // A qform is there too; the sform wins.
+        nii.qform_code = 1;
+        let v = load(&nii.write("sform.nii", &[0; 8]));
+        let o = v.orientation();
+        assert_eq!(o.source(), OrientationSource::NiftiSform, "NIfTI-{version}");
+        assert_eq!(o.space(), Some(AnatomicalSpace::Ras));
+        assert_eq!(o.origin(), [10.0, -20.0, 30.0]);
+        let want = [[0.0, 0.0, -1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+        assert!(close(o.direction(), want), "{:?}", o.direction());
+        assert_eq!(v.up_axis(), Some((0, -1)));
+    }
+}
+
+#[test]
+fn qform_with_negative_qfac() {
+    // A quarter turn about x (a = b = sqrt(1/2)) takes j to +z and k to -y; qfac -1 then
+    // reverses k, to +y.
+    let half = std::f64::consts::FRAC_1_SQRT_2;
+    for version in [1, 2] {
+        let mut nii = Nii::new([2, 2, 2], 2);
+        nii.version = version;
+        nii.qform_code = 1;
+        nii.quatern = [half, 0.0, 0.0];
+        nii.qoffset = [-1.0, 2.0, -3.0];
+        nii.pixdim[0] = -1.0;
+        let v = load(&nii.write_gz("qform.nii.gz", &[0; 8]));
+        let o = v.orientation();
+        assert_eq!(o.source(), OrientationSource::NiftiQform, "NIfTI-{version}");
+        assert_eq!(o.origin(), [-1.0, 2.0, -3.0]);
+        let want = [[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, 1.0, 0.0]];
+        assert!(close(o.direction(), want), "{:?}", o.direction());
+        assert_eq!(v.up_axis(), Some((1, 1)));
+        // The spacing stays pixdim's.
+        assert_eq!(v.spacing(), [1.0; 3]);
+    }
+    // The identity quaternion with qfac -1: slices stacked downwards.
+    let mut nii = Nii::new([2, 2, 2], 2);
+    nii.qform_code = 1;
+    nii.pixdim[0] = -1.0;
+    let v = load(&nii.write("flip.nii", &[0; 8]));
+    assert_eq!(v.up_axis(), Some((2, -1)));
+}
+
+#[test]
+fn no_usable_placement_means_the_default() {
+    let nii = Nii::new([2, 2, 2], 2);
+    let v = load(&nii.write("plain.nii", &[0; 8]));
+    assert_eq!(v.orientation().source(), OrientationSource::Default);
+    assert_eq!(v.up_axis(), None);
+
+    // An sform of zeros is skipped for the qform.
+    let mut nii = Nii::new([2, 2, 2], 2);
+    nii.sform_code = 1;
+    nii.qform_code = 1;
+    let v = load(&nii.write("zeros.nii", &[0; 8]));
+    assert_eq!(v.orientation().source(), OrientationSource::NiftiQform);
+    assert_eq!(v.up_axis(), Some((2, 1)));
+}
+
+#[test]
+fn huge_sizes_in_small_gzip_files_are_refused() {
+    // 32767^3 float64 samples declared in 52 bytes.
+    let (_, text) = load_err(&test_data("huge.nii.gz"));
+    assert!(text.contains("64 GiB"), "{text}");
+    // 58 GiB of float32, within the limit: the buffer grows with the 16 bytes there are.
+    let (err, _) = load_err(&test_data("large.nii.gz"));
+    assert!(
+        matches!(
+            err,
+            DataError::SizeMismatch {
+                found_bytes: 16,
+                ..
+            }
+        ),
+        "{err}"
+    );
+    // A 4-D coefficient volume: 1000^3 voxels of 1000 values.
+    let path = test_data("huge_sh.nii.gz");
+    let text = load_nifti_components(&path).expect_err("huge").to_string();
+    assert!(
+        text.contains("huge_sh.nii.gz") && text.contains("64 GiB"),
+        "{text}"
+    );
+}
+
+#[cfg(unix)]
+#[test]
+fn devices_and_pipes_are_refused() {
+    let text = within(10, || {
+        load_nifti(Path::new("/dev/zero"), NanPolicy::Reject).map(|v| v.name().to_string())
+    })
+    .expect_err("device")
+    .to_string();
+    assert!(text.contains("character device"), "{text}");
+    let pipe = crate::test_files::test_fifo("pipe.nii.gz");
+    let text = within(10, move || load_nifti_components(&pipe).map(|_| ()))
+        .expect_err("pipe")
+        .to_string();
+    assert!(text.contains("named pipe"), "{text}");
+}
+
+#[test]
+fn bytes_in_memory_load_like_files() {
+    let mut nii = Nii::new([3, 2, 4], 2);
+    nii.sform_code = 1;
+    nii.srow = [
+        [1.0, 0.0, 0.0, 0.0],
+        [0.0, 0.0, 1.0, 0.0],
+        [0.0, -1.0, 0.0, 0.0],
+    ];
+    let data = ramp(24);
+    let from_file = load(&nii.write("mem.nii", &data));
+    for bytes in [nii.bytes(&data), gzip(&nii.bytes(&data))] {
+        let v = parse_bytes(&bytes, Path::new("mem.nii"), NanPolicy::Reject).expect("bytes");
+        assert_eq!(v.samples(), from_file.samples());
+        assert_eq!(v.orientation(), from_file.orientation());
+        assert_eq!(v.name(), "mem");
+    }
+    let cut = &nii.bytes(&data)[..360];
+    let err = parse_bytes(cut, Path::new("cut.nii"), NanPolicy::Reject).expect_err("short");
+    assert!(
+        matches!(err, DataError::SizeMismatch { found_bytes: 8, .. }),
+        "{err}"
+    );
+    assert!(err.to_string().contains("cut.nii"), "{err}");
+
+    let mut sh = Nii::new([1, 1, 1], 16);
+    sh.dim[0] = 4;
+    sh.dim[4] = 6;
+    let values: Vec<u8> = (0..6).flat_map(|i| (i as f32).to_le_bytes()).collect();
+    let v = parse_components_bytes(&gzip(&sh.bytes(&values)), Path::new("sh.nii.gz"))
+        .expect("components");
+    assert_eq!(v.voxel(0, 0, 0), vec![0.0, 1.0, 2.0, 3.0, 4.0, 5.0]);
+}

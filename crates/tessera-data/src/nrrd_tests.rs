@@ -1,10 +1,12 @@
 //! Tests of `nrrd`.
 use std::io::Write;
+use std::path::PathBuf;
 
 use flate2::write::GzEncoder;
 
 use super::*;
-use crate::raw::test_path;
+use crate::orientation::{AnatomicalSpace, OrientationSource};
+use crate::test_files::{test_data, test_path, within};
 use crate::volume::{Samples, ScalarType};
 
 fn write(name: &str, header: &str, data: &[u8]) -> PathBuf {
@@ -204,4 +206,136 @@ fn nan_policy_applies() {
     assert!(text.contains("(1, 1, 0)"), "{text}");
     let v = load_nrrd(&path, NanPolicy::Replace(-5.0)).expect("replaced");
     assert_eq!(v.texel(1, 1, 0), -5.0);
+}
+
+#[test]
+fn sizes_past_the_limit_are_refused_before_allocating() {
+    // 10^15 samples declared in a 101-byte file.
+    let text = load_err(&test_data("huge_gzip.nrrd"));
+    assert!(text.contains("64 GiB"), "{text}");
+    // 64 * 10^9 samples, within the limit: the buffer grows with the 16 bytes there are.
+    let err = load_nrrd(&test_data("large_gzip.nrrd"), NanPolicy::Reject).expect_err("short");
+    assert!(
+        matches!(
+            err,
+            DataError::SizeMismatch {
+                expected_bytes: 64_000_000_000,
+                found_bytes: 16,
+                ..
+            }
+        ),
+        "{err}"
+    );
+    assert!(err.to_string().contains("large_gzip.nrrd"), "{err}");
+}
+
+#[test]
+fn line_skip_stops_at_the_end_of_the_file() {
+    let path = test_data("line_skip.nrrd");
+    let text = within(10, move || load_err(&path));
+    assert!(
+        text.contains("line skip 9223372036854775807") && text.contains("ends after 1 line(s)"),
+        "{text}"
+    );
+}
+
+#[test]
+fn data_files_must_be_regular_files() {
+    let path = test_data("dev_zero.nhdr");
+    let text = within(10, move || load_err(&path));
+    assert!(
+        text.contains("data file")
+            && text.contains("/dev/zero")
+            && text.contains("not a regular file"),
+        "{text}"
+    );
+}
+
+#[cfg(unix)]
+#[test]
+fn named_pipes_are_refused() {
+    let pipe = crate::test_files::test_fifo("pipe.nrrd");
+    let text = within(10, move || load_err(&pipe));
+    assert!(text.contains("named pipe"), "{text}");
+
+    let data = crate::test_files::test_fifo("pipe.raw");
+    let head = "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 2 2 2\nencoding: raw\n\
+                data file: pipe.raw\n";
+    let header = data.with_file_name("pipe.nhdr");
+    std::fs::write(&header, head).expect("write header");
+    let text = within(10, move || load_err(&header));
+    assert!(
+        text.contains("pipe.raw") && text.contains("named pipe"),
+        "{text}"
+    );
+}
+
+#[test]
+fn orientation_from_space_fields() {
+    // LPS, axial slices stored from the head down, rows along -y, with 0.5/2/3 spacing.
+    let head = "NRRD0005\ntype: uchar\ndimension: 3\nsizes: 2 3 4\nencoding: raw\n\
+                space: left-posterior-superior\n\
+                space directions: (0.5,0,0) (0,-2,0) (0,0,-3)\n\
+                space origin: (-10.5, 20, 30.25)\n\n";
+    let v = load_nrrd(&write("lps.nrrd", head, &ramp()), NanPolicy::Reject).expect("load");
+    assert_eq!(v.spacing(), [0.5, 2.0, 3.0]);
+    let o = v.orientation();
+    assert_eq!(o.source(), OrientationSource::Nrrd);
+    assert_eq!(o.space(), Some(AnatomicalSpace::Lps));
+    assert_eq!(o.origin(), [-10.5, 20.0, 30.25]);
+    assert_eq!(
+        o.direction(),
+        [[1.0, 0.0, 0.0], [0.0, -1.0, 0.0], [0.0, 0.0, -1.0]]
+    );
+    assert_eq!(v.up_axis(), Some((2, -1)));
+
+    // A rotated grid in a space that is not anatomical: directions but no up.
+    let head = "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 2 3 4\nencoding: raw\n\
+                space: scanner-xyz\nspace directions: (0,0,1) (1,0,0) (0,1,0)\n\n";
+    let v = load_nrrd(&write("scanner.nrrd", head, &ramp()), NanPolicy::Reject).expect("load");
+    assert_eq!(v.orientation().origin(), [0.0; 3]);
+    assert_eq!(v.orientation().direction()[0], [0.0, 0.0, 1.0]);
+    assert_eq!(v.up_axis(), None);
+
+    // Without space directions only the spacing is known.
+    let path = write(
+        "plain.nrrd",
+        &format!("{U8_HEAD}encoding: raw\n\n"),
+        &ramp(),
+    );
+    let v = load_nrrd(&path, NanPolicy::Reject).expect("load");
+    assert_eq!(v.orientation().source(), OrientationSource::Default);
+
+    let head = "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 2 3 4\nencoding: raw\n\
+                space directions: (1,0,0) (0,1,0) (0,0,1)\nspace origin: (1,2)\n\n";
+    let text = load_err(&write("origin.nrrd", head, &ramp()));
+    assert!(
+        text.contains("line 7") && text.contains("space origin has 2 components"),
+        "{text}"
+    );
+    let head = "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 2 3 4\nencoding: raw\n\
+                space origin: none\n\n";
+    let text = load_err(&write("origin_none.nrrd", head, &ramp()));
+    assert!(text.contains("bad space origin"), "{text}");
+}
+
+#[test]
+fn bytes_in_memory_load_like_files() {
+    let head = format!("{U8_HEAD}encoding: gzip\n\n");
+    let mut bytes = head.as_bytes().to_vec();
+    bytes.extend(gzip(&ramp()));
+    let path = write("mem.nrrd", "", &bytes);
+    let from_file = load_nrrd(&path, NanPolicy::Reject).expect("file");
+    let from_bytes = parse_bytes(&bytes, Path::new("mem.nrrd"), NanPolicy::Reject).expect("bytes");
+    assert_eq!(from_bytes.samples(), from_file.samples());
+    assert_eq!(from_bytes.name(), "mem");
+
+    let head = "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 2 2 2\nencoding: raw\n\
+                data file: other.raw\n";
+    let err =
+        parse_bytes(head.as_bytes(), Path::new("d.nhdr"), NanPolicy::Reject).expect_err("detached");
+    assert!(err.to_string().contains("detached data file"), "{err}");
+    let err =
+        parse_bytes(b"NRRD0004\n", Path::new("e.nrrd"), NanPolicy::Reject).expect_err("empty");
+    assert!(err.to_string().contains("e.nrrd"), "{err}");
 }

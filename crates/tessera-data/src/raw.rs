@@ -5,14 +5,13 @@
 //! `int16`, `uint32`, `int32`, `float32` and `float64` are converted to `f32` samples
 //! (32-bit integers and doubles may lose precision in the process).
 
-use std::fs::File;
-use std::io::{self, Read, Seek, SeekFrom};
+use std::io::{Seek, SeekFrom};
 use std::path::Path;
 
-use rayon::prelude::*;
-
 use crate::error::{DataError, Result};
-use crate::volume::{NanPolicy, Samples, Volume};
+use crate::input::{open_regular, sample_bytes};
+use crate::sample_data::{read_samples, sample_count, Supply};
+use crate::volume::{NanPolicy, Volume};
 
 /// Byte order of multi-byte samples in a file.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -135,7 +134,7 @@ pub fn scalar_from_name(path: &Path, name: &str) -> Result<SourceType> {
 
 /// Loads a headerless volume. See the module documentation for type conversions.
 pub fn load_raw(path: &Path, opts: &RawOptions) -> Result<Volume> {
-    let mut file = File::open(path).map_err(|e| DataError::io(path, e))?;
+    let mut file = open_regular(path)?;
     let file_name = path.file_name().map(|n| n.to_string_lossy().into_owned());
     let from_name = file_name.as_deref().and_then(parse_scivis_name);
     let dims = opts.dims.or(from_name.as_ref().map(|(d, _)| *d));
@@ -155,7 +154,7 @@ pub fn load_raw(path: &Path, opts: &RawOptions) -> Result<Volume> {
         });
     }
     let count = sample_count(path, dims)?;
-    let data_bytes = count as u64 * source.size_bytes() as u64;
+    let data_bytes = sample_bytes(path, count as u64, source)?;
     let expected = opts.header_bytes.saturating_add(data_bytes);
     let found = file.metadata().map_err(|e| DataError::io(path, e))?.len();
     if found != expected {
@@ -175,7 +174,7 @@ pub fn load_raw(path: &Path, opts: &RawOptions) -> Result<Volume> {
     }
     file.seek(SeekFrom::Start(opts.header_bytes))
         .map_err(|e| DataError::io(path, e))?;
-    let samples = read_samples(&mut file, count, source, opts.endian, path)?;
+    let samples = read_samples(&mut file, count, source, opts.endian, Supply::Checked, path)?;
     let name = path
         .file_stem()
         .map_or_else(|| "volume".into(), |s| s.to_string_lossy().into_owned());
@@ -183,145 +182,11 @@ pub fn load_raw(path: &Path, opts: &RawOptions) -> Result<Volume> {
         .map_err(|e| e.in_file(path))
 }
 
-/// Number of samples, refusing sizes this machine cannot address.
-pub(crate) fn sample_count(path: &Path, dims: [u32; 3]) -> Result<usize> {
-    dims.iter()
-        .try_fold(1usize, |acc, &d| acc.checked_mul(d as usize))
-        .filter(|n| n.checked_mul(8).is_some())
-        .ok_or_else(|| DataError::format(path, format!("dimensions {dims:?} are too large")))
-}
-
-/// Reads `count` samples of `source` type and converts them as described in the module
-/// documentation. A short read is a [`DataError::SizeMismatch`].
-pub(crate) fn read_samples(
-    reader: &mut impl Read,
-    count: usize,
-    source: SourceType,
-    endian: Endian,
-    path: &Path,
-) -> Result<Samples> {
-    // Each buffer is allocated once at its final size and filled in place, so multi-GB files
-    // cost no reallocation and, for same-size conversions, no second copy.
-    let swap = match endian {
-        Endian::Little => cfg!(target_endian = "big"),
-        Endian::Big => cfg!(target_endian = "little"),
-    };
-    let need = count * source.size_bytes();
-    let mut check = |buf: &mut [u8]| -> Result<()> {
-        let got = fill(reader, buf).map_err(|e| DataError::io(path, e))?;
-        if got < buf.len() {
-            return Err(DataError::SizeMismatch {
-                path: path.to_path_buf(),
-                expected_bytes: need as u64,
-                found_bytes: got as u64,
-                detail: format!("sample data for {count} {} samples", source.name()),
-            });
-        }
-        Ok(())
-    };
-    let samples = match source {
-        SourceType::U8 => {
-            let mut v = vec![0u8; count];
-            check(&mut v)?;
-            Samples::U8(v)
-        }
-        SourceType::U16 => {
-            let mut v = vec![0u16; count];
-            check(bytemuck::cast_slice_mut(&mut v))?;
-            if swap {
-                v.par_iter_mut().for_each(|x| *x = x.swap_bytes());
-            }
-            Samples::U16(v)
-        }
-        SourceType::U32 | SourceType::I32 | SourceType::F32 => {
-            // The buffer holds file bits until the pass below turns them into values.
-            let mut v = vec![0f32; count];
-            check(bytemuck::cast_slice_mut(&mut v))?;
-            v.par_iter_mut().for_each(|x| {
-                let bits = if swap {
-                    x.to_bits().swap_bytes()
-                } else {
-                    x.to_bits()
-                };
-                *x = match source {
-                    SourceType::U32 => bits as f32,
-                    SourceType::I32 => bits as i32 as f32,
-                    _ => f32::from_bits(bits),
-                };
-            });
-            Samples::F32(v)
-        }
-        SourceType::I8 | SourceType::I16 | SourceType::F64 => {
-            let mut bytes = vec![0u8; need];
-            check(&mut bytes)?;
-            let size = source.size_bytes();
-            let big = endian == Endian::Big;
-            let v: Vec<f32> = bytes
-                .par_chunks_exact(size)
-                .map(|c| match source {
-                    SourceType::I8 => c[0] as i8 as f32,
-                    SourceType::I16 => {
-                        let b = [c[0], c[1]];
-                        let x = if big {
-                            i16::from_be_bytes(b)
-                        } else {
-                            i16::from_le_bytes(b)
-                        };
-                        x as f32
-                    }
-                    _ => {
-                        let mut b = [0u8; 8];
-                        b.copy_from_slice(c);
-                        let x = if big {
-                            f64::from_be_bytes(b)
-                        } else {
-                            f64::from_le_bytes(b)
-                        };
-                        x as f32
-                    }
-                })
-                .collect();
-            Samples::F32(v)
-        }
-    };
-    Ok(samples)
-}
-
-/// Reads until `buf` is full or the input ends; returns the number of bytes read. A stream
-/// that ends mid-way (e.g. a cut gzip member) counts as ending, so the caller can report how
-/// much data there was.
-pub(crate) fn fill(reader: &mut impl Read, buf: &mut [u8]) -> io::Result<usize> {
-    let mut got = 0;
-    while got < buf.len() {
-        match reader.read(&mut buf[got..]) {
-            Ok(0) => break,
-            Ok(n) => got += n,
-            Err(e) if e.kind() == io::ErrorKind::Interrupted => {}
-            Err(e) if e.kind() == io::ErrorKind::UnexpectedEof => break,
-            Err(e) => return Err(e),
-        }
-    }
-    Ok(got)
-}
-
-/// A unique path in the system temp directory for test files.
-#[cfg(test)]
-pub(crate) fn test_path(name: &str) -> std::path::PathBuf {
-    use std::sync::atomic::{AtomicU32, Ordering};
-    static NEXT: AtomicU32 = AtomicU32::new(0);
-    let dir = std::env::temp_dir().join(format!(
-        "tessera-data-{}-{}",
-        std::process::id(),
-        NEXT.fetch_add(1, Ordering::Relaxed)
-    ));
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    dir.join(name)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::volume::ScalarType;
+    use crate::test_files::test_path;
+    use crate::volume::{Samples, ScalarType};
 
     fn write(name: &str, bytes: &[u8]) -> std::path::PathBuf {
         let path = test_path(name);

@@ -72,10 +72,8 @@ impl TransferFunction {
         if !path.exists() {
             return TransferFunction::preset(spec);
         }
-        let text = std::fs::read_to_string(path).map_err(|source| DataError::Io {
-            path: path.to_owned(),
-            source,
-        })?;
+        crate::input::regular_file(path)?;
+        let text = std::fs::read_to_string(path).map_err(|e| DataError::io(path, e))?;
         TransferFunction::parse(&text).map_err(|message| DataError::Format {
             path: path.to_owned(),
             message,

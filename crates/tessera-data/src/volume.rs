@@ -10,6 +10,7 @@
 use rayon::prelude::*;
 
 use crate::error::{DataError, Result};
+use crate::orientation::Orientation;
 
 /// Sample types kept on the GPU. Anything else is converted to `F32` by the loaders.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -118,6 +119,10 @@ pub enum NanPolicy {
 /// space* is the same scale as `f32`: what the GPU's integer (`usampler3D`) or float texture
 /// fetch returns after an exact `float()` conversion (see [`Volume::texel`]). Code that
 /// compares GPU output with CPU references works in texel space.
+///
+/// Its [`Orientation`] places the grid in the world space the file names (origin, axis
+/// directions, anatomical space); volumes built in code get the default, and loaders set what
+/// the header gives with [`Volume::with_orientation`].
 #[derive(Clone, Debug)]
 pub struct Volume {
     name: String,
@@ -125,6 +130,7 @@ pub struct Volume {
     spacing: [f32; 3],
     samples: Samples,
     value_range: (f32, f32),
+    orientation: Orientation,
 }
 
 impl Volume {
@@ -192,7 +198,27 @@ impl Volume {
             spacing,
             samples,
             value_range,
+            orientation: Orientation::default(),
         })
+    }
+
+    /// This volume placed as `orientation` says (loaders set what the file's header gives).
+    pub fn with_orientation(mut self, orientation: Orientation) -> Volume {
+        self.orientation = orientation;
+        self
+    }
+
+    /// Where the grid lies in the file's world space; the default (identity, origin 0) when
+    /// the file does not say.
+    pub fn orientation(&self) -> &Orientation {
+        &self.orientation
+    }
+
+    /// The grid axis pointing towards the patient's head and its sign (+1: increasing index
+    /// goes up), for medical volumes whose header names an anatomical space; see
+    /// [`Orientation::up_axis`].
+    pub fn up_axis(&self) -> Option<(usize, i8)> {
+        self.orientation.up_axis()
     }
 
     pub fn name(&self) -> &str {
@@ -397,6 +423,27 @@ mod tests {
         assert_eq!(v.texel(2, 2, 2), 234.0);
         assert_eq!(v.texel(1, 0, 0), 9.0);
         assert_eq!(v.texel_range(), (0.0, 234.0));
+    }
+
+    #[test]
+    fn orientation_defaults_and_can_be_set() {
+        use crate::orientation::{AnatomicalSpace, OrientationSource};
+        let v = ramp_u8();
+        assert_eq!(v.orientation(), &Orientation::default());
+        assert_eq!(v.up_axis(), None);
+        let coronal = [[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, 1.0, 0.0]];
+        let placed = Orientation::new(
+            [1.0, 2.0, 3.0],
+            coronal,
+            Some(AnatomicalSpace::Ras),
+            OrientationSource::NiftiSform,
+        )
+        .expect("valid");
+        let v = v.with_orientation(placed);
+        assert_eq!(v.orientation().origin(), [1.0, 2.0, 3.0]);
+        assert_eq!(v.up_axis(), Some((1, 1)));
+        // The samples are untouched.
+        assert_eq!(v.texel(1, 0, 0), 9.0);
     }
 
     #[test]

@@ -93,7 +93,7 @@ fn range_lines() {
 /// `load` names the file when it is missing and reads it when it is there.
 #[test]
 fn load_names_the_file() {
-    let path = crate::raw::test_path("torus.glsl");
+    let path = crate::test_files::test_path("torus.glsl");
     let err = UserFunction::load(&path, None, None)
         .unwrap_err()
         .to_string();

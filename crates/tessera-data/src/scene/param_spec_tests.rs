@@ -1,7 +1,7 @@
 //! Tests of `param_spec`: every parametric spec form, the glyph placement, their errors.
 
 use super::*;
-use crate::raw::test_path;
+use crate::test_files::test_path;
 
 const BASIS: ShBasis = ShBasis::Tournier07 { legacy: false };
 
@@ -173,6 +173,23 @@ fn coefficient_files() {
     // A :z without a number is part of the file name.
     let err = error(&format!("sh:{}:zed", missing.display()));
     assert!(err.contains("nothing.nii:zed"), "{err}");
+}
+
+#[test]
+fn coefficient_files_of_one_voxel_or_one_slice() {
+    let path = crate::test_files::test_data("sh_one_voxel.nii");
+    let one = scene(&format!("sh:{}", path.display()));
+    assert_eq!(one.objects.len(), 1);
+    // The one glyph sits at the middle of the unit box.
+    let (centre, _) = one.objects[0].bounding_sphere();
+    assert!(centre.abs_diff_eq(Vec3::ZERO, 1e-6), "{centre}");
+
+    let path = crate::test_files::test_data("sh_one_slice.nii");
+    let spec = format!("sh:{}", path.display());
+    assert_eq!(scene(&spec).objects.len(), 6);
+    assert_eq!(scene(&format!("{spec}:z0")).objects.len(), 6);
+    let err = error(&format!("{spec}:z1"));
+    assert!(err.contains("slice 1") && err.contains("1 slices"), "{err}");
 }
 
 #[test]

@@ -60,14 +60,15 @@ pub fn load_volume_spec(spec: &str, raw: &RawOptions) -> Result<Volume> {
 }
 
 /// Bytes the volume `spec` names will take once loaded, when that is known before reading it
-/// (so a front end can check it fits a device first); `None` for other kinds of data.
+/// (so a front end can check it fits a device first); `None` for other kinds of data. Sizes
+/// past `u64` (from a file name or `--dims`) give `u64::MAX`, which fits no device.
 pub fn expected_volume_bytes(spec: &str, raw: &RawOptions) -> Option<u64> {
     if DataKind::of_spec(spec) != DataKind::Volume {
         return None;
     }
     if let Some(rest) = spec.strip_prefix("procedural:") {
         let (_, size, scalar) = procedural::parse_spec(rest).ok()?;
-        return Some(u64::from(size).pow(3) * scalar.size_bytes() as u64);
+        return Some(grid_bytes([size; 3], scalar.size_bytes() as u64));
     }
     let path = Path::new(spec);
     let name = path.file_name()?.to_str()?;
@@ -81,7 +82,13 @@ pub fn expected_volume_bytes(spec: &str, raw: &RawOptions) -> Option<u64> {
         SourceType::U16 => 2,
         _ => 4,
     };
-    Some(dims.iter().map(|&d| u64::from(d)).product::<u64>() * size)
+    Some(grid_bytes(dims, size))
+}
+
+/// Bytes of a `dims` grid of `sample_bytes`-byte samples, saturating at `u64::MAX`.
+fn grid_bytes(dims: [u32; 3], sample_bytes: u64) -> u64 {
+    dims.iter()
+        .fold(sample_bytes, |bytes, &d| bytes.saturating_mul(u64::from(d)))
 }
 
 impl TetData {

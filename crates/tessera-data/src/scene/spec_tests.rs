@@ -1,7 +1,7 @@
 //! Tests of `spec`: which loader a spec goes to, volume and tet-mesh specs, their errors.
 
 use super::*;
-use crate::raw::test_path;
+use crate::test_files::test_path;
 use crate::tet::{write_vtu_ascii, MeshReport};
 
 #[test]
@@ -83,6 +83,10 @@ fn expected_bytes() {
     // Other types are widened to f32.
     assert_eq!(bytes("v_10x10x10_int8.raw", &raw), Some(4000));
     assert_eq!(bytes("v_10x10x10_float64.raw", &raw), Some(4000));
+    // Sizes past u64 saturate rather than overflow.
+    let huge = "v_4294967295x4294967295x4294967295_float32.raw";
+    assert_eq!(bytes(huge, &raw), Some(u64::MAX));
+    assert_eq!(bytes("procedural:head:4294967295", &raw), Some(u64::MAX));
     let told = RawOptions {
         dims: Some([3, 4, 5]),
         dtype: Some("uint16".into()),

@@ -1,7 +1,7 @@
 //! Tests of `Dataset`: each kind of spec reaches its loader and keeps its name.
 
 use super::*;
-use crate::raw::test_path;
+use crate::test_files::test_path;
 
 #[test]
 fn one_front_door() {

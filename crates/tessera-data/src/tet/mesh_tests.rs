@@ -5,7 +5,7 @@ use glam::Vec3;
 
 use super::procedural::{box_mesh, sphere_mesh};
 use super::*;
-use crate::raw::test_path;
+use crate::test_files::test_path;
 
 /// A unit corner tet followed by a second tet sharing its face (1, 2, 3).
 pub(crate) fn two_tets() -> TetMesh {

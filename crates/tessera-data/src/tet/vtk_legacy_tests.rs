@@ -1,6 +1,6 @@
 //! Tests of the legacy VTK loader and writer.
 use super::*;
-use crate::raw::test_path;
+use crate::test_files::test_path;
 use crate::tet::procedural::sphere_mesh;
 use crate::tet::tests::{load_error, two_tets, write_text};
 

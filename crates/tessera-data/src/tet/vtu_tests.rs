@@ -4,7 +4,7 @@ use std::io::Write;
 use flate2::write::ZlibEncoder;
 
 use super::*;
-use crate::raw::test_path;
+use crate::test_files::test_path;
 use crate::tet::procedural::box_mesh;
 use crate::tet::tests::{load_error, two_tets, write_text};
 
