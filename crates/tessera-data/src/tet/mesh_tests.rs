@@ -33,6 +33,13 @@ pub(crate) fn write_text(name: &str, text: &str) -> std::path::PathBuf {
     path
 }
 
+/// A test input file kept in the crate (`tests/data/NAME`).
+pub(crate) fn data_file(name: &str) -> std::path::PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data")
+        .join(name)
+}
+
 /// The error message of a failed load, checked to name the file.
 pub(crate) fn load_error(result: Result<(TetMesh, MeshReport)>, path: &Path) -> String {
     let text = result.expect_err("load should fail").to_string();
