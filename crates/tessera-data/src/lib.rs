@@ -23,6 +23,7 @@ pub mod tet;
 pub mod transfer;
 pub mod view;
 pub mod volume;
+mod vtk_xml;
 
 pub use camera::{GridCamera, GridFrame, OrbitCamera, Projection};
 pub use error::DataError;

@@ -23,8 +23,6 @@ mod text;
 pub mod topology;
 pub mod vtk_legacy;
 pub mod vtu;
-mod vtu_data;
-mod xml;
 
 pub use gmsh::{load_msh, write_msh41};
 pub use tetgen::{load_tetgen, write_tetgen};
