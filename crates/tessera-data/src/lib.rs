@@ -23,6 +23,7 @@ pub mod tet;
 pub mod transfer;
 pub mod view;
 pub mod volume;
+pub mod vti;
 mod vtk_xml;
 
 pub use camera::{GridCamera, GridFrame, OrbitCamera, Projection};
