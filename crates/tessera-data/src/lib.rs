@@ -19,6 +19,7 @@ pub mod raw;
 pub mod raycast;
 pub mod scene;
 pub mod shading;
+pub mod sniff;
 pub mod tet;
 pub mod transfer;
 pub mod view;

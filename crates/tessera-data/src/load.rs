@@ -6,12 +6,14 @@ use crate::error::{DataError, Result};
 use crate::nifti::load_nifti;
 use crate::nrrd::load_nrrd;
 use crate::raw::{load_raw, RawOptions};
+use crate::sniff::{sniff, Sniffed};
 use crate::volume::Volume;
 use crate::vti::load_vti;
 
 /// Loads `path` as NRRD (`.nrrd`, `.nhdr`), NIfTI (`.nii`, `.nii.gz`), VTK XML image data
-/// (`.vti`), extensions in any case, or else as a raw file. For NRRD, NIfTI and VTI files
-/// only `opts.nan_policy` applies; the header supplies everything else.
+/// (`.vti`), extensions in any case; a file with another extension as what its first bytes
+/// say ([`crate::sniff`]), else as a raw file. For NRRD, NIfTI and VTI files only
+/// `opts.nan_policy` applies; the header supplies everything else.
 pub fn load_volume(path: &Path, opts: &RawOptions) -> Result<Volume> {
     // Checked up front so that a mistyped path reports "not found" rather than, say, a
     // complaint about missing --dims for a raw file that does not exist.
@@ -32,7 +34,18 @@ pub fn load_volume(path: &Path, opts: &RawOptions) -> Result<Volume> {
         Some("nii") => load_nifti(path, opts.nan_policy),
         Some("vti") => load_vti(path, opts.nan_policy),
         Some("gz") if is_nii_gz => load_nifti(path, opts.nan_policy),
-        _ => load_raw(path, opts),
+        _ => match sniff(path) {
+            Some(Sniffed::VtkXmlImage) => load_vti(path, opts.nan_policy),
+            Some(Sniffed::Nrrd) => load_nrrd(path, opts.nan_policy),
+            Some(mesh) => Err(DataError::format(
+                path,
+                format!(
+                    "is {}, which holds a tetrahedral mesh, not a volume",
+                    mesh.describe()
+                ),
+            )),
+            None => load_raw(path, opts),
+        },
     }
 }
 
