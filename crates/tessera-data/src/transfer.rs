@@ -154,7 +154,7 @@ impl TransferFunction {
             return [0.0; 4];
         };
         let widen = |k: &Knot| k.rgba.map(f64::from);
-        if !(x > f64::from(first.at)) {
+        if x.is_nan() || x <= f64::from(first.at) {
             return widen(first);
         }
         if x >= f64::from(last.at) {

@@ -1,6 +1,6 @@
 //! Tetrahedral meshes: the in-memory [`TetMesh`], its consistency checks, face connectivity
 //! ([`topology`]), loaders and writers for VTK XML (`.vtu`), legacy VTK (`.vtk`), TetGen
-//! (`.node`/`.ele`) and Gmsh 4.1 (`.msh`), and procedural meshes of any size.
+//! (`.node`/`.ele`) and Gmsh 4.1 and 2.2 (`.msh`), and procedural meshes of any size.
 //!
 //! Orientation convention: a tet `[a, b, c, d]` is positive when
 //! `(b - a) · ((c - a) × (d - a)) > 0`. [`TetMesh::validate`] (which every loader runs)

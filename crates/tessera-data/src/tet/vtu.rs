@@ -55,7 +55,8 @@ pub fn load_vtu(path: &Path) -> Result<(TetMesh, MeshReport)> {
         let types = file.values(types_el, piece.cells(1))?;
         let mut starts = vec![0];
         starts.extend(offsets.iter().map(|&o| o as usize));
-        if offsets.iter().any(|&o| !(o >= 0.0)) || starts.windows(2).any(|w| w[0] > w[1]) {
+        if offsets.iter().any(|&o| o.is_nan() || o < 0.0) || starts.windows(2).any(|w| w[0] > w[1])
+        {
             return Err(file.array_err(offsets_el, "cell offsets must rise from 0"));
         }
         let conn_len = *starts.last().expect("starts with 0");
