@@ -73,7 +73,9 @@ pub fn load_vtu(path: &Path) -> Result<(TetMesh, MeshReport)> {
             file.array_err(conn_el, msg)
         })?;
         skipped += found.skipped;
-        let base = mesh.vertices.len() as u32;
+        let base = u32::try_from(mesh.vertices.len() + piece.npoints)
+            .map(|end| end - piece.npoints as u32)
+            .map_err(|_| file.err(p, "the pieces hold more than 2^32 points"))?;
         mesh.vertices.extend(
             coords
                 .chunks_exact(3)

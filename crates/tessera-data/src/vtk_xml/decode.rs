@@ -198,7 +198,7 @@ pub(crate) fn read_stream(stream: Stream, layout: Layout, need: usize) -> Result
         if n != need {
             return Err(announced(n, need));
         }
-        if h + n > stream.capacity() {
+        if n > stream.capacity().saturating_sub(h) {
             return Err(format!(
                 "data is truncated: the header announces {n} bytes, the file holds fewer"
             ));
