@@ -32,3 +32,6 @@ pub use error::DataError;
 pub use image::RgbaImage;
 pub use view::{DepthFit, View};
 pub use volume::{IsoValue, NanPolicy, Samples, ScalarType, Volume};
+
+#[cfg(test)]
+mod robustness_tests;

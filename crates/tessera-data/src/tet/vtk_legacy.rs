@@ -432,12 +432,13 @@ impl Reader<'_> {
             for c in 0..n {
                 let k: usize = self.cur.parse("a cell's point count")?;
                 lines.as_mut().expect("ascii").push(self.cur.last_line());
-                list.push(k as f64);
-                if k > size - list.len() {
+                // The cell takes 1 + k numbers of what is left of `size`.
+                if k >= size - list.len() {
                     return Err(self
                         .cur
                         .err(format!("cell {c} runs past the CELLS size {size}")));
                 }
+                list.push(k as f64);
                 for _ in 0..k {
                     list.push(self.cur.parse("a point index")?);
                 }

@@ -155,6 +155,7 @@ fn counts_beyond_the_file_fail_before_allocating() {
         "# vtk DataFile Version 3.0\nt\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS 9999999999999999999 float\n0 0 0\n".to_string(),
         format!("{HEAD}CELLS 1 99999999999999\n4 0 1 2 3\n"),
         format!("{HEAD}CELLS 1 5\n9999999999999 0 1 2 3\n"),
+        format!("{HEAD}CELLS 1 0\n4 0 1 2 3\nCELL_TYPES 1\n10\n"),
     ] {
         let path = write_text("huge.vtk", &text);
         let message = load_error(load_vtk_legacy(&path), &path);
