@@ -336,3 +336,16 @@ fn many_pieces_load_in_linear_time() {
     // Quadratic in the number of pieces, this took about 3 s.
     assert!(elapsed.as_secs_f64() < 1.0, "{elapsed:?}");
 }
+
+#[test]
+fn count_messages_report_what_the_array_holds() {
+    let path = data_file("points_count_mismatch.vtu");
+    let message = load_error(load_vtu(&path), &path);
+    assert!(
+        message.contains(
+            "line 6: the DataArray in <Points>: holds 24 values, but \
+                          NumberOfPoints=\"0\" calls for 0 (0 x 3 components)"
+        ),
+        "{message}"
+    );
+}

@@ -136,8 +136,13 @@ impl<'a> VtkXml<'a> {
 
     /// An error about `DataArray` `index`, naming it.
     pub fn array_err(&self, index: usize, msg: impl std::fmt::Display) -> DataError {
-        let name = self.element(index).attr("Name").unwrap_or("unnamed");
-        self.err(index, format!("DataArray {name:?}: {msg}"))
+        let e = self.element(index);
+        let what = match (e.attr("Name"), e.parent) {
+            (Some(name), _) => format!("DataArray {name:?}"),
+            (None, Some(p)) => format!("the DataArray in <{}>", self.element(p).name),
+            (None, None) => "DataArray".to_string(),
+        };
+        self.err(index, format!("{what}: {msg}"))
     }
 
     /// `NumberOfComponents` of a `DataArray` (1 when absent).

@@ -6,6 +6,7 @@
 pub(crate) struct Element {
     pub name: String,
     pub attrs: Vec<(String, String)>,
+    pub parent: Option<usize>,
     /// Indices of the child elements, in document order (so that lookups by parent stay
     /// linear in files with many pieces).
     pub children: Vec<usize>,
@@ -92,7 +93,7 @@ pub(crate) fn parse(data: &[u8]) -> Result<Document, (usize, String)> {
             if let Some(p) = parent {
                 doc.elements[p].children.push(index);
             }
-            doc.elements.push(element);
+            doc.elements.push(Element { parent, ..element });
             pos = end;
             if name == "AppendedData" {
                 let underscore = find(data, end, b"_")
@@ -145,6 +146,7 @@ fn start_tag(data: &[u8], lt: usize) -> Result<(Element, usize, bool), (usize, S
                     Element {
                         name,
                         attrs,
+                        parent: None,
                         children: Vec::new(),
                         text: (i + 1, i + 1),
                         pos: lt,
@@ -158,6 +160,7 @@ fn start_tag(data: &[u8], lt: usize) -> Result<(Element, usize, bool), (usize, S
                     Element {
                         name,
                         attrs,
+                        parent: None,
                         children: Vec::new(),
                         text: (i + 2, i + 2),
                         pos: lt,
