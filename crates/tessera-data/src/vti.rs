@@ -24,7 +24,9 @@ pub struct VtiImage {
     pub volume: Volume,
     /// Position of the first sample.
     pub origin: [f64; 3],
-    /// Rows are the directions of the x, y and z sample axes (identity when absent).
+    /// The `Direction` matrix by rows, as the file lists it (identity when absent): sample
+    /// `(i, j, k)` lies at `origin + direction · (i·sx, j·sy, k·sz)`, so its columns are the
+    /// directions of the sample axes.
     pub direction: [[f64; 3]; 3],
 }
 

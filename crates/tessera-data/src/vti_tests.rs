@@ -46,6 +46,14 @@ fn appended_raw_big_endian_int16_becomes_f32() {
 }
 
 #[test]
+fn inline_base64_int8_with_an_offset_extent() {
+    let v = load_vti(&data_file("binary_i8.vti"), NanPolicy::Reject).expect("load");
+    assert_eq!((v.dims(), v.spacing()), ([2, 2, 2], [2.0; 3]));
+    let want = vec![-128.0, -1.0, 0.0, 1.0, 127.0, 5.0, -5.0, 42.0];
+    assert_eq!(v.samples(), &Samples::F32(want));
+}
+
+#[test]
 fn pieces_are_placed_by_extent() {
     let v = load_vti(&data_file("pieces_u16.vti"), NanPolicy::Reject).expect("load");
     assert_eq!(v.dims(), [4, 2, 2]);
