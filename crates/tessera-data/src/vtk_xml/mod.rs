@@ -31,6 +31,12 @@ pub(crate) struct Need<'s> {
     pub source: &'s str,
 }
 
+/// How a `DataArray` is stored: numbers as text, or a binary stream.
+enum Encoded<'a> {
+    Text(&'a [u8]),
+    Binary(Stream<'a>),
+}
+
 /// The contents of a `DataArray`: numbers from text, or bytes of its type in the file's
 /// byte order.
 pub(crate) enum Contents {
@@ -174,7 +180,6 @@ impl<'a> VtkXml<'a> {
     /// The contents of `DataArray` `index`, checked to hold `need.tuples` tuples of
     /// `need.components` components before anything is allocated for them.
     pub fn contents(&self, index: usize, need: Need) -> Result<Contents> {
-        let e = self.element(index);
         let ty = self.data_type(index)?;
         let comps = self.components(index)?;
         if comps != need.components {
@@ -198,14 +203,13 @@ impl<'a> VtkXml<'a> {
             .tuples
             .checked_mul(need.components)
             .ok_or_else(|| wrong_count("some values".into()))?;
-        let format = e.attr("format").unwrap_or("ascii");
-        let stream = match format {
-            "ascii" => {
-                let text = &self.data[e.text.0..e.text.1];
+        let stream = match self.encoded(index)? {
+            Encoded::Text(text) => {
                 let tokens = || {
                     text.split(u8::is_ascii_whitespace)
                         .filter(|t| !t.is_empty())
                 };
+                // Counted before anything is parsed or allocated.
                 let found = tokens().count();
                 if found != count {
                     return Err(wrong_count(format!("{found} values")));
@@ -225,7 +229,31 @@ impl<'a> VtkXml<'a> {
                     .collect::<Result<Vec<_>>>()
                     .map(Contents::Text);
             }
-            "binary" => Stream::Base64(&self.data[e.text.0..e.text.1]),
+            Encoded::Binary(stream) => stream,
+        };
+        let bytes = count
+            .checked_mul(ty.size())
+            .ok_or_else(|| wrong_count("some values".into()))?;
+        read_stream(stream, self.layout, bytes)
+            .map(Contents::Binary)
+            .map_err(|msg| {
+                self.array_err(
+                    index,
+                    format!(
+                        "{msg} ({} x {} {ty:?} values for {})",
+                        need.tuples, need.components, need.source
+                    ),
+                )
+            })
+    }
+
+    /// Where the contents of `DataArray` `index` lie, as its `format` says.
+    fn encoded(&self, index: usize) -> Result<Encoded<'a>> {
+        let e = self.element(index);
+        let inline = &self.data[e.text.0..e.text.1];
+        match e.attr("format").unwrap_or("ascii") {
+            "ascii" => Ok(Encoded::Text(inline)),
+            "binary" => Ok(Encoded::Binary(Stream::Base64(inline))),
             "appended" => {
                 let (base, encoding) = self.doc.appended.as_ref().ok_or_else(|| {
                     self.array_err(index, "format appended but no <AppendedData>")
@@ -246,30 +274,16 @@ impl<'a> VtkXml<'a> {
                         )
                     })?;
                 match encoding.as_str() {
-                    "base64" => Stream::Base64(start),
-                    "raw" => Stream::Raw(start),
+                    "base64" => Ok(Encoded::Binary(Stream::Base64(start))),
+                    "raw" => Ok(Encoded::Binary(Stream::Raw(start))),
                     other => {
-                        return Err(self
+                        Err(self
                             .array_err(index, format!("unknown AppendedData encoding {other:?}")))
                     }
                 }
             }
-            other => return Err(self.array_err(index, format!("unknown format {other:?}"))),
-        };
-        let bytes = count
-            .checked_mul(ty.size())
-            .ok_or_else(|| wrong_count("some values".into()))?;
-        read_stream(stream, self.layout, bytes)
-            .map(Contents::Binary)
-            .map_err(|msg| {
-                self.array_err(
-                    index,
-                    format!(
-                        "{msg} ({} x {} {ty:?} values for {})",
-                        need.tuples, need.components, need.source
-                    ),
-                )
-            })
+            other => Err(self.array_err(index, format!("unknown format {other:?}"))),
+        }
     }
 
     /// The one-component `DataArray`s of `section` under `parent` that may hold scalars:
