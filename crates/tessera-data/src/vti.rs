@@ -42,33 +42,10 @@ pub fn read_vti(path: &Path, nan_policy: NanPolicy) -> Result<VtiImage> {
     let image = file
         .child(file.root(), "ImageData")
         .ok_or_else(|| file.err(file.root(), "no <ImageData> in the VTKFile"))?;
-    let numbers = |name: &str, default: Option<&str>| -> Result<Vec<f64>> {
-        let text = file
-            .element(image)
-            .attr(name)
-            .or(default)
-            .ok_or_else(|| file.err(image, format!("<ImageData> needs {name}")))?;
-        text.split_whitespace()
-            .map(|t| t.parse::<f64>().ok().filter(|v| v.is_finite()))
-            .collect::<Option<Vec<_>>>()
-            .ok_or_else(|| file.err(image, format!("{name}={text:?} is not a list of numbers")))
-    };
     let whole = extent(&file, image, "WholeExtent")?;
-    let triple = |name: &str, default: &str| -> Result<[f64; 3]> {
-        let v = numbers(name, Some(default))?;
-        v.as_slice()
-            .try_into()
-            .map_err(|_| file.err(image, format!("{name} needs 3 numbers, found {}", v.len())))
-    };
-    let origin = triple("Origin", "0 0 0")?;
-    let spacing = triple("Spacing", "1 1 1")?;
-    let direction = numbers("Direction", Some("1 0 0 0 1 0 0 0 1"))?;
-    let direction: [f64; 9] = direction.as_slice().try_into().map_err(|_| {
-        file.err(
-            image,
-            format!("Direction needs 9 numbers, found {}", direction.len()),
-        )
-    })?;
+    let origin: [f64; 3] = numbers(&file, image, "Origin", "0 0 0")?;
+    let spacing: [f64; 3] = numbers(&file, image, "Spacing", "1 1 1")?;
+    let direction: [f64; 9] = numbers(&file, image, "Direction", "1 0 0 0 1 0 0 0 1")?;
     let direction = [0, 1, 2].map(|r| [0, 1, 2].map(|c| direction[3 * r + c]));
 
     let dims = whole.dims();
@@ -76,33 +53,8 @@ pub fn read_vti(path: &Path, nan_policy: NanPolicy) -> Result<VtiImage> {
     let mut pieces = Vec::new();
     let mut covered = 0usize;
     for p in file.children(image, "Piece") {
-        let piece = extent(&file, p, "Extent")?;
-        if (0..3).any(|a| piece.lo[a] < whole.lo[a] || piece.hi[a] > whole.hi[a]) {
-            return Err(file.err(
-                p,
-                format!("piece Extent {piece} lies outside WholeExtent {whole}"),
-            ));
-        }
-        let array = *file
-            .scalar_candidates(p, "PointData")?
-            .first()
-            .ok_or_else(|| {
-                file.err(
-                    p,
-                    "<Piece> has no one-component point data array to take as the volume's samples",
-                )
-            })?;
-        let source = format!("the piece Extent {piece}");
-        let count = sample_count(path, piece.dims())?;
-        let need = Need {
-            tuples: count,
-            components: 1,
-            source: &source,
-        };
-        let ty = file.data_type(array)?;
-        let samples = to_samples(ty, file.contents(array, need)?, file.big_endian())
-            .ok_or_else(|| file.array_err(array, format!("an ascii value does not fit {ty:?}")))?;
-        covered = covered.saturating_add(count);
+        let (piece, samples) = read_piece(&file, path, p, whole)?;
+        covered = covered.saturating_add(samples.len());
         pieces.push((piece, samples));
     }
     // Pieces of point data share their boundary planes, so together they hold at least
@@ -124,6 +76,57 @@ pub fn read_vti(path: &Path, nan_policy: NanPolicy) -> Result<VtiImage> {
         volume,
         origin,
         direction,
+    })
+}
+
+/// The extent and samples of `<Piece>` `p`.
+fn read_piece(file: &VtkXml, path: &Path, p: usize, whole: Extent) -> Result<(Extent, Samples)> {
+    let piece = extent(file, p, "Extent")?;
+    if (0..3).any(|a| piece.lo[a] < whole.lo[a] || piece.hi[a] > whole.hi[a]) {
+        return Err(file.err(
+            p,
+            format!("piece Extent {piece} lies outside WholeExtent {whole}"),
+        ));
+    }
+    let array = *file
+        .scalar_candidates(p, "PointData")?
+        .first()
+        .ok_or_else(|| {
+            file.err(
+                p,
+                "<Piece> has no one-component point data array to take as the volume's samples",
+            )
+        })?;
+    let source = format!("the piece Extent {piece}");
+    let need = Need {
+        tuples: sample_count(path, piece.dims())?,
+        components: 1,
+        source: &source,
+    };
+    let ty = file.data_type(array)?;
+    let samples = to_samples(ty, file.contents(array, need)?, file.big_endian())
+        .ok_or_else(|| file.array_err(array, format!("an ascii value does not fit {ty:?}")))?;
+    Ok((piece, samples))
+}
+
+/// `N` finite numbers of attribute `name` of element `index`, `default` when it is absent.
+fn numbers<const N: usize>(
+    file: &VtkXml,
+    index: usize,
+    name: &str,
+    default: &str,
+) -> Result<[f64; N]> {
+    let text = file.element(index).attr(name).unwrap_or(default);
+    let values = text
+        .split_whitespace()
+        .map(|t| t.parse::<f64>().ok().filter(|v| v.is_finite()))
+        .collect::<Option<Vec<_>>>()
+        .ok_or_else(|| file.err(index, format!("{name}={text:?} is not a list of numbers")))?;
+    values.as_slice().try_into().map_err(|_| {
+        file.err(
+            index,
+            format!("{name} needs {N} numbers, found {}", values.len()),
+        )
     })
 }
 
