@@ -289,6 +289,8 @@ fn node_data(n: &mut Numbers, mesh: &Builder) -> Result<NodeData> {
     for _ in 0..entries {
         let (tag, value) = match n.binary {
             Some(_) => {
+                // A 4-byte int in 4.1 too: Gmsh and meshio write it so, although the 4.1
+                // format description says size_t.
                 let tag = n.int("a node tag")?;
                 let mut first = 0.0;
                 for c in 0..ncomp {
