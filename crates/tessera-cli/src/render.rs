@@ -13,7 +13,7 @@ use tessera_gpu::GpuOptions;
 
 #[derive(Args)]
 pub struct RenderArgs {
-    /// A volume file (raw, .nrrd, .nhdr, .nii[.gz]) or procedural:NAME:SIZE[:TYPE], e.g.
+    /// A volume file (raw, .nrrd, .nhdr, .nii[.gz], .vti) or procedural:NAME:SIZE[:TYPE], e.g.
     /// procedural:marschner-lobb:128; or a tetrahedral mesh (.vtu, .vtk, .node/.ele, .msh) or
     /// tets:box:N / tets:sphere:N (N³ cells of 6 tets) / tets:asteroids:COUNT (an SDF asteroid
     /// field, one bounding tet per asteroid); or a parametric scene: param:sphere, param:heart,

@@ -22,12 +22,15 @@ pub mod raycast;
 mod sample_data;
 pub mod scene;
 pub mod shading;
+pub mod sniff;
 #[cfg(test)]
 mod test_files;
 pub mod tet;
 pub mod transfer;
 pub mod view;
 pub mod volume;
+pub mod vti;
+mod vtk_xml;
 
 pub use camera::{GridCamera, GridFrame, OrbitCamera, Projection};
 pub use error::DataError;
@@ -35,3 +38,6 @@ pub use image::RgbaImage;
 pub use orientation::{AnatomicalSpace, Orientation, OrientationSource};
 pub use view::{DepthFit, View};
 pub use volume::{IsoValue, NanPolicy, Samples, ScalarType, Volume};
+
+#[cfg(test)]
+mod robustness_tests;

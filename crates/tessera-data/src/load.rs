@@ -2,17 +2,20 @@
 
 use std::path::Path;
 
-use crate::error::Result;
+use crate::error::{DataError, Result};
 use crate::input::regular_file;
 use crate::nifti::load_nifti;
 use crate::nrrd::load_nrrd;
 use crate::raw::{load_raw, RawOptions};
+use crate::sniff::{sniff, Sniffed};
 use crate::volume::Volume;
+use crate::vti::load_vti;
 
-/// Loads `path` as NRRD (`.nrrd`, `.nhdr`), NIfTI (`.nii`, `.nii.gz`), extensions in any
-/// case, or else as a raw file. For NRRD and NIfTI files only `opts.nan_policy` applies; the
-/// header supplies everything else. Only regular files are read (no directories, devices or
-/// named pipes).
+/// Loads `path` as NRRD (`.nrrd`, `.nhdr`), NIfTI (`.nii`, `.nii.gz`), VTK XML image data
+/// (`.vti`), extensions in any case; a file with another extension as what its first bytes
+/// say ([`crate::sniff`]), else as a raw file. For NRRD, NIfTI and VTI files only
+/// `opts.nan_policy` applies; the header supplies everything else. Only regular files are
+/// read (no directories, devices or named pipes).
 pub fn load_volume(path: &Path, opts: &RawOptions) -> Result<Volume> {
     // Checked up front so that a mistyped path reports "not found" rather than, say, a
     // complaint about missing --dims for a raw file that does not exist.
@@ -28,8 +31,20 @@ pub fn load_volume(path: &Path, opts: &RawOptions) -> Result<Volume> {
     match ext.as_deref() {
         Some("nrrd" | "nhdr") => load_nrrd(path, opts.nan_policy),
         Some("nii") => load_nifti(path, opts.nan_policy),
+        Some("vti") => load_vti(path, opts.nan_policy),
         Some("gz") if is_nii_gz => load_nifti(path, opts.nan_policy),
-        _ => load_raw(path, opts),
+        _ => match sniff(path) {
+            Some(Sniffed::VtkXmlImage) => load_vti(path, opts.nan_policy),
+            Some(Sniffed::Nrrd) => load_nrrd(path, opts.nan_policy),
+            Some(mesh) => Err(DataError::format(
+                path,
+                format!(
+                    "is {}, which holds a tetrahedral mesh, not a volume",
+                    mesh.describe()
+                ),
+            )),
+            None => load_raw(path, opts),
+        },
     }
 }
 

@@ -142,7 +142,8 @@ pub fn load_raw(path: &Path, opts: &RawOptions) -> Result<Volume> {
     let (Some(dims), Some(dtype)) = (dims, dtype) else {
         return Err(DataError::format(
             path,
-            "cannot tell the volume's dimensions and sample type: pass --dims WxHxD and \
+            "read as a raw volume (neither its extension nor its first bytes name a known \
+             format), but its dimensions and sample type are unknown: pass --dims WxHxD and \
              --dtype TYPE, or name the file like name_256x256x256_uint8.raw",
         ));
     };

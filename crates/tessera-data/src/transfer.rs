@@ -6,7 +6,11 @@
 
 use crate::error::{DataError, Result};
 use glam::DVec3;
+use std::io::Read;
 use std::path::Path;
+
+/// The largest transfer function file read (some 30,000 knots).
+pub const MAX_FILE_BYTES: u64 = 1 << 20;
 
 /// One control point: the normalized scalar it sits at and its colour and opacity.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -72,12 +76,31 @@ impl TransferFunction {
         if !path.exists() {
             return TransferFunction::preset(spec);
         }
-        crate::input::regular_file(path)?;
-        let text = std::fs::read_to_string(path).map_err(|e| DataError::io(path, e))?;
-        TransferFunction::parse(&text).map_err(|message| DataError::Format {
+        let fail = |message: String| DataError::Format {
             path: path.to_owned(),
             message,
-        })
+        };
+        crate::input::regular_file(path)?;
+        let file = std::fs::File::open(path).map_err(|e| DataError::io(path, e))?;
+        // Read through a limit: the path may name a file far larger than any transfer
+        // function.
+        let mut bytes = Vec::new();
+        file.take(MAX_FILE_BYTES + 1)
+            .read_to_end(&mut bytes)
+            .map_err(|e| DataError::io(path, e))?;
+        if bytes.len() as u64 > MAX_FILE_BYTES {
+            return Err(fail(format!(
+                "larger than {MAX_FILE_BYTES} bytes: read as a transfer function file of \
+                 'at r g b a' lines, which is never that long"
+            )));
+        }
+        let text = String::from_utf8(bytes).map_err(|e| {
+            fail(format!(
+                "byte {}: not text; read as a transfer function file of 'at r g b a' lines",
+                e.utf8_error().valid_up_to()
+            ))
+        })?;
+        TransferFunction::parse(&text).map_err(fail)
     }
 
     /// Parses `at r g b a` lines; the error names the line.
@@ -100,8 +123,10 @@ impl TransferFunction {
                     values.len()
                 )));
             };
-            if !values.iter().all(|v| (0.0..=1.0).contains(v)) {
-                return Err(here("every number must lie in [0, 1]".into()));
+            if let Some(bad) = values.iter().find(|v| !(0.0..=1.0).contains(*v)) {
+                return Err(here(format!(
+                    "{bad} is not a number in [0, 1] (every number must be)"
+                )));
             }
             if knots.last().is_some_and(|k| k.at > at) {
                 return Err(here(format!("position {at} is below the previous knot's")));
@@ -117,12 +142,14 @@ impl TransferFunction {
         Ok(TransferFunction { knots })
     }
 
-    /// Colour and opacity at normalized scalar `x`.
+    /// Colour and opacity at normalized scalar `x` (NaN counts as below the first knot);
+    /// transparent black without knots.
     pub fn sample(&self, x: f64) -> [f64; 4] {
-        let first = &self.knots[0];
-        let last = &self.knots[self.knots.len() - 1];
+        let (Some(first), Some(last)) = (self.knots.first(), self.knots.last()) else {
+            return [0.0; 4];
+        };
         let widen = |k: &Knot| k.rgba.map(f64::from);
-        if x <= f64::from(first.at) {
+        if x.is_nan() || x <= f64::from(first.at) {
             return widen(first);
         }
         if x >= f64::from(last.at) {

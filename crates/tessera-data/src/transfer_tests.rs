@@ -96,3 +96,56 @@ fn sample_is_linear_between_knots_and_steps_at_repeated_ones() {
     assert_eq!(tf.sample(-1.0), [0.0; 4]);
     assert_eq!(tf.sample(2.0)[3], 1.0);
 }
+
+#[test]
+fn bad_transfer_function_files_are_errors() {
+    let data = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
+    let cases = [
+        ("transfer_unsorted.txt", "line 4: position 0.4 is below"),
+        ("transfer_nan.txt", "line 2: NaN is not a number in [0, 1]"),
+        (
+            "transfer_huge_value.txt",
+            "line 2: inf is not a number in [0, 1]",
+        ),
+        ("transfer_empty.txt", "no knots"),
+    ];
+    for (name, expected) in cases {
+        let err = TransferFunction::load(data.join(name).to_str().unwrap())
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains(name) && err.contains(expected), "{err}");
+    }
+}
+
+#[test]
+fn huge_transfer_function_files_are_refused_unread() {
+    let path = crate::test_files::test_path("big_tf.txt");
+    let line = "0.5 0.5 0.5 0.5 0.5\n";
+    std::fs::write(&path, line.repeat(MAX_FILE_BYTES as usize / line.len() + 1)).unwrap();
+    let err = TransferFunction::load(path.to_str().unwrap())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("big_tf.txt") && err.contains("larger than"),
+        "{err}"
+    );
+    // A device that never ends is not read at all.
+    if std::path::Path::new("/dev/zero").exists() {
+        let err = TransferFunction::load("/dev/zero").unwrap_err().to_string();
+        assert!(err.contains("not a regular file"), "{err}");
+    }
+    let path = crate::test_files::test_path("binary_tf.txt");
+    std::fs::write(&path, [0u8, 159, 146, 150]).unwrap();
+    let err = TransferFunction::load(path.to_str().unwrap())
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("byte 1: not text"), "{err}");
+}
+
+#[test]
+fn sampling_never_panics() {
+    let tf = TransferFunction::preset("hot").unwrap();
+    assert_eq!(tf.sample(f64::NAN), tf.sample(0.0));
+    assert_eq!(tf.sample(f64::INFINITY), tf.sample(1.0));
+    assert_eq!(TransferFunction { knots: vec![] }.sample(0.5), [0.0; 4]);
+}

@@ -5,6 +5,7 @@ use std::path::Path;
 use super::{DataKind, TetData};
 use crate::error::{DataError, Result};
 use crate::raw::{parse_scivis_name, scalar_from_name, RawOptions, SourceType};
+use crate::sniff::{sniff, Sniffed};
 use crate::tet::asteroids::asteroid_field;
 use crate::tet::{load_tet_mesh, procedural as tet_procedural};
 use crate::volume::Volume;
@@ -20,8 +21,9 @@ pub const MAX_ASTEROIDS: u32 = 4_000_000;
 
 impl DataKind {
     /// Parametric scenes (`param:`, `sh:`, `procedural:sh-glyphs:`, `*.glsl`), then tet meshes
-    /// (`tets:`, mesh file extensions), and everything else is a volume. Parametric comes
-    /// first because `procedural:sh-glyphs:` would otherwise read as a procedural volume.
+    /// (`tets:`, mesh file extensions, or a file whose content is a mesh format although its
+    /// extension names no format), and everything else is a volume. Parametric comes first
+    /// because `procedural:sh-glyphs:` would otherwise read as a procedural volume.
     pub fn of_spec(spec: &str) -> DataKind {
         if spec.starts_with("param:")
             || spec.starts_with("sh:")
@@ -29,7 +31,7 @@ impl DataKind {
             || is_user_function(spec)
         {
             DataKind::Param
-        } else if spec.starts_with("tets:") || has_mesh_extension(spec) {
+        } else if spec.starts_with("tets:") || has_mesh_extension(spec) || holds_mesh(spec) {
             DataKind::Tets
         } else {
             DataKind::Volume
@@ -47,6 +49,19 @@ fn has_mesh_extension(spec: &str) -> bool {
         .extension()
         .and_then(|e| e.to_str())
         .is_some_and(|e| MESH_EXTENSIONS.contains(&e.to_ascii_lowercase().as_str()))
+}
+
+/// Extensions of the volume formats with a header ([`load::load_volume`]).
+pub const VOLUME_EXTENSIONS: &[&str] = &["nrrd", "nhdr", "nii", "gz", "vti"];
+
+/// Whether `spec` is a file whose extension names no format but whose content is a mesh.
+fn holds_mesh(spec: &str) -> bool {
+    let path = Path::new(spec);
+    let known = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| VOLUME_EXTENSIONS.contains(&e.to_ascii_lowercase().as_str()));
+    !spec.starts_with("procedural:") && !known && sniff(path).is_some_and(Sniffed::is_mesh)
 }
 
 /// A volume spec: `procedural:NAME:SIZE[:TYPE]` or a volume file ([`load::load_volume`]).

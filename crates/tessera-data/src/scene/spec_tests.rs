@@ -161,8 +161,17 @@ fn mesh_files() {
         .unwrap_err()
         .to_string();
     assert!(err.contains("gone.msh"), "{err}");
-    let err = TetData::load("shape.obj").unwrap_err().to_string();
-    assert!(err.contains("shape.obj") && err.contains("unknown tetrahedral mesh extension"));
+    let obj = test_path("shape.obj");
+    std::fs::write(&obj, "v 0 0 0\n").unwrap();
+    let err = TetData::load(obj.to_str().unwrap())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("shape.obj")
+            && err.contains("extension 'obj' is none of")
+            && err.contains("does not start like any of them"),
+        "{err}"
+    );
 }
 
 #[test]

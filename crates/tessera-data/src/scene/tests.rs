@@ -56,3 +56,43 @@ fn errors_come_from_the_right_loader() {
     let missing = test_path("lost.nrrd");
     assert!(err(missing.to_str().unwrap()).contains("lost.nrrd"));
 }
+
+#[test]
+fn files_with_unknown_extensions_are_told_by_their_content() {
+    let data = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
+    let options = LoadOptions::default();
+    let mesh = data.join("mesh_with_unknown_extension.dat");
+    let spec = mesh.to_str().unwrap();
+    assert_eq!(DataKind::of_spec(spec), DataKind::Tets);
+    let Dataset::Tets(tets) = Dataset::load(spec, &options).expect("mesh") else {
+        panic!("a legacy VTK file is a mesh");
+    };
+    assert_eq!(tets.mesh.tet_count(), 2);
+
+    let image = test_path("image.xml");
+    std::fs::copy(data.join("ascii_u8.vti"), &image).unwrap();
+    let spec = image.to_str().unwrap();
+    assert_eq!(DataKind::of_spec(spec), DataKind::Volume);
+    let Dataset::Volume(volume) = Dataset::load(spec, &options).expect("volume") else {
+        panic!("image data is a volume");
+    };
+    assert_eq!(volume.dims(), [3, 2, 2]);
+
+    // A mesh asked for as a volume, and unknown content asked for as a mesh.
+    let err = crate::load::load_volume(&mesh, &Default::default()).unwrap_err();
+    assert!(
+        err.to_string()
+            .contains("is a legacy VTK file, which holds a tetrahedral mesh"),
+        "{err}"
+    );
+    let err = crate::tet::load_tet_mesh(&image).unwrap_err();
+    assert!(
+        err.to_string()
+            .contains("the content is VTK XML image data"),
+        "{err}"
+    );
+    let other = test_path("noise.bin");
+    std::fs::write(&other, [7u8; 64]).unwrap();
+    let err = Dataset::load(other.to_str().unwrap(), &options).unwrap_err();
+    assert!(err.to_string().contains("read as a raw volume"), "{err}");
+}

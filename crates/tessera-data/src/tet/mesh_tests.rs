@@ -33,6 +33,13 @@ pub(crate) fn write_text(name: &str, text: &str) -> std::path::PathBuf {
     path
 }
 
+/// A test input file kept in the crate (`tests/data/NAME`).
+pub(crate) fn data_file(name: &str) -> std::path::PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data")
+        .join(name)
+}
+
 /// The error message of a failed load, checked to name the file.
 pub(crate) fn load_error(result: Result<(TetMesh, MeshReport)>, path: &Path) -> String {
     let text = result.expect_err("load should fail").to_string();
@@ -182,4 +189,23 @@ fn dispatch_by_extension() {
     let path = write_text("m.obj", "v 0 0 0\n");
     let text = load_error(load_tet_mesh(&path), &path);
     assert!(text.contains("extension"), "{text}");
+}
+
+/// Files meshio 5.3 wrote (binary; its ASCII `$NodeData` writer is broken under NumPy 2):
+/// two tets with a temperature per point, and a triangle in all but the 4.1 file.
+#[test]
+fn files_written_by_meshio() {
+    for (name, regions, skipped) in [
+        ("meshio_gmsh22_binary.msh", [7, 8], 1),
+        ("meshio_gmsh41_binary.msh", [7, 7], 0),
+        ("meshio_binary.vtk", [2, 2], 1),
+        ("meshio_binary.vtu", [2, 2], 1),
+    ] {
+        let (mesh, report) = load_tet_mesh(&data_file(name)).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(mesh.tets, vec![[0, 1, 2, 3], [4, 1, 3, 2]], "{name}");
+        assert_eq!(mesh.regions, Some(regions.to_vec()), "{name}");
+        assert_eq!(mesh.scalar_name, "temperature", "{name}");
+        assert_eq!(mesh.scalars, Some(vec![1.0, 2.0, 3.0, 4.0, 5.0]), "{name}");
+        assert_eq!(report.skipped_cells, skipped, "{name}");
+    }
 }

@@ -1,6 +1,6 @@
 //! Tetrahedral meshes: the in-memory [`TetMesh`], its consistency checks, face connectivity
 //! ([`topology`]), loaders and writers for VTK XML (`.vtu`), legacy VTK (`.vtk`), TetGen
-//! (`.node`/`.ele`) and Gmsh 4.1 (`.msh`), and procedural meshes of any size.
+//! (`.node`/`.ele`) and Gmsh 4.1 and 2.2 (`.msh`), and procedural meshes of any size.
 //!
 //! Orientation convention: a tet `[a, b, c, d]` is positive when
 //! `(b - a) · ((c - a) × (d - a)) > 0`. [`TetMesh::validate`] (which every loader runs)
@@ -11,6 +11,7 @@ use std::path::{Path, PathBuf};
 use glam::{DVec3, Vec3};
 
 use crate::error::{DataError, Result};
+use crate::sniff::{sniff, Sniffed};
 
 pub mod asteroids;
 mod cells;
@@ -23,8 +24,6 @@ mod text;
 pub mod topology;
 pub mod vtk_legacy;
 pub mod vtu;
-mod vtu_data;
-mod xml;
 
 pub use gmsh::{load_msh, write_msh41};
 pub use tetgen::{load_tetgen, write_tetgen};
@@ -183,7 +182,8 @@ impl TetMesh {
 }
 
 /// Loads a tetrahedral mesh, choosing the format by extension: `.vtu`, `.vtk`,
-/// `.node`/`.ele` (TetGen; the sibling file is found) or `.msh` (Gmsh 4.1).
+/// `.node`/`.ele` (TetGen; the sibling file is found) or `.msh` (Gmsh); files with another
+/// extension by their content ([`crate::sniff`]).
 pub fn load_tet_mesh(path: &Path) -> Result<(TetMesh, MeshReport)> {
     let ext = path
         .extension()
@@ -194,13 +194,25 @@ pub fn load_tet_mesh(path: &Path) -> Result<(TetMesh, MeshReport)> {
         "vtk" => load_vtk_legacy(path),
         "node" | "ele" => load_tetgen(path),
         "msh" => load_msh(path),
-        _ => Err(DataError::format(
-            path,
-            format!(
-                "unknown tetrahedral mesh extension '{ext}' \
-                 (expected .vtu, .vtk, .node, .ele or .msh)"
-            ),
-        )),
+        _ => {
+            std::fs::metadata(path).map_err(|e| DataError::io(path, e))?;
+            match sniff(path) {
+                Some(Sniffed::VtkXmlMesh) => load_vtu(path),
+                Some(Sniffed::LegacyVtk) => load_vtk_legacy(path),
+                Some(Sniffed::Gmsh) => load_msh(path),
+                found => Err(DataError::format(
+                    path,
+                    format!(
+                        "not a tetrahedral mesh file: the extension '{ext}' is none of .vtu, \
+                         .vtk, .node, .ele or .msh, and the content {}",
+                        match found {
+                            Some(format) => format!("is {}", format.describe()),
+                            None => "does not start like any of them".to_string(),
+                        }
+                    ),
+                )),
+            }
+        }
     }
 }
 

@@ -56,17 +56,19 @@ fn parse_node(bytes: &[u8], path: &Path) -> Result<NodeData> {
             format!("dimension {dim}: only 3D meshes are supported"),
         ));
     }
-    let mut vertices = Vec::with_capacity(count.min(1 << 24));
-    let mut scalars = (nattr > 0).then(|| Vec::with_capacity(count.min(1 << 24)));
+    let count = backed_by_file(&cur, line, count, "points")?;
+    let width = nattr.saturating_add(nmark).saturating_add(4);
+    let mut vertices = Vec::with_capacity(count);
+    let mut scalars = (nattr > 0).then(|| Vec::with_capacity(count));
     let mut base = 0;
     for i in 0..count {
         let (line, f) = cur
             .record()
             .ok_or_else(|| cur.err(format!("file ends early: found {i} of {count} points")))?;
-        if f.len() < 4 + nattr + nmark {
+        if f.len() < width {
             return Err(cur.err_at(line, format!(
                 "point line has {} fields, expected {} (index, x, y, z, {nattr} attribute(s), {nmark} marker(s))",
-                f.len(), 4 + nattr + nmark
+                f.len(), width
             )));
         }
         let index: u64 = field(&cur, line, &f, 0, "a point number")?;
@@ -123,19 +125,21 @@ fn parse_ele(bytes: &[u8], path: &Path, base: u64, nverts: usize) -> Result<EleD
             format!("{per} nodes per tetrahedron: expected 4 or 10"),
         ));
     }
-    let mut tets = Vec::with_capacity(count.min(1 << 24));
-    let mut attrs = (nattr > 0).then(|| Vec::with_capacity(count.min(1 << 24)));
+    let count = backed_by_file(&cur, line, count, "tetrahedra")?;
+    let width = nattr.saturating_add(per).saturating_add(1);
+    let mut tets = Vec::with_capacity(count);
+    let mut attrs = (nattr > 0).then(|| Vec::with_capacity(count));
     for t in 0..count {
         let (line, f) = cur
             .record()
             .ok_or_else(|| cur.err(format!("file ends early: found {t} of {count} tetrahedra")))?;
-        if f.len() < 1 + per + nattr {
+        if f.len() < width {
             return Err(cur.err_at(
                 line,
                 format!(
                     "tetrahedron line has {} fields, expected {}",
                     f.len(),
-                    1 + per + nattr
+                    width
                 ),
             ));
         }
@@ -159,6 +163,20 @@ fn parse_ele(bytes: &[u8], path: &Path, base: u64, nverts: usize) -> Result<EleD
         }
     }
     Ok((tets, attrs))
+}
+
+/// A count from a header line, refused when the rest of the file has fewer lines than that
+/// (each takes at least a byte), so that nothing is allocated for a count the file does not
+/// back.
+fn backed_by_file(cur: &Cursor, line: usize, count: usize, what: &str) -> Result<usize> {
+    let left = cur.remaining();
+    if count > left {
+        return Err(cur.err_at(
+            line,
+            format!("{count} {what} announced, but only {left} bytes of the file remain"),
+        ));
+    }
+    Ok(count)
 }
 
 /// Writes `stem.node` and `stem.ele` (numbered from 1) next to `path` (either extension).

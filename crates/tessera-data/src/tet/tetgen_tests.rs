@@ -91,3 +91,34 @@ fn bad_files() {
     let path = write_text("alone.node", NODE0);
     load_error(load_tetgen(&path), &path.with_extension("ele"));
 }
+
+#[test]
+fn huge_header_counts_are_errors() {
+    let ele = "1 4 0\n1 1 2 3 4\n";
+    for (node, what) in [
+        (
+            "99999999999 3 0 0\n1 0 0 0\n",
+            "99999999999 points announced",
+        ),
+        (
+            "1 3 18446744073709551615 1\n1 0 0 0\n",
+            "expected 18446744073709551615",
+        ),
+    ] {
+        let path = write_text("huge.node", node);
+        std::fs::write(path.with_extension("ele"), ele).expect("write");
+        let message = load_error(load_tetgen(&path), &path);
+        assert!(
+            message.contains("line 1") || message.contains("line 2"),
+            "{message}"
+        );
+        assert!(message.contains(what), "{message}");
+    }
+    let path = write_text("many.node", "4 3\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n");
+    std::fs::write(path.with_extension("ele"), "88888888888 4\n1 1 2 3 4\n").expect("write");
+    let message = load_error(load_tetgen(&path), &path.with_extension("ele"));
+    assert!(
+        message.contains("88888888888 tetrahedra announced"),
+        "{message}"
+    );
+}

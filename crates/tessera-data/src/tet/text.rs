@@ -36,6 +36,17 @@ impl<'a> Cursor<'a> {
         self.token_line
     }
 
+    /// Byte offset of the next unread byte.
+    pub fn offset(&self) -> usize {
+        self.pos
+    }
+
+    /// Bytes not read yet: an upper bound on how many values a count in a header can
+    /// honestly announce, checked before anything is allocated for them.
+    pub fn remaining(&self) -> usize {
+        self.data.len() - self.pos
+    }
+
     /// A format error at the line of the last token.
     pub fn err(&self, message: impl std::fmt::Display) -> DataError {
         self.err_at(self.token_line, message)
@@ -43,6 +54,11 @@ impl<'a> Cursor<'a> {
 
     pub fn err_at(&self, line: usize, message: impl std::fmt::Display) -> DataError {
         DataError::format(self.path, format!("line {line}: {message}"))
+    }
+
+    /// A format error at a byte offset (binary sections, where lines mean nothing).
+    pub fn err_at_byte(&self, offset: usize, message: impl std::fmt::Display) -> DataError {
+        DataError::format(self.path, format!("byte {offset}: {message}"))
     }
 
     fn skip_space(&mut self) {
@@ -150,7 +166,8 @@ impl<'a> Cursor<'a> {
         let available = self.data.len() - self.pos;
         if available < n {
             return Err(self.err(format!(
-                "file ends early: {what} needs {n} bytes, only {available} left"
+                "file ends early: {what} needs {n} bytes from byte {}, only {available} left",
+                self.pos
             )));
         }
         let slice = &self.data[self.pos..self.pos + n];
@@ -158,6 +175,11 @@ impl<'a> Cursor<'a> {
         self.pos += n;
         Ok(slice)
     }
+}
+
+/// A token for a message: quoted, or "the end of the file" when there is none.
+pub(crate) fn quoted(token: Option<&str>) -> String {
+    token.map_or_else(|| "the end of the file".to_string(), |t| format!("{t:?}"))
 }
 
 /// Parses one field of a line-based record.

@@ -2,16 +2,20 @@
 //! with the classic `CELLS n size` layout or the 5.1 `OFFSETS`/`CONNECTIVITY` one.
 //!
 //! Tetrahedra (cell type 10) are kept, quadratic tetrahedra (24) keep their corners, every
-//! other cell type is skipped and counted. The first one-component `SCALARS` of `POINT_DATA`
-//! becomes the vertex scalar; in `CELL_DATA` a three-component `SCALARS absorption` becomes
-//! the absorption colour and the first integral one-component `SCALARS` the region.
-//! Other attributes (`VECTORS`, `FIELD`, ...) are skipped.
+//! other cell type is skipped and counted. Attributes come from `SCALARS` or from the arrays
+//! of a `FIELD` (as meshio writes them) alike: the first one-component array of `POINT_DATA`
+//! becomes the vertex scalar; in `CELL_DATA` a three-component array named `absorption`
+//! becomes the absorption colour and the first integral one-component array the region.
+//! Other attributes (`VECTORS`, ...) are skipped.
+//!
+//! Counts in the file are checked against the bytes left before anything is allocated, and
+//! each geometry section may appear once, before the attributes that refer to it.
 
 use std::fmt::Write as _;
 use std::path::Path;
 
 use super::cells::collect_tets;
-use super::text::Cursor;
+use super::text::{quoted, Cursor};
 use super::{finish, integral_regions, read_file, write_file, MeshReport, TetMesh};
 use crate::error::{DataError, Result};
 
@@ -25,56 +29,86 @@ pub fn load_vtk_legacy(path: &Path) -> Result<(TetMesh, MeshReport)> {
     if !magic.to_ascii_lowercase().starts_with("# vtk datafile") {
         return Err(cur.err_at(
             1,
-            "not a legacy VTK file: expected '# vtk DataFile Version x.x'",
+            "not a legacy VTK file: expected '# vtk DataFile Version x.x' \
+             (the file was read as a legacy VTK mesh)",
         ));
     }
     cur.next_line(); // title
-    let binary = match cur.token().map(str::to_ascii_uppercase).as_deref() {
+    let encoding = cur.token();
+    let binary = match encoding.map(str::to_ascii_uppercase).as_deref() {
         Some("ASCII") => false,
         Some("BINARY") => true,
-        other => return Err(cur.err(format!("expected ASCII or BINARY, found {other:?}"))),
+        _ => {
+            return Err(cur.err(format!(
+                "expected ASCII or BINARY on the third line of a legacy VTK file, found {}",
+                quoted(encoding)
+            )))
+        }
     };
-    let dataset = (cur.token(), cur.token());
-    if !matches!(dataset, (Some(d), Some(k)) if d.eq_ignore_ascii_case("DATASET")
+    let keyword = cur.token();
+    let kind = cur.token();
+    if !matches!((keyword, kind), (Some(d), Some(k)) if d.eq_ignore_ascii_case("DATASET")
         && k.eq_ignore_ascii_case("UNSTRUCTURED_GRID"))
     {
+        let found = match (keyword, kind) {
+            (Some(d), k) if d.eq_ignore_ascii_case("DATASET") => format!("DATASET {}", quoted(k)),
+            (k, _) => quoted(k),
+        };
         return Err(cur.err(format!(
-            "expected 'DATASET UNSTRUCTURED_GRID', found {:?} (only unstructured grids hold tets)",
-            dataset
+            "expected 'DATASET UNSTRUCTURED_GRID', found {found}: the file was read as a \
+             tetrahedral mesh, and only unstructured grids hold tetrahedra"
         )));
     }
     let mut r = Reader { cur, binary };
-    let mut points: Option<Vec<f64>> = None;
-    let mut cells: Option<CellList> = None;
+    let mut points: Option<(Vec<f64>, usize)> = None;
+    let mut cells: Option<(CellList, usize)> = None;
     let mut types: Option<(Vec<f64>, usize)> = None;
     let mut section = Section::None;
-    let mut scalars: Option<(String, Vec<f64>)> = None;
-    let mut regions: Option<Vec<f64>> = None;
-    let mut absorption: Option<Vec<f64>> = None;
+    let mut kept = Attributes::default();
     while let Some(word) = r.cur.token() {
         let line = r.cur.last_line();
-        match word.to_ascii_uppercase().as_str() {
+        let upper = word.to_ascii_uppercase();
+        let once = |seen: Option<usize>| match seen {
+            Some(first) => Err(r.cur.err(format!(
+                "a second {upper} section (the first is on line {first}): \
+                 a file holds one unstructured grid"
+            ))),
+            None => Ok(()),
+        };
+        match upper.as_str() {
             "POINTS" => {
+                once(points.as_ref().map(|p| p.1))?;
                 let n: usize = r.cur.parse("the number of points")?;
                 let ty = r.cur.expect("the point type")?;
-                points = Some(r.values(ty, 3 * n, "point coordinates")?);
+                let count = r.count(n, 3, "point coordinates")?;
+                points = Some((r.values(ty, count, "point coordinates")?, line));
             }
-            "CELLS" => cells = Some(r.cells()?),
+            "CELLS" => {
+                once(cells.as_ref().map(|c| c.1))?;
+                cells = Some((r.cells()?, line));
+            }
             "CELL_TYPES" => {
+                once(types.as_ref().map(|t| t.1))?;
                 let n: usize = r.cur.parse("the number of cell types")?;
                 types = Some((r.values("int", n, "cell types")?, line));
             }
             "POINT_DATA" | "CELL_DATA" => {
                 let n: usize = r.cur.parse("the number of values")?;
-                let point = word.eq_ignore_ascii_case("POINT_DATA");
-                let want = if point {
-                    points.as_ref().map_or(0, |p| p.len() / 3)
+                let point = upper == "POINT_DATA";
+                let (geometry, want) = if point {
+                    ("POINTS", points.as_ref().map(|p| p.0.len() / 3))
                 } else {
-                    cells.as_ref().map_or(0, |c| c.1.len() - 1)
+                    ("CELLS", cells.as_ref().map(|c| c.0 .1.len() - 1))
                 };
+                let want = want.ok_or_else(|| {
+                    r.cur.err(format!(
+                        "{upper} comes before {geometry}: attributes must follow the \
+                         geometry they describe"
+                    ))
+                })?;
                 if n != want {
                     return Err(r.cur.err(format!(
-                        "{word} {n} does not match the {want} {}",
+                        "{upper} {n} does not match the {want} {} of the {geometry} section",
                         if point { "points" } else { "cells" }
                     )));
                 }
@@ -98,76 +132,67 @@ pub fn load_vtk_legacy(path: &Path) -> Result<(TetMesh, MeshReport)> {
                     r.cur.token();
                     r.cur.expect("the lookup table name")?;
                 }
-                let n = section
-                    .count()
-                    .ok_or_else(|| r.cur.err("SCALARS outside POINT_DATA/CELL_DATA"))?;
-                let values = r.values(ty, n * ncomp, "scalar values")?;
-                match (section, ncomp) {
-                    (Section::Point(_), 1) if scalars.is_none() => scalars = Some((name, values)),
-                    (Section::Cell(_), 3) if name.eq_ignore_ascii_case("absorption") => {
-                        absorption = Some(values)
-                    }
-                    (Section::Cell(_), 1)
-                        if regions.is_none() && integral_regions(&values).is_some() =>
-                    {
-                        regions = Some(values)
-                    }
-                    _ => {}
-                }
+                let n = r.section_count(section, &upper)?;
+                let count = r.count(n, ncomp, "scalar values")?;
+                let values = r.values(ty, count, "scalar values")?;
+                kept.offer(section, name, ncomp, values);
             }
             "LOOKUP_TABLE" => {
                 r.cur.expect("the table name")?;
                 let n: usize = r.cur.parse("the table size")?;
+                let count = r.count(n, 4, "lookup table")?;
                 r.values(
                     if r.binary { "unsigned_char" } else { "float" },
-                    4 * n,
+                    count,
                     "lookup table",
                 )?;
             }
             "COLOR_SCALARS" => {
                 r.cur.expect("the array name")?;
                 let ncomp: usize = r.cur.parse("components")?;
-                let n = section
-                    .count()
-                    .ok_or_else(|| r.cur.err("COLOR_SCALARS outside POINT_DATA/CELL_DATA"))?;
+                let n = r.section_count(section, &upper)?;
+                let count = r.count(n, ncomp, "colours")?;
                 r.values(
                     if r.binary { "unsigned_char" } else { "float" },
-                    n * ncomp,
+                    count,
                     "colours",
                 )?;
             }
             "VECTORS" | "NORMALS" | "TENSORS" => {
                 r.cur.expect("the array name")?;
                 let ty = r.cur.expect("the array type")?;
-                let per = if word.eq_ignore_ascii_case("TENSORS") {
-                    9
-                } else {
-                    3
-                };
-                let n = section
-                    .count()
-                    .ok_or_else(|| r.cur.err(format!("{word} outside POINT_DATA/CELL_DATA")))?;
-                r.values(ty, n * per, "attribute values")?;
+                let per = if upper == "TENSORS" { 9 } else { 3 };
+                let n = r.section_count(section, &upper)?;
+                let count = r.count(n, per, "attribute values")?;
+                r.values(ty, count, "attribute values")?;
             }
             "TEXTURE_COORDINATES" => {
                 r.cur.expect("the array name")?;
                 let dim: usize = r.cur.parse("the dimension")?;
                 let ty = r.cur.expect("the array type")?;
-                let n = section.count().ok_or_else(|| {
-                    r.cur
-                        .err("TEXTURE_COORDINATES outside POINT_DATA/CELL_DATA")
-                })?;
-                r.values(ty, n * dim, "texture coordinates")?;
+                let n = r.section_count(section, &upper)?;
+                let count = r.count(n, dim, "texture coordinates")?;
+                r.values(ty, count, "texture coordinates")?;
             }
             "FIELD" => {
                 r.cur.expect("the field name")?;
                 let arrays: usize = r.cur.parse("the number of arrays")?;
                 for _ in 0..arrays {
-                    r.cur.expect("the array name")?;
+                    let name = r.cur.expect("the array name")?.to_string();
+                    // VTK writes an array it could not save as this one word.
+                    if name == "NULL_ARRAY" {
+                        continue;
+                    }
                     let ncomp: usize = r.cur.parse("components")?;
                     let ntuples: usize = r.cur.parse("tuples")?;
                     let ty = r.cur.expect("the array type")?;
-                    r.values(ty, ncomp * ntuples, "field values")?;
+                    let count = r.count(ntuples, ncomp, "field values")?;
+                    let values = r.values(ty, count, "field values")?;
+                    // Field arrays may hold anything (a time value, say); only those with
+                    // one tuple per point or cell of their section are attributes.
+                    if section.count() == Some(ntuples) {
+                        kept.offer(section, name, ncomp, values);
+                    }
                 }
             }
             "METADATA" => {
@@ -181,8 +206,8 @@ pub fn load_vtk_legacy(path: &Path) -> Result<(TetMesh, MeshReport)> {
         }
     }
     let cur = &r.cur;
-    let points = points.ok_or_else(|| DataError::format(path, "no POINTS section"))?;
-    let (conn, starts, cell_lines) =
+    let (points, _) = points.ok_or_else(|| DataError::format(path, "no POINTS section"))?;
+    let ((conn, starts, cell_lines), _) =
         cells.ok_or_else(|| DataError::format(path, "no CELLS section"))?;
     let (types, types_line) =
         types.ok_or_else(|| DataError::format(path, "no CELL_TYPES section"))?;
@@ -214,14 +239,14 @@ pub fn load_vtk_legacy(path: &Path) -> Result<(TetMesh, MeshReport)> {
             .collect(),
         found.tets,
     );
-    if let Some((name, values)) = scalars {
+    if let Some((name, values)) = kept.scalars {
         mesh.scalars = Some(values.iter().map(|&v| v as f32).collect());
         mesh.scalar_name = name;
     }
-    if let Some(values) = regions.as_deref().and_then(integral_regions) {
+    if let Some(values) = kept.regions.as_deref().and_then(integral_regions) {
         mesh.regions = Some(found.kept.iter().map(|&c| values[c]).collect());
     }
-    if let Some(values) = absorption {
+    if let Some(values) = kept.absorption {
         mesh.absorption = Some(
             found
                 .kept
@@ -237,6 +262,35 @@ pub fn load_vtk_legacy(path: &Path) -> Result<(TetMesh, MeshReport)> {
         );
     }
     finish(mesh, path, found.skipped)
+}
+
+/// The point and cell arrays a mesh keeps, from `SCALARS` or `FIELD` arrays alike: the
+/// first one-component point array, a three-component cell array named `absorption`, and
+/// the first integral one-component cell array.
+#[derive(Default)]
+struct Attributes {
+    scalars: Option<(String, Vec<f64>)>,
+    regions: Option<Vec<f64>>,
+    absorption: Option<Vec<f64>>,
+}
+
+impl Attributes {
+    /// Keeps `values` (`ncomp` per tuple, one tuple per point or cell of `section`) if the
+    /// mesh has a use for them.
+    fn offer(&mut self, section: Section, name: String, ncomp: usize, values: Vec<f64>) {
+        match (section, ncomp) {
+            (Section::Point(_), 1) if self.scalars.is_none() => self.scalars = Some((name, values)),
+            (Section::Cell(_), 3) if name.eq_ignore_ascii_case("absorption") => {
+                self.absorption = Some(values)
+            }
+            (Section::Cell(_), 1)
+                if self.regions.is_none() && integral_regions(&values).is_some() =>
+            {
+                self.regions = Some(values)
+            }
+            _ => {}
+        }
+    }
 }
 
 /// Connectivity, cell starts and (ASCII classic layout) the line of every cell.
@@ -264,6 +318,23 @@ struct Reader<'a> {
 }
 
 impl Reader<'_> {
+    /// The number of points or cells of the current `POINT_DATA`/`CELL_DATA` section.
+    fn section_count(&self, section: Section, keyword: &str) -> Result<usize> {
+        section.count().ok_or_else(|| {
+            self.cur
+                .err(format!("{keyword} outside POINT_DATA/CELL_DATA"))
+        })
+    }
+
+    /// `tuples × components`, refused when the product overflows.
+    fn count(&self, tuples: usize, components: usize, what: &str) -> Result<usize> {
+        tuples.checked_mul(components).ok_or_else(|| {
+            self.cur.err(format!(
+                "{what}: {tuples} x {components} values is too many"
+            ))
+        })
+    }
+
     /// `count` values of VTK type `ty`, as text or big-endian binary.
     fn values(&mut self, ty: &str, count: usize, what: &str) -> Result<Vec<f64>> {
         let lower = ty.to_ascii_lowercase();
@@ -275,6 +346,14 @@ impl Reader<'_> {
             "long" | "unsigned_long" | "double" | "vtktypeint64" | "vtktypeuint64" => 8,
             _ => return Err(self.cur.err(format!("unknown data type {ty:?}"))),
         };
+        // Every value takes at least one byte, so a count beyond the rest of the file is
+        // refused before anything is allocated for it.
+        let left = self.cur.remaining();
+        if count > left {
+            return Err(self.cur.err(format!(
+                "{what}: {count} values announced, but only {left} bytes of the file remain"
+            )));
+        }
         if !self.binary {
             return (0..count).map(|_| self.cur.parse::<f64>(what)).collect();
         }
@@ -339,20 +418,27 @@ impl Reader<'_> {
             }
             return Ok((conn, starts, None));
         }
-        let mut lines = (!self.binary).then(|| Vec::with_capacity(n.min(1 << 24)));
+        let left = self.cur.remaining();
+        if n > left || size > left {
+            return Err(self.cur.err(format!(
+                "CELLS {n} {size} announces more numbers than the {left} bytes left in the file"
+            )));
+        }
+        let mut lines = (!self.binary).then(|| Vec::with_capacity(n));
         let list: Vec<f64> = if self.binary {
             self.values("int", size, "the cell list")?
         } else {
-            let mut list = Vec::with_capacity(size.min(1 << 26));
+            let mut list = Vec::with_capacity(size);
             for c in 0..n {
                 let k: usize = self.cur.parse("a cell's point count")?;
                 lines.as_mut().expect("ascii").push(self.cur.last_line());
-                list.push(k as f64);
-                if list.len() + k > size {
+                // The cell takes 1 + k numbers of what is left of `size`.
+                if k >= size - list.len() {
                     return Err(self
                         .cur
                         .err(format!("cell {c} runs past the CELLS size {size}")));
                 }
+                list.push(k as f64);
                 for _ in 0..k {
                     list.push(self.cur.parse("a point index")?);
                 }
@@ -373,8 +459,9 @@ impl Reader<'_> {
                 .get(at)
                 .ok_or_else(|| self.cur.err(format!("CELLS list ends inside cell {c}")))?
                 as usize;
-            let ids = list
-                .get(at + 1..at + 1 + k)
+            let ids = at
+                .checked_add(1 + k.min(size))
+                .and_then(|end| list.get(at + 1..end))
                 .ok_or_else(|| self.cur.err(format!("CELLS list ends inside cell {c}")))?;
             conn.extend_from_slice(ids);
             starts.push(conn.len());

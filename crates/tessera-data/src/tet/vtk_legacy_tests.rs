@@ -2,7 +2,7 @@
 use super::*;
 use crate::test_files::test_path;
 use crate::tet::procedural::sphere_mesh;
-use crate::tet::tests::{load_error, two_tets, write_text};
+use crate::tet::tests::{data_file, load_error, two_tets, write_text};
 
 #[test]
 fn round_trip() {
@@ -24,7 +24,7 @@ fn mixed_cells_and_attributes() {
         "{HEAD}CELLS 3 14\n3 0 1 2\n4 0 1 2 3\n4 4 1 3 2\nCELL_TYPES 3\n5 10 10\n\
          CELL_DATA 3\nSCALARS id int\nLOOKUP_TABLE default\n9 8 7\n\
          VECTORS v float\n0 0 0 1 1 1 2 2 2\n\
-         POINT_DATA 5\nFIELD extra 1\nf 1 5 float\n1 2 3 4 5\n\
+         POINT_DATA 5\nFIELD extra 1\nf 2 5 float\n1 2 3 4 5 6 7 8 9 0\n\
          SCALARS vec float 2\nLOOKUP_TABLE default\n0 0 0 0 0 0 0 0 0 0\n\
          SCALARS heat float 1\nLOOKUP_TABLE default\n1 2 3 4 5\n"
     );
@@ -90,6 +90,80 @@ fn bad_files() {
         let message = load_error(load_vtk_legacy(&path), &path);
         assert!(
             message.contains(place) && message.contains(what),
+            "{message}"
+        );
+    }
+}
+
+#[test]
+fn attributes_before_or_after_a_second_geometry_section_are_errors() {
+    let path = data_file("cell_data_before_cells.vtk");
+    let message = load_error(load_vtk_legacy(&path), &path);
+    assert!(
+        message.contains("line 7") && message.contains("CELL_DATA comes before CELLS"),
+        "{message}"
+    );
+    let path = data_file("cells_twice.vtk");
+    let message = load_error(load_vtk_legacy(&path), &path);
+    assert!(
+        message.contains("line 15") && message.contains("second CELLS section"),
+        "{message}"
+    );
+    assert!(message.contains("line 7"), "{message}");
+}
+
+#[test]
+fn field_data_as_meshio_writes_it() {
+    let (mesh, report) = load_vtk_legacy(&data_file("field_data.vtk")).expect("load");
+    assert_eq!(report.skipped_cells, 1);
+    assert_eq!(mesh.tets, vec![[0, 1, 2, 3], [4, 1, 3, 2]]);
+    assert_eq!(mesh.scalar_name, "temperature");
+    assert_eq!(mesh.scalars, Some(vec![10.5, 11.5, 12.5, 13.5, 14.5]));
+    assert_eq!(mesh.regions, Some(vec![4, 5]));
+    assert_eq!(
+        mesh.absorption,
+        Some(vec![[0.1, 0.2, 0.3], [0.4, 0.5, 0.6]])
+    );
+}
+
+#[test]
+fn messages_quote_what_was_found() {
+    let path = data_file("unknown_encoding.vtk");
+    let message = load_error(load_vtk_legacy(&path), &path);
+    assert!(
+        message.contains("line 3") && message.contains("found \"HEX\""),
+        "{message}"
+    );
+    assert!(!message.contains("Some("), "{message}");
+    let path = write_text(
+        "short.vtk",
+        "# vtk DataFile Version 3.0\nt\nASCII\nDATASET\n",
+    );
+    let message = load_error(load_vtk_legacy(&path), &path);
+    assert!(
+        message.contains("found DATASET the end of the file"),
+        "{message}"
+    );
+    assert!(!message.contains("None"), "{message}");
+}
+
+#[test]
+fn counts_beyond_the_file_fail_before_allocating() {
+    for text in [
+        format!("{HEAD}CELLS 1 5\n4 0 1 2 3\nCELL_TYPES 99999999999999\n10\n"),
+        "# vtk DataFile Version 3.0\nt\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS 999999999999999 float\n0 0 0\n".to_string(),
+        "# vtk DataFile Version 3.0\nt\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS 9999999999999999999 float\n0 0 0\n".to_string(),
+        format!("{HEAD}CELLS 1 99999999999999\n4 0 1 2 3\n"),
+        format!("{HEAD}CELLS 1 5\n9999999999999 0 1 2 3\n"),
+        format!("{HEAD}CELLS 1 0\n4 0 1 2 3\nCELL_TYPES 1\n10\n"),
+    ] {
+        let path = write_text("huge.vtk", &text);
+        let message = load_error(load_vtk_legacy(&path), &path);
+        assert!(
+            message.contains("remain")
+                || message.contains("too many")
+                || message.contains("bytes left")
+                || message.contains("runs past"),
             "{message}"
         );
     }

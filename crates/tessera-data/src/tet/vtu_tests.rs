@@ -6,7 +6,7 @@ use flate2::write::ZlibEncoder;
 use super::*;
 use crate::test_files::test_path;
 use crate::tet::procedural::box_mesh;
-use crate::tet::tests::{load_error, two_tets, write_text};
+use crate::tet::tests::{data_file, load_error, two_tets, write_text};
 
 fn b64(bytes: &[u8]) -> String {
     const A: &[u8] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
@@ -225,7 +225,7 @@ fn bad_files() {
         (good[..good.len() / 2].to_string(), "never closed"),
         (
             good.replace("0 1 2 3 4 1 3 2 0 1 2", "0 1 2 3 4 1 3 2 0 1"),
-            "truncated",
+            "holds 10 values, but the last offset (11) calls for 11",
         ),
         (
             good.replace("0 1 2 3 4 1 3 2", "0 1 2 3 9 1 3 2"),
@@ -233,7 +233,7 @@ fn bad_files() {
         ),
         (
             good.replace("NumberOfCells=\"3\"", "NumberOfCells=\"4\""),
-            "expected 4",
+            "holds 3 values, but NumberOfCells=\"4\" calls for 4",
         ),
         (good.replace("1 1 1", "1 nan 1"), "vertex 4"),
         (good.replace("10 10 5", "12 12 5"), "empty mesh"),
@@ -255,6 +255,97 @@ fn bad_files() {
     let message = load_error(load_vtu(&path), &path);
     assert!(
         message.contains("line 17") && message.contains("cell 1"),
+        "{message}"
+    );
+}
+
+#[test]
+fn padding_only_base64_is_an_error() {
+    let path = data_file("padding_only_base64.vtu");
+    let message = load_error(load_vtu(&path), &path);
+    assert!(
+        message.contains("line 6") && message.contains("invalid base64"),
+        "{message}"
+    );
+}
+
+#[test]
+fn block_sizes_are_checked_before_inflating() {
+    let path = data_file("zlib_bomb.vtu");
+    let message = load_error(load_vtu(&path), &path);
+    assert!(
+        message.contains("announces 4194304 bytes of data, the array needs 48"),
+        "{message}"
+    );
+    assert!(message.contains("NumberOfPoints=\"4\""), "{message}");
+    let path = data_file("zlib_beyond_inflation.vtu");
+    let message = load_error(load_vtu(&path), &path);
+    assert!(message.contains("more than zlib can"), "{message}");
+}
+
+#[test]
+fn counts_beyond_the_file_fail_before_allocating() {
+    let good = grid("binary");
+    for (from, to) in [
+        ("NumberOfPoints=\"5\"", "NumberOfPoints=\"1000000000000\""),
+        (
+            "NumberOfPoints=\"5\"",
+            "NumberOfPoints=\"18446744073709551615\"",
+        ),
+        ("NumberOfCells=\"3\"", "NumberOfCells=\"4000000000000\""),
+    ] {
+        let path = write_text("huge.vtu", &good.replace(from, to));
+        let message = load_error(load_vtu(&path), &path);
+        assert!(
+            message.contains("calls for") || message.contains("the array needs"),
+            "{message}"
+        );
+    }
+}
+
+/// A grid of `n` pieces of one tet each, all arrays ascii.
+fn pieces(n: usize) -> String {
+    let mut text =
+        String::from("<VTKFile type=\"UnstructuredGrid\" version=\"1.0\">\n<UnstructuredGrid>\n");
+    for i in 0..n {
+        let x = i as f32;
+        text += &format!(
+            "<Piece NumberOfPoints=\"4\" NumberOfCells=\"1\">\n\
+             <PointData Scalars=\"s\"><DataArray type=\"Float32\" Name=\"s\" format=\"ascii\">{i} 1 2 3</DataArray></PointData>\n\
+             <CellData><DataArray type=\"Int32\" Name=\"r\" format=\"ascii\">{i}</DataArray></CellData>\n\
+             <Points><DataArray type=\"Float32\" NumberOfComponents=\"3\" format=\"ascii\">{x} 0 0 {} 0 0 {x} 1 0 {x} 0 1</DataArray></Points>\n\
+             <Cells><DataArray type=\"Int32\" Name=\"connectivity\" format=\"ascii\">0 1 2 3</DataArray>\n\
+             <DataArray type=\"Int32\" Name=\"offsets\" format=\"ascii\">4</DataArray>\n\
+             <DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">10</DataArray></Cells>\n</Piece>\n",
+            x + 1.0
+        );
+    }
+    text + "</UnstructuredGrid>\n</VTKFile>\n"
+}
+
+#[test]
+fn many_pieces_load_in_linear_time() {
+    let path = write_text("pieces.vtu", &pieces(4000));
+    let start = std::time::Instant::now();
+    let (mesh, _) = load_vtu(&path).expect("load");
+    let elapsed = start.elapsed();
+    assert_eq!((mesh.vertex_count(), mesh.tet_count()), (16_000, 4000));
+    assert_eq!(mesh.tets[3999], [15_996, 15_997, 15_998, 15_999]);
+    assert_eq!(mesh.regions.as_ref().map(|r| r[3999]), Some(3999));
+    assert_eq!(mesh.scalars.as_ref().map(|s| s[4 * 3999]), Some(3999.0));
+    // Quadratic in the number of pieces, this took about 3 s.
+    assert!(elapsed.as_secs_f64() < 1.0, "{elapsed:?}");
+}
+
+#[test]
+fn count_messages_report_what_the_array_holds() {
+    let path = data_file("points_count_mismatch.vtu");
+    let message = load_error(load_vtu(&path), &path);
+    assert!(
+        message.contains(
+            "line 6: the DataArray in <Points>: holds 24 values, but \
+                          NumberOfPoints=\"0\" calls for 0 (0 x 3 components)"
+        ),
         "{message}"
     );
 }

@@ -1,12 +1,15 @@
 //! Just enough XML for VTK files: elements with attributes, the text inside them, comments
-//! and declarations skipped, and the raw `<AppendedData>` section (which may hold any bytes)
-//! left untouched after its `_` marker.
+//! and declarations skipped, and the raw `<AppendedData>` section (which may hold any bytes,
+//! so no XML parser can read it) left untouched after its `_` marker.
 
 /// One element of the document.
 pub(crate) struct Element {
     pub name: String,
     pub attrs: Vec<(String, String)>,
     pub parent: Option<usize>,
+    /// Indices of the child elements, in document order (so that lookups by parent stay
+    /// linear in files with many pieces).
+    pub children: Vec<usize>,
     /// Byte range of the text directly after the start tag (up to the next tag).
     pub text: (usize, usize),
     /// Byte offset of the start tag.
@@ -86,10 +89,11 @@ pub(crate) fn parse(data: &[u8]) -> Result<Document, (usize, String)> {
             let index = doc.elements.len();
             let name = element.name.clone();
             let encoding = element.attr("encoding").unwrap_or("raw").to_string();
-            doc.elements.push(Element {
-                parent: stack.last().copied(),
-                ..element
-            });
+            let parent = stack.last().copied();
+            if let Some(p) = parent {
+                doc.elements[p].children.push(index);
+            }
+            doc.elements.push(Element { parent, ..element });
             pos = end;
             if name == "AppendedData" {
                 let underscore = find(data, end, b"_")
@@ -143,6 +147,7 @@ fn start_tag(data: &[u8], lt: usize) -> Result<(Element, usize, bool), (usize, S
                         name,
                         attrs,
                         parent: None,
+                        children: Vec::new(),
                         text: (i + 1, i + 1),
                         pos: lt,
                     },
@@ -156,6 +161,7 @@ fn start_tag(data: &[u8], lt: usize) -> Result<(Element, usize, bool), (usize, S
                         name,
                         attrs,
                         parent: None,
+                        children: Vec::new(),
                         text: (i + 2, i + 2),
                         pos: lt,
                     },
