@@ -7,6 +7,7 @@ pub mod error;
 pub mod image;
 pub mod load;
 pub mod marching_cubes;
+pub mod mc_ambiguity;
 pub mod mc_tables;
 pub mod mesh;
 pub mod minmax;
