@@ -93,18 +93,27 @@ fn isosurface_structs(t: &mut Table) {
     use crate::iso::minmax::{block_defines, BlockParams, ReduceParams};
     use crate::iso::raymarch::RaymarchParams;
     let u8_defines = volume_defines(ScalarType::U8);
-    let raymarch = compile(&builtin_shader!("iso/raymarch/raymarch.comp.glsl"), &u8_defines);
+    let raymarch = compile(
+        &builtin_shader!("iso/raymarch/raymarch.comp.glsl"),
+        &u8_defines,
+    );
     #[rustfmt::skip]
     t.push_constants::<RaymarchParams>(&raymarch, "RaymarchParams", host!(RaymarchParams, eye,
         isovalue, forward, tan_half_fov_x, right, tan_half_fov_y, up, light, grid_to_world, dims,
         octree_levels, image));
-    let extract = compile(&builtin_shader!("iso/direct/extract.comp.glsl"), &u8_defines);
+    let extract = compile(
+        &builtin_shader!("iso/direct/extract.comp.glsl"),
+        &u8_defines,
+    );
     #[rustfmt::skip]
     t.push_constants::<DirectParams>(&extract, "DirectParams", host!(DirectParams, grid_to_clip,
         eye_world, isovalue, grid_to_world, light, dims, triangle_capacity));
     let mut list_defines = u8_defines.clone();
     list_defines.push(("BLOCK_LIST".into(), "1".into()));
-    let extract_list = compile(&builtin_shader!("iso/direct/extract.comp.glsl"), &list_defines);
+    let extract_list = compile(
+        &builtin_shader!("iso/direct/extract.comp.glsl"),
+        &list_defines,
+    );
     let cull_setup = compile(
         &builtin_shader!("iso/direct/cull_setup.comp.glsl"),
         &u8_defines,
@@ -117,26 +126,39 @@ fn isosurface_structs(t: &mut Table) {
         );
     }
     let mut multiview_defines = u8_defines.clone();
-    multiview_defines.extend([("MULTIVIEW", "1"), ("BLOCK_LIST", "0")].map(|(k, v)| (k.into(), v.into())));
-    let multiview = compile(&builtin_shader!("iso/direct/direct.mesh.glsl"), &multiview_defines);
+    multiview_defines
+        .extend([("MULTIVIEW", "1"), ("BLOCK_LIST", "0")].map(|(k, v)| (k.into(), v.into())));
+    let multiview = compile(
+        &builtin_shader!("iso/direct/direct.mesh.glsl"),
+        &multiview_defines,
+    );
     t.buffer(
         &multiview,
         "Views",
         host!(StereoViews, grid_to_clip, eye_world),
     );
-    let resolve = compile(&builtin_shader!("iso/direct/resolve.comp.glsl"), &u8_defines);
+    let resolve = compile(
+        &builtin_shader!("iso/direct/resolve.comp.glsl"),
+        &u8_defines,
+    );
     t.push_constants::<ResolveParams>(
         &resolve,
         "ResolveParams",
         host!(ResolveParams, eye_world, light, size),
     );
-    let reproject = compile(&builtin_shader!("iso/direct/reproject.comp.glsl"), &u8_defines);
+    let reproject = compile(
+        &builtin_shader!("iso/direct/reproject.comp.glsl"),
+        &u8_defines,
+    );
     t.push_constants::<ReprojectParams>(
         &reproject,
         "ReprojectParams",
         host!(ReprojectParams, world_to_clip, capacity),
     );
-    let hzb_test = compile(&builtin_shader!("iso/direct/hzb_test.comp.glsl"), &u8_defines);
+    let hzb_test = compile(
+        &builtin_shader!("iso/direct/hzb_test.comp.glsl"),
+        &u8_defines,
+    );
     t.push_constants::<HzbTestParams>(
         &hzb_test,
         "HzbTestParams",
@@ -155,11 +177,7 @@ fn isosurface_structs(t: &mut Table) {
         &builtin_shader!("iso/minmax/minmax_reduce.comp.glsl"),
         &volume_defines(ScalarType::U16),
     );
-    t.push_constants::<ReduceParams>(
-        &reduce,
-        "ReduceParams",
-        host!(ReduceParams, child, parent),
-    );
+    t.push_constants::<ReduceParams>(&reduce, "ReduceParams", host!(ReduceParams, child, parent));
 }
 
 fn raster_structs(t: &mut Table) {
@@ -236,11 +254,7 @@ fn parametric_structs(t: &mut Table) {
     #[rustfmt::skip]
     t.buffer(&init, "ParamObject", host!(GpuObject, model, colour, domain, radius_map, kind,
         params, order, flags));
-    t.buffer(
-        &init,
-        "Patch",
-        host!(GpuPatch, u, v, extent, object, info),
-    );
+    t.buffer(&init, "Patch", host!(GpuPatch, u, v, extent, object, info));
     let draw = compile(&builtin_shader!("param/points.comp.glsl"), &points);
     #[rustfmt::skip]
     t.push_constants::<PointsParams>(&draw, "PointsParams", host!(PointsParams, world_to_clip,
@@ -378,7 +392,10 @@ fn every_host_struct_matches_its_shader() {
     let mut wrong = Vec::new();
     for check in &table.0 {
         match members(&check.spirv, check.block) {
-            None => wrong.push(format!("{}: no struct {} in the SPIR-V", check.host_type, check.block)),
+            None => wrong.push(format!(
+                "{}: no struct {} in the SPIR-V",
+                check.host_type, check.block
+            )),
             Some(found) if found != check.host => wrong.push(format!(
                 "{} vs the shader's {}:\n  host   {:?}\n  shader {:?}",
                 check.host_type, check.block, check.host, found
@@ -387,13 +404,18 @@ fn every_host_struct_matches_its_shader() {
         }
         if let Some(bytes) = check.push_constant_bytes {
             if bytes > PUSH_CONSTANT_BYTES as usize {
-                wrong.push(format!("{}: {bytes} bytes of push constants", check.host_type));
+                wrong.push(format!(
+                    "{}: {bytes} bytes of push constants",
+                    check.host_type
+                ));
             }
         }
     }
     let checked: BTreeSet<String> = table.0.iter().map(|c| c.host_type.to_string()).collect();
     for unchecked in repr_c_structs().difference(&checked) {
-        wrong.push(format!("{unchecked}: #[repr(C)] but not in the layout table"));
+        wrong.push(format!(
+            "{unchecked}: #[repr(C)] but not in the layout table"
+        ));
     }
     assert!(wrong.is_empty(), "{}", wrong.join("\n"));
 }

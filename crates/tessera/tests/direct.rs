@@ -281,4 +281,3 @@ fn isovalue_outside_range_draws_nothing() {
     }
     assert_clean(&gpu);
 }
-

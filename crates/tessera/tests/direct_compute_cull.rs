@@ -5,9 +5,7 @@ mod common;
 
 use common::{assert_clean, assert_matches_cpu_raster, Need, TestGpu};
 use tessera::iso::direct::compute::{ComputeTarget, DirectCompute};
-use tessera::iso::direct::compute_cull::{
-    hzb_levels, ComputeCullState, ComputeCullStats,
-};
+use tessera::iso::direct::compute_cull::{hzb_levels, ComputeCullState, ComputeCullStats};
 use tessera::shaders;
 use tessera::target::Target;
 use tessera_data::marching_cubes::marching_cubes;
@@ -278,4 +276,3 @@ fn pyramid_levels_end_at_one_texel() {
     );
     assert_eq!(hzb_levels(5, 1), vec![[3, 1], [2, 1], [1, 1]]);
 }
-

@@ -9,8 +9,7 @@ use common::param::*;
 use common::{assert_clean, gpu, out_dir, write_png};
 use glam::{Mat4, Vec3};
 use tessera::param::{
-    Footprint, GpuParamScene, ParamObject, ParamPoints, ParamPointsOptions,
-    ParamScene, PointsFrame,
+    Footprint, GpuParamScene, ParamObject, ParamPoints, ParamPointsOptions, ParamScene, PointsFrame,
 };
 use tessera::shaders;
 use tessera::target::Target;

@@ -8,9 +8,7 @@ use common::param::*;
 use common::{assert_clean, gpu, out_dir, skip, write_png};
 use glam::Vec3;
 use std::collections::{BTreeMap, BTreeSet};
-use tessera::param::tess::{
-    ParamTess, ParamTessOptions, TessFrame, TessLevels,
-};
+use tessera::param::tess::{ParamTess, ParamTessOptions, TessFrame, TessLevels};
 use tessera::param::{GpuParamScene, ParamPoints, ParamScene, View};
 use tessera::shaders;
 use tessera::target::Target;

@@ -124,4 +124,3 @@ fn isovalue_outside_range_renders_background_only() {
     assert!(image.pixels.iter().all(|&p| p == background));
     assert_clean(&gpu);
 }
-

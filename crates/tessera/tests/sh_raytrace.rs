@@ -9,10 +9,7 @@ use common::param::*;
 
 use common::{assert_clean, gpu, out_dir, write_png};
 use glam::{DVec3, Mat4, Quat, Vec3};
-use tessera::param::raytrace::{
-    camera_rays, RayHit, ShRaytrace,
-    ShRaytraceOptions,
-};
+use tessera::param::raytrace::{camera_rays, RayHit, ShRaytrace, ShRaytraceOptions};
 use tessera::param::{GpuParamScene, ParamObject, ParamPoints, ParamPointsOptions, ParamScene};
 use tessera::shaders;
 use tessera::target::Target;

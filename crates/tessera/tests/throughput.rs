@@ -178,4 +178,3 @@ fn run_times_every_path() {
     assert!(run(&gpu, &compiler, &bad).is_err());
     assert_clean(&gpu);
 }
-

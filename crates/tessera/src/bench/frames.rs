@@ -64,10 +64,7 @@ fn stage_stats(frames: &ScopeTimes) -> Vec<StageStats> {
 
 /// Statistics of each frame's scopes summed, as one stage `name`.
 fn sum_stats(frames: &ScopeTimes, name: &str) -> StageStats {
-    let totals: Vec<f64> = frames
-        .iter()
-        .map(|f| f.iter().map(|s| s.1).sum())
-        .collect();
+    let totals: Vec<f64> = frames.iter().map(|f| f.iter().map(|s| s.1).sum()).collect();
     StageStats::from_samples(name, &totals)
 }
 
@@ -190,8 +187,9 @@ impl TimedFrame for StereoFrames<'_, '_> {
     fn record(&mut self, _frame: u32, rec: &Recorder, timer: &mut Timer) -> Result<()> {
         match &mut self.pair {
             Pair::OnePass(r) => r.record_stereo(rec, self.eyes, self.targets, timer),
-            Pair::TwoFrames(rs) => (0..2)
-                .try_for_each(|e| rs[e].record(rec, &self.eyes[e], self.targets[e], timer)),
+            Pair::TwoFrames(rs) => {
+                (0..2).try_for_each(|e| rs[e].record(rec, &self.eyes[e], self.targets[e], timer))
+            }
         }
     }
 
@@ -255,7 +253,8 @@ pub(super) fn settle_after_upload(gpu: &Gpu, renderer: &mut dyn Renderer) -> Res
     timer.reset(gpu);
     let mut recorded = Ok(());
     gpu.submit("settle", |rec| {
-        recorded = (0..SETTLE_FRAMES).try_for_each(|_| renderer.record(rec, &view, &target, &mut timer));
+        recorded =
+            (0..SETTLE_FRAMES).try_for_each(|_| renderer.record(rec, &view, &target, &mut timer));
     })?;
     recorded?;
     renderer.finish_frame(gpu)?;

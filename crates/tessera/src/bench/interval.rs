@@ -270,7 +270,13 @@ impl MeshBench<'_> {
         let stages = time_mono(gpu, r, &view, self.plan, 1, None)?;
         let path = r.path().name();
         let mut record = BenchRecord::new(gpu, "interval", "interval", path, dataset);
-        (record.width, record.height, record.warmup, record.frames, record.stages) = (
+        (
+            record.width,
+            record.height,
+            record.warmup,
+            record.frames,
+            record.stages,
+        ) = (
             self.size.0,
             self.size.1,
             self.plan.warmup,

@@ -135,8 +135,10 @@ fn run_scenario(
         let mut raymarch_ms: BTreeMap<(u32, u32), f64> = BTreeMap::new();
         for t in &techniques {
             let mut r = iso_renderer(gpu, t, &data, &look_of(config, sweep, 0))?;
-            let each_frame = |k: u32, r: &mut dyn Renderer| r.set_appearance(gpu, &look_of(config, sweep, k));
-            let each: EachFrame = sweep.map(|_| &each_frame as &dyn Fn(u32, &mut dyn Renderer) -> Result<()>);
+            let each_frame =
+                |k: u32, r: &mut dyn Renderer| r.set_appearance(gpu, &look_of(config, sweep, k));
+            let each: EachFrame =
+                sweep.map(|_| &each_frame as &dyn Fn(u32, &mut dyn Renderer) -> Result<()>);
             let distinct = if sweep.is_some() { SWEEP_PERIOD } else { 1 };
             for size in bench_sizes(config) {
                 let view = r.view(&camera, size)?;
@@ -152,7 +154,9 @@ fn run_scenario(
                     }
                     (_, Some(ms)) => {
                         if let Some(rm) = raymarch_ms.get(&size) {
-                            record.counts.insert("speedup_over_raymarch".into(), rm / ms);
+                            record
+                                .counts
+                                .insert("speedup_over_raymarch".into(), rm / ms);
                         }
                     }
                     _ => {}

@@ -68,7 +68,18 @@ pub fn stereo(
                 let pair = Pair::TwoFrames([r.as_mut(), second.as_mut()]);
                 (t.name, time_stereo(gpu, pair, &eyes, plan, "stereo")?)
             };
-            emit(gpu, sink, t, record_name, data.name(), size, plan, mono, pair, separation)?;
+            emit(
+                gpu,
+                sink,
+                t,
+                record_name,
+                data.name(),
+                size,
+                plan,
+                mono,
+                pair,
+                separation,
+            )?;
         }
         match multiview_match {
             Some(fraction) => sink.note(&format!(
@@ -115,7 +126,10 @@ fn layers_match(gpu: &Gpu, r: &mut dyn Renderer, eyes: &[View; 2]) -> Result<f64
     let mut matches = 1.0f64;
     for (eye, frame) in eyes.iter().zip([&left, &right]) {
         single.render(gpu, r, eye)?;
-        let diff = frame.target.read(gpu)?.compare(&single.target.read(gpu)?, 2);
+        let diff = frame
+            .target
+            .read(gpu)?
+            .compare(&single.target.read(gpu)?, 2);
         matches = matches.min(diff.fraction_within);
     }
     r.prepare_stereo(gpu, eyes)?;

@@ -25,10 +25,10 @@ mod iso;
 mod param;
 
 use crate::error::{Error, Result};
-use std::collections::BTreeMap;
 use crate::path::{Path, PathChoice};
-pub use crate::tet::interval::IntervalTuning;
 pub use crate::target::Target;
+pub use crate::tet::interval::IntervalTuning;
+use std::collections::BTreeMap;
 use tessera_data::scene::{Appearance, DataKind, Dataset};
 use tessera_data::{DepthFit, OrbitCamera, RgbaImage, View};
 use tessera_gpu::{Gpu, Recorder, Timer};
