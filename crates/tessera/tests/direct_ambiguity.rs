@@ -29,21 +29,26 @@ fn field(name: &str, dims: [u32; 3], f: impl Fn(Vec3) -> f32) -> Volume {
 }
 
 /// `(volume, iso)` pairs whose cells are mostly ambiguous: one cell with 1 at two diagonal
-/// corners of a face (saddle value 0.5, so the decider joins them at 0.2 and not at 0.8), a
-/// product of cosines whose faces have saddles of every value, and the checkerboard, whose
-/// saddles equal the isovalue (the tie every path must break alike).
+/// corners of a face (saddle value 0.5, so the decider joins them at 0.2 and not at 0.8),
+/// hashed noise whose faces have saddles of every value, and the checkerboard, whose saddles
+/// equal the isovalue (the tie every path must break alike).
 fn ambiguous_volumes() -> Vec<(Volume, f32)> {
     let diagonal = field("face-diagonal cell", [2; 3], |p| {
         f32::from(p.z == 0.0 && p.x == p.y)
     });
-    let saddles = field("cosine saddles", [21, 18, 13], |p| {
-        (2.1 * p.x).cos() * (1.7 * p.y).cos() * (1.3 * p.z + 0.4).cos()
+    let saddles = field("noise saddles", [21, 18, 13], |p| {
+        // A multiplicative hash of the sample position: reproducible, no generator needed.
+        let [x, y, z] = p.to_array().map(|c| c as u32);
+        let h =
+            (x.wrapping_mul(73_856_093) ^ y.wrapping_mul(19_349_663) ^ z.wrapping_mul(83_492_791))
+                .wrapping_mul(2_654_435_761);
+        (h >> 8) as f32 / (1u32 << 24) as f32
     });
     vec![
         (diagonal.clone(), 0.2),
         (diagonal, 0.8),
-        (saddles.clone(), 0.05),
-        (saddles, -0.2),
+        (saddles.clone(), 0.5),
+        (saddles, 0.3),
         (checkerboard([10, 9, 8]), 0.5),
     ]
 }
