@@ -274,10 +274,8 @@ pub(crate) fn loops(case: u8, joined: u8) -> Vec<Vec<usize>> {
 /// A fan is taken where one works (every loop of the classic cases has one). Some loops
 /// that only arise with mixed choices on ambiguous faces (eight or more crossings winding
 /// around the cell, 116 of the 656 rows) have no triangulation free of face diagonals;
-/// they get one with the fewest.
-/// The surface stays closed either way, since the face segments are untouched; where both
-/// cells of a face put a diagonal on the same pair of edges, that mesh edge is shared by
-/// four triangles (a pinch, still consistently oriented).
+/// they get one with the fewest, each of a kind the neighbour across that face never uses
+/// ([`face_diagonal_allowed`]), so the surface stays a closed manifold.
 fn triangulate(lp: &[usize]) -> Vec<[usize; 3]> {
     let n = lp.len();
     let fan_apex = (0..n).find(|&s| (2..n - 1).all(|k| !edges_share_face(lp[s], lp[(s + k) % n])));
@@ -292,27 +290,54 @@ fn triangulate(lp: &[usize]) -> Vec<[usize; 3]> {
     tris
 }
 
-/// For the polygon `lp`: `best[i][j] = (count, apex)`, the fewest diagonals lying in a face
-/// over the triangulations of the sub-polygon `i..=j` (side `i–j` not counted) and the
-/// apex of the triangle on side `i–j` that achieves it (the lowest such apex).
+/// Cost of a diagonal lying in a cell face that [`face_diagonal_allowed`] forbids: more than
+/// any triangulation's diagonals, so the search only takes one when nothing else exists.
+const FORBIDDEN: u32 = 1000;
+
+/// Whether a triangulation diagonal may join edges `a` and `b` of one face. Such a diagonal
+/// can only cross an ambiguous face, from one of its segments to the other; the neighbour
+/// across the face sees the same four crossings. A cell's lower faces (x, y or z = 0) take
+/// only diagonals between parallel edges, its upper faces only between perpendicular ones,
+/// and a lower face of one cell is an upper face of its neighbour, so the two never put a
+/// diagonal on the same pair: no mesh edge is shared by more than two triangles.
+fn face_diagonal_allowed(a: usize, b: usize) -> bool {
+    let parallel = EDGE_AXIS[a] == EDGE_AXIS[b];
+    (0..6)
+        .filter(|&f| edge_on_face(a, f) && edge_on_face(b, f))
+        .all(|f| parallel == (f % 2 == 0))
+}
+
+/// For the polygon `lp`: `best[i][j] = (cost, apex)`, the fewest diagonals lying in a face
+/// (each allowed one costs 1, a forbidden one [`FORBIDDEN`]) over the triangulations of the
+/// sub-polygon `i..=j` (side `i–j` not counted), and the apex of the triangle on side `i–j`
+/// that achieves it (the lowest such apex).
 fn fewest_face_diagonals(lp: &[usize]) -> Vec<Vec<(u32, usize)>> {
     let n = lp.len();
-    let in_face = |i: usize, j: usize| u32::from(j - i > 1 && edges_share_face(lp[i], lp[j]));
+    let cost = |i: usize, j: usize| {
+        let (a, b) = (lp[i], lp[j]);
+        match (
+            j - i > 1 && edges_share_face(a, b),
+            face_diagonal_allowed(a, b),
+        ) {
+            (false, _) => 0,
+            (true, true) => 1,
+            (true, false) => FORBIDDEN,
+        }
+    };
     let mut best = vec![vec![(0u32, 0usize); n]; n];
     for span in 2..n {
         for i in 0..n - span {
             let j = i + span;
             best[i][j] = (i + 1..j)
-                .map(|k| {
-                    (
-                        best[i][k].0 + best[k][j].0 + in_face(i, k) + in_face(k, j),
-                        k,
-                    )
-                })
+                .map(|k| (best[i][k].0 + best[k][j].0 + cost(i, k) + cost(k, j), k))
                 .min()
                 .expect("a span of two or more has an apex");
         }
     }
+    assert!(
+        best[0][n - 1].0 < FORBIDDEN,
+        "loop {lp:?} needs a face diagonal its neighbour might share"
+    );
     best
 }
 

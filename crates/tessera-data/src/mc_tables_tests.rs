@@ -146,10 +146,18 @@ fn triangle_boundary_is_exactly_the_face_segments() {
         segs.sort_unstable();
         boundary.sort_unstable();
         assert_eq!(boundary, segs, "case {case} joined {joined:#b}");
-        let face_diagonals = directed
+        let face_diagonals: Vec<(usize, usize)> = directed
             .keys()
-            .filter(|&&(a, b)| a < b && directed.contains_key(&(b, a)) && edges_share_face(a, b))
-            .count();
+            .copied()
+            .filter(|&(a, b)| a < b && directed.contains_key(&(b, a)) && edges_share_face(a, b))
+            .collect();
+        for &(a, b) in &face_diagonals {
+            assert!(
+                face_diagonal_allowed(a, b),
+                "case {case} joined {joined:#b}: {a}-{b}"
+            );
+        }
+        let face_diagonals = face_diagonals.len();
         if face_diagonals > 0 {
             // Only long loops winding around the cell need one (see `triangulate`).
             let longest = loops(case, joined).iter().map(Vec::len).max().unwrap_or(0);
@@ -224,6 +232,29 @@ fn complementary_cases_are_the_same_surface_reversed() {
         theirs.sort_unstable();
         assert_eq!(mine, theirs, "case {case} joined {joined:#b}");
     }
+}
+
+#[test]
+fn neighbours_never_allow_the_same_face_diagonal() {
+    // The cell across face 2a + 1 sees it as its face 2a, its edges shifted by one step
+    // along axis a; whatever pair one side may join, the other may not.
+    let shifted = |e: usize, axis: usize| -> usize {
+        let [a, b] = EDGE_CORNERS[e].map(|c| c | 1 << axis);
+        (0..12).find(|&s| EDGE_CORNERS[s] == [a, b]).unwrap()
+    };
+    let mut pairs = 0;
+    for axis in 0..3 {
+        let lower: Vec<usize> = (0..12).filter(|&e| edge_on_face(e, 2 * axis)).collect();
+        for (i, &a) in lower.iter().enumerate() {
+            for &b in &lower[i + 1..] {
+                let (a2, b2) = (shifted(a, axis), shifted(b, axis));
+                assert!(edge_on_face(a2, 2 * axis + 1) && edge_on_face(b2, 2 * axis + 1));
+                assert_ne!(face_diagonal_allowed(a, b), face_diagonal_allowed(a2, b2));
+                pairs += 1;
+            }
+        }
+    }
+    assert_eq!(pairs, 3 * 6);
 }
 
 #[test]

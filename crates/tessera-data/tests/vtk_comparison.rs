@@ -11,6 +11,7 @@
 //! (`vtkFlyingEdges3D` gives the same areas and counts.) Isovalues sit between the integer
 //! sample values so no vertex lands on a sample and no triangle degenerates.
 
+use std::collections::HashMap;
 use std::path::Path;
 use tessera_data::marching_cubes::{marching_cubes_with, AmbiguityRule};
 use tessera_data::mesh::TriangleMesh;
@@ -56,6 +57,31 @@ fn non_degenerate(mesh: &TriangleMesh) -> usize {
         .count()
 }
 
+/// Asserts `mesh` is a closed manifold, consistently oriented: each edge used once in each
+/// direction, except where the volume's boundary cuts the surface.
+fn assert_closed(name: &str, mesh: &TriangleMesh, dims: [u32; 3]) {
+    let on_boundary = |a: u32, b: u32| {
+        let (p, q) = (mesh.positions[a as usize], mesh.positions[b as usize]);
+        (0..3).any(|i| {
+            let last = (dims[i] - 1) as f32;
+            (p[i] == 0.0 && q[i] == 0.0) || (p[i] == last && q[i] == last)
+        })
+    };
+    let mut directed: HashMap<(u32, u32), u32> = HashMap::new();
+    for &[a, b, c] in &mesh.triangles {
+        for e in [(a, b), (b, c), (c, a)] {
+            *directed.entry(e).or_default() += 1;
+        }
+    }
+    for (&(a, b), &n) in &directed {
+        let back = directed.contains_key(&(b, a));
+        assert!(
+            n == 1 && (back || on_boundary(a, b)),
+            "{name}: edge {a}-{b} used {n} times, reverse {back}"
+        );
+    }
+}
+
 fn compare(volume: &Volume, rows: &[VtkRow]) {
     for &(iso, vtk_area, vtk_tris) in rows {
         let [decider, vtk_rule] = [AmbiguityRule::AsymptoticDecider, AmbiguityRule::Vtk]
@@ -83,6 +109,10 @@ fn compare(volume: &Volume, rows: &[VtkRow]) {
             volume.name()
         );
         // Closed surfaces around tissue face out of it: positive enclosed volume.
+        let name = format!("{} iso {iso}", volume.name());
+        for mesh in [&decider, &vtk_rule] {
+            assert_closed(&name, mesh, volume.dims());
+        }
         assert!(vtk_rule.enclosed_volume() > 0.0 && decider.enclosed_volume() > 0.0);
     }
 }
