@@ -291,7 +291,8 @@ fn triangulate(lp: &[usize]) -> Vec<[usize; 3]> {
 }
 
 /// Cost of a diagonal lying in a cell face that [`face_diagonal_allowed`] forbids: more than
-/// any triangulation's diagonals, so the search only takes one when nothing else exists.
+/// all allowed diagonals of any triangulation together, so the search prefers any
+/// triangulation without one (and generation asserts it always finds one).
 const FORBIDDEN: u32 = 1000;
 
 /// Whether a triangulation diagonal may join edges `a` and `b` of one face. Such a diagonal
