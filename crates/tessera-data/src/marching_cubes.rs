@@ -413,6 +413,7 @@ mod tests {
                 "iso {iso}: {vtk_rule} vs VTK {vtk_area}"
             );
             let decider = f64::from(marching_cubes(&vol, iso).surface_area());
+            println!("iso {iso}: VTK {vtk_area}, VTK rule {vtk_rule}, decider {decider}");
             let joined = iso < 0.5;
             assert_eq!(
                 decider == vtk_rule,
