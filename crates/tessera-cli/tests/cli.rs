@@ -324,6 +324,52 @@ fn extract_writes_ply() {
         .and_then(|n| n.trim().parse().ok())
         .unwrap();
     assert!(faces > 100, "{faces} faces");
+    // The sphere is high inside; its surface must face out, toward lower values, as VTK's
+    // does: outward normals and a positive enclosed volume (divergence theorem).
+    let vertices: usize = header
+        .lines()
+        .find_map(|l| l.strip_prefix("element vertex "))
+        .and_then(|n| n.trim().parse().ok())
+        .unwrap();
+    let body = header.find("end_header\n").unwrap() + "end_header\n".len();
+    let float = |at: usize| f32::from_le_bytes(bytes[at..at + 4].try_into().unwrap());
+    let vertex = |i: usize| -> [[f32; 3]; 2] {
+        let at = body + 24 * i;
+        [
+            [0, 1, 2].map(|k| float(at + 4 * k)),
+            [3, 4, 5].map(|k| float(at + 4 * k)),
+        ]
+    };
+    let centre = (0..vertices).fold([0.0f32; 3], |c, i| {
+        let p = vertex(i)[0];
+        [0, 1, 2].map(|k| c[k] + p[k] / vertices as f32)
+    });
+    let outward = (0..vertices)
+        .filter(|&i| {
+            let [p, n] = vertex(i);
+            (0..3).map(|k| (p[k] - centre[k]) * n[k]).sum::<f32>() > 0.0
+        })
+        .count();
+    assert_eq!(outward, vertices, "normals point out of the sphere");
+    let faces_at = body + 24 * vertices;
+    let volume: f64 = (0..faces)
+        .map(|f| {
+            let at = faces_at + 13 * f;
+            assert_eq!(bytes[at], 3);
+            let [a, b, c] = [0, 1, 2].map(|k| {
+                let i =
+                    u32::from_le_bytes(bytes[at + 1 + 4 * k..at + 5 + 4 * k].try_into().unwrap());
+                vertex(i as usize)[0].map(f64::from)
+            });
+            let cross = [
+                b[1] * c[2] - b[2] * c[1],
+                b[2] * c[0] - b[0] * c[2],
+                b[0] * c[1] - b[1] * c[0],
+            ];
+            (a[0] * cross[0] + a[1] * cross[1] + a[2] * cross[2]) / 6.0
+        })
+        .sum();
+    assert!(volume > 0.0, "enclosed volume {volume}");
 }
 
 #[test]

@@ -8,6 +8,7 @@ pub mod image;
 pub mod input;
 pub mod load;
 pub mod marching_cubes;
+pub mod mc_ambiguity;
 pub mod mc_tables;
 pub mod mesh;
 pub mod minmax;

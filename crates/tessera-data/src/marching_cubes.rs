@@ -1,16 +1,19 @@
 //! CPU reference marching cubes. GPU extraction is tested against this, so it favours
 //! clarity and exact reproducibility over speed; the case tables and every convention
-//! (corners, edges, case bits, orientation) are those of [`crate::mc_tables`].
+//! (corners, edges, case bits, orientation) are those of [`crate::mc_tables`], and
+//! ambiguous faces are cut by an [`AmbiguityRule`] (the asymptotic decider by default).
 //!
 //! Output is in grid coordinates: sample `(x, y, z)` sits at position `(x, y, z)`, with
 //! no spacing or origin applied. Each crossed grid edge yields exactly one vertex shared
 //! by all cells around it, placed at `t = (iso - a) / (b - a)` from the edge's
 //! lower-coordinate sample `a` toward `b`. Normals are the central-difference gradient
-//! (one-sided at the border) interpolated with the same `t`, so they point from below-iso
-//! toward above-iso values, the same way the triangles face.
+//! (one-sided at the border) interpolated with the same `t` and negated, so they point from
+//! above-iso toward below-iso values, the same way the triangles face (VTK's convention:
+//! out of the tissue of a scan).
 
 use glam::Vec3;
 
+pub use crate::mc_ambiguity::AmbiguityRule;
 use crate::mc_tables::{mc_tables, CORNER_OFFSETS, EDGE_AXIS, EDGE_CORNERS};
 use crate::mesh::TriangleMesh;
 use crate::volume::Volume;
@@ -26,30 +29,41 @@ pub fn classify_cell(volume: &Volume, x: u32, y: u32, z: u32, iso: f32) -> u8 {
         x + 1 < nx && y + 1 < ny && z + 1 < nz,
         "cell ({x}, {y}, {z}) outside {nx}x{ny}x{nz}"
     );
-    CORNER_OFFSETS.iter().enumerate().fold(0, |case, (i, o)| {
-        let v = volume.texel(
+    case_of(&cell_values(volume, x, y, z), iso)
+}
+
+/// The values at the eight corners of the cell whose minimum corner is sample `(x, y, z)`.
+fn cell_values(volume: &Volume, x: u32, y: u32, z: u32) -> [f32; 8] {
+    CORNER_OFFSETS.map(|o| {
+        volume.texel(
             x + u32::from(o[0]),
             y + u32::from(o[1]),
             z + u32::from(o[2]),
-        );
-        if v < iso {
-            case | 1 << i
-        } else {
-            case
-        }
+        )
     })
+}
+
+fn case_of(values: &[f32; 8], iso: f32) -> u8 {
+    (0..8).fold(0, |case, c| case | u8::from(values[c] < iso) << c)
 }
 
 /// Number of triangles [`marching_cubes`] would produce, without building the mesh.
 pub fn count_triangles(volume: &Volume, iso: f32) -> u64 {
+    count_triangles_with(volume, iso, AmbiguityRule::default())
+}
+
+/// Number of triangles [`marching_cubes_with`] would produce with `rule`.
+pub fn count_triangles_with(volume: &Volume, iso: f32, rule: AmbiguityRule) -> u64 {
     let [nx, ny, nz] = volume.dims();
     let tables = mc_tables();
     let mut total = 0;
     for z in 0..nz.saturating_sub(1) {
         for y in 0..ny.saturating_sub(1) {
             for x in 0..nx.saturating_sub(1) {
-                total +=
-                    u64::from(tables.tri_count[usize::from(classify_cell(volume, x, y, z, iso))]);
+                let values = cell_values(volume, x, y, z);
+                let case = case_of(&values, iso);
+                let row = tables.row(case, rule.joined_faces(case, &values, iso));
+                total += u64::from(tables.tri_count[row]);
             }
         }
     }
@@ -57,9 +71,15 @@ pub fn count_triangles(volume: &Volume, iso: f32) -> u64 {
 }
 
 /// Extracts the `iso` level set of `volume` as an indexed, watertight mesh (see the
-/// module docs). A volume with fewer than two samples along any axis has no cells and
-/// gives an empty mesh, as does an iso value that no edge crosses.
+/// module docs), ambiguous faces cut by the asymptotic decider. A volume with fewer than
+/// two samples along any axis has no cells and gives an empty mesh, as does an iso value
+/// that no edge crosses.
 pub fn marching_cubes(volume: &Volume, iso: f32) -> TriangleMesh {
+    marching_cubes_with(volume, iso, AmbiguityRule::default())
+}
+
+/// [`marching_cubes`] with ambiguous faces cut by `rule`.
+pub fn marching_cubes_with(volume: &Volume, iso: f32, rule: AmbiguityRule) -> TriangleMesh {
     let mut mesh = TriangleMesh::default();
     let [nx, ny, nz] = volume.dims();
     if nx < 2 || ny < 2 || nz < 2 {
@@ -86,14 +106,16 @@ pub fn marching_cubes(volume: &Volume, iso: f32) -> TriangleMesh {
                     let (px, py) = (x as usize + o[0], y as usize + o[1]);
                     (o[2], px + w * py, vals[o[2]][px + w * py])
                 };
-                let case = (0..8).fold(0usize, |m, c| m | usize::from(corner(c).2 < iso) << c);
-                let n = usize::from(tables.tri_count[case]);
-                if n == 0 {
+                let values: [f32; 8] = std::array::from_fn(|c| corner(c).2);
+                let case = case_of(&values, iso);
+                let mask = tables.edge_mask[usize::from(case)];
+                if mask == 0 {
                     continue;
                 }
+                let row = tables.row(case, rule.joined_faces(case, &values, iso));
                 let mut edge_ids = [NO_VERTEX; 12];
                 for (e, id) in edge_ids.iter_mut().enumerate() {
-                    if tables.edge_mask[case] & (1 << e) == 0 {
+                    if mask & (1 << e) == 0 {
                         continue;
                     }
                     let [a, b] = EDGE_CORNERS[e].map(usize::from);
@@ -107,11 +129,8 @@ pub fn marching_cubes(volume: &Volume, iso: f32) -> TriangleMesh {
                     }
                     *id = *slot;
                 }
-                let tris = &tables.tris[case][..3 * n];
-                mesh.triangles.extend(
-                    tris.chunks_exact(3)
-                        .map(|t| [t[0], t[1], t[2]].map(|e| edge_ids[e as usize])),
-                );
+                mesh.triangles
+                    .extend(tables.row_triangles(row).map(|t| t.map(|e| edge_ids[e])));
             }
         }
         // The upper plane becomes the lower one; its vertex ids carry over.
@@ -143,9 +162,9 @@ fn push_vertex(
     let p0 = Vec3::from_array(start.map(|v| v as f32));
     let g = gradient(volume, start).lerp(gradient(volume, end), t);
     // A flat or NaN gradient still needs a usable normal; the edge direction from its
-    // below end to its above end points the right way by construction.
-    let fallback = if a < iso { dir } else { -dir };
-    let normal = g.try_normalize().unwrap_or(fallback);
+    // above end to its below end points the right way by construction.
+    let fallback = if a < iso { -dir } else { dir };
+    let normal = (-g).try_normalize().unwrap_or(fallback);
     let index = u32::try_from(mesh.positions.len()).expect("more than 2^32 vertices");
     mesh.positions.push(p0 + dir * t);
     mesh.normals.push(normal);
@@ -216,17 +235,24 @@ mod tests {
     }
 
     #[test]
-    fn sphere_is_a_closed_outward_facing_sphere() {
-        let (c, r) = (Vec3::new(15.3, 15.6, 15.45), 10.0);
-        let vol = field([32; 3], |p| p.distance(c));
-        let m = marching_cubes(&vol, r);
-        assert_eq!(m.triangle_count() as u64, count_triangles(&vol, r));
+    fn ball_is_a_closed_outward_facing_sphere() {
+        // High inside, like tissue in a scan: the surface faces out, toward lower values.
+        let (c, r, peak) = (Vec3::new(15.3, 15.6, 15.45), 10.0, 20.0);
+        let vol = field([32; 3], |p| peak - p.distance(c));
+        let m = marching_cubes(&vol, peak - r);
+        assert_eq!(m.triangle_count() as u64, count_triangles(&vol, peak - r));
         let edges = assert_watertight(&m, |_, _| false);
         let euler = m.vertex_count() as i64 - edges as i64 + m.triangle_count() as i64;
         assert_eq!(euler, 2);
         let area = f64::from(m.surface_area());
         let exact = 4.0 * std::f64::consts::PI * f64::from(r * r);
         assert!((area / exact - 1.0).abs() < 0.03, "area {area} vs {exact}");
+        let enclosed = m.enclosed_volume();
+        let ball = 4.0 / 3.0 * std::f64::consts::PI * f64::from(r * r * r);
+        assert!(
+            (enclosed / ball - 1.0).abs() < 0.03,
+            "volume {enclosed} vs {ball}"
+        );
         for (p, n) in m.positions.iter().zip(&m.normals) {
             assert!(
                 (p.distance(c) - r).abs() < 0.02,
@@ -258,7 +284,7 @@ mod tests {
         assert_eq!(count_triangles(&vol, 2.25), 24);
         assert_eq!(m.vertex_count(), 5 * 4);
         assert!(m.positions.iter().all(|p| p.x == 2.25));
-        assert!(m.normals.iter().all(|&n| n == Vec3::X));
+        assert!(m.normals.iter().all(|&n| n == -Vec3::X), "toward lower x");
         assert!((m.surface_area() - 12.0).abs() < 1e-5);
         // Integer data is thresholded in texel space (the raw u8 value), like the GPU sees it.
         let bytes = (0..6 * 5 * 4).map(|i| (i % 6) as u8 * 50).collect();
@@ -269,8 +295,8 @@ mod tests {
         for &t in &m.triangles {
             let [a, b, c] = t.map(|i| m.positions[i as usize]);
             assert!(
-                (b - a).cross(c - a).x > 0.0,
-                "triangle faces up the gradient"
+                (b - a).cross(c - a).x < 0.0,
+                "triangle faces down the gradient"
             );
         }
     }
@@ -295,8 +321,8 @@ mod tests {
             assert_eq!((m.triangle_count(), m.vertex_count()), (1, 3));
             let [a, b, c] = m.triangles[0].map(|i| m.positions[i as usize]);
             assert!(
-                (b - a).cross(c - a).dot(a - o) > 0.0,
-                "faces away from the low corner"
+                (b - a).cross(c - a).dot(a - o) < 0.0,
+                "faces the low corner"
             );
         }
         let flat = field([2, 3, 2], |_| 0.0);
@@ -323,11 +349,15 @@ mod tests {
         // Noise hits every case, ambiguous faces included; cells on either side of a
         // face must cut it the same way for each interior edge to close up.
         let dims = [16; 3];
-        for seed in 1..4 {
+        for (seed, rule) in (1..4).flat_map(|s| RULES.map(|r| (s, r))) {
             let vol =
                 Volume::new("noise", dims, [1.0; 3], Samples::F32(noise(dims, seed))).unwrap();
-            let m = marching_cubes(&vol, 0.5);
+            let m = marching_cubes_with(&vol, 0.5, rule);
             assert!(m.triangle_count() > 1000);
+            assert_eq!(
+                m.triangle_count() as u64,
+                count_triangles_with(&vol, 0.5, rule)
+            );
             let on_border = |p: Vec3, q: Vec3| {
                 (0..3).any(|i| (p[i] == 0.0 && q[i] == 0.0) || (p[i] == 15.0 && q[i] == 15.0))
             };
@@ -350,8 +380,46 @@ mod tests {
             }
         }
         let vol = Volume::new("noise", dims, [1.0; 3], Samples::F32(v)).unwrap();
-        let m = marching_cubes(&vol, 0.5);
-        assert_watertight(&m, |_, _| false);
-        assert!(m.normals.iter().all(|n| (n.length() - 1.0).abs() < 1e-5));
+        for rule in RULES {
+            let m = marching_cubes_with(&vol, 0.5, rule);
+            assert_watertight(&m, |_, _| false);
+            assert!(m.normals.iter().all(|n| (n.length() - 1.0).abs() < 1e-5));
+            // Closed around the low pockets inside the high border and facing into them,
+            // toward lower values: the enclosed volume is negative.
+            assert!(m.enclosed_volume() < 0.0, "{rule:?}");
+        }
+    }
+
+    const RULES: [AmbiguityRule; 2] = [AmbiguityRule::AsymptoticDecider, AmbiguityRule::Vtk];
+
+    /// One cell with 1 at two diagonal corners of the face z = 0 and 0 elsewhere.
+    fn face_diagonal_cell() -> Volume {
+        field([2; 3], |p| f32::from(p.z == 0.0 && p.x == p.y))
+    }
+
+    #[test]
+    fn face_diagonal_cell_matches_vtk_with_its_rule() {
+        // Areas from vtkMarchingCubes (VTK 9.7.2) on the same 2×2×2 float32 volume:
+        // scripts/vtk-marching-cubes.py --diagonal-cell. VTK separates the two high
+        // corners at every iso; the decider joins them while the face's saddle value (0.5)
+        // is above iso.
+        const VTK_AREA: [(f32, f64); 2] = [(0.2, 1.108513), (0.8, 0.06928203)];
+        let vol = face_diagonal_cell();
+        for (iso, vtk_area) in VTK_AREA {
+            let vtk_rule =
+                f64::from(marching_cubes_with(&vol, iso, AmbiguityRule::Vtk).surface_area());
+            assert!(
+                (vtk_rule / vtk_area - 1.0).abs() < 1e-4,
+                "iso {iso}: {vtk_rule} vs VTK {vtk_area}"
+            );
+            let decider = f64::from(marching_cubes(&vol, iso).surface_area());
+            println!("iso {iso}: VTK {vtk_area}, VTK rule {vtk_rule}, decider {decider}");
+            let joined = iso < 0.5;
+            assert_eq!(
+                decider == vtk_rule,
+                !joined,
+                "iso {iso}: decider {decider}, VTK rule {vtk_rule}"
+            );
+        }
     }
 }

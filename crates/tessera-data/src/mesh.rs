@@ -7,6 +7,8 @@ use glam::Vec3;
 
 /// An indexed triangle mesh. Triangles are counter-clockwise seen from the side their
 /// normal points to; `normals` is per vertex and either empty or as long as `positions`.
+/// Isosurfaces face toward lower values, as VTK's do, so a closed surface around high
+/// values faces outward and encloses a positive volume.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct TriangleMesh {
     pub positions: Vec<Vec3>,
@@ -35,18 +37,39 @@ impl TriangleMesh {
         t.map(|i| self.positions[i as usize])
     }
 
-    /// Total triangle area. Summed in `f64` because meshes with millions of tiny
-    /// triangles lose several digits when accumulated in `f32`.
+    /// Total triangle area in the units of the positions (grid units for marching cubes).
     pub fn surface_area(&self) -> f32 {
+        self.surface_area_with_spacing([1.0; 3])
+    }
+
+    /// Total triangle area after scaling positions by `spacing` per axis: the physical area
+    /// of a mesh in grid coordinates, given the volume's sample spacing. The scale is
+    /// applied to the edge vectors before the cross product, since a non-uniform spacing
+    /// changes each triangle's area by a different factor. Summed in `f64` because meshes
+    /// with millions of tiny triangles lose several digits when accumulated in `f32`.
+    pub fn surface_area_with_spacing(&self, spacing: [f32; 3]) -> f32 {
+        let scale = Vec3::from_array(spacing).as_dvec3();
         let sum: f64 = self
             .triangles
             .iter()
             .map(|t| {
-                let [a, b, c] = self.corners(t);
-                f64::from((b - a).cross(c - a).length()) * 0.5
+                let [a, b, c] = self.corners(t).map(|p| p.as_dvec3() * scale);
+                (b - a).cross(c - a).length() * 0.5
             })
             .sum();
         sum as f32
+    }
+
+    /// Signed volume enclosed by the mesh (divergence theorem), in cubed position units:
+    /// positive when a closed mesh faces outward. Meaningful for closed meshes only.
+    pub fn enclosed_volume(&self) -> f64 {
+        self.triangles
+            .iter()
+            .map(|t| {
+                let [a, b, c] = self.corners(t).map(|p| p.as_dvec3());
+                a.dot(b.cross(c)) / 6.0
+            })
+            .sum()
     }
 
     /// Axis-aligned `(min, max)` of all vertex positions, `None` without vertices.
@@ -148,10 +171,41 @@ mod tests {
         assert_eq!((m.vertex_count(), m.triangle_count()), (4, 2));
         assert!(!m.is_empty());
         assert!((m.surface_area() - 2.0).abs() < 1e-6);
+        // The quad lies in z = 0 and spans 2 × 1: spacing along z does not matter.
+        assert!((m.surface_area_with_spacing([0.5, 3.0, 7.0]) - 3.0).abs() < 1e-6);
         assert_eq!(m.bounds(), Some((Vec3::ZERO, Vec3::new(2.0, 1.0, 0.0))));
         let empty = TriangleMesh::default();
         assert!(empty.is_empty());
         assert_eq!((empty.bounds(), empty.surface_area()), (None, 0.0));
+    }
+
+    #[test]
+    fn area_with_spacing_scales_each_axis_before_the_cross_product() {
+        // A right triangle in the xz plane with legs 1 (x) and 1 (z): spacing (2, 5, 3)
+        // makes the legs 2 and 3, area 3; scaling the unit-spacing area by any single
+        // factor would not give that.
+        let m = TriangleMesh {
+            positions: vec![Vec3::ZERO, Vec3::X, Vec3::Z],
+            normals: Vec::new(),
+            triangles: vec![[0, 1, 2]],
+        };
+        assert!((m.surface_area() - 0.5).abs() < 1e-6);
+        assert!((m.surface_area_with_spacing([2.0, 5.0, 3.0]) - 3.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn enclosed_volume_is_signed_by_orientation() {
+        // A unit tetrahedron, faces counter-clockwise seen from outside.
+        let mut m = TriangleMesh {
+            positions: vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z],
+            normals: Vec::new(),
+            triangles: vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]],
+        };
+        assert!((m.enclosed_volume() - 1.0 / 6.0).abs() < 1e-12);
+        for t in &mut m.triangles {
+            t.swap(1, 2);
+        }
+        assert!((m.enclosed_volume() + 1.0 / 6.0).abs() < 1e-12);
     }
 
     #[test]

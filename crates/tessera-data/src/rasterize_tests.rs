@@ -450,3 +450,30 @@ fn shade_fragment_rules() {
         pack_rgba8([fallback.x, fallback.y, fallback.z, 1.0])
     );
 }
+
+#[test]
+fn flipping_a_surface_leaves_its_image_unchanged() {
+    // Shading is two-sided (gooch turns the normal toward the viewer) and nothing is culled,
+    // so the orientation convention of marching cubes cannot change a rendered pixel: the
+    // mesh with every triangle reversed and every normal negated draws the same image.
+    let cam = OrbitCamera::default();
+    let dims = [40; 3];
+    let f = GridFrame::new(dims, [1.0, 1.2, 0.9]);
+    let vol = sphere_field(
+        dims,
+        [1.0, 1.2, 0.9],
+        f.centre() + Vec3::new(0.4, -0.3, 0.2),
+    );
+    let mesh = marching_cubes(&vol, 14.0);
+    let flipped = TriangleMesh {
+        positions: mesh.positions.clone(),
+        normals: mesh.normals.iter().map(|&n| -n).collect(),
+        triangles: mesh.triangles.iter().map(|&[a, b, c]| [a, c, b]).collect(),
+    };
+    let (a, b) = (
+        rasterize_mesh(&mesh, &f, &cam, W, H),
+        rasterize_mesh(&flipped, &f, &cam, W, H),
+    );
+    assert!(a.coverage.iter().filter(|&&c| c).count() > 1000);
+    assert_eq!(a.image.pixels, b.image.pixels);
+}

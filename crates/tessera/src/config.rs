@@ -3,6 +3,7 @@
 //! between the two languages.
 
 use crate::iso::direct;
+use tessera_data::mc_ambiguity::AmbiguityRule;
 use tessera_data::minmax::BLOCK_CELLS;
 use tessera_data::raycast::{REFINEMENTS, STEP};
 use tessera_data::shading;
@@ -68,6 +69,23 @@ pub fn volume_defines(scalar: ScalarType) -> Vec<(String, String)> {
     };
     let mut d = common_defines();
     d.push(("VOLUME_SAMPLER".into(), sampler.into()));
+    d
+}
+
+/// Defines for shaders that run marching cubes (`common/mc_cell.glsl`) on a volume of
+/// `scalar` samples, cutting ambiguous faces by `rule`.
+///
+/// The rule is a define rather than a push constant: it is fixed for a pipeline's lifetime
+/// (a renderer is built for one rule), the VTK rule then compiles to no saddle arithmetic
+/// at all, and the direct path's push-constant block already fills the 128 bytes Vulkan
+/// guarantees.
+pub fn marching_cubes_defines(scalar: ScalarType, rule: AmbiguityRule) -> Vec<(String, String)> {
+    let mut d = volume_defines(scalar);
+    let decider = rule == AmbiguityRule::AsymptoticDecider;
+    d.push((
+        "MC_ASYMPTOTIC_DECIDER".into(),
+        u32::from(decider).to_string(),
+    ));
     d
 }
 

@@ -144,48 +144,84 @@ pub fn compiler() -> ShaderCompiler {
 /// The marching-cubes tables as GLSL constants, generated from `tessera_data::mc_tables` so
 /// the CPU reference and the shaders share one definition (conventions documented there).
 ///
-/// `MC_TRIS[case]` packs the case's edge ids as nibbles: entries 0–7 in `.x`, entries 8–14 in
-/// `.y` nibbles 0–6, and the triangle count in `.y` nibble 7. `MC_EDGE_MASK[case]` has bit `e`
-/// set for each crossing edge; `MC_EDGE_CORNERS` packs each edge's start and end corner.
+/// `MC_CASES[case]` holds the case's first row (bits 0–15) and its ambiguous faces (bits
+/// 16–21). `MC_ROWS[row]` packs the row's edge ids as nibbles, entries 0–7 in `.x`, 8–15 in
+/// `.y` and so on, and the triangle count in the last nibble of `.w`. `MC_EDGE_MASK[case]`
+/// has bit `e` set for each crossing edge; `MC_EDGE_CORNERS` packs each edge's start and end
+/// corner, `MC_FACE_CORNERS` each face's four corners (a nibble each, in the face's order).
 pub fn mc_tables_glsl() -> String {
     use std::fmt::Write;
+    const ROW_NIBBLES: usize = 32;
+    const _: () = assert!(
+        3 * mc_tables::MAX_TRIANGLES < ROW_NIBBLES,
+        "a row's edge ids and its count fit a uvec4"
+    );
     let t = mc_tables::mc_tables();
     let mut out = String::from("// Generated from tessera_data::mc_tables at run time.\n");
-    let _ = write!(out, "const uint MC_EDGE_MASK[256] = uint[](");
-    let masks: Vec<String> = t.edge_mask.iter().map(|m| format!("{m}u")).collect();
-    let _ = writeln!(out, "{});", masks.join(","));
-    let tris: Vec<String> = (0..256)
-        .map(|case| {
-            let mut words = [0u32; 2];
-            for i in 0..15 {
-                let e = t.tris[case][i];
+    let list = |items: Vec<String>| items.join(",");
+    let masks = t.edge_mask.iter().map(|m| format!("{m}u")).collect();
+    let _ = writeln!(
+        out,
+        "const uint MC_EDGE_MASK[256] = uint[]({});",
+        list(masks)
+    );
+    let cases = (0..256)
+        .map(|c| {
+            format!(
+                "{}u",
+                u32::from(t.first_row[c]) | u32::from(t.ambiguous_faces[c]) << 16
+            )
+        })
+        .collect();
+    let _ = writeln!(out, "const uint MC_CASES[256] = uint[]({});", list(cases));
+    let rows = (0..t.row_count())
+        .map(|row| {
+            let mut words = [0u32; 4];
+            for (i, &e) in t.tris[row].iter().enumerate() {
                 let nibble = if e < 0 { 0xF } else { e as u32 };
                 words[i / 8] |= nibble << ((i % 8) * 4);
             }
-            words[1] |= u32::from(t.tri_count[case]) << 28;
-            format!("uvec2({}u,{}u)", words[0], words[1])
+            words[3] |= u32::from(t.tri_count[row]) << 28;
+            format!(
+                "uvec4({}u,{}u,{}u,{}u)",
+                words[0], words[1], words[2], words[3]
+            )
         })
         .collect();
     let _ = writeln!(
         out,
-        "const uvec2 MC_TRIS[256] = uvec2[]({});",
-        tris.join(",")
+        "const uvec4 MC_ROWS[{}] = uvec4[]({});",
+        t.row_count(),
+        list(rows)
     );
-    let corners: Vec<String> = mc_tables::EDGE_CORNERS
+    let corners = mc_tables::EDGE_CORNERS
         .iter()
         .map(|[a, b]| format!("{}u", u32::from(*a) | (u32::from(*b) << 4)))
         .collect();
     let _ = writeln!(
         out,
         "const uint MC_EDGE_CORNERS[12] = uint[]({});",
-        corners.join(",")
+        list(corners)
+    );
+    let faces = mc_tables::FACE_CORNERS
+        .iter()
+        .map(|c| {
+            format!(
+                "{}u",
+                (0..4).fold(0u32, |w, j| w | u32::from(c[j]) << (4 * j))
+            )
+        })
+        .collect();
+    let _ = writeln!(
+        out,
+        "const uint MC_FACE_CORNERS[6] = uint[]({});",
+        list(faces)
     );
     out.push_str(
-        "uint mc_tri_count(uint case_index) { return MC_TRIS[case_index].y >> 28; }\n\
-         uint mc_tri_edge(uint case_index, uint i) {\n\
-         \x20   uvec2 row = MC_TRIS[case_index];\n\
-         \x20   return ((i < 8u ? row.x : row.y) >> ((i & 7u) * 4u)) & 15u;\n\
-         }\n\
+        "uint mc_tri_count(uint row) { return MC_ROWS[row].w >> 28; }\n\
+         uint mc_tri_edge(uint row, uint i) { return (MC_ROWS[row][i >> 3] >> ((i & 7u) * 4u)) & 15u; }\n\
+         uint mc_first_row(uint case_index) { return MC_CASES[case_index] & 0xffffu; }\n\
+         uint mc_ambiguous_faces(uint case_index) { return MC_CASES[case_index] >> 16; }\n\
          uvec3 mc_corner_offset(uint corner) { return uvec3(corner & 1u, (corner >> 1) & 1u, corner >> 2); }\n",
     );
     out

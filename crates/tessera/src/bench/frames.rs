@@ -173,6 +173,8 @@ pub(super) fn time_mono_total(
 pub(super) enum Pair<'a> {
     /// In one pass by a renderer whose `prepare_stereo` said so (multiview, re-projection).
     OnePass(&'a mut dyn Renderer),
+    /// As two frames by one renderer that carries no state between frames (ray marching).
+    OneRendererTwoFrames(&'a mut dyn Renderer),
     /// As two frames, each eye by its own renderer (its own culling state).
     TwoFrames([&'a mut dyn Renderer; 2]),
 }
@@ -187,6 +189,8 @@ impl TimedFrame for StereoFrames<'_, '_> {
     fn record(&mut self, _frame: u32, rec: &Recorder, timer: &mut Timer) -> Result<()> {
         match &mut self.pair {
             Pair::OnePass(r) => r.record_stereo(rec, self.eyes, self.targets, timer),
+            Pair::OneRendererTwoFrames(r) => (0..2)
+                .try_for_each(|e| r.record(rec, &self.eyes[e], self.targets[e], timer)),
             Pair::TwoFrames(rs) => {
                 (0..2).try_for_each(|e| rs[e].record(rec, &self.eyes[e], self.targets[e], timer))
             }
@@ -195,7 +199,7 @@ impl TimedFrame for StereoFrames<'_, '_> {
 
     fn finish(&mut self, gpu: &Gpu) -> Result<()> {
         let renderers: Vec<&mut dyn Renderer> = match &mut self.pair {
-            Pair::OnePass(r) => vec![&mut **r],
+            Pair::OnePass(r) | Pair::OneRendererTwoFrames(r) => vec![&mut **r],
             Pair::TwoFrames([a, b]) => vec![&mut **a, &mut **b],
         };
         for r in renderers {
@@ -225,6 +229,10 @@ pub(super) fn time_stereo(
             let mut right = crate::renderer::Frame::new(gpu, (w, h))?;
             crate::renderer::render_stereo(gpu, &mut **r, eyes, &mut left, &mut right)?;
             r.prepare_stereo(gpu, eyes)?;
+        }
+        Pair::OneRendererTwoFrames(r) => {
+            settle_frames(gpu, &mut **r, &eyes[0], 1, None)?;
+            r.prepare_frame(gpu, &eyes[0])?;
         }
         Pair::TwoFrames(rs) => {
             for (r, eye) in rs.iter_mut().zip(eyes) {

@@ -12,7 +12,7 @@ use tessera_data::{IsoValue, OrbitCamera, View};
 use tessera_gpu::Gpu;
 
 /// Two eyes against one: how much a stereo pair costs over a single view (paper D §4.1.3).
-/// Ray marching traces both eyes; the mesh path with occlusion culling draws the eyes one
+/// Ray marching traces both eyes with one renderer; the mesh path with occlusion culling draws the eyes one
 /// after the other, each with its own culling state; without culling it draws both in one
 /// multiview pass where the device can; the compute path extracts once and re-projects for
 /// the second eye.
@@ -64,8 +64,9 @@ pub fn stereo(
                 // Without multiview the unculled mesh path adds nothing to the culled one.
                 continue;
             } else {
-                let mut second = iso_renderer(gpu, t, &data, &look, config)?;
-                let pair = Pair::TwoFrames([r.as_mut(), second.as_mut()]);
+                // Ray marching keeps nothing between frames: one renderer (and one copy of
+                // the volume) draws both eyes.
+                let pair = Pair::OneRendererTwoFrames(r.as_mut());
                 (t.name, time_stereo(gpu, pair, &eyes, plan, "stereo")?)
             };
             emit(

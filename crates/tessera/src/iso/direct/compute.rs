@@ -4,7 +4,7 @@
 //! same compute shader).
 
 use crate::builtin_shader;
-use crate::config::volume_defines;
+use crate::config::{marching_cubes_defines, volume_defines};
 use crate::error::{Error, Result};
 use crate::iso::direct::compute_cull::ComputeCullPipelines;
 use crate::iso::direct::{Direct, DirectParams};
@@ -13,6 +13,7 @@ use crate::iso::PreparedVolume;
 use crate::raster::{ComputeRasterizer, RasterFrame, TRIANGLE_BYTES};
 use crate::target::Target;
 use bytemuck::{Pod, Zeroable};
+use tessera_data::mc_ambiguity::AmbiguityRule;
 use tessera_data::{OrbitCamera, RgbaImage, ScalarType};
 use tessera_gpu::{
     vk, Binding, Buffer, Gpu, MemoryLocation, Pipeline, Recorder, ShaderCompiler, Slot, Timer,
@@ -84,10 +85,21 @@ pub struct DirectExtract {
 }
 
 impl DirectExtract {
+    /// Extraction with ambiguous faces cut by the asymptotic decider.
     pub fn new(gpu: &Gpu, compiler: &ShaderCompiler, scalar: ScalarType) -> Result<DirectExtract> {
+        Self::with_rule(gpu, compiler, scalar, AmbiguityRule::default())
+    }
+
+    /// Extraction with ambiguous faces cut by `rule`.
+    pub fn with_rule(
+        gpu: &Gpu,
+        compiler: &ShaderCompiler,
+        scalar: ScalarType,
+        rule: AmbiguityRule,
+    ) -> Result<DirectExtract> {
         let spirv = compiler.compile(
             &builtin_shader!("extract.comp.glsl"),
-            &volume_defines(scalar),
+            &marching_cubes_defines(scalar, rule),
         )?;
         let extract = gpu.compute_pipeline(
             "direct extract",
@@ -208,7 +220,18 @@ pub struct ReprojectParams {
 }
 
 impl DirectCompute {
+    /// The compute path with ambiguous faces cut by the asymptotic decider.
     pub fn new(gpu: &Gpu, compiler: &ShaderCompiler, scalar: ScalarType) -> Result<DirectCompute> {
+        Self::with_rule(gpu, compiler, scalar, AmbiguityRule::default())
+    }
+
+    /// The compute path with ambiguous faces cut by `rule`.
+    pub fn with_rule(
+        gpu: &Gpu,
+        compiler: &ShaderCompiler,
+        scalar: ScalarType,
+        rule: AmbiguityRule,
+    ) -> Result<DirectCompute> {
         let rasterizer = ComputeRasterizer::new(gpu, compiler)?;
         let defines = volume_defines(scalar);
         let resolve = compiler.compile(&builtin_shader!("resolve.comp.glsl"), &defines)?;
@@ -218,9 +241,9 @@ impl DirectCompute {
         let reproject =
             gpu.compute_pipeline("direct reproject", &reproject, &[Slot::StorageBuffer; 4])?;
         Ok(DirectCompute {
-            extract: DirectExtract::new(gpu, compiler, scalar)?,
+            extract: DirectExtract::with_rule(gpu, compiler, scalar, rule)?,
             rasterizer,
-            cull: ComputeCullPipelines::new(gpu, compiler, scalar)?,
+            cull: ComputeCullPipelines::new(gpu, compiler, scalar, rule)?,
             resolve,
             reproject,
             builder: MinMaxBuilder::new(gpu, compiler, scalar)?,

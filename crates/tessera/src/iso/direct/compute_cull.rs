@@ -32,13 +32,14 @@
 //! [`ComputeCullState`]; the state's statistics say what each pass drew.
 
 use crate::builtin_shader;
-use crate::config::volume_defines;
+use crate::config::marching_cubes_defines;
 use crate::error::Result;
 use crate::iso::direct::block_list;
 use crate::iso::direct::compute::{ComputeTarget, TriangleLists};
 use crate::iso::PreparedVolume;
 use bytemuck::{Pod, Zeroable};
 use std::cell::Cell;
+use tessera_data::mc_ambiguity::AmbiguityRule;
 use tessera_data::ScalarType;
 use tessera_gpu::{vk, Buffer, Gpu, MemoryLocation, Pipeline, ShaderCompiler, Slot};
 
@@ -88,8 +89,9 @@ impl ComputeCullPipelines {
         gpu: &Gpu,
         compiler: &ShaderCompiler,
         scalar: ScalarType,
+        rule: AmbiguityRule,
     ) -> Result<ComputeCullPipelines> {
-        let defines = volume_defines(scalar);
+        let defines = marching_cubes_defines(scalar, rule);
         let with = |name: &str| {
             let mut d = defines.clone();
             d.push((name.into(), "1".into()));

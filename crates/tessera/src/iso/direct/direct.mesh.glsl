@@ -36,6 +36,7 @@ void main() {
     float iso = params.isovalue;
 
     uint case_index = 0u;
+    uint row = 0u;  // case 0's row: no triangles
     uvec3 cell = uvec3(0u);
     if (me < cell_count) {
         uint i = (list & 0xffffu) + me;
@@ -43,9 +44,10 @@ void main() {
         uvec3 local = uvec3(id % BLOCK_X, (id / BLOCK_X) % BLOCK_Y, id / (BLOCK_X * BLOCK_Y));
         cell = payload.block * uvec3(BLOCK_X, BLOCK_Y, BLOCK_Z) + local;
         case_index = mc_cell_case(volume_tex, cell, iso);
+        row = mc_cell_row(volume_tex, cell, case_index, iso);
     }
     uint edges = MC_EDGE_MASK[case_index];
-    uint triangles = mc_tri_count(case_index);
+    uint triangles = mc_tri_count(row);
     vertex_offsets[me + 1u] = bitCount(edges);
     triangle_offsets[me + 1u] = triangles;
     barrier();
@@ -80,7 +82,7 @@ void main() {
     for (uint k = 0u; k < triangles; ++k) {
         uvec3 tri;
         for (uint j = 0u; j < 3u; ++j) {
-            uint e = mc_tri_edge(case_index, 3u * k + j);
+            uint e = mc_tri_edge(row, 3u * k + j);
             tri[j] = v0 + bitCount(edges & ((1u << e) - 1u));
         }
         gl_PrimitiveTriangleIndicesEXT[t0 + k] = tri;
@@ -95,7 +97,7 @@ void main() {
             for (uint j = 0u; j < 3u; ++j) {
                 vec3 p;
                 vec3 n;
-                mc_edge_vertex(volume_tex, cell, mc_tri_edge(case_index, 3u * k + j), iso, dims, p, n);
+                mc_edge_vertex(volume_tex, cell, mc_tri_edge(row, 3u * k + j), iso, dims, p, n);
                 capture_xyz[slot * 9u + 3u * j + 0u] = p.x;
                 capture_xyz[slot * 9u + 3u * j + 1u] = p.y;
                 capture_xyz[slot * 9u + 3u * j + 2u] = p.z;

@@ -54,7 +54,9 @@ void main() {
         uint count = 0u;
         if (all(lessThan(cell, dims - 1u))) {
             uint c = mc_cell_case(volume_tex, cell, iso);
-            count = mc_tri_count(c) > 0u ? bitCount(MC_EDGE_MASK[c]) : 0u;
+            // Vertices are per crossing edge whatever the ambiguous faces decide; the
+            // triangles (at most vertices - 2 per cell) then fit DIRECT_MAX_TRIANGLES.
+            count = bitCount(MC_EDGE_MASK[c]);
         }
         vertex_counts[id] = count;
         occupied += uint(count > 0u);

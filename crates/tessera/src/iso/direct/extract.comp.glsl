@@ -58,14 +58,18 @@ void main() {
         return;  // uniform across the workgroup
     }
 
-    uint cases[PER_THREAD];
+    uint rows[PER_THREAD];  // table rows (case and ambiguous-face choices)
     uint total = 0u;
     for (uint k = 0u; k < PER_THREAD; ++k) {
         uint id = me * PER_THREAD + k;
         uvec3 local = uvec3(id % BLOCK_X, (id / BLOCK_X) % BLOCK_Y, id / (BLOCK_X * BLOCK_Y));
         uvec3 cell = block * uvec3(BLOCK_X, BLOCK_Y, BLOCK_Z) + local;
-        cases[k] = all(lessThan(cell, dims - 1u)) ? mc_cell_case(volume_tex, cell, iso) : 0u;
-        total += mc_tri_count(cases[k]);
+        rows[k] = 0u;  // case 0's row: no triangles
+        if (all(lessThan(cell, dims - 1u))) {
+            uint case_index = mc_cell_case(volume_tex, cell, iso);
+            rows[k] = mc_cell_row(volume_tex, cell, case_index, iso);
+        }
+        total += mc_tri_count(rows[k]);
     }
     prefix[me + 1u] = total;
     barrier();
@@ -87,8 +91,8 @@ void main() {
     uint slot = base + prefix[me];
     vec3 centre = 0.5 * vec3(dims - 1u);
     for (uint k = 0u; k < PER_THREAD; ++k) {
-        uint case_index = cases[k];
-        uint n = mc_tri_count(case_index);
+        uint row = rows[k];
+        uint n = mc_tri_count(row);
         if (n == 0u) {
             continue;
         }
@@ -102,7 +106,7 @@ void main() {
             for (uint j = 0u; j < 3u; ++j) {
                 vec3 p;
                 vec3 normal;
-                mc_edge_vertex(volume_tex, cell, mc_tri_edge(case_index, 3u * t + j), iso, dims, p, normal);
+                mc_edge_vertex(volume_tex, cell, mc_tri_edge(row, 3u * t + j), iso, dims, p, normal);
                 vec3 nw = normal / params.grid_to_world.xyz;
                 triangles[slot].clip[j] = params.grid_to_clip * vec4(p, 1.0);
                 float tag = j == 0u ? uintBitsToFloat(block_id) : 0.0;  // bits kept: no arithmetic

@@ -18,7 +18,7 @@ pub mod cull;
 pub mod stereo;
 
 use crate::builtin_shader;
-use crate::config::volume_defines;
+use crate::config::marching_cubes_defines;
 use crate::error::{Error, Result};
 use crate::iso::minmax::MinMaxBuilder;
 use crate::iso::PreparedVolume;
@@ -26,6 +26,7 @@ use crate::target::Target;
 use bytemuck::{Pod, Zeroable};
 use cull::{CullPipelines, CullState, DrawBlockList};
 use glam::Vec3;
+use tessera_data::mc_ambiguity::AmbiguityRule;
 use tessera_data::shading::BACKGROUND;
 use tessera_data::{GridFrame, OrbitCamera, RgbaImage, ScalarType, View, Volume};
 use tessera_gpu::{
@@ -37,8 +38,12 @@ use tessera_gpu::{
 pub const MAX_CELLS_PER_LIST: u32 = 32;
 /// Vertices one mesh workgroup emits at most: the paper's measured sweet spot.
 pub const MAX_VERTICES_PER_LIST: u32 = 96;
-/// Triangles one mesh workgroup emits at most: 5 per cell.
-pub const MAX_TRIANGLES_PER_LIST: u32 = MAX_CELLS_PER_LIST * 5;
+/// Triangles one mesh workgroup emits at most. A cell's surface is closed loops through its
+/// crossing edges, each triangulated into (length - 2) triangles, so a cell has at most
+/// its vertex count minus two triangles (checked over every table row in
+/// `tessera_data::mc_tables`); a list of at most 96 vertices and at least one cell thus has
+/// at most 94 triangles, whatever the ambiguous faces decide.
+pub const MAX_TRIANGLES_PER_LIST: u32 = MAX_VERTICES_PER_LIST - 2;
 
 pub(crate) const COLOR_FORMAT: vk::Format = vk::Format::R8G8B8A8_UNORM;
 pub(crate) const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
@@ -183,14 +188,25 @@ impl DrawBlockList for ListDraw<'_> {
 }
 
 impl Direct {
+    /// The mesh path with ambiguous faces cut by the asymptotic decider.
     pub fn new(gpu: &Gpu, compiler: &ShaderCompiler, scalar: ScalarType) -> Result<Direct> {
+        Self::with_rule(gpu, compiler, scalar, AmbiguityRule::default())
+    }
+
+    /// The mesh path with ambiguous faces cut by `rule`.
+    pub fn with_rule(
+        gpu: &Gpu,
+        compiler: &ShaderCompiler,
+        scalar: ScalarType,
+        rule: AmbiguityRule,
+    ) -> Result<Direct> {
         if !gpu.caps().mesh_shader || !gpu.caps().task_shader {
             return Err(Error::Gpu(tessera_gpu::GpuError::Unsupported {
                 device: gpu.caps().device_name.clone(),
                 what: "task and mesh shaders (VK_EXT_mesh_shader)".into(),
             }));
         }
-        let defines = volume_defines(scalar);
+        let defines = marching_cubes_defines(scalar, rule);
         let with_list = |on: bool| {
             let mut d = defines.clone();
             d.push(("BLOCK_LIST".into(), u32::from(on).to_string()));

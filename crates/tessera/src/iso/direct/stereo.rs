@@ -3,12 +3,13 @@
 //! `gl_ViewIndex`. Needs `multiviewMeshShader`; without it render the eyes one after the other.
 
 use crate::builtin_shader;
-use crate::config::volume_defines;
+use crate::config::marching_cubes_defines;
 use crate::error::{Error, Result};
 use crate::iso::direct::{Direct, DirectParams, RasterTarget, COLOR_FORMAT, DEPTH_FORMAT};
 use crate::iso::PreparedVolume;
 use bytemuck::{Pod, Zeroable};
 use std::mem::size_of;
+use tessera_data::mc_ambiguity::AmbiguityRule;
 use tessera_data::shading::BACKGROUND;
 use tessera_data::ScalarType;
 use tessera_gpu::{
@@ -50,7 +51,8 @@ impl DirectMultiview {
                 gpu.caps().device_name
             )));
         }
-        let mut defines = volume_defines(scalar);
+        // Stereo draws with the default rule, the asymptotic decider.
+        let mut defines = marching_cubes_defines(scalar, AmbiguityRule::default());
         defines.push(("MULTIVIEW".into(), "1".into()));
         defines.push(("BLOCK_LIST".into(), "0".into()));
         let task = compiler.compile(&builtin_shader!("direct.task.glsl"), &defines)?;

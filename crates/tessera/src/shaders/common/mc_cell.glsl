@@ -11,6 +11,41 @@ uint mc_cell_case(VOLUME_SAMPLER vol, uvec3 cell, float iso) {
     return case_index;
 }
 
+#ifndef MC_ASYMPTOTIC_DECIDER
+#error "MC_ASYMPTOTIC_DECIDER (the ambiguity rule) comes from tessera::config::marching_cubes_defines"
+#endif
+
+// The table row of `cell` (of case `case_index`): its ambiguous faces cut by the asymptotic
+// decider, or with MC_ASYMPTOTIC_DECIDER 0 by VTK's rule (above corners always separated,
+// the case's first row). Repeats tessera_data::mc_ambiguity::saddle_is_above exactly: the
+// face's corners in the face's order, so both cells sharing a face decide alike, and the
+// same rounded differences and products.
+uint mc_cell_row(VOLUME_SAMPLER vol, uvec3 cell, uint case_index, float iso) {
+    uint choice = 0u;
+#if MC_ASYMPTOTIC_DECIDER
+    uint ambiguous = mc_ambiguous_faces(case_index);
+    uint k = 0u;
+    for (uint f = 0u; f < 6u; ++f) {
+        if ((ambiguous & (1u << f)) == 0u) {
+            continue;
+        }
+        uint corners = MC_FACE_CORNERS[f];
+        precise float d[4];
+        for (uint j = 0u; j < 4u; ++j) {
+            uint c = (corners >> (4u * j)) & 15u;
+            d[j] = volume_texel(vol, ivec3(cell + mc_corner_offset(c))) - iso;
+        }
+        precise float main_product = d[0] * d[3];
+        precise float anti_product = d[1] * d[2];
+        bool main_below = ((case_index >> (corners & 15u)) & 1u) == 1u;
+        bool joined = main_below ? anti_product >= main_product : main_product >= anti_product;
+        choice |= uint(joined) << k;
+        k += 1u;
+    }
+#endif
+    return mc_first_row(case_index) + choice;
+}
+
 // Gradient at grid point p: central differences inside, one-sided on the border.
 vec3 mc_grid_gradient(VOLUME_SAMPLER vol, uvec3 p, uvec3 dims) {
     vec3 g;
@@ -26,8 +61,9 @@ vec3 mc_grid_gradient(VOLUME_SAMPLER vol, uvec3 p, uvec3 dims) {
 }
 
 // The vertex where edge `edge` of `cell` crosses iso, in grid coordinates, with its normal
-// (the gradient blended along the edge; the edge direction pointing from the below end to
-// the above end where the gradient vanishes).
+// pointing toward lower values like the triangles (the gradient blended along the edge and
+// negated; the edge direction pointing from the above end to the below end where the
+// gradient vanishes).
 void mc_edge_vertex(VOLUME_SAMPLER vol, uvec3 cell, uint edge, float iso, uvec3 dims,
                     out vec3 position, out vec3 normal) {
     uint corners = MC_EDGE_CORNERS[edge];
@@ -44,5 +80,5 @@ void mc_edge_vertex(VOLUME_SAMPLER vol, uvec3 cell, uint edge, float iso, uvec3 
     vec3 ga = mc_grid_gradient(vol, pa, dims);
     vec3 gb = mc_grid_gradient(vol, pb, dims);
     vec3 g = ga * (1.0 - t) + gb * t;
-    normal = dot(g, g) > 0.0 ? normalize(g) : (a < iso ? dir : -dir);
+    normal = dot(g, g) > 0.0 ? normalize(-g) : (a < iso ? -dir : dir);
 }
