@@ -92,7 +92,7 @@ fn isosurface_structs(t: &mut Table) {
     use crate::iso::direct::DirectParams;
     use crate::iso::minmax::{block_defines, BlockParams, ReduceParams};
     use crate::iso::raymarch::RaymarchParams;
-    let u8_defines = volume_defines(ScalarType::U8);
+    let u8_defines = crate::config::marching_cubes_defines(ScalarType::U8, Default::default());
     let raymarch = compile(
         &builtin_shader!("iso/raymarch/raymarch.comp.glsl"),
         &u8_defines,
