@@ -336,6 +336,20 @@ impl Volume {
         self.raw_to_texel(iso.in_range(self.value_range))
     }
 
+    /// A warning when `iso` (raw units) lies outside the volume's values, where no surface
+    /// can be found: it names the volume and its range. `None` when some surface may exist.
+    pub fn isovalue_warning(&self, iso: f32) -> Option<String> {
+        let (lo, hi) = self.value_range;
+        // A corner is inside when its value is below the isovalue, so `lo` itself finds
+        // nothing and `hi` still separates the samples below it.
+        (!(iso > lo && iso <= hi)).then(|| {
+            format!(
+                "isovalue {iso} is outside the values of {} ({lo}..{hi}): the surface is empty",
+                self.name
+            )
+        })
+    }
+
     /// [`Volume::value_range`] in texel space, i.e. the same values.
     pub fn texel_range(&self) -> (f32, f32) {
         self.value_range
@@ -481,6 +495,17 @@ mod tests {
             (p - glam::Vec3::new(12.0, 18.0, 31.0)).length() < 1e-5,
             "{p}"
         );
+    }
+
+    #[test]
+    fn isovalue_outside_the_values_is_named() {
+        let v = ramp_u8();
+        assert_eq!(v.isovalue_warning(100.0), None);
+        assert_eq!(v.isovalue_warning(234.0), None);
+        for iso in [-300.0, 0.0, 234.5, 1000.0, f32::NAN] {
+            let w = v.isovalue_warning(iso).expect("warning");
+            assert!(w.contains("ramp") && w.contains("0..234"), "{w}");
+        }
     }
 
     #[test]
