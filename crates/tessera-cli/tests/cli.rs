@@ -743,4 +743,16 @@ fn write_failures_are_errors() {
     );
     let o = tessera(&["extract", "procedural:sphere:16", "-o", "/dev/full"]);
     assert_fails_with(&o, &["writing /dev/full"]);
+    let o = tessera(&[
+        "bench",
+        "minmax-build",
+        "--quick",
+        "--frames",
+        "1",
+        "--warmup",
+        "0",
+        "--json",
+        "/dev/full",
+    ]);
+    assert_fails_with(&o, &["writing a record to /dev/full"]);
 }
