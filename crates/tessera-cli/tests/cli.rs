@@ -482,6 +482,29 @@ fn extract_takes_spacing_from_the_header_and_the_flag_overrides_it() {
             "axis {a}"
         );
     }
+    // `render` keeps the header's spacing too, and says when the flag replaces it.
+    let png = dir.join("aniso.png");
+    let png = png.to_str().unwrap();
+    let data_arg = data.to_str().unwrap();
+    let o = tessera(&["render", data_arg, "--size", "16x16", "-o", png]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains("spacing 1,2,0.5)"), "{}", stderr(&o));
+    let o = tessera(&[
+        "render",
+        data_arg,
+        "--spacing",
+        "1,1,1",
+        "--size",
+        "16x16",
+        "-o",
+        png,
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("note: --spacing 1,1,1 replaces the spacing 1,2,0.5"),
+        "{}",
+        stderr(&o)
+    );
     let (ha, ua, da) = (
         printed_area(&header),
         printed_area(&unit),
