@@ -54,7 +54,7 @@ fn parse_path(text: &str) -> std::result::Result<Path, String> {
 
 /// Prints each record as table rows and appends it to the JSON-lines file.
 struct Sink {
-    file: Option<std::fs::File>,
+    file: Option<(std::fs::File, PathBuf)>,
 }
 
 impl RecordSink for Sink {
@@ -89,11 +89,13 @@ impl RecordSink for Sink {
                 .collect();
             println!("{:<20} {}", "", counts.join("  "));
         }
-        if let Some(f) = &mut self.file {
+        if let Some((f, path)) = &mut self.file {
             let line = serde_json::to_string(r)
                 .map_err(|e| tessera::Error::Invalid(format!("a record as JSON: {e}")))?;
-            writeln!(f, "{line}")
-                .map_err(|e| tessera::Error::Invalid(format!("writing a record: {e}")))?;
+            // Unbuffered: a failing write (a full disk) is reported by this call.
+            writeln!(f, "{line}").map_err(|e| {
+                tessera::Error::Invalid(format!("writing a record to {}: {e}", path.display()))
+            })?;
         }
         Ok(())
     }
@@ -115,7 +117,8 @@ pub fn run(options: &GpuOptions, args: &BenchArgs) -> Result<()> {
                 .create(true)
                 .append(true)
                 .open(p)
-                .with_context(|| format!("opening {}", p.display()))?,
+                .with_context(|| format!("opening {}", p.display()))
+                .map(|f| (f, p.clone()))?,
         ),
         None => None,
     };

@@ -28,9 +28,10 @@ pub struct VolumeArgs {
     /// Bytes to skip at the start of a raw file.
     #[arg(long, default_value_t = 0)]
     pub header_bytes: u64,
-    /// Physical spacing X,Y,Z between samples.
-    #[arg(long, value_parser = parse_spacing, default_value = "1,1,1")]
-    pub spacing: [f32; 3],
+    /// Physical spacing X,Y,Z between samples (default: from the file's header, 1,1,1 for raw
+    /// files); given for a file with a header, it replaces the header's spacing.
+    #[arg(long, value_parser = parse_spacing)]
+    pub spacing: Option<[f32; 3]>,
     /// Replace NaN/Inf samples with this value (by default such files are refused).
     #[arg(long)]
     pub nan_fill: Option<f32>,
@@ -38,20 +39,41 @@ pub struct VolumeArgs {
 
 #[derive(Args, Clone, Debug)]
 pub struct IsoArgs {
-    /// Isovalue in the data's own units.
-    #[arg(long, conflicts_with = "iso_fraction", allow_hyphen_values = true)]
+    /// Isovalue in the data's own units (default: Otsu's threshold of the value histogram).
+    #[arg(long, conflicts_with = "iso_fraction")]
     pub iso: Option<f32>,
     /// Isovalue as a fraction of the data's value range (0 = min, 1 = max).
-    #[arg(long, default_value_t = 0.5)]
-    pub iso_fraction: f32,
+    #[arg(long)]
+    pub iso_fraction: Option<f32>,
 }
 
 impl IsoArgs {
-    pub fn value(&self) -> IsoValue {
-        match self.iso {
-            Some(v) => IsoValue::Raw(v),
-            None => IsoValue::Normalized(self.iso_fraction),
+    /// The isovalue the flags give, if any.
+    pub fn value(&self) -> Option<IsoValue> {
+        match (self.iso, self.iso_fraction) {
+            (Some(v), _) => Some(IsoValue::Raw(v)),
+            (None, Some(f)) => Some(IsoValue::Normalized(f)),
+            (None, None) => None,
         }
+    }
+
+    /// The isovalue for `volume`: the one given, else Otsu's threshold of its histogram
+    /// (said on the terminal), else the middle of its range; with a warning when no surface
+    /// can be found at it.
+    pub fn resolve(&self, volume: &Volume) -> IsoValue {
+        let iso =
+            self.value()
+                .unwrap_or_else(|| match tessera_data::histogram::otsu_isovalue(volume) {
+                    Some(t) => {
+                        eprintln!("isovalue {t} (Otsu threshold of the histogram)");
+                        IsoValue::Raw(t)
+                    }
+                    None => IsoValue::Normalized(0.5),
+                });
+        if let Some(warning) = volume.isovalue_warning(volume.iso_to_texel(iso)) {
+            eprintln!("warning: {warning}");
+        }
+        iso
     }
 }
 
@@ -125,9 +147,16 @@ pub fn load(spec: &str, args: &VolumeArgs) -> Result<Volume> {
 fn report_volume(volume: &Volume) {
     let (lo, hi) = volume.value_range();
     let [x, y, z] = volume.dims();
+    let [sx, sy, sz] = volume.spacing();
     eprintln!(
-        "loaded {} {x}x{y}x{z} {} (values {lo}..{hi})",
+        "loaded {} {x}x{y}x{z} {} (values {lo}..{hi}, spacing {sx},{sy},{sz})",
         volume.name(),
         volume.scalar_type().name()
     );
+    if let Some([ax, ay, az]) = volume.replaced_spacing() {
+        eprintln!(
+            "note: --spacing {sx},{sy},{sz} replaces the spacing {ax},{ay},{az} of {}",
+            volume.name()
+        );
+    }
 }

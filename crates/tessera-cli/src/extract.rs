@@ -1,10 +1,11 @@
-//! `tessera extract`: an isosurface as a PLY mesh (CPU marching cubes for now).
+//! `tessera extract`: an isosurface as a PLY mesh in physical units (CPU marching cubes for
+//! now, so it takes no device).
 
 use crate::data::{self, IsoArgs, VolumeArgs};
-use anyhow::{Context, Result};
+use anyhow::Result;
 use clap::Args;
 use std::path::PathBuf;
-use tessera_data::marching_cubes::marching_cubes;
+use tessera_data::marching_cubes::marching_cubes_physical;
 
 #[derive(Args)]
 pub struct ExtractArgs {
@@ -22,18 +23,14 @@ pub struct ExtractArgs {
 pub fn run(args: &ExtractArgs) -> Result<()> {
     let volume = data::load(&args.data, &args.volume)?;
     let look = tessera_data::scene::Appearance {
-        iso: args.iso.value(),
+        iso: args.iso.resolve(&volume),
         ..Default::default()
     };
     let iso = look.iso_texel(&volume)?;
-    let mesh = marching_cubes(&volume, iso);
-    let file = std::fs::File::create(&args.output)
-        .with_context(|| format!("creating {}", args.output.display()))?;
-    let mut w = std::io::BufWriter::new(file);
-    mesh.write_ply(&mut w)
-        .with_context(|| format!("writing {}", args.output.display()))?;
+    let mesh = marching_cubes_physical(&volume, iso);
+    crate::output::write_file(&args.output, |w| Ok(mesh.write_ply(w)?))?;
     println!(
-        "{}: iso {iso}: {} triangles, {} vertices, area {:.1} (grid units) -> {}",
+        "{}: iso {iso}: {} triangles, {} vertices, area {:.1} (physical units, spacing × index) -> {}",
         volume.name(),
         mesh.triangle_count(),
         mesh.vertex_count(),

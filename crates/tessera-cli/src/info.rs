@@ -2,6 +2,8 @@
 
 use anyhow::Result;
 use clap::Args;
+use tessera::path::PathChoice;
+use tessera::renderer::{self, Technique};
 use tessera_gpu::GpuOptions;
 
 #[derive(Args)]
@@ -88,28 +90,23 @@ pub fn run(options: &GpuOptions, args: &InfoArgs) -> Result<()> {
         "  max 3-D image            {} per axis",
         caps.max_image_dimension_3d
     );
-    println!("techniques:");
-    println!("  raymarch                 compute (min-max octree + ray marching)");
-    let measured = tessera::path::remembered(caps);
-    let direct =
-        match tessera::path::choose(caps, tessera::path::PathChoice::Auto, measured.as_ref()) {
-            Ok(path) => format!(
-                "{} path by default ({})",
+    println!("techniques (the path `--path auto` takes):");
+    let measured = tessera::path::remembered(caps).is_some();
+    for technique in Technique::ALL {
+        let path = match renderer::path_for(caps, technique, PathChoice::Auto) {
+            Ok(path) if technique.reads_options().contains(&"path") => format!(
+                "{} path ({})",
                 path.name(),
-                if measured.is_some() {
+                if measured {
                     "from this device's pipeline-throughput measurement"
                 } else {
                     "from capabilities; run `tessera bench pipeline-throughput` to measure"
                 }
             ),
+            Ok(path) => format!("{} path (its only one)", path.name()),
             Err(e) => format!("unavailable: {e}"),
         };
-    println!("  direct                   {direct}");
-    let interval = if caps.mesh_shader {
-        "mesh shaders (graphics path)"
-    } else {
-        "unavailable: needs mesh shaders"
-    };
-    println!("  interval                 {interval}");
+        println!("  {:<24} {path}", technique.name());
+    }
     crate::check_validation(&gpu)
 }

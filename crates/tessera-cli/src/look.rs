@@ -72,9 +72,11 @@ pub struct PathArgs {
     culling: String,
 }
 
+/// The look the flags give; a volume's isovalue, when none is given, is settled once the
+/// volume is loaded ([`IsoArgs::resolve`]).
 pub fn appearance(iso: &IsoArgs, tets: &TetArgs) -> Result<Appearance> {
     Ok(Appearance {
-        iso: iso.value(),
+        iso: iso.value().unwrap_or(Appearance::default().iso),
         integrand: tets.integrate,
         transfer: TransferFunction::load(&tets.tf)?,
         density: tets.density,
@@ -90,6 +92,17 @@ pub fn load_options(volume: &VolumeArgs, param: &ParamArgs) -> LoadOptions {
         basis: param.basis,
         u_range: param.u_range,
         v_range: param.v_range,
+    }
+}
+
+/// Warns about the options `technique` does not read that were set away from their defaults.
+pub fn warn_ignored(options: &RendererOptions, technique: tessera::renderer::Technique) {
+    for name in options.ignored_by(technique) {
+        eprintln!(
+            "warning: {} ignores --{}",
+            technique.name(),
+            name.replace('_', "-")
+        );
     }
 }
 

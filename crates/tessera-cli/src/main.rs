@@ -34,12 +34,15 @@ enum Command {
     /// Show devices, drivers, capabilities and the path each technique takes.
     Info(info::InfoArgs),
     /// Render a data set to a PNG.
+    #[command(allow_negative_numbers = true)]
     Render(render::RenderArgs),
     /// GPU-timed runs of techniques side by side, as JSON lines.
+    #[command(allow_negative_numbers = true)]
     Bench(bench::BenchArgs),
     /// Render a gallery of built-in procedural data sets into a folder.
     Demo(demo::DemoArgs),
-    /// Extract an isosurface to a PLY file.
+    /// Extract an isosurface to a PLY file, in physical units (runs on the CPU).
+    #[command(allow_negative_numbers = true)]
     Extract(extract::ExtractArgs),
 }
 
@@ -54,6 +57,9 @@ fn main() {
         Command::Render(a) => render::run(&gpu_options, &a),
         Command::Bench(a) => bench::run(&gpu_options, &a),
         Command::Demo(a) => demo::run(&gpu_options, &a),
+        Command::Extract(_) if cli.device.is_some() || cli.validation => Err(anyhow::anyhow!(
+            "extract runs on the CPU (marching cubes): --device and --validation do not apply"
+        )),
         Command::Extract(a) => extract::run(&a),
     };
     if let Err(e) = result {

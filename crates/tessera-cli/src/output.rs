@@ -1,23 +1,37 @@
-//! PNG output.
+//! Output files (PNG images, PLY meshes): written through a buffer that is flushed and
+//! checked, so a full disk or a failing device is an error naming the file, never a truncated
+//! file reported as written.
 
 use anyhow::{Context, Result};
+use std::io::{BufWriter, Write};
 use std::path::Path;
 use tessera_data::RgbaImage;
 
-pub fn write_png(path: &Path, image: &RgbaImage) -> Result<()> {
+/// Creates `path` (and its folder), hands `write` a buffered writer, then flushes it and the
+/// file; any failure names the file.
+pub fn write_file(
+    path: &Path,
+    write: impl FnOnce(&mut BufWriter<std::fs::File>) -> Result<()>,
+) -> Result<()> {
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     }
     let file =
         std::fs::File::create(path).with_context(|| format!("creating {}", path.display()))?;
-    let mut encoder = png::Encoder::new(std::io::BufWriter::new(file), image.width, image.height);
-    encoder.set_color(png::ColorType::Rgba);
-    encoder.set_depth(png::BitDepth::Eight);
-    let mut writer = encoder
-        .write_header()
-        .with_context(|| format!("writing {}", path.display()))?;
-    writer
-        .write_image_data(&image.to_rgba_bytes())
-        .with_context(|| format!("writing {}", path.display()))?;
-    Ok(())
+    let mut out = BufWriter::new(file);
+    write(&mut out)
+        .and_then(|()| Ok(out.flush()?))
+        .with_context(|| format!("writing {}", path.display()))
+}
+
+pub fn write_png(path: &Path, image: &RgbaImage) -> Result<()> {
+    write_file(path, |out| {
+        let mut encoder = png::Encoder::new(out, image.width, image.height);
+        encoder.set_color(png::ColorType::Rgba);
+        encoder.set_depth(png::BitDepth::Eight);
+        let mut writer = encoder.write_header()?;
+        writer.write_image_data(&image.to_rgba_bytes())?;
+        writer.finish()?;
+        Ok(())
+    })
 }

@@ -8,7 +8,7 @@ use std::path::PathBuf;
 use std::time::Instant;
 use tessera::renderer::{self, Frame, Technique};
 use tessera_data::scene::{DataKind, Dataset};
-use tessera_data::{OrbitCamera, RgbaImage};
+use tessera_data::{OrbitCamera, RgbaImage, ViewUp};
 use tessera_gpu::GpuOptions;
 
 #[derive(Args)]
@@ -41,6 +41,10 @@ pub struct RenderArgs {
     /// Camera AZ,EL,DIST: azimuth and elevation in degrees, distance in units of the volume's longest side.
     #[arg(long, default_value = "30,20,1.8", value_parser = OrbitCamera::parse, allow_hyphen_values = true)]
     pub(crate) camera: OrbitCamera,
+    /// The axis that appears up: x, y, z, -x, -y or -z (default: towards the head where a
+    /// medical file's orientation says, else y). Azimuth turns about it.
+    #[arg(long, value_parser = ViewUp::parse, allow_hyphen_values = true)]
+    pub(crate) up: Option<ViewUp>,
     /// Render a stereo pair with this eye separation (world units; the volume's longest side
     /// is 1), left and right eye side by side in one PNG.
     #[arg(long, value_parser = parse_separation)]
@@ -53,16 +57,33 @@ pub struct RenderArgs {
 pub fn run(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
     let kind = DataKind::of_spec(&args.data);
     let technique = Technique::for_data(args.technique.as_deref(), kind, &args.data)?;
-    let look = look::appearance(&args.iso, &args.tet)?;
+    let mut look = look::appearance(&args.iso, &args.tet)?;
     let gpu = crate::open_gpu(options)?;
     if kind == DataKind::Volume {
         data::check_fits(&gpu, &args.data, &args.volume)?;
     }
     let dataset = data::load_dataset(&args.data, &look::load_options(&args.volume, &args.param))?;
+    let mut camera = args.camera;
+    if let Dataset::Volume(volume) = &dataset {
+        look.iso = args.iso.resolve(volume);
+        camera.up = args.up.unwrap_or_else(|| {
+            let up = ViewUp::for_volume(volume);
+            if up != ViewUp::default() {
+                eprintln!(
+                    "view up {} (towards the head, from the file's orientation)",
+                    up.name()
+                );
+            }
+            up
+        });
+    } else {
+        camera.up = args.up.unwrap_or_default();
+    }
+    let renderer_options = look::renderer_options(&args.paths, &args.param);
     let started = Instant::now();
     let bar = data::spinner("compiling shaders, uploading, building auxiliary structures".into());
     let built = (|| -> tessera::Result<_> {
-        let options = look::renderer_options(&args.paths, &args.param);
+        let options = renderer_options;
         let mut renderer = renderer::create(&gpu, technique, &options)?;
         renderer.set_appearance(&gpu, &look)?;
         renderer.set_data(&gpu, &dataset)?;
@@ -70,8 +91,9 @@ pub fn run(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
     })();
     bar.finish_and_clear();
     let mut renderer = built.with_context(|| format!("preparing {}", args.data))?;
+    look::warn_ignored(&renderer_options, technique);
     let prepare_s = started.elapsed().as_secs_f64();
-    let view = renderer.view(&args.camera, args.size)?;
+    let view = renderer.view(&camera, args.size)?;
     let mut frame = Frame::new(&gpu, args.size)?;
     let (image, gpu_ms) = match args.stereo {
         None => {

@@ -411,3 +411,417 @@ fn demo_writes_gallery() {
     let stdout = String::from_utf8_lossy(&o.stdout);
     assert_eq!(stdout.matches("ms GPU").count(), 18, "{stdout}");
 }
+
+/// Writes a 16³ uint8 NRRD: 200 inside a ball of radius 4 around `centre` (grid units), 10
+/// elsewhere, with extra header `fields`.
+fn ball_nrrd(path: &std::path::Path, centre: [f32; 3], fields: &str) {
+    let mut bytes =
+        format!("NRRD0004\ntype: uint8\ndimension: 3\nsizes: 16 16 16\nencoding: raw\n{fields}\n")
+            .into_bytes();
+    for z in 0..16 {
+        for y in 0..16 {
+            for x in 0..16 {
+                let d = [x, y, z]
+                    .iter()
+                    .zip(centre)
+                    .map(|(&i, c)| (i as f32 - c).powi(2))
+                    .sum::<f32>()
+                    .sqrt();
+                bytes.push(if d < 4.0 { 200 } else { 10 });
+            }
+        }
+    }
+    std::fs::write(path, bytes).unwrap();
+}
+
+/// Bounds (min, max) of the vertices of a binary PLY the CLI wrote.
+fn ply_bounds(path: &std::path::Path) -> ([f32; 3], [f32; 3]) {
+    let bytes = std::fs::read(path).unwrap();
+    let end = b"end_header\n";
+    let body = bytes.windows(end.len()).position(|w| w == end).unwrap() + end.len();
+    let header = String::from_utf8_lossy(&bytes[..body]).into_owned();
+    let vertices: usize = header
+        .lines()
+        .find_map(|l| l.strip_prefix("element vertex "))
+        .and_then(|n| n.trim().parse().ok())
+        .unwrap();
+    assert!(vertices > 0, "{header}");
+    let mut lo = [f32::MAX; 3];
+    let mut hi = [f32::MIN; 3];
+    for v in 0..vertices {
+        for a in 0..3 {
+            let at = body + v * 24 + a * 4;
+            let x = f32::from_le_bytes(bytes[at..at + 4].try_into().unwrap());
+            lo[a] = lo[a].min(x);
+            hi[a] = hi[a].max(x);
+        }
+    }
+    (lo, hi)
+}
+
+/// The area `extract` printed.
+fn printed_area(o: &std::process::Output) -> f32 {
+    let text = String::from_utf8_lossy(&o.stdout);
+    text.split("area ")
+        .nth(1)
+        .and_then(|rest| rest.split_whitespace().next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("no area in {text}"))
+}
+
+#[test]
+fn extract_takes_spacing_from_the_header_and_the_flag_overrides_it() {
+    let dir = scratch("spacing");
+    let data = dir.join("aniso.nrrd");
+    ball_nrrd(&data, [7.5, 7.5, 7.5], "spacings: 1 2 0.5\n");
+    let run_on = |data: &std::path::Path, name: &str, extra: &[&str]| {
+        let out = dir.join(name);
+        let mut args = vec![
+            "extract",
+            data.to_str().unwrap(),
+            "--iso",
+            "100",
+            "-o",
+            out.to_str().unwrap(),
+        ];
+        args.extend(extra);
+        let o = tessera(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        (o, ply_bounds(&out))
+    };
+    let run = |name: &str, extra: &[&str]| run_on(&data, name, extra);
+    let (header, (hlo, hhi)) = run("header.ply", &[]);
+    let (unit, (ulo, uhi)) = run("unit.ply", &["--spacing", "1,1,1"]);
+    let (double, (dlo, dhi)) = run("double.ply", &["--spacing", "2,2,2"]);
+    assert!(!stderr(&header).contains("note:"), "{}", stderr(&header));
+    for o in [&unit, &double] {
+        let err = stderr(o);
+        assert!(
+            err.contains("note: --spacing") && err.contains("replaces the spacing 1,2,0.5"),
+            "{err}"
+        );
+    }
+    let spacing = [1.0, 2.0, 0.5];
+    for a in 0..3 {
+        let (h, u, d) = (hhi[a] - hlo[a], uhi[a] - ulo[a], dhi[a] - dlo[a]);
+        assert!(u > 5.0, "axis {a}: unit extent {u}");
+        assert!((h - u * spacing[a]).abs() < 1e-3, "axis {a}: {h} vs {u}");
+        assert!((d - 2.0 * u).abs() < 1e-3, "axis {a}: {d} vs {u}");
+    }
+    // Placed by space directions and an origin: vertices at origin + spacing × index.
+    let placed = dir.join("placed.nrrd");
+    ball_nrrd(
+        &placed,
+        [7.5, 7.5, 7.5],
+        "space dimension: 3\nspace directions: (1,0,0) (0,2,0) (0,0,0.5)\nspace origin: (100,0,-20)\n",
+    );
+    let (_, (plo, phi)) = run_on(&placed, "placed.ply", &[]);
+    let origin = [100.0, 0.0, -20.0];
+    for a in 0..3 {
+        let expect_lo = origin[a] + (ulo[a] - 0.0) * spacing[a];
+        assert!(
+            (plo[a] - expect_lo).abs() < 1e-3,
+            "axis {a}: {plo:?} vs unit {ulo:?}"
+        );
+        assert!(
+            (phi[a] - plo[a] - (hhi[a] - hlo[a])).abs() < 1e-3,
+            "axis {a}"
+        );
+    }
+    // `render` keeps the header's spacing too, and says when the flag replaces it.
+    let png = dir.join("aniso.png");
+    let png = png.to_str().unwrap();
+    let data_arg = data.to_str().unwrap();
+    let o = tessera(&["render", data_arg, "--size", "16x16", "-o", png]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains("spacing 1,2,0.5)"), "{}", stderr(&o));
+    let o = tessera(&[
+        "render",
+        data_arg,
+        "--spacing",
+        "1,1,1",
+        "--size",
+        "16x16",
+        "-o",
+        png,
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("note: --spacing 1,1,1 replaces the spacing 1,2,0.5"),
+        "{}",
+        stderr(&o)
+    );
+    let (ha, ua, da) = (
+        printed_area(&header),
+        printed_area(&unit),
+        printed_area(&double),
+    );
+    assert!((da / ua - 4.0).abs() < 0.01, "areas {da} {ua}");
+    // Stretched by 2 along y and squashed by 2 along z: neither unit nor double.
+    assert!(
+        (ha / ua - 1.0).abs() > 0.05 && ha < da,
+        "areas {ha} {ua} {da}"
+    );
+}
+
+#[test]
+fn negative_values_parse_and_isovalues_outside_the_data_warn() {
+    let dir = scratch("negative");
+    let out = dir.join("s.ply");
+    for flags in [
+        &["--iso", "-300"][..],
+        &["--iso-fraction", "-0.5"],
+        &["--iso-fraction", "1.5", "--nan-fill", "-1"],
+    ] {
+        let mut args = vec![
+            "extract",
+            "procedural:sphere:16",
+            "-o",
+            out.to_str().unwrap(),
+        ];
+        args.extend(flags);
+        let o = tessera(&args);
+        assert!(o.status.success(), "{flags:?}: {}", stderr(&o));
+        let err = stderr(&o);
+        assert!(
+            err.contains("warning: isovalue") && err.contains("outside the values"),
+            "{flags:?}: {err}"
+        );
+        assert!(err.contains("(0..238)"), "{err}");
+    }
+    let o = tessera(&[
+        "extract",
+        "procedural:sphere:16",
+        "--iso",
+        "100",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(!stderr(&o).contains("warning"), "{}", stderr(&o));
+}
+
+#[test]
+fn default_isovalue_is_otsus_threshold() {
+    let dir = scratch("otsu");
+    let data = dir.join("ball.nrrd");
+    ball_nrrd(&data, [7.5, 7.5, 7.5], "");
+    let out = dir.join("ball.ply");
+    let o = tessera(&[
+        "extract",
+        data.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let err = stderr(&o);
+    // Two values, 10 and 200: the threshold lies between them.
+    let iso: f32 = err
+        .split("isovalue ")
+        .nth(1)
+        .and_then(|r| r.split_whitespace().next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("{err}"));
+    assert!(err.contains("(Otsu threshold of the histogram)"), "{err}");
+    assert!(iso > 10.0 && iso < 200.0, "{iso}");
+}
+
+/// Mean row of the pixels that differ from the top-left one, as a fraction of the height.
+fn drawn_centre_row(path: &std::path::Path) -> f32 {
+    let (w, _) = png_size(path);
+    let pixels = png_pixels(path);
+    let background = pixels[0];
+    let rows: Vec<f32> = pixels
+        .iter()
+        .enumerate()
+        .filter(|(_, p)| **p != background)
+        .map(|(i, _)| (i / w as usize) as f32)
+        .collect();
+    assert!(rows.len() > 20, "{} pixels drawn", rows.len());
+    rows.iter().sum::<f32>() / rows.len() as f32 / (pixels.len() / w as usize) as f32
+}
+
+#[test]
+fn view_up_turns_the_named_axis_up() {
+    let dir = scratch("up");
+    // A ball near the top (high z) of the grid.
+    let plain = dir.join("top.nrrd");
+    ball_nrrd(&plain, [7.5, 7.5, 11.0], "");
+    let lps = dir.join("top-lps.nrrd");
+    ball_nrrd(
+        &lps,
+        [7.5, 7.5, 11.0],
+        "space: left-posterior-superior\nspace directions: (1,0,0) (0,1,0) (0,0,1)\nspace origin: (0,0,0)\n",
+    );
+    let render = |data: &std::path::Path, up: Option<&str>| {
+        let out = dir.join(format!(
+            "{}-{}.png",
+            data.file_stem().unwrap().to_string_lossy(),
+            up.unwrap_or("default")
+        ));
+        let mut args = vec![
+            "render",
+            data.to_str().unwrap(),
+            "--iso",
+            "100",
+            "--camera",
+            "0,0,1.8",
+            "--size",
+            "64x64",
+            "-o",
+            out.to_str().unwrap(),
+        ];
+        if let Some(up) = up {
+            args.extend(["--up", up]);
+        }
+        let o = tessera(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        (drawn_centre_row(&out), stderr(&o))
+    };
+    let (up_z, _) = render(&plain, Some("z"));
+    let (down_z, _) = render(&plain, Some("-z"));
+    let (default, _) = render(&plain, None);
+    assert!(up_z < 0.4, "--up z: ball at {up_z} of the height");
+    assert!(down_z > 0.6, "--up -z: ball at {down_z} of the height");
+    assert!((default - 0.5).abs() < 0.1, "default: ball at {default}");
+    // A medical file's orientation puts the head (superior, +z) up without the flag.
+    let (medical, err) = render(&lps, None);
+    assert!(medical < 0.4, "LPS file: ball at {medical}");
+    assert!(err.contains("view up z"), "{err}");
+    let o = tessera(&["render", "procedural:sphere:16", "--up", "w"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+}
+
+#[test]
+fn options_a_technique_ignores_are_warned_about() {
+    let dir = scratch("ignored");
+    let out = dir.join("x.png");
+    let out = out.to_str().unwrap();
+    let o = tessera(&[
+        "render",
+        "procedural:sphere:16",
+        "--technique",
+        "raymarch",
+        "--path",
+        "graphics",
+        "--size",
+        "16x16",
+        "-o",
+        out,
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("warning: raymarch ignores --path"),
+        "{}",
+        stderr(&o)
+    );
+    let o = tessera(&[
+        "render",
+        "tets:box:2",
+        "--culling",
+        "off",
+        "--size",
+        "16x16",
+        "-o",
+        out,
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("warning: interval ignores --culling"),
+        "{}",
+        stderr(&o)
+    );
+    let o = tessera(&[
+        "render",
+        "procedural:sphere:16",
+        "--size",
+        "16x16",
+        "-o",
+        out,
+    ]);
+    assert!(!stderr(&o).contains("ignores"), "{}", stderr(&o));
+    // Extraction runs on the CPU: a device is refused rather than ignored.
+    let o = tessera(&[
+        "--device",
+        "7",
+        "extract",
+        "procedural:sphere:16",
+        "-o",
+        out,
+    ]);
+    assert_fails_with(&o, &["extract runs on the CPU", "--device"]);
+    // A volume technique on tets, or the other way round, names what fits.
+    let o = tessera(&["render", "procedural:sphere:16", "--technique", "interval"]);
+    assert_fails_with(&o, &["interval", "tet", "raymarch or direct"]);
+}
+
+#[test]
+fn info_reports_the_path_render_takes() {
+    let dir = scratch("info-path");
+    let info = tessera(&["info"]);
+    assert!(info.status.success(), "{}", stderr(&info));
+    let text = String::from_utf8_lossy(&info.stdout).into_owned();
+    for (data, technique) in [
+        ("tets:box:2", "interval"),
+        ("procedural:sphere:16", "direct"),
+    ] {
+        let out = dir.join(format!("{technique}.png"));
+        let o = tessera(&[
+            "render",
+            data,
+            "--technique",
+            technique,
+            "--size",
+            "16x16",
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let stdout = String::from_utf8_lossy(&o.stdout);
+        let path = ["graphics", "compute"]
+            .into_iter()
+            .find(|p| stdout.contains(&format!("({p} path")))
+            .unwrap_or_else(|| panic!("{stdout}"));
+        let line = text
+            .lines()
+            .find(|l| l.trim_start().starts_with(&format!("{technique} ")))
+            .unwrap_or_else(|| panic!("{text}"));
+        assert!(
+            line.contains(&format!("{path} path")),
+            "{line} vs render's {path}"
+        );
+    }
+}
+
+#[test]
+fn write_failures_are_errors() {
+    if !std::path::Path::new("/dev/full").exists() {
+        return;
+    }
+    let o = tessera(&[
+        "render",
+        "procedural:sphere:16",
+        "--size",
+        "16x16",
+        "-o",
+        "/dev/full",
+    ]);
+    assert_fails_with(&o, &["writing /dev/full"]);
+    assert!(
+        !String::from_utf8_lossy(&o.stdout).contains("->"),
+        "success printed"
+    );
+    let o = tessera(&["extract", "procedural:sphere:16", "-o", "/dev/full"]);
+    assert_fails_with(&o, &["writing /dev/full"]);
+    let o = tessera(&[
+        "bench",
+        "minmax-build",
+        "--quick",
+        "--frames",
+        "1",
+        "--warmup",
+        "0",
+        "--json",
+        "/dev/full",
+    ]);
+    assert_fails_with(&o, &["writing a record to /dev/full"]);
+}

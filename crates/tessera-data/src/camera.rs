@@ -7,7 +7,94 @@
 use crate::view::View;
 use glam::Vec3;
 
-/// A camera on a sphere around the origin, looking at it with +Y up.
+/// Which world axis points up on screen. Grid axes are world axes (scaled), so for a volume
+/// this names a grid axis and its direction.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum ViewUp {
+    PlusX,
+    MinusX,
+    /// The usual default: +y up.
+    #[default]
+    PlusY,
+    MinusY,
+    PlusZ,
+    MinusZ,
+}
+
+impl ViewUp {
+    pub const ALL: [ViewUp; 6] = [
+        ViewUp::PlusX,
+        ViewUp::MinusX,
+        ViewUp::PlusY,
+        ViewUp::MinusY,
+        ViewUp::PlusZ,
+        ViewUp::MinusZ,
+    ];
+
+    /// `x`, `-x`, `y`, `-y`, `z`, `-z` (also `+x` etc., any case).
+    pub fn parse(text: &str) -> Result<ViewUp, String> {
+        let t = text.trim().to_ascii_lowercase();
+        let t = t.strip_prefix('+').unwrap_or(&t);
+        ViewUp::ALL
+            .into_iter()
+            .find(|u| u.name() == t)
+            .ok_or_else(|| format!("view up '{text}': choose x, y, z, -x, -y or -z"))
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            ViewUp::PlusX => "x",
+            ViewUp::MinusX => "-x",
+            ViewUp::PlusY => "y",
+            ViewUp::MinusY => "-y",
+            ViewUp::PlusZ => "z",
+            ViewUp::MinusZ => "-z",
+        }
+    }
+
+    /// Grid axis `axis` (0 = x) pointing up when `sign` > 0, down otherwise (the form of
+    /// [`crate::Volume::up_axis`]); `None` for an axis past 2.
+    pub fn from_axis(axis: usize, sign: i8) -> Option<ViewUp> {
+        let up = [
+            [ViewUp::PlusX, ViewUp::MinusX],
+            [ViewUp::PlusY, ViewUp::MinusY],
+            [ViewUp::PlusZ, ViewUp::MinusZ],
+        ]
+        .get(axis)?;
+        Some(if sign > 0 { up[0] } else { up[1] })
+    }
+
+    /// The view up a volume asks for: towards the patient's head where the file names an
+    /// anatomical space ([`crate::Volume::up_axis`]), else +y.
+    pub fn for_volume(volume: &crate::Volume) -> ViewUp {
+        volume
+            .up_axis()
+            .and_then(|(axis, sign)| ViewUp::from_axis(axis, sign))
+            .unwrap_or_default()
+    }
+
+    /// A right-handed orthonormal frame (x', y', z') with y' up: the orbit is laid out in it
+    /// as it is in (x, y, z) for +y, so azimuth turns about the up axis and azimuth 0 looks
+    /// along -z'.
+    pub fn frame(self) -> (Vec3, Vec3, Vec3) {
+        match self {
+            ViewUp::PlusY => (Vec3::X, Vec3::Y, Vec3::Z),
+            ViewUp::MinusY => (-Vec3::X, -Vec3::Y, Vec3::Z),
+            ViewUp::PlusZ => (Vec3::X, Vec3::Z, -Vec3::Y),
+            ViewUp::MinusZ => (Vec3::X, -Vec3::Z, Vec3::Y),
+            ViewUp::PlusX => (-Vec3::Y, Vec3::X, Vec3::Z),
+            ViewUp::MinusX => (Vec3::Y, -Vec3::X, Vec3::Z),
+        }
+    }
+
+    /// The world vector that appears up on screen.
+    pub fn vector(self) -> Vec3 {
+        self.frame().1
+    }
+}
+
+/// A camera on a sphere around the origin, looking at it with [`OrbitCamera::up`] up (+Y by
+/// default): azimuth turns about the up axis, elevation lifts towards it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct OrbitCamera {
     pub azimuth_deg: f32,
@@ -18,6 +105,8 @@ pub struct OrbitCamera {
     /// Sideways shift of the eye along the camera's right axis, in world units, keeping the
     /// view direction: the two eyes of a stereo pair are ±half the eye separation.
     pub eye_shift: f32,
+    /// The world axis that appears up on screen.
+    pub up: ViewUp,
 }
 
 impl Default for OrbitCamera {
@@ -28,6 +117,7 @@ impl Default for OrbitCamera {
             distance: 1.8,
             fov_y_deg: 40.0,
             eye_shift: 0.0,
+            up: ViewUp::PlusY,
         }
     }
 }
@@ -62,7 +152,8 @@ impl OrbitCamera {
         // Straight up or down has no defined "right"; stay just short of the pole.
         let el = self.elevation_deg.clamp(-89.9, 89.9).to_radians();
         let az = self.azimuth_deg.to_radians();
-        self.distance * Vec3::new(el.cos() * az.sin(), el.sin(), el.cos() * az.cos())
+        let (x, y, z) = self.up.frame();
+        self.distance * (el.cos() * az.sin() * x + el.sin() * y + el.cos() * az.cos() * z)
     }
 
     pub fn eye(&self) -> Vec3 {
@@ -72,7 +163,7 @@ impl OrbitCamera {
     /// Orthonormal (forward, right, up) in world space; the eye shift does not turn it.
     pub fn basis(&self) -> (Vec3, Vec3, Vec3) {
         let forward = (-self.orbit_position()).normalize();
-        let right = forward.cross(Vec3::Y).normalize();
+        let right = forward.cross(self.up.vector()).normalize();
         let up = right.cross(forward);
         (forward, right, up)
     }
@@ -230,6 +321,7 @@ mod tests {
             elevation_deg: -25.0,
             distance: 2.1,
             eye_shift: 0.0,
+            up: ViewUp::PlusY,
             fov_y_deg: 35.0,
         };
         let frame = GridFrame::new([40, 30, 20], [1.0, 1.5, 2.0]);
@@ -257,6 +349,67 @@ mod tests {
         assert!((r.eye() - l.eye()).normalize().dot(cam.basis().1) > 0.99999);
         assert_eq!(l.basis(), cam.basis());
         assert!(((l.eye() + r.eye()) * 0.5 - cam.eye()).length() < 1e-6);
+    }
+
+    #[test]
+    fn view_up_puts_its_axis_up_on_screen() {
+        assert_eq!(ViewUp::parse("-Z"), Ok(ViewUp::MinusZ));
+        assert_eq!(ViewUp::parse("+x"), Ok(ViewUp::PlusX));
+        assert!(ViewUp::parse("up").is_err());
+        assert_eq!(ViewUp::from_axis(2, -1), Some(ViewUp::MinusZ));
+        assert_eq!(ViewUp::from_axis(3, 1), None);
+        // +y up is the orbit as it always was: azimuth 0, elevation 0 looks along -z.
+        let cam = OrbitCamera {
+            azimuth_deg: 0.0,
+            elevation_deg: 0.0,
+            ..OrbitCamera::default()
+        };
+        assert!((cam.eye() - Vec3::new(0.0, 0.0, 1.8)).length() < 1e-6);
+        for up in ViewUp::ALL {
+            let (x, y, z) = up.frame();
+            assert!((x.cross(y) - z).length() < 1e-6, "{up:?} not right-handed");
+            assert_eq!(ViewUp::parse(up.name()), Ok(up));
+            for (az, el) in [(30.0, 20.0), (-120.0, -40.0), (200.0, 5.0)] {
+                let cam = OrbitCamera {
+                    azimuth_deg: az,
+                    elevation_deg: el,
+                    up,
+                    ..OrbitCamera::default()
+                };
+                let view = View::of_unit_box(&cam, (100, 100));
+                assert!(view.up.dot(up.vector()) > 0.5, "{up:?} {az} {el}");
+                // The top of the box along the up axis is above the centre in the image
+                // (image y grows downwards), and the elevation is towards the up axis.
+                let (top, _) = view.project(up.vector() * 0.5).unwrap();
+                let (centre, _) = view.project(Vec3::ZERO).unwrap();
+                assert!(
+                    top.y < centre.y - 10.0,
+                    "{up:?} {az} {el}: {top} vs {centre}"
+                );
+                let lift = cam.eye().normalize().dot(up.vector());
+                assert!((lift - el.to_radians().sin()).abs() < 1e-5, "{up:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn volume_up_axis_gives_the_default_view_up() {
+        use crate::orientation::{AnatomicalSpace, Orientation, OrientationSource};
+        use crate::{Samples, Volume};
+        let v = Volume::new("v", [2, 2, 2], [1.0; 3], Samples::U8(vec![0; 8])).unwrap();
+        assert_eq!(ViewUp::for_volume(&v), ViewUp::PlusY);
+        // Grid z runs from head to feet in an LPS file.
+        let flipped = Orientation::new(
+            [0.0; 3],
+            [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, -1.0]],
+            Some(AnatomicalSpace::Lps),
+            OrientationSource::Nrrd,
+        )
+        .unwrap();
+        assert_eq!(
+            ViewUp::for_volume(&v.with_orientation(flipped)),
+            ViewUp::MinusZ
+        );
     }
 
     #[test]

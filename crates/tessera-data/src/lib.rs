@@ -4,6 +4,7 @@
 
 pub mod camera;
 pub mod error;
+pub mod histogram;
 pub mod image;
 pub mod input;
 pub mod load;
@@ -33,7 +34,7 @@ pub mod volume;
 pub mod vti;
 mod vtk_xml;
 
-pub use camera::{GridCamera, GridFrame, OrbitCamera, Projection};
+pub use camera::{GridCamera, GridFrame, OrbitCamera, Projection, ViewUp};
 pub use error::DataError;
 pub use image::RgbaImage;
 pub use orientation::{AnatomicalSpace, Orientation, OrientationSource};

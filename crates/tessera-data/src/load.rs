@@ -13,10 +13,19 @@ use crate::vti::load_vti;
 
 /// Loads `path` as NRRD (`.nrrd`, `.nhdr`), NIfTI (`.nii`, `.nii.gz`), VTK XML image data
 /// (`.vti`), extensions in any case; a file with another extension as what its first bytes
-/// say ([`crate::sniff`]), else as a raw file. For NRRD, NIfTI and VTI files only
-/// `opts.nan_policy` applies; the header supplies everything else. Only regular files are
-/// read (no directories, devices or named pipes).
+/// say ([`crate::sniff`]), else as a raw file. For NRRD, NIfTI and VTI files the header
+/// supplies everything but the NaN policy and, where `opts.spacing` is given, the spacing,
+/// which then replaces the header's ([`Volume::replaced_spacing`] says what it was). Only
+/// regular files are read (no directories, devices or named pipes).
 pub fn load_volume(path: &Path, opts: &RawOptions) -> Result<Volume> {
+    let volume = load_volume_as_stored(path, opts)?;
+    match opts.spacing {
+        Some(spacing) => volume.with_spacing(spacing).map_err(|e| e.in_file(path)),
+        None => Ok(volume),
+    }
+}
+
+fn load_volume_as_stored(path: &Path, opts: &RawOptions) -> Result<Volume> {
     // Checked up front so that a mistyped path reports "not found" rather than, say, a
     // complaint about missing --dims for a raw file that does not exist.
     regular_file(path)?;
@@ -68,6 +77,30 @@ mod tests {
         std::fs::write(&path, [5u8; 12]).expect("write");
         let v = load_volume(&path, &RawOptions::default()).expect("raw");
         assert_eq!(v.dims(), [2, 2, 3]);
+    }
+
+    #[test]
+    fn header_spacing_is_kept_unless_replaced() {
+        let path = test_path("spaced.nhdr");
+        let mut bytes = b"NRRD0004\ntype: uint8\ndimension: 3\nsizes: 2 2 2\nspacings: 0.5 1 2\nencoding: raw\n\n".to_vec();
+        bytes.extend([0u8; 8]);
+        let path = path.with_extension("nrrd");
+        std::fs::write(&path, bytes).expect("write");
+        let v = load_volume(&path, &RawOptions::default()).expect("nrrd");
+        assert_eq!((v.spacing(), v.replaced_spacing()), ([0.5, 1.0, 2.0], None));
+        let opts = RawOptions {
+            spacing: Some([1.0, 1.0, 3.0]),
+            ..RawOptions::default()
+        };
+        let v = load_volume(&path, &opts).expect("nrrd");
+        assert_eq!(v.spacing(), [1.0, 1.0, 3.0]);
+        assert_eq!(v.replaced_spacing(), Some([0.5, 1.0, 2.0]));
+
+        // A raw file takes the spacing as its own.
+        let path = test_path("spaced_2x2x2_uint8.raw");
+        std::fs::write(&path, [1u8; 8]).expect("write");
+        let v = load_volume(&path, &opts).expect("raw");
+        assert_eq!((v.spacing(), v.replaced_spacing()), ([1.0, 1.0, 3.0], None));
     }
 
     /// A minimal little-endian NIfTI-1 file: 2x2x3 uint8, data at byte 352.

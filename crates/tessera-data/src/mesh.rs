@@ -82,6 +82,26 @@ impl TriangleMesh {
         )
     }
 
+    /// The mesh moved by `transform` (e.g. [`crate::Volume::grid_to_physical`]): positions
+    /// as points, normals by the inverse transpose and renormalized, and, where the transform
+    /// mirrors (negative determinant), every triangle's winding reversed so that triangles
+    /// still face the way their normals point.
+    pub fn transformed(mut self, transform: &glam::Affine3A) -> TriangleMesh {
+        for p in &mut self.positions {
+            *p = transform.transform_point3(*p);
+        }
+        let normal_matrix = glam::Mat3::from(transform.matrix3).inverse().transpose();
+        for n in &mut self.normals {
+            *n = (normal_matrix * *n).normalize_or_zero();
+        }
+        if transform.matrix3.determinant() < 0.0 {
+            for t in &mut self.triangles {
+                t.swap(1, 2);
+            }
+        }
+        self
+    }
+
     /// Writes a binary little-endian PLY: per vertex `float x y z nx ny nz`, per face a
     /// `uchar` count (always 3) and `uint` indices. Missing normals are written as zero
     /// so the file layout never depends on whether normals were computed.
@@ -206,6 +226,25 @@ mod tests {
             t.swap(1, 2);
         }
         assert!((m.enclosed_volume() + 1.0 / 6.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn transform_scales_area_and_keeps_facing() {
+        let scale = glam::Affine3A::from_scale(Vec3::new(2.0, 3.0, 5.0));
+        let m = quad().transformed(&scale);
+        assert!((m.surface_area() - 12.0).abs() < 1e-5);
+        assert_eq!(m.bounds(), Some((Vec3::ZERO, Vec3::new(4.0, 3.0, 0.0))));
+        assert_eq!(m.normals[0], Vec3::Z);
+        assert_eq!(m.triangles, quad().triangles);
+        // A mirror keeps the triangles facing their normals.
+        let mirror = glam::Affine3A::from_scale(Vec3::new(1.0, 1.0, -1.0))
+            * glam::Affine3A::from_translation(Vec3::new(1.0, 0.0, 0.0));
+        let m = quad().transformed(&mirror);
+        assert_eq!(m.normals[0], -Vec3::Z);
+        assert_eq!(m.triangles[0], [0, 2, 1]);
+        assert_eq!(m.positions[1], Vec3::new(3.0, 0.0, 0.0));
+        let [a, b, c] = m.corners(&m.triangles[0]);
+        assert!((b - a).cross(c - a).dot(m.normals[0]) > 0.0);
     }
 
     #[test]

@@ -66,7 +66,10 @@ pub struct RawOptions {
     pub endian: Endian,
     /// Bytes to skip at the start of the file.
     pub header_bytes: u64,
-    pub spacing: [f32; 3],
+    /// Spacing between samples: that of a raw file (`None`: 1 on every axis), and for any
+    /// other volume (a header format, a procedural one) a replacement for what it says
+    /// (see [`crate::Volume::replaced_spacing`]).
+    pub spacing: Option<[f32; 3]>,
     pub nan_policy: NanPolicy,
 }
 
@@ -77,7 +80,7 @@ impl Default for RawOptions {
             dtype: None,
             endian: Endian::Little,
             header_bytes: 0,
-            spacing: [1.0; 3],
+            spacing: None,
             nan_policy: NanPolicy::Reject,
         }
     }
@@ -179,7 +182,8 @@ pub fn load_raw(path: &Path, opts: &RawOptions) -> Result<Volume> {
     let name = path
         .file_stem()
         .map_or_else(|| "volume".into(), |s| s.to_string_lossy().into_owned());
-    Volume::with_nan_policy(name, dims, opts.spacing, samples, opts.nan_policy)
+    let spacing = opts.spacing.unwrap_or([1.0; 3]);
+    Volume::with_nan_policy(name, dims, spacing, samples, opts.nan_policy)
         .map_err(|e| e.in_file(path))
 }
 

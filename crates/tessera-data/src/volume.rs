@@ -131,6 +131,8 @@ pub struct Volume {
     samples: Samples,
     value_range: (f32, f32),
     orientation: Orientation,
+    /// The spacing the data carried before [`Volume::with_spacing`] replaced it.
+    replaced_spacing: Option<[f32; 3]>,
 }
 
 impl Volume {
@@ -199,6 +201,7 @@ impl Volume {
             samples,
             value_range,
             orientation: Orientation::default(),
+            replaced_spacing: None,
         })
     }
 
@@ -206,6 +209,44 @@ impl Volume {
     pub fn with_orientation(mut self, orientation: Orientation) -> Volume {
         self.orientation = orientation;
         self
+    }
+
+    /// This volume with `spacing` in place of the spacing it has (a user's value for a file
+    /// whose header says otherwise); [`Volume::replaced_spacing`] then tells what it was.
+    /// The same spacing changes nothing. Fails when a value is not finite and positive.
+    pub fn with_spacing(mut self, spacing: [f32; 3]) -> Result<Volume> {
+        if spacing.iter().any(|s| !s.is_finite() || *s <= 0.0) {
+            return Err(DataError::Invalid(format!(
+                "{}: spacing {spacing:?} must be finite and positive on every axis",
+                self.name
+            )));
+        }
+        if spacing != self.spacing {
+            self.replaced_spacing = Some(self.replaced_spacing.unwrap_or(self.spacing));
+            self.spacing = spacing;
+        }
+        Ok(self)
+    }
+
+    /// The spacing the file (or generator) gave, when [`Volume::with_spacing`] replaced it.
+    pub fn replaced_spacing(&self) -> Option<[f32; 3]> {
+        self.replaced_spacing
+    }
+
+    /// Grid point (sample `(x, y, z)` at `(x, y, z)`) to physical position: the origin plus
+    /// each index times its spacing along its axis direction ([`Volume::orientation`]). Units
+    /// are the file's (millimetres for medical data); without placement in the header this is
+    /// spacing × index.
+    pub fn grid_to_physical(&self) -> glam::Affine3A {
+        let o = &self.orientation;
+        let d = o.direction();
+        let s = self.spacing;
+        glam::Affine3A::from_cols(
+            (glam::Vec3::from(d[0]) * s[0]).into(),
+            (glam::Vec3::from(d[1]) * s[1]).into(),
+            (glam::Vec3::from(d[2]) * s[2]).into(),
+            glam::Vec3::from(o.origin()).into(),
+        )
     }
 
     /// Where the grid lies in the file's world space; the default (identity, origin 0) when
@@ -293,6 +334,20 @@ impl Volume {
     /// `min + n * (max - min)`.
     pub fn iso_to_texel(&self, iso: IsoValue) -> f32 {
         self.raw_to_texel(iso.in_range(self.value_range))
+    }
+
+    /// A warning when `iso` (raw units) lies outside the volume's values, where no surface
+    /// can be found: it names the volume and its range. `None` when some surface may exist.
+    pub fn isovalue_warning(&self, iso: f32) -> Option<String> {
+        let (lo, hi) = self.value_range;
+        // A corner is inside when its value is below the isovalue, so `lo` itself finds
+        // nothing and `hi` still separates the samples below it.
+        (!(iso > lo && iso <= hi)).then(|| {
+            format!(
+                "isovalue {iso} is outside the values of {} ({lo}..{hi}): the surface is empty",
+                self.name
+            )
+        })
     }
 
     /// [`Volume::value_range`] in texel space, i.e. the same values.
@@ -396,6 +451,61 @@ mod tests {
     fn ramp_u8() -> Volume {
         let v: Vec<u8> = (0..27).map(|i| (i * 9) as u8).collect();
         Volume::new("ramp", [3, 3, 3], [1.0, 2.0, 0.5], Samples::U8(v)).expect("valid")
+    }
+
+    #[test]
+    fn spacing_can_be_replaced_and_says_what_it_was() {
+        let v = ramp_u8();
+        assert_eq!(v.replaced_spacing(), None);
+        let same = v.clone().with_spacing([1.0, 2.0, 0.5]).expect("same");
+        assert_eq!(same.replaced_spacing(), None);
+        let v = v.with_spacing([3.0, 3.0, 3.0]).expect("new");
+        assert_eq!(v.spacing(), [3.0; 3]);
+        assert_eq!(v.replaced_spacing(), Some([1.0, 2.0, 0.5]));
+        // A second replacement still names the data's own spacing.
+        let v = v.with_spacing([4.0, 4.0, 4.0]).expect("again");
+        assert_eq!(v.replaced_spacing(), Some([1.0, 2.0, 0.5]));
+        for bad in [[0.0, 1.0, 1.0], [1.0, -1.0, 1.0], [1.0, 1.0, f32::NAN]] {
+            let err = ramp_u8().with_spacing(bad).expect_err("bad spacing");
+            assert!(err.to_string().contains("ramp"), "{err}");
+        }
+    }
+
+    #[test]
+    fn grid_to_physical_applies_spacing_direction_and_origin() {
+        use crate::orientation::OrientationSource;
+        let v = ramp_u8();
+        let p = v
+            .grid_to_physical()
+            .transform_point3(glam::Vec3::new(2.0, 1.0, 2.0));
+        assert_eq!(p, glam::Vec3::new(2.0, 2.0, 1.0));
+        // Grid x along world -y, y along world x, z along z; origin (10, 20, 30).
+        let placed = Orientation::new(
+            [10.0, 20.0, 30.0],
+            [[0.0, -5.0, 0.0], [2.0, 0.0, 0.0], [0.0, 0.0, 1.0]],
+            None,
+            OrientationSource::Nrrd,
+        )
+        .expect("valid");
+        let v = v.with_orientation(placed);
+        let p = v
+            .grid_to_physical()
+            .transform_point3(glam::Vec3::new(2.0, 1.0, 2.0));
+        assert!(
+            (p - glam::Vec3::new(12.0, 18.0, 31.0)).length() < 1e-5,
+            "{p}"
+        );
+    }
+
+    #[test]
+    fn isovalue_outside_the_values_is_named() {
+        let v = ramp_u8();
+        assert_eq!(v.isovalue_warning(100.0), None);
+        assert_eq!(v.isovalue_warning(234.0), None);
+        for iso in [-300.0, 0.0, 234.5, 1000.0, f32::NAN] {
+            let w = v.isovalue_warning(iso).expect("warning");
+            assert!(w.contains("ramp") && w.contains("0..234"), "{w}");
+        }
     }
 
     #[test]

@@ -34,6 +34,14 @@ pub enum GpuError {
         what: &'static str,
     },
     #[error(
+        "'{name}' is {extent} texels along an axis but the device's 3-D images hold at most {limit} texels per axis"
+    )]
+    ImageTooLarge {
+        name: String,
+        extent: u32,
+        limit: u32,
+    },
+    #[error(
         "timer scopes {scopes} have no results: the frame that recorded them was never submitted"
     )]
     TimerNotSubmitted { scopes: String },
@@ -61,5 +69,22 @@ pub(crate) trait VkContext<T> {
 impl<T> VkContext<T> for std::result::Result<T, vk::Result> {
     fn call(self, call: &'static str) -> Result<T> {
         self.map_err(|result| GpuError::Vulkan { call, result })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn image_extent_limit_speaks_of_texels() {
+        let e = GpuError::ImageTooLarge {
+            name: "volume".into(),
+            extent: 5000,
+            limit: 2048,
+        };
+        let text = e.to_string();
+        assert!(text.contains("5000 texels") && text.contains("2048 texels per axis"));
+        assert!(!text.contains("bytes"), "{text}");
     }
 }

@@ -273,11 +273,10 @@ impl Gpu {
         let layers = if dim3 { 1 } else { layers.max(1) };
         let max = self.caps().max_image_dimension_3d;
         if dim3 && extent.iter().any(|&d| d > max) {
-            return Err(GpuError::TooLarge {
+            return Err(GpuError::ImageTooLarge {
                 name: name.into(),
-                bytes: extent.iter().copied().max().unwrap_or(0) as u64,
-                limit: max as u64,
-                what: "3-D image size (texels per axis)",
+                extent: extent.iter().copied().max().unwrap_or(0),
+                limit: max,
             });
         }
         let extent3 = vk::Extent3D {

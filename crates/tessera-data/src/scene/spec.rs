@@ -65,10 +65,15 @@ fn holds_mesh(spec: &str) -> bool {
 }
 
 /// A volume spec: `procedural:NAME:SIZE[:TYPE]` or a volume file ([`load::load_volume`]).
+/// `raw.spacing`, where given, is the spacing of the result whatever the source says.
 pub fn load_volume_spec(spec: &str, raw: &RawOptions) -> Result<Volume> {
     match spec.strip_prefix("procedural:") {
         Some(rest) => procedural::parse_spec(rest)
             .and_then(|(kind, size, scalar)| procedural::generate(kind, size, scalar))
+            .and_then(|volume| match raw.spacing {
+                Some(spacing) => volume.with_spacing(spacing),
+                None => Ok(volume),
+            })
             .map_err(|e| e.labelled(format!("procedural data '{spec}'"))),
         None => load::load_volume(Path::new(spec), raw),
     }

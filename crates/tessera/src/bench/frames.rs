@@ -189,8 +189,9 @@ impl TimedFrame for StereoFrames<'_, '_> {
     fn record(&mut self, _frame: u32, rec: &Recorder, timer: &mut Timer) -> Result<()> {
         match &mut self.pair {
             Pair::OnePass(r) => r.record_stereo(rec, self.eyes, self.targets, timer),
-            Pair::OneRendererTwoFrames(r) => (0..2)
-                .try_for_each(|e| r.record(rec, &self.eyes[e], self.targets[e], timer)),
+            Pair::OneRendererTwoFrames(r) => {
+                (0..2).try_for_each(|e| r.record(rec, &self.eyes[e], self.targets[e], timer))
+            }
             Pair::TwoFrames(rs) => {
                 (0..2).try_for_each(|e| rs[e].record(rec, &self.eyes[e], self.targets[e], timer))
             }

@@ -10,7 +10,7 @@ use super::{
 use crate::error::Result;
 use crate::path::Path;
 use crate::tet::interval::{
-    self, GpuTetMesh, Integrand, Interval, IntervalOptions, IntervalTuning, OpticalTarget,
+    GpuTetMesh, Integrand, Interval, IntervalOptions, IntervalTuning, OpticalTarget,
 };
 use tessera_data::scene::{Appearance, DataKind, Dataset, ResolvedIntegrand, TetData};
 use tessera_data::View;
@@ -40,13 +40,7 @@ pub(super) struct IntervalRenderer {
 
 impl IntervalRenderer {
     pub(super) fn new(gpu: &Gpu, options: &RendererOptions) -> Result<IntervalRenderer> {
-        let caps = gpu.caps();
-        let path = crate::path::choose_for(
-            caps,
-            &interval::path_support(caps),
-            options.path,
-            crate::path::remembered(caps).as_ref(),
-        )?;
+        let path = super::path_for(gpu.caps(), Technique::Interval, options.path)?;
         Ok(IntervalRenderer {
             path,
             tuning: options.interval,

@@ -72,13 +72,7 @@ impl IsoRenderer {
         technique: Technique,
         options: &RendererOptions,
     ) -> Result<IsoRenderer> {
-        let path = match technique {
-            Technique::Raymarch => Path::Compute,
-            _ => {
-                let measured = crate::path::remembered(gpu.caps());
-                crate::path::choose(gpu.caps(), options.path, measured.as_ref())?
-            }
-        };
+        let path = super::path_for(gpu.caps(), technique, options.path)?;
         Ok(IsoRenderer {
             technique,
             path,

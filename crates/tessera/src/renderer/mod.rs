@@ -31,7 +31,7 @@ pub use crate::tet::interval::IntervalTuning;
 use std::collections::BTreeMap;
 use tessera_data::scene::{Appearance, DataKind, Dataset};
 use tessera_data::{DepthFit, OrbitCamera, RgbaImage, View};
-use tessera_gpu::{Gpu, Recorder, Timer};
+use tessera_gpu::{Capabilities, Gpu, Recorder, Timer};
 
 /// Timer scopes one frame may open.
 pub const MAX_TIMER_SCOPES: u32 = 8;
@@ -157,6 +157,72 @@ impl Default for RendererOptions {
             pre_split: 1,
             interval: IntervalTuning::default(),
         }
+    }
+}
+
+/// The settings of [`RendererOptions`] by name (as the CLI's flags spell them, `_` for `-`).
+pub const OPTION_NAMES: [&str; 6] = [
+    "path",
+    "culling",
+    "supersample",
+    "msaa",
+    "pre_split",
+    "interval",
+];
+
+impl Technique {
+    /// The [`RendererOptions`] settings this technique reads ([`OPTION_NAMES`]); it ignores
+    /// the others.
+    pub fn reads_options(self) -> &'static [&'static str] {
+        match self {
+            Technique::Raymarch => &[],
+            Technique::Direct => &["path", "culling"],
+            Technique::Interval => &["path", "interval"],
+            Technique::ParamPoints => &["supersample", "pre_split"],
+            Technique::ParamTess => &["supersample", "msaa", "pre_split"],
+            Technique::ShRaytrace => &["supersample"],
+        }
+    }
+}
+
+impl RendererOptions {
+    /// The settings that differ from the defaults but that `technique` does not read, so a
+    /// front end can say they have no effect ([`OPTION_NAMES`]).
+    pub fn ignored_by(&self, technique: Technique) -> Vec<&'static str> {
+        let d = RendererOptions::default();
+        let changed = [
+            self.path != d.path,
+            self.culling != d.culling,
+            self.supersample != d.supersample,
+            self.msaa != d.msaa,
+            self.pre_split != d.pre_split,
+            self.interval != d.interval,
+        ];
+        OPTION_NAMES
+            .into_iter()
+            .zip(changed)
+            .filter(|&(name, changed)| changed && !technique.reads_options().contains(&name))
+            .map(|(name, _)| name)
+            .collect()
+    }
+}
+
+/// The path `technique` takes on a device with `caps` when asked for `choice`: the one
+/// [`create`] picks (the renderers call this), so that `tessera info` reports what `auto`
+/// really does. Techniques with a single path take it whatever the choice (see
+/// [`RendererOptions::ignored_by`]).
+pub fn path_for(caps: &Capabilities, technique: Technique, choice: PathChoice) -> Result<Path> {
+    let measured = crate::path::remembered(caps);
+    match technique {
+        Technique::Raymarch | Technique::ParamPoints | Technique::ShRaytrace => Ok(Path::Compute),
+        Technique::ParamTess => Ok(Path::Graphics),
+        Technique::Direct => crate::path::choose(caps, choice, measured.as_ref()),
+        Technique::Interval => crate::path::choose_for(
+            caps,
+            &crate::tet::interval::path_support(caps),
+            choice,
+            measured.as_ref(),
+        ),
     }
 }
 
@@ -426,4 +492,77 @@ pub(crate) fn no_data(technique: Technique) -> Error {
         "{}: a frame was asked for before any data was set",
         technique.name()
     ))
+}
+
+#[cfg(test)]
+mod option_tests {
+    use super::*;
+
+    #[test]
+    fn options_a_technique_ignores_are_named() {
+        let defaults = RendererOptions::default();
+        for t in Technique::ALL {
+            assert!(defaults.ignored_by(t).is_empty(), "{t:?}");
+            for name in t.reads_options() {
+                assert!(OPTION_NAMES.contains(name), "{name}");
+            }
+        }
+        let graphics = RendererOptions {
+            path: PathChoice::Graphics,
+            ..defaults
+        };
+        assert_eq!(graphics.ignored_by(Technique::Raymarch), ["path"]);
+        assert!(graphics.ignored_by(Technique::Direct).is_empty());
+        let no_culling = RendererOptions {
+            culling: false,
+            ..defaults
+        };
+        assert_eq!(no_culling.ignored_by(Technique::Interval), ["culling"]);
+        assert!(no_culling.ignored_by(Technique::Direct).is_empty());
+        let msaa = RendererOptions {
+            msaa: 4,
+            supersample: 2,
+            ..defaults
+        };
+        assert_eq!(msaa.ignored_by(Technique::ParamPoints), ["msaa"]);
+        assert_eq!(
+            msaa.ignored_by(Technique::Raymarch),
+            ["supersample", "msaa"]
+        );
+        assert!(msaa.ignored_by(Technique::ParamTess).is_empty());
+    }
+
+    #[test]
+    fn path_for_follows_each_techniques_support() {
+        // Mesh shaders and float atomics but no 64-bit atomics: direct and interval differ.
+        let caps = Capabilities {
+            device_name: "test".into(),
+            mesh_shader: true,
+            task_shader: true,
+            buffer_float32_atomic_add: true,
+            ..Capabilities::default()
+        };
+        let auto = PathChoice::Auto;
+        assert_eq!(
+            path_for(&caps, Technique::Raymarch, auto).unwrap(),
+            Path::Compute
+        );
+        assert_eq!(
+            path_for(&caps, Technique::Raymarch, PathChoice::Graphics).unwrap(),
+            Path::Compute
+        );
+        assert_eq!(
+            path_for(&caps, Technique::Direct, auto).unwrap(),
+            Path::Graphics
+        );
+        assert!(path_for(&caps, Technique::Direct, PathChoice::Compute).is_err());
+        assert_eq!(
+            path_for(&caps, Technique::Interval, PathChoice::Compute).unwrap(),
+            Path::Compute
+        );
+        assert_eq!(
+            path_for(&caps, Technique::ParamTess, auto).unwrap(),
+            Path::Graphics
+        );
+    }
 }

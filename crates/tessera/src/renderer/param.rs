@@ -46,6 +46,8 @@ enum FrameBuffers {
 
 pub(super) struct ParamRenderer {
     technique: Technique,
+    /// Tessellation runs on the graphics stages; points and ray tracing on compute.
+    path: Path,
     options: RendererOptions,
     /// Built with the first data set, for its user function (`None`: the built-in functions
     /// only): a user function is compiled into every pass, and building twice would cost the
@@ -79,6 +81,7 @@ impl ParamRenderer {
         }
         Ok(ParamRenderer {
             technique,
+            path: super::path_for(gpu.caps(), technique, options.path)?,
             options: *options,
             pipelines: None,
             scene: None,
@@ -168,12 +171,8 @@ impl Renderer for ParamRenderer {
         self.technique
     }
 
-    /// Tessellation runs on the graphics stages; points and ray tracing on compute.
     fn path(&self) -> Path {
-        match self.technique {
-            Technique::ParamTess => Path::Graphics,
-            _ => Path::Compute,
-        }
+        self.path
     }
 
     fn set_data(&mut self, gpu: &Gpu, data: &Dataset) -> Result<()> {
