@@ -110,7 +110,7 @@ pub fn run(options: &GpuOptions, args: &BenchArgs) -> Result<()> {
             SCENARIOS.join(", ")
         ),
     };
-    let gpu = crate::open_gpu(options)?;
+    let gpu = crate::gpu::open_gpu(options)?;
     let file = match &args.json {
         Some(p) => Some(
             std::fs::OpenOptions::new()
@@ -155,5 +155,5 @@ pub fn run(options: &GpuOptions, args: &BenchArgs) -> Result<()> {
     for scenario in scenarios {
         tessera::bench::run(&gpu, scenario, &config, &mut sink)?;
     }
-    crate::check_validation(&gpu)
+    crate::gpu::check_validation(&gpu)
 }

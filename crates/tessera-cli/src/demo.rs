@@ -195,7 +195,7 @@ fn parametric_scenes() -> Vec<Scene> {
 }
 
 pub fn run(options: &GpuOptions, args: &DemoArgs) -> Result<()> {
-    let gpu = crate::open_gpu(options)?;
+    let gpu = crate::gpu::open_gpu(options)?;
     println!(
         "device: {} ({})",
         gpu.caps().device_name,
@@ -207,7 +207,7 @@ pub fn run(options: &GpuOptions, args: &DemoArgs) -> Result<()> {
     for scene in &scenes {
         render_scene(&gpu, scene, args)?;
     }
-    crate::check_validation(&gpu)
+    crate::gpu::check_validation(&gpu)
 }
 
 /// Renders one scene and reports its GPU time and its time with loading, uploads and

@@ -15,7 +15,7 @@ pub struct InfoArgs {
 
 pub fn run(options: &GpuOptions, args: &InfoArgs) -> Result<()> {
     let devices = tessera_gpu::list_devices()?;
-    let gpu = crate::open_gpu(options)?;
+    let gpu = crate::gpu::open_gpu(options)?;
     let caps = gpu.caps();
     if args.json {
         println!("{}", serde_json::to_string_pretty(caps)?);
@@ -108,5 +108,5 @@ pub fn run(options: &GpuOptions, args: &InfoArgs) -> Result<()> {
         };
         println!("  {:<24} {path}", technique.name());
     }
-    crate::check_validation(&gpu)
+    crate::gpu::check_validation(&gpu)
 }

@@ -58,7 +58,7 @@ pub fn run(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
     let kind = DataKind::of_spec(&args.data);
     let technique = Technique::for_data(args.technique.as_deref(), kind, &args.data)?;
     let mut look = look::appearance(&args.iso, &args.tet)?;
-    let gpu = crate::open_gpu(options)?;
+    let gpu = crate::gpu::open_gpu(options)?;
     if kind == DataKind::Volume {
         data::check_fits(&gpu, &args.data, &args.volume)?;
     }
@@ -126,7 +126,7 @@ pub fn run(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
     );
     drop(renderer);
     drop(frame);
-    crate::check_validation(&gpu)
+    crate::gpu::check_validation(&gpu)
 }
 
 /// What the image shows besides technique and path, as the report line gives it.
