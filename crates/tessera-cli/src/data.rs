@@ -6,6 +6,7 @@ use anyhow::Result;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::time::Duration;
+use tessera_data::mc_ambiguity::AmbiguityRule;
 use tessera_data::raw::{Endian, RawOptions};
 use tessera_data::scene::parse::{parse_dims, parse_spacing};
 use tessera_data::scene::{expected_volume_bytes, load_volume_spec, Dataset, LoadOptions};
@@ -45,6 +46,15 @@ pub struct IsoArgs {
     /// Isovalue as a fraction of the data's value range (0 = min, 1 = max).
     #[arg(long)]
     pub iso_fraction: Option<f32>,
+    /// How marching cubes (extract, direct) cuts a face whose above-iso corners are
+    /// diagonal: decider (the asymptotic decider, topologically consistent) or vtk (VTK's
+    /// fixed convention: always separated, as vtkMarchingCubes does).
+    #[arg(long, default_value = "decider", value_parser = parse_ambiguity)]
+    pub ambiguity: AmbiguityRule,
+}
+
+fn parse_ambiguity(text: &str) -> std::result::Result<AmbiguityRule, String> {
+    AmbiguityRule::parse(text).map_err(|e| e.to_string())
 }
 
 impl IsoArgs {

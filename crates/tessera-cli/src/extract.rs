@@ -27,7 +27,7 @@ pub fn run(args: &ExtractArgs) -> Result<()> {
         ..Default::default()
     };
     let iso = look.iso_texel(&volume)?;
-    let mesh = marching_cubes_physical(&volume, iso);
+    let mesh = marching_cubes_physical(&volume, iso, args.iso.ambiguity);
     crate::output::write_file(&args.output, |w| Ok(mesh.write_ply(w)?))?;
     println!(
         "{}: iso {iso}: {} triangles, {} vertices, area {:.1} (physical units, spacing × index) -> {}",

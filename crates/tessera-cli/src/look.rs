@@ -106,8 +106,9 @@ pub fn warn_ignored(options: &RendererOptions, technique: tessera::renderer::Tec
     }
 }
 
-pub fn renderer_options(paths: &PathArgs, param: &ParamArgs) -> RendererOptions {
+pub fn renderer_options(paths: &PathArgs, param: &ParamArgs, iso: &IsoArgs) -> RendererOptions {
     RendererOptions {
+        ambiguity: iso.ambiguity,
         path: paths.path,
         culling: paths.culling == "on",
         supersample: param.supersample,

@@ -79,7 +79,7 @@ pub fn run(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
     } else {
         camera.up = args.up.unwrap_or_default();
     }
-    let renderer_options = look::renderer_options(&args.paths, &args.param);
+    let renderer_options = look::renderer_options(&args.paths, &args.param, &args.iso);
     let started = Instant::now();
     let bar = data::spinner("compiling shaders, uploading, building auxiliary structures".into());
     let built = (|| -> tessera::Result<_> {

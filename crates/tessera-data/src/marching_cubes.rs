@@ -73,8 +73,8 @@ pub fn count_triangles_with(volume: &Volume, iso: f32, rule: AmbiguityRule) -> u
 /// [`marching_cubes`] in physical units: vertices at the volume's origin plus spacing ×
 /// index along its axis directions ([`Volume::grid_to_physical`]), so that lengths and areas
 /// are the file's (e.g. millimetres). This is what exports write.
-pub fn marching_cubes_physical(volume: &Volume, iso: f32) -> TriangleMesh {
-    marching_cubes(volume, iso).transformed(&volume.grid_to_physical())
+pub fn marching_cubes_physical(volume: &Volume, iso: f32, rule: AmbiguityRule) -> TriangleMesh {
+    marching_cubes_with(volume, iso, rule).transformed(&volume.grid_to_physical())
 }
 
 /// Extracts the `iso` level set of `volume` as an indexed, watertight mesh (see the
@@ -298,7 +298,7 @@ mod tests {
             )
             .unwrap(),
         );
-        let phys = marching_cubes_physical(&vol, r);
+        let phys = marching_cubes_physical(&vol, r, AmbiguityRule::default());
         assert_eq!(phys.triangle_count(), grid.triangle_count());
         let (glo, ghi) = grid.bounds().unwrap();
         let (plo, phi) = phys.bounds().unwrap();

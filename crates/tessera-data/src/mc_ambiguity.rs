@@ -19,6 +19,18 @@ pub enum AmbiguityRule {
 }
 
 impl AmbiguityRule {
+    /// `decider` or `vtk`, as the command line names them.
+    pub fn parse(text: &str) -> crate::error::Result<AmbiguityRule> {
+        match text {
+            "decider" => Ok(AmbiguityRule::AsymptoticDecider),
+            "vtk" => Ok(AmbiguityRule::Vtk),
+            _ => Err(crate::error::DataError::Invalid(format!(
+                "ambiguous faces '{text}': choose decider (the asymptotic decider) or vtk \
+                 (VTK's fixed convention)"
+            ))),
+        }
+    }
+
     /// Bit `f` set when the above corners of ambiguous face `f` are to be joined, for a cell
     /// of `case` whose corner values are `values` (indexed by corner). Bits of faces that
     /// are not ambiguous are zero.

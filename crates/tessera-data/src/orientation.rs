@@ -15,6 +15,8 @@ pub enum OrientationSource {
     NiftiSform,
     /// NIfTI qform (`qform_code` > 0, no sform): quaternion, `qfac` and offsets.
     NiftiQform,
+    /// VTK image data's `Origin` and `Direction` (VTK names no anatomical space).
+    Vti,
 }
 
 /// The patient-based space a medical file's world axes are in, named by where +x, +y and +z

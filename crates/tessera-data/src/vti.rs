@@ -7,12 +7,13 @@
 //! becomes `f32` (as in [`crate::raw`]). Pieces are placed by their `Extent` and must
 //! together cover the whole extent.
 //!
-//! A [`Volume`] has no placement in space, so the origin and direction come back beside
-//! it in [`VtiImage`].
+//! The volume carries the placement as its [`Orientation`] (the first sample's position and
+//! the axis directions); [`VtiImage`] also gives the file's own `Origin` and `Direction`.
 
 use std::path::Path;
 
 use crate::error::Result;
+use crate::orientation::{Orientation, OrientationSource};
 use crate::sample_data::sample_count;
 use crate::tet::read_file;
 use crate::volume::{NanPolicy, Samples, Volume};
@@ -72,6 +73,18 @@ pub fn read_vti(path: &Path, nan_policy: NanPolicy) -> Result<VtiImage> {
     let volume =
         Volume::with_nan_policy(name, dims, spacing.map(|s| s as f32), samples, nan_policy)
             .map_err(|e| e.in_file(path))?;
+    // The grid's first sample sits at the extent's lower corner, not at `Origin`.
+    let columns = [0, 1, 2].map(|c| [0, 1, 2].map(|r| direction[r][c]));
+    let first = [0, 1, 2].map(|r| {
+        origin[r]
+            + (0..3)
+                .map(|c| direction[r][c] * whole.lo[c] as f64 * spacing[c])
+                .sum::<f64>()
+    });
+    let volume = match Orientation::new(first, columns, None, OrientationSource::Vti) {
+        Some(placed) => volume.with_orientation(placed),
+        None => volume,
+    };
     Ok(VtiImage {
         volume,
         origin,

@@ -1,5 +1,6 @@
 //! Tests of the `.vti` loader with small hand-made files in each encoding.
 use super::*;
+use crate::orientation::OrientationSource;
 use crate::test_files::test_path;
 use crate::volume::ScalarType;
 
@@ -21,6 +22,14 @@ fn ascii_uint8_with_placement() {
     assert_eq!(image.origin, [1.0, 2.0, 3.0]);
     assert_eq!(
         image.direction,
+        [[0.0, 1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]
+    );
+    // The volume carries the placement: grid axis i is the direction matrix's column i.
+    let placed = v.orientation();
+    assert_eq!(placed.source(), OrientationSource::Vti);
+    assert_eq!(placed.origin(), [1.0, 2.0, 3.0]);
+    assert_eq!(
+        placed.direction(),
         [[0.0, 1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]
     );
 }
@@ -51,6 +60,8 @@ fn inline_base64_int8_with_an_offset_extent() {
     assert_eq!((v.dims(), v.spacing()), ([2, 2, 2], [2.0; 3]));
     let want = vec![-128.0, -1.0, 0.0, 1.0, 127.0, 5.0, -5.0, 42.0];
     assert_eq!(v.samples(), &Samples::F32(want));
+    // The first sample is at extent (1, -1, 5) × spacing 2 from the origin.
+    assert_eq!(v.orientation().origin(), [2.0, -2.0, 10.0]);
 }
 
 #[test]

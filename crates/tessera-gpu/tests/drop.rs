@@ -32,25 +32,11 @@ void main() {
 }
 "#;
 
-/// Objects dropped after the `Gpu` that made them still free themselves: the last one takes
-/// the device down, and the validation layer (which reports every object still alive when the
-/// device is destroyed) sees nothing wrong.
-#[test]
-fn objects_outlive_the_gpu_handle() {
-    let Some(gpu) = open() else {
-        return;
-    };
-    let log = gpu.validation_log();
+/// The fill shader compiled, and the 8 × 8 storage image it writes.
+fn fill_shader_and_picture(gpu: &Gpu) -> (tessera_gpu::Spirv, tessera_gpu::Image) {
     let compiler = ShaderCompiler::new().without_disk_cache();
     let spirv = compiler
         .compile(&Source::new("fill.comp.glsl", FILL), &[])
-        .unwrap();
-    let pipeline = gpu
-        .compute_pipeline("fill", &spirv, &[Slot::StorageBuffer, Slot::StorageImage])
-        .unwrap();
-    let usage = vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC;
-    let buffer = gpu
-        .create_buffer("words", 256, usage, MemoryLocation::GpuOnly)
         .unwrap();
     let image = gpu
         .create_image(
@@ -60,6 +46,26 @@ fn objects_outlive_the_gpu_handle() {
             vk::ImageUsageFlags::STORAGE,
             false,
         )
+        .unwrap();
+    (spirv, image)
+}
+
+/// Objects dropped after the `Gpu` that made them still free themselves: the last one takes
+/// the device down, and the validation layer (which reports every object still alive when the
+/// device is destroyed) sees nothing wrong.
+#[test]
+fn objects_outlive_the_gpu_handle() {
+    let Some(gpu) = open() else {
+        return;
+    };
+    let log = gpu.validation_log();
+    let (spirv, image) = fill_shader_and_picture(&gpu);
+    let pipeline = gpu
+        .compute_pipeline("fill", &spirv, &[Slot::StorageBuffer, Slot::StorageImage])
+        .unwrap();
+    let usage = vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC;
+    let buffer = gpu
+        .create_buffer("words", 256, usage, MemoryLocation::GpuOnly)
         .unwrap();
     let mut timer = Timer::new(&gpu, 1).unwrap();
     timer.reset(&gpu);
@@ -142,24 +148,12 @@ fn objects_dropped_while_recording_wait_for_the_submission() {
     let Some(gpu) = open() else {
         return;
     };
-    let compiler = ShaderCompiler::new().without_disk_cache();
-    let spirv = compiler
-        .compile(&Source::new("fill.comp.glsl", FILL), &[])
-        .unwrap();
+    let (spirv, image) = fill_shader_and_picture(&gpu);
     let usage = vk::BufferUsageFlags::STORAGE_BUFFER
         | vk::BufferUsageFlags::TRANSFER_SRC
         | vk::BufferUsageFlags::TRANSFER_DST;
     let kept = gpu
         .create_buffer("kept", 256, usage, MemoryLocation::GpuOnly)
-        .unwrap();
-    let image = gpu
-        .create_image(
-            "picture",
-            [8, 8, 1],
-            vk::Format::R8G8B8A8_UNORM,
-            vk::ImageUsageFlags::STORAGE,
-            false,
-        )
         .unwrap();
     let baseline = gpu.allocated_bytes();
     gpu.submit("fill, then copy from a buffer dropped at once", |rec| {

@@ -97,13 +97,18 @@ fn parse_grid(text: &str, spec: &str, form: &str) -> Result<(u32, u32)> {
         .ok_or_else(|| DataError::Invalid(format!("'{spec}': expected {form}, found '{text}'")))
 }
 
-/// `orderN`; whether N is a valid order is the glyph builder's to say.
+/// The highest SH order a `param:` spec builds glyphs of: every renderer draws it, and the
+/// CPU-side tables of a glyph field stay quick to build (checked before any is built).
+pub const MAX_SPEC_SH_ORDER: u32 = 16;
+
+/// `orderN`, N even from 2 to [`MAX_SPEC_SH_ORDER`].
 fn parse_order(text: &str, spec: &str) -> Result<u32> {
     text.strip_prefix("order")
         .and_then(|n| n.parse().ok())
+        .filter(|&n: &u32| n.is_multiple_of(2) && (2..=MAX_SPEC_SH_ORDER).contains(&n))
         .ok_or_else(|| {
             DataError::Invalid(format!(
-                "'{spec}': expected orderN (even N, 2 to 16), found '{text}'"
+                "'{spec}': expected orderN (even N, 2 to {MAX_SPEC_SH_ORDER}), found '{text}'"
             ))
         })
 }

@@ -90,7 +90,7 @@ fn scene_errors_name_the_spec() {
         ),
         (
             "param:sh-glyph:order3",
-            "param:sh-glyph:order3: SH order must be even",
+            "'param:sh-glyph:order3': expected orderN (even N, 2 to 16)",
         ),
         (
             "param:sh-glyphs:3:order4",
@@ -255,4 +255,23 @@ fn user_functions() {
         .unwrap_err()
         .to_string();
     assert!(err.contains("absent.GLSL"), "{err}");
+}
+
+/// Orders no renderer draws are refused while parsing, before any glyph (or its SH tables)
+/// is built: order 100 used to build everything first.
+#[test]
+fn glyph_orders_outside_the_drawable_range_are_refused_at_once() {
+    let started = std::time::Instant::now();
+    for spec in [
+        "param:sh-glyph:order100",
+        "param:sh-glyph:order18",
+        "param:sh-glyph:order3",
+        "param:sh-glyph:order0",
+        "param:sh-glyphs:100x100:order100",
+    ] {
+        let e = error(spec);
+        assert!(e.contains(spec) && e.contains("2 to 16"), "{e}");
+    }
+    assert!(started.elapsed() < std::time::Duration::from_secs(1));
+    assert_eq!(scene("param:sh-glyph:order16").objects.len(), 1);
 }

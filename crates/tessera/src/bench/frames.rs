@@ -135,17 +135,8 @@ pub(super) fn time_mono(
     distinct: u32,
     each_frame: EachFrame,
 ) -> Result<Vec<StageStats>> {
-    settle_frames(gpu, renderer, view, distinct.max(1), each_frame)?;
-    renderer.prepare_frame(gpu, view)?;
-    let target = Target::new(gpu, view.size.0, view.size.1)?;
-    let mut timed = MonoFrames {
-        renderer,
-        view,
-        target: &target,
-        each_frame,
-        frame: 0,
-    };
-    Ok(stage_stats(&time_loop(gpu, plan, &mut timed)?))
+    let frames = mono_frames(gpu, renderer, view, plan, distinct, each_frame)?;
+    Ok(stage_stats(&frames))
 }
 
 /// Times one frame of `view` as a whole (all its stages summed) under `name`.
@@ -156,17 +147,29 @@ pub(super) fn time_mono_total(
     plan: FramePlan,
     name: &str,
 ) -> Result<StageStats> {
-    settle_frames(gpu, renderer, view, 1, None)?;
+    let frames = mono_frames(gpu, renderer, view, plan, 1, None)?;
+    Ok(sum_stats(&frames, name))
+}
+
+fn mono_frames(
+    gpu: &Gpu,
+    renderer: &mut dyn Renderer,
+    view: &View,
+    plan: FramePlan,
+    distinct: u32,
+    each_frame: EachFrame,
+) -> Result<ScopeTimes> {
+    settle_frames(gpu, renderer, view, distinct.max(1), each_frame)?;
     renderer.prepare_frame(gpu, view)?;
     let target = Target::new(gpu, view.size.0, view.size.1)?;
     let mut timed = MonoFrames {
         renderer,
         view,
         target: &target,
-        each_frame: None,
+        each_frame,
         frame: 0,
     };
-    Ok(sum_stats(&time_loop(gpu, plan, &mut timed)?, name))
+    time_loop(gpu, plan, &mut timed)
 }
 
 /// How a stereo pair is drawn.

@@ -14,6 +14,7 @@ use crate::iso::direct::{Direct, RasterTarget};
 use crate::iso::raymarch::Raymarch;
 use crate::iso::PreparedVolume;
 use crate::path::Path;
+use tessera_data::mc_ambiguity::AmbiguityRule;
 use tessera_data::scene::{Appearance, Dataset};
 use tessera_data::{ScalarType, View, Volume};
 use tessera_gpu::{Buffer, Gpu, Recorder, Timer};
@@ -41,6 +42,8 @@ pub(super) struct IsoRenderer {
     technique: Technique,
     path: Path,
     culling: bool,
+    /// How marching cubes cuts ambiguous faces (direct only).
+    ambiguity: AmbiguityRule,
     pipelines: Option<(ScalarType, Pipelines)>,
     prepared: Option<PreparedVolume>,
     /// The isovalue in texel units, and the look it came from (kept to re-resolve against new
@@ -77,6 +80,7 @@ impl IsoRenderer {
             technique,
             path,
             culling: options.culling && technique == Technique::Direct,
+            ambiguity: options.ambiguity,
             pipelines: None,
             prepared: None,
             iso: 0.0,
@@ -103,12 +107,18 @@ impl IsoRenderer {
                 (Technique::Raymarch, _) => {
                     Pipelines::Raymarch(Box::new(Raymarch::new(gpu, &compiler, scalar)?))
                 }
-                (_, Path::Graphics) => {
-                    Pipelines::Mesh(Box::new(Direct::new(gpu, &compiler, scalar)?))
-                }
-                (_, Path::Compute) => {
-                    Pipelines::Compute(Box::new(DirectCompute::new(gpu, &compiler, scalar)?))
-                }
+                (_, Path::Graphics) => Pipelines::Mesh(Box::new(Direct::with_rule(
+                    gpu,
+                    &compiler,
+                    scalar,
+                    self.ambiguity,
+                )?)),
+                (_, Path::Compute) => Pipelines::Compute(Box::new(DirectCompute::with_rule(
+                    gpu,
+                    &compiler,
+                    scalar,
+                    self.ambiguity,
+                )?)),
             };
             self.counters.pipeline_builds += 1;
             self.pipelines = Some((scalar, pipelines));
@@ -298,7 +308,7 @@ impl Renderer for IsoRenderer {
         if matches!(self.pipelines, Some((_, Pipelines::Mesh(_)))) {
             if self.multiview.as_ref().map(|m| m.0) != Some(scalar) {
                 let compiler = crate::shaders::compiler();
-                let pipeline = DirectMultiview::new(gpu, &compiler, scalar)?;
+                let pipeline = DirectMultiview::with_rule(gpu, &compiler, scalar, self.ambiguity)?;
                 self.counters.pipeline_builds += 1;
                 self.multiview = Some((scalar, Box::new(pipeline)));
             }

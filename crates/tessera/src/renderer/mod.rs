@@ -29,6 +29,7 @@ use crate::path::{Path, PathChoice};
 pub use crate::target::Target;
 pub use crate::tet::interval::IntervalTuning;
 use std::collections::BTreeMap;
+pub use tessera_data::mc_ambiguity::AmbiguityRule;
 use tessera_data::scene::{Appearance, DataKind, Dataset};
 use tessera_data::{DepthFit, OrbitCamera, RgbaImage, View};
 use tessera_gpu::{Capabilities, Gpu, Recorder, Timer};
@@ -145,6 +146,8 @@ pub struct RendererOptions {
     pub pre_split: u32,
     /// Interval shading's speed settings.
     pub interval: IntervalTuning,
+    /// How `direct`'s marching cubes cuts ambiguous faces (a shader define).
+    pub ambiguity: AmbiguityRule,
 }
 
 impl Default for RendererOptions {
@@ -156,18 +159,20 @@ impl Default for RendererOptions {
             msaa: 1,
             pre_split: 1,
             interval: IntervalTuning::default(),
+            ambiguity: AmbiguityRule::default(),
         }
     }
 }
 
 /// The settings of [`RendererOptions`] by name (as the CLI's flags spell them, `_` for `-`).
-pub const OPTION_NAMES: [&str; 6] = [
+pub const OPTION_NAMES: [&str; 7] = [
     "path",
     "culling",
     "supersample",
     "msaa",
     "pre_split",
     "interval",
+    "ambiguity",
 ];
 
 impl Technique {
@@ -176,7 +181,7 @@ impl Technique {
     pub fn reads_options(self) -> &'static [&'static str] {
         match self {
             Technique::Raymarch => &[],
-            Technique::Direct => &["path", "culling"],
+            Technique::Direct => &["path", "culling", "ambiguity"],
             Technique::Interval => &["path", "interval"],
             Technique::ParamPoints => &["supersample", "pre_split"],
             Technique::ParamTess => &["supersample", "msaa", "pre_split"],
@@ -197,6 +202,7 @@ impl RendererOptions {
             self.msaa != d.msaa,
             self.pre_split != d.pre_split,
             self.interval != d.interval,
+            self.ambiguity != d.ambiguity,
         ];
         OPTION_NAMES
             .into_iter()

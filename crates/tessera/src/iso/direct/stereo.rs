@@ -40,10 +40,21 @@ pub struct DirectMultiview {
     views: Buffer,
 }
 impl DirectMultiview {
+    /// The multiview pipeline with ambiguous faces cut by the asymptotic decider.
     pub fn new(
         gpu: &Gpu,
         compiler: &ShaderCompiler,
         scalar: ScalarType,
+    ) -> Result<DirectMultiview> {
+        Self::with_rule(gpu, compiler, scalar, AmbiguityRule::default())
+    }
+
+    /// The multiview pipeline with ambiguous faces cut by `rule`.
+    pub fn with_rule(
+        gpu: &Gpu,
+        compiler: &ShaderCompiler,
+        scalar: ScalarType,
+        rule: AmbiguityRule,
     ) -> Result<DirectMultiview> {
         if !gpu.caps().mesh_multiview {
             return Err(Error::Invalid(format!(
@@ -51,8 +62,7 @@ impl DirectMultiview {
                 gpu.caps().device_name
             )));
         }
-        // Stereo draws with the default rule, the asymptotic decider.
-        let mut defines = marching_cubes_defines(scalar, AmbiguityRule::default());
+        let mut defines = marching_cubes_defines(scalar, rule);
         defines.push(("MULTIVIEW".into(), "1".into()));
         defines.push(("BLOCK_LIST".into(), "0".into()));
         let task = compiler.compile(&builtin_shader!("direct.task.glsl"), &defines)?;
