@@ -7,7 +7,8 @@
 # `cargo fuzz build --sanitizer none` uses (plain cargo: cargo-fuzz need not be installed),
 # runs each for SECONDS on one core and prints executions and crashes per target. New inputs
 # go to fuzz/corpus/TARGET (starting from the committed seeds in fuzz/seeds/TARGET), crashing
-# or hanging ones to fuzz/artifacts/TARGET. Exits non-zero when any target crashed.
+# or hanging ones to fuzz/artifacts/TARGET; fuzz/dicts/TARGET.dict, where present, lists the
+# format's keywords. Exits non-zero when any target crashed.
 #
 # Environment: CARGO_TARGET_DIR (default fuzz/target), FUZZ_MAX_LEN (default 16384),
 # FUZZ_RSS_MB (default 2048), FUZZ_TIMEOUT (seconds one input may take, default 10).
@@ -56,6 +57,8 @@ for t in $list; do
   artifacts=fuzz/artifacts/$t
   mkdir -p "$corpus" "$artifacts"
   before=$(find "$artifacts" -type f | wc -l)
+  dict=()
+  [ -f "fuzz/dicts/$t.dict" ] && dict=(-dict="fuzz/dicts/$t.dict")
   log=$(mktemp)
   start=$(date +%s)
   set +e
@@ -63,7 +66,7 @@ for t in $list; do
     -max_total_time="$seconds" -timeout="${FUZZ_TIMEOUT:-10}" \
     -rss_limit_mb="${FUZZ_RSS_MB:-2048}" -malloc_limit_mb="${FUZZ_RSS_MB:-2048}" \
     -max_len="${FUZZ_MAX_LEN:-16384}" -artifact_prefix="$artifacts/" \
-    -print_final_stats=1 "$@" >"$log" 2>&1
+    -print_final_stats=1 "${dict[@]}" "$@" >"$log" 2>&1
   rc=$?
   set -e
   took=$(($(date +%s) - start))

@@ -44,8 +44,16 @@ fuzz_target!(|data: &[u8]| {
     let path = dir().join(name);
     std::fs::write(&path, contents).expect("write raw file");
     let opts = RawOptions {
-        endian: if flags & 1 == 0 { Endian::Little } else { Endian::Big },
-        nan_policy: if flags & 2 == 0 { NanPolicy::Reject } else { NanPolicy::Replace(0.0) },
+        endian: if flags & 1 == 0 {
+            Endian::Little
+        } else {
+            Endian::Big
+        },
+        nan_policy: if flags & 2 == 0 {
+            NanPolicy::Reject
+        } else {
+            NanPolicy::Replace(0.0)
+        },
         header_bytes: u64::from(flags >> 2),
         ..RawOptions::default()
     };

@@ -7,5 +7,8 @@ use tessera_data::{vti, NanPolicy};
 
 fuzz_target!(|data: &[u8]| {
     let file = "input.vti";
-    common::names_file(&vti::parse_bytes(data, common::path(file), NanPolicy::Reject), file);
+    common::names_file(
+        &vti::parse_bytes(data, common::path(file), NanPolicy::Reject),
+        file,
+    );
 });
