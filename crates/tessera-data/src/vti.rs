@@ -38,8 +38,12 @@ pub fn load_vti(path: &Path, nan_policy: NanPolicy) -> Result<Volume> {
 
 /// Loads a `.vti` file with its origin and direction.
 pub fn read_vti(path: &Path, nan_policy: NanPolicy) -> Result<VtiImage> {
-    let data = read_file(path)?;
-    let file = VtkXml::open(&data, path, "ImageData", "a volume (VTK XML image data)")?;
+    parse_bytes(&read_file(path)?, path, nan_policy)
+}
+
+/// Parses the bytes of a `.vti` file; `path` names the file in errors and the volume.
+pub fn parse_bytes(data: &[u8], path: &Path, nan_policy: NanPolicy) -> Result<VtiImage> {
+    let file = VtkXml::open(data, path, "ImageData", "a volume (VTK XML image data)")?;
     let image = file
         .child(file.root(), "ImageData")
         .ok_or_else(|| file.err(file.root(), "no <ImageData> in the VTKFile"))?;

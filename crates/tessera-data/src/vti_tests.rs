@@ -183,3 +183,15 @@ fn real_file_from_the_environment() {
         start.elapsed()
     );
 }
+
+#[test]
+fn bytes_load_like_the_file() {
+    let path = data_file("zlib_f64.vti");
+    let bytes = std::fs::read(&path).expect("test file");
+    let parsed = parse_bytes(&bytes, &path, NanPolicy::Reject).expect("parse");
+    let loaded = read_vti(&path, NanPolicy::Reject).expect("load");
+    assert_eq!(parsed.volume.dims(), loaded.volume.dims());
+    assert_eq!(parsed.origin, loaded.origin);
+    let err = parse_bytes(&bytes[..bytes.len() / 2], &path, NanPolicy::Reject).expect_err("cut");
+    assert!(err.to_string().contains("zlib_f64.vti"), "{err}");
+}

@@ -209,3 +209,38 @@ fn files_written_by_meshio() {
         assert_eq!(report.skipped_cells, skipped, "{name}");
     }
 }
+
+#[test]
+fn byte_entries_match_the_path_loaders() {
+    use crate::test_files::test_data;
+    let cases: [(&str, LoadPath, ParseBytes); 3] = [
+        ("meshio_binary.vtu", load_vtu, vtu::parse_bytes),
+        (
+            "meshio_binary.vtk",
+            load_vtk_legacy,
+            vtk_legacy::parse_bytes,
+        ),
+        ("gmsh41_binary.msh", load_msh, gmsh::parse_bytes),
+    ];
+    for (name, load, parse) in cases {
+        let path = test_data(name);
+        let bytes = std::fs::read(&path).expect("test file");
+        let from_path = load(&path).expect(name);
+        assert_eq!(parse(&bytes, &path).expect(name), from_path, "{name}");
+        let err = parse(&bytes[..bytes.len() / 2], &path).expect_err("truncated");
+        assert!(err.to_string().contains(name), "{err}");
+    }
+
+    let mesh = two_tets();
+    let path = test_path("pair.node");
+    write_tetgen(&mesh, &path).expect("write");
+    let (node, ele) = (path.with_extension("node"), path.with_extension("ele"));
+    let read = |p: &Path| std::fs::read(p).expect("tetgen file");
+    let parsed = tetgen::parse_bytes(&read(&node), &node, &read(&ele), &ele).expect("parse");
+    assert_eq!(parsed, load_tetgen(&path).expect("load"));
+    let err = tetgen::parse_bytes(&read(&node), &node, b"1 4\n", &ele).expect_err("short .ele");
+    assert!(err.to_string().contains("pair.ele"), "{err}");
+}
+
+type LoadPath = fn(&Path) -> Result<(TetMesh, MeshReport)>;
+type ParseBytes = fn(&[u8], &Path) -> Result<(TetMesh, MeshReport)>;

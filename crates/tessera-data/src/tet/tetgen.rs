@@ -20,15 +20,25 @@ pub fn load_tetgen(path: &Path) -> Result<(TetMesh, MeshReport)> {
     let ele_path = path.with_extension("ele");
     let node_bytes = read_file(&node_path)?;
     let ele_bytes = read_file(&ele_path)?;
-    let (vertices, scalars, base) = parse_node(&node_bytes, &node_path)?;
-    let (tets, attrs) = parse_ele(&ele_bytes, &ele_path, base, vertices.len())?;
+    parse_bytes(&node_bytes, &node_path, &ele_bytes, &ele_path)
+}
+
+/// Parses the bytes of a `.node` and an `.ele` file; the paths name them in errors.
+pub fn parse_bytes(
+    node_bytes: &[u8],
+    node_path: &Path,
+    ele_bytes: &[u8],
+    ele_path: &Path,
+) -> Result<(TetMesh, MeshReport)> {
+    let (vertices, scalars, base) = parse_node(node_bytes, node_path)?;
+    let (tets, attrs) = parse_ele(ele_bytes, ele_path, base, vertices.len())?;
     let mut mesh = TetMesh::new(vertices, tets);
     if let Some(values) = scalars {
         mesh.scalars = Some(values);
         mesh.scalar_name = NODE_SCALAR_NAME.into();
     }
     mesh.regions = attrs.as_deref().and_then(integral_regions);
-    finish(mesh, &ele_path, 0)
+    finish(mesh, ele_path, 0)
 }
 
 type NodeData = (Vec<[f32; 3]>, Option<Vec<f32>>, u64);

@@ -23,8 +23,12 @@ pub use super::cells::{VTK_QUADRATIC_TETRA, VTK_TETRA};
 
 /// Loads a legacy VTK unstructured grid.
 pub fn load_vtk_legacy(path: &Path) -> Result<(TetMesh, MeshReport)> {
-    let bytes = read_file(path)?;
-    let mut cur = Cursor::new(&bytes, path, None);
+    parse_bytes(&read_file(path)?, path)
+}
+
+/// Parses the bytes of a legacy VTK unstructured grid; `path` names the file in errors.
+pub fn parse_bytes(bytes: &[u8], path: &Path) -> Result<(TetMesh, MeshReport)> {
+    let mut cur = Cursor::new(bytes, path, None);
     let (_, magic) = cur.next_line().unwrap_or((1, ""));
     if !magic.to_ascii_lowercase().starts_with("# vtk datafile") {
         return Err(cur.err_at(

@@ -17,9 +17,13 @@ use crate::vtk_xml::{Need, VtkXml};
 
 /// Loads a VTK XML unstructured grid.
 pub fn load_vtu(path: &Path) -> Result<(TetMesh, MeshReport)> {
-    let data = read_file(path)?;
+    parse_bytes(&read_file(path)?, path)
+}
+
+/// Parses the bytes of a VTK XML unstructured grid; `path` names the file in errors.
+pub fn parse_bytes(data: &[u8], path: &Path) -> Result<(TetMesh, MeshReport)> {
     let file = VtkXml::open(
-        &data,
+        data,
         path,
         "UnstructuredGrid",
         "a tetrahedral mesh (VTK XML unstructured grid)",

@@ -33,9 +33,13 @@ enum Version {
 
 /// Loads a Gmsh mesh (format 4.1 or 2.2, ASCII or binary).
 pub fn load_msh(path: &Path) -> Result<(TetMesh, MeshReport)> {
-    let bytes = read_file(path)?;
+    parse_bytes(&read_file(path)?, path)
+}
+
+/// Parses the bytes of a Gmsh mesh; `path` names the file in errors.
+pub fn parse_bytes(bytes: &[u8], path: &Path) -> Result<(TetMesh, MeshReport)> {
     let mut n = Numbers {
-        cur: Cursor::new(&bytes, path, None),
+        cur: Cursor::new(bytes, path, None),
         binary: None,
     };
     let mut version = None;

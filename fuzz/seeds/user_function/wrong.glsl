@@ -1,0 +1,1 @@
+vec2 f(float u) { return vec2(u); }
