@@ -696,49 +696,45 @@ fn options_a_technique_ignores_are_warned_about() {
     let dir = scratch("ignored");
     let out = dir.join("x.png");
     let out = out.to_str().unwrap();
-    let o = tessera(&[
-        "render",
-        "procedural:sphere:16",
-        "--technique",
-        "raymarch",
-        "--path",
-        "graphics",
-        "--size",
-        "16x16",
-        "-o",
-        out,
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    assert!(
-        stderr(&o).contains("warning: raymarch ignores --path"),
-        "{}",
+    let render = |args: &[&str]| {
+        let mut all = vec!["render", "--size", "16x16", "-o", out];
+        all.extend(args);
+        let o = tessera(&all);
+        assert!(o.status.success(), "{}", stderr(&o));
         stderr(&o)
-    );
-    let o = tessera(&[
-        "render",
-        "tets:box:2",
-        "--culling",
-        "off",
-        "--size",
-        "16x16",
-        "-o",
-        out,
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    assert!(
-        stderr(&o).contains("warning: interval ignores --culling"),
-        "{}",
-        stderr(&o)
-    );
-    let o = tessera(&[
-        "render",
-        "procedural:sphere:16",
-        "--size",
-        "16x16",
-        "-o",
-        out,
-    ]);
-    assert!(!stderr(&o).contains("ignores"), "{}", stderr(&o));
+    };
+    let cases: [(&[&str], &str); 3] = [
+        (
+            &[
+                "procedural:sphere:16",
+                "--technique",
+                "raymarch",
+                "--path",
+                "graphics",
+            ],
+            "warning: raymarch ignores --path",
+        ),
+        (
+            &[
+                "procedural:sphere:16",
+                "--technique",
+                "raymarch",
+                "--ambiguity",
+                "vtk",
+            ],
+            "warning: raymarch ignores --ambiguity",
+        ),
+        (
+            &["tets:box:2", "--culling", "off"],
+            "warning: interval ignores --culling",
+        ),
+    ];
+    for (args, warning) in cases {
+        let err = render(args);
+        assert!(err.contains(warning), "{err}");
+    }
+    let err = render(&["procedural:sphere:16"]);
+    assert!(!err.contains("ignores"), "{err}");
     // Extraction runs on the CPU: a device is refused rather than ignored.
     let o = tessera(&[
         "--device",

@@ -289,3 +289,44 @@ fn frame_pixels_of(gpu: &Gpu, renderer: &mut dyn Renderer, view: &tessera_data::
     frame.render(gpu, renderer, view).unwrap();
     frame.target.read(gpu).unwrap().pixels
 }
+
+/// `RendererOptions::ambiguity` reaches `direct`'s shaders: each rule draws exactly the
+/// triangles the CPU marching cubes makes under that rule, and the two surfaces differ on a
+/// volume full of saddles.
+#[test]
+fn the_ambiguity_rule_reaches_direct() {
+    use tessera_data::marching_cubes::count_triangles_with;
+    use tessera_data::mc_ambiguity::AmbiguityRule;
+    let Some(gpu) = TestGpu::with(&[Need::BufferInt64Atomics]) else {
+        return;
+    };
+    let data = load("procedural:marschner-lobb:33:uint8");
+    let tessera_data::scene::Dataset::Volume(volume) = &data else {
+        unreachable!("a procedural volume")
+    };
+    let look = Appearance {
+        iso: IsoValue::Normalized(0.4),
+        ..Appearance::default()
+    };
+    let iso = look.iso_texel(volume).unwrap();
+    let mut images = Vec::new();
+    for rule in [AmbiguityRule::AsymptoticDecider, AmbiguityRule::Vtk] {
+        let options = RendererOptions {
+            path: PathChoice::Compute,
+            culling: false,
+            ambiguity: rule,
+            ..RendererOptions::default()
+        };
+        let mut r = renderer::create(&gpu, Technique::Direct, &options).unwrap();
+        r.set_appearance(&gpu, &look).unwrap();
+        r.set_data(&gpu, &data).unwrap();
+        let view = r.view(&camera(), SIZE).unwrap();
+        images.push(frame_pixels_of(&gpu, r.as_mut(), &view));
+        assert_eq!(
+            r.stats().triangles,
+            Some(count_triangles_with(volume, iso, rule)),
+            "{rule:?}"
+        );
+    }
+    assert_ne!(images[0], images[1], "the rules cut the saddles alike");
+}
