@@ -175,10 +175,28 @@ fn create_instance(entry: &ash::Entry, validation: bool) -> Result<ash::Instance
     if has_extension(&ext_props, ash::ext::debug_utils::NAME) {
         extensions.push(ash::ext::debug_utils::NAME.as_ptr());
     }
-    let info = vk::InstanceCreateInfo::default()
+    // With validation, synchronization validation too: a missing barrier is a race that the
+    // other checks cannot see. The layer provides the extension that turns it on.
+    let sync = [vk::ValidationFeatureEnableEXT::SYNCHRONIZATION_VALIDATION];
+    let mut features = vk::ValidationFeaturesEXT::default().enabled_validation_features(&sync);
+    let mut with_sync = false;
+    if validation {
+        // SAFETY: a plain query on a loaded entry, for a layer that was found above.
+        let layer_props =
+            unsafe { entry.enumerate_instance_extension_properties(Some(VALIDATION_LAYER)) }
+                .call("vkEnumerateInstanceExtensionProperties")?;
+        if has_extension(&layer_props, ash::ext::validation_features::NAME) {
+            extensions.push(ash::ext::validation_features::NAME.as_ptr());
+            with_sync = true;
+        }
+    }
+    let mut info = vk::InstanceCreateInfo::default()
         .application_info(&app)
         .enabled_layer_names(&layers)
         .enabled_extension_names(&extensions);
+    if with_sync {
+        info = info.push_next(&mut features);
+    }
     // SAFETY: the create info and the layer and extension names it points at (static C
     // strings) outlive the call.
     unsafe { entry.create_instance(&info, None) }.call("vkCreateInstance")
