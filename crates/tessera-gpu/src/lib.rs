@@ -18,6 +18,7 @@ mod shared;
 pub mod spirv;
 pub mod timer;
 pub mod timing;
+pub mod validation;
 
 pub use ash::vk;
 pub use caps::Capabilities;

@@ -7,7 +7,7 @@
 //! still name them. They are kept as [`Retired`] handles and destroyed once the submission's
 //! fence has signalled.
 
-use crate::context::ValidationLog;
+use crate::validation::ValidationLog;
 use ash::vk;
 use gpu_allocator::vulkan::{Allocation, Allocator};
 use std::mem::ManuallyDrop;
@@ -60,7 +60,7 @@ impl Drop for OpenSubmission<'_> {
             for object in retired {
                 // SAFETY: the submission that might have used it has completed (its fence was
                 // waited for) or was never submitted, and no other submission is open.
-                unsafe { self.0.destroy(object) };
+                unsafe { self.0.release_handles(object) };
             }
         }
     }
@@ -83,13 +83,13 @@ impl DeviceShared {
         }
         // SAFETY: no submission is open, and every submission waits for its fence before it
         // closes, so no work on the GPU uses the object.
-        unsafe { self.destroy(object) }
+        unsafe { self.release_handles(object) }
     }
 
     /// # Safety
     /// The handles were created on this device and no pending or recording command buffer
     /// uses them.
-    unsafe fn destroy(&self, object: Retired) {
+    unsafe fn release_handles(&self, object: Retired) {
         let device = &self.device;
         // SAFETY: the caller's promise; each object goes before what it was made from (view
         // before image, pipeline before its layouts, resource before its memory). Null handles
@@ -156,7 +156,7 @@ impl Drop for DeviceShared {
                 Err(poisoned) => std::mem::take(poisoned.into_inner()),
             };
             for object in retired {
-                self.destroy(object);
+                self.release_handles(object);
             }
             ManuallyDrop::drop(&mut self.allocator);
             self.device.destroy_device(None);
