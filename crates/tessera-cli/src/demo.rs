@@ -204,15 +204,16 @@ pub fn run(options: &GpuOptions, args: &DemoArgs) -> Result<()> {
     let mut scenes = volume_scenes(args.volume_size);
     scenes.extend(interval_scenes(args.volume_size)?);
     scenes.extend(parametric_scenes());
-    for scene in &scenes {
-        render_scene(&gpu, scene, args)?;
+    for (index, scene) in scenes.iter().enumerate() {
+        let progress = format!("[{}/{}]", index + 1, scenes.len());
+        render_scene(&gpu, scene, args, &progress)?;
     }
     crate::gpu::check_validation(&gpu)
 }
 
 /// Renders one scene and reports its GPU time and its time with loading, uploads and
 /// auxiliary structures; a technique the device cannot run is reported as skipped.
-fn render_scene(gpu: &Gpu, scene: &Scene, args: &DemoArgs) -> Result<()> {
+fn render_scene(gpu: &Gpu, scene: &Scene, args: &DemoArgs, progress: &str) -> Result<()> {
     let started = Instant::now();
     let data = Dataset::load(&scene.spec, &LoadOptions::default())?;
     let options = RendererOptions {
@@ -227,7 +228,11 @@ fn render_scene(gpu: &Gpu, scene: &Scene, args: &DemoArgs) -> Result<()> {
     let mut renderer = match prepared {
         Ok(r) => r,
         Err(e) => {
-            println!("skipped {} on {}: {e}", scene.technique.name(), scene.spec);
+            println!(
+                "{progress} skipped {} on {}: {e}",
+                scene.technique.name(),
+                scene.spec
+            );
             return Ok(());
         }
     };
@@ -245,7 +250,7 @@ fn render_scene(gpu: &Gpu, scene: &Scene, args: &DemoArgs) -> Result<()> {
     crate::output::write_png(&file, &rendered.image)?;
     let label = format!("{} ({})", scene.technique.name(), renderer.path().name());
     println!(
-        "{:<60} {label:<24} {:>9.2} ms GPU, {:>8.1} ms with loading and uploads",
+        "{progress:<7} {:<60} {label:<24} {:>9.2} ms GPU, {:>8.1} ms with loading and uploads",
         file.display(),
         rendered.times.total_ms(),
         started.elapsed().as_secs_f64() * 1e3

@@ -121,15 +121,16 @@ pub fn heart(u: f32, v: f32) -> Vec3 {
     p * Vec3::new(0.9, 1.0, 0.4)
 }
 
-/// Fraction of a parameter range used as the finite-difference step.
-const STEP_FRACTION: f32 = 1.0 / 1024.0;
+/// Fraction of a parameter range used as the finite-difference step. These four constants reach
+/// the shaders' port (`param/normal.glsl`) as defines.
+pub const STEP_FRACTION: f32 = 1.0 / 1024.0;
 /// How far into the domain a collapsed parameter line is re-measured, as a fraction of the range.
-const NUDGE_FRACTION: f32 = 1.0 / 256.0;
+pub const NUDGE_FRACTION: f32 = 1.0 / 256.0;
 /// Step along the re-measured line: wide, because the line is short and `f32` differences of
 /// nearby points on it would be mostly rounding.
-const NUDGE_STEP_FRACTION: f32 = 1.0 / 32.0;
+pub const NUDGE_STEP_FRACTION: f32 = 1.0 / 32.0;
 /// A partial derivative this much shorter than the other one counts as collapsed.
-const COLLAPSE_RATIO: f32 = 1e-3;
+pub const COLLAPSE_RATIO: f32 = 1e-3;
 
 /// Unit normal `normalize(∂f/∂u × ∂f/∂v)` of `f` at `(u, v)`, robust at poles.
 ///

@@ -26,6 +26,9 @@ pub mod scenes;
 pub mod tess;
 pub mod user;
 
+#[cfg(test)]
+mod inlining_tests;
+
 pub use lod::{GpuPatch, LodSample, LodSettings, LodStats};
 pub use points::{Footprint, PointsFrame};
 pub use scene::{GpuParamScene, ParamObject, ParamScene};

@@ -1,6 +1,6 @@
 // Unit normal of an object's world-space surface by finite differences, a port of
-// tessera_data::param::functions::surface_normal (steps of 1/1024 of each range, one-sided at the
-// domain's edges, a collapsed partial re-measured 1/256 of the other range inside the domain).
+// tessera_data::param::functions::surface_normal (its step fractions and collapse ratio come as
+// the PARAM_NORMAL_* defines; one-sided differences at the domain's edges).
 // Returns vec3(0) where the CPU returns None.
 
 #ifndef PARAM_NORMAL_GLSL
@@ -8,30 +8,57 @@
 
 #include "param/functions.glsl"
 
+// Every call of param_world_position inlines every parametric function (SH series, seashell,
+// yarn, the user's f): drivers inline all calls, and a normal written with one call per stencil
+// point gave the point and tessellation shaders ~66 copies, which took llvmpipe minutes to
+// compile. So each function below reaches param_world_position through exactly one call site,
+// in a loop whose trip count the compiler cannot know (and so does not unroll).
+
 // The world point at parameter s along u (held = v) or along v (held = u).
 vec3 param_line_point(uint object, bool along_u, float s, float held) {
-    return along_u ? param_world_position(object, s, held) : param_world_position(object, held, s);
+    vec2 uv = along_u ? vec2(s, held) : vec2(held, s);
+    return param_world_position(object, uv.x, uv.y);
 }
 
 bool param_finite(vec3 d) {
     return !any(isnan(d)) && !any(isinf(d));
 }
 
+const uint PARAM_STENCIL_CENTRAL = 0u;
+const uint PARAM_STENCIL_FORWARD = 1u;
+const uint PARAM_STENCIL_BACKWARD = 2u;
+
 // Second-order difference along one parameter at x; false where the CPU gives None.
 bool param_derivative(uint object, bool along_u, float held, float x, float lo, float hi, float h,
                       out vec3 d) {
     bool inside = x >= lo && x <= hi;
+    uint stencil;
+    float at[3];
     if (!inside || (x - h >= lo && x + h <= hi)) {
-        d = (param_line_point(object, along_u, x + h, held) - param_line_point(object, along_u, x - h, held)) / (2.0 * h);
+        stencil = PARAM_STENCIL_CENTRAL;
+        at = float[3](x + h, x - h, x);
     } else if (x + 2.0 * h <= hi) {
-        d = (param_line_point(object, along_u, x, held) * -3.0 + param_line_point(object, along_u, x + h, held) * 4.0
-             - param_line_point(object, along_u, x + 2.0 * h, held)) / (2.0 * h);
+        stencil = PARAM_STENCIL_FORWARD;
+        at = float[3](x, x + h, x + 2.0 * h);
     } else if (x - 2.0 * h >= lo) {
-        d = (param_line_point(object, along_u, x, held) * 3.0 - param_line_point(object, along_u, x - h, held) * 4.0
-             + param_line_point(object, along_u, x - 2.0 * h, held)) / (2.0 * h);
+        stencil = PARAM_STENCIL_BACKWARD;
+        at = float[3](x, x - h, x - 2.0 * h);
     } else {
         d = vec3(0.0);
         return false;
+    }
+    uint count = stencil == PARAM_STENCIL_CENTRAL ? 2u : 3u;
+    vec3 p[3];
+    p[2] = vec3(0.0);
+    for (uint i = 0u; i < count; ++i) {
+        p[i] = param_line_point(object, along_u, at[i], held);
+    }
+    if (stencil == PARAM_STENCIL_CENTRAL) {
+        d = (p[0] - p[1]) / (2.0 * h);
+    } else if (stencil == PARAM_STENCIL_FORWARD) {
+        d = (p[0] * -3.0 + p[1] * 4.0 - p[2]) / (2.0 * h);
+    } else {
+        d = (p[0] * 3.0 - p[1] * 4.0 + p[2]) / (2.0 * h);
     }
     return param_finite(d);
 }
@@ -44,21 +71,42 @@ vec3 param_world_normal(uint object, float u, float v) {
     vec4 dom = param_objects[object].domain;
     float u_range = dom.y - dom.x;
     float v_range = dom.w - dom.z;
-    vec3 du;
-    vec3 dv;
-    if (!param_derivative(object, true, v, u, dom.x, dom.y, u_range / 1024.0, du)
-        || !param_derivative(object, false, u, v, dom.z, dom.w, v_range / 1024.0, dv)) {
-        return vec3(0.0);
-    }
-    if (length(dv) < 1e-3 * length(du)) {
-        float u_in = param_nudge_inside(u, dom.x, dom.y, u_range / 256.0);
-        if (!param_derivative(object, false, u_in, v, dom.z, dom.w, v_range / 32.0, dv)) {
+    vec3 du = vec3(0.0);
+    vec3 dv = vec3(0.0);
+    // Pass 0 measures du, pass 1 dv; pass 2 re-measures a collapsed partial on a line moved
+    // PARAM_NORMAL_NUDGE of the other range into the domain, if one collapsed.
+    for (uint pass = 0u; pass < 3u; ++pass) {
+        bool along_u;
+        float held;
+        float h;
+        if (pass == 0u) {
+            along_u = true;
+            held = v;
+            h = u_range * PARAM_NORMAL_STEP;
+        } else if (pass == 1u) {
+            along_u = false;
+            held = u;
+            h = v_range * PARAM_NORMAL_STEP;
+        } else if (length(dv) < PARAM_NORMAL_COLLAPSE * length(du)) {
+            along_u = false;
+            held = param_nudge_inside(u, dom.x, dom.y, u_range * PARAM_NORMAL_NUDGE);
+            h = v_range * PARAM_NORMAL_NUDGE_STEP;
+        } else if (length(du) < PARAM_NORMAL_COLLAPSE * length(dv)) {
+            along_u = true;
+            held = param_nudge_inside(v, dom.z, dom.w, v_range * PARAM_NORMAL_NUDGE);
+            h = u_range * PARAM_NORMAL_NUDGE_STEP;
+        } else {
+            break;
+        }
+        vec2 range = along_u ? dom.xy : dom.zw;
+        vec3 d;
+        if (!param_derivative(object, along_u, held, along_u ? u : v, range.x, range.y, h, d)) {
             return vec3(0.0);
         }
-    } else if (length(du) < 1e-3 * length(dv)) {
-        float v_in = param_nudge_inside(v, dom.z, dom.w, v_range / 256.0);
-        if (!param_derivative(object, true, v_in, u, dom.x, dom.y, u_range / 32.0, du)) {
-            return vec3(0.0);
+        if (along_u) {
+            du = d;
+        } else {
+            dv = d;
         }
     }
     vec3 n = cross(du, dv);

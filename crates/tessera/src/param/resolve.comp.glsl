@@ -4,7 +4,7 @@
 // world position, finite-difference normal and base colour, two-sided Lambert + ambient
 // (tessera_data::param::reference::shade), background where nothing was drawn.
 #include "raster/raster.glsl"
-#include "param/normal.glsl"
+#include "param/shade.glsl"
 #include "param/payload.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -19,19 +19,6 @@ layout(push_constant) uniform ResolveParams {
     uint supersample; // raster samples per image pixel along each axis
     uint uv_bits;     // payload bits per parameter
 } params;
-
-vec3 shade(uint object, float u, float v) {
-    vec3 position = param_world_position(object, u, v);
-    vec3 n = param_world_normal(object, u, v);
-    vec3 view = normalize(params.eye.xyz - position);
-    if (n == vec3(0.0)) {
-        n = view;
-    }
-    if (dot(n, view) < 0.0) {
-        n = -n;
-    }
-    return param_base_colour(object, u, v) * (SHADE_AMBIENT + SHADE_DIFFUSE * max(dot(n, params.light.xyz), 0.0));
-}
 
 void main() {
     uvec2 pixel = gl_GlobalInvocationID.xy;
@@ -51,7 +38,7 @@ void main() {
                 float u;
                 float v;
                 param_unpack(raster_index(value), params.uv_bits, object, u, v);
-                sum += shade(object, u, v);
+                sum += param_shade(object, u, v, params.eye.xyz, params.light.xyz);
             }
         }
     }

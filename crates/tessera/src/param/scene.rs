@@ -17,7 +17,7 @@ use crate::error::{Error, Result};
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat3, Vec3};
 use tessera_data::param::{
-    KnitCurve, ParamFunction, RadiusNormalization, SeashellParams, ShBasis, YarnTube,
+    functions, KnitCurve, ParamFunction, RadiusNormalization, SeashellParams, ShBasis, YarnTube,
 };
 use tessera_gpu::{vk, Buffer, Gpu};
 
@@ -241,6 +241,22 @@ pub fn scene_defines() -> Vec<(String, String)> {
         ("SH_TOURNIER_LEGACY".into(), u(2)),
         ("SH_TOURNIER".into(), u(3)),
         ("SH_TABLE_WIDTH".into(), u(GPU_MAX_SH_ORDER + 1)),
+        (
+            "PARAM_NORMAL_STEP".into(),
+            format!("{:?}", functions::STEP_FRACTION),
+        ),
+        (
+            "PARAM_NORMAL_NUDGE".into(),
+            format!("{:?}", functions::NUDGE_FRACTION),
+        ),
+        (
+            "PARAM_NORMAL_NUDGE_STEP".into(),
+            format!("{:?}", functions::NUDGE_STEP_FRACTION),
+        ),
+        (
+            "PARAM_NORMAL_COLLAPSE".into(),
+            format!("{:?}", functions::COLLAPSE_RATIO),
+        ),
     ]
 }
 

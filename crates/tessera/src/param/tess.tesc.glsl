@@ -42,7 +42,8 @@ float edge_length(Patch p, uint edge) {
     bool previous_front = false;
     for (uint k = 0u; k < EDGE_POINTS; ++k) {
         float s = edge_param(range, k);
-        vec3 world = along_v ? param_world_position(p.object, held, s) : param_world_position(p.object, s, held);
+        vec2 uv = along_v ? vec2(held, s) : vec2(s, held);
+        vec3 world = param_world_position(p.object, uv.x, uv.y);
         vec2 pixel;
         float depth;
         bool front = param_project(params.world_to_clip, params.viewport, world, pixel, depth) && !any(isnan(pixel));
