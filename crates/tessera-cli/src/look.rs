@@ -6,7 +6,7 @@ use clap::Args;
 use tessera::path::PathChoice;
 use tessera::renderer::RendererOptions;
 use tessera_data::scene::parse::{
-    parse_basis, parse_colour, parse_integrand, parse_param_range, parse_range,
+    parse_basis, parse_colour, parse_glyph_radius, parse_integrand, parse_param_range, parse_range,
 };
 use tessera_data::scene::{Appearance, IntegrandChoice, LoadOptions};
 use tessera_data::transfer::TransferFunction;
@@ -41,9 +41,11 @@ pub struct ParamArgs {
     /// Render at K×K samples per pixel and average (supersampling).
     #[arg(long, default_value_t = 1)]
     supersample: u32,
-    /// Start each object as K×K patches (a power of two up to 16) before the LOD stage.
-    #[arg(long, default_value_t = 1)]
-    pre_split: u32,
+    /// Start each object as K×K patches (a power of two up to 16) before the LOD stage
+    /// (default: SH glyphs of order L the power of two at or above 2L/3, so that thin lobes of
+    /// small glyphs are not lost; other objects 1)
+    #[arg(long)]
+    pre_split: Option<u32>,
     /// Multisampling of param-tess: 1, 2, 4 or 8 samples per pixel.
     #[arg(long, default_value_t = 1)]
     msaa: u32,
@@ -58,6 +60,11 @@ pub struct ParamArgs {
     /// Default: descoteaux07-legacy for coefficient files (DIPY's default), descoteaux07 else.
     #[arg(long, value_parser = parse_basis)]
     basis: Option<tessera_data::param::ShBasis>,
+    /// How a glyph's SH values become its radius: minmax ((r - min) / (max - min) per glyph, as
+    /// DIPY draws ODFs: never inverted, but directions where the ODF dips below zero are lifted)
+    /// or abs (|r| / max|r|: shapes kept, a negative lobe drawn as large as a positive one)
+    #[arg(long, default_value = "minmax", value_parser = parse_glyph_radius)]
+    glyph_radius: tessera_data::param::RadiusNormalization,
 }
 
 /// The pipeline and culling flags every technique may take.
@@ -90,6 +97,7 @@ pub fn load_options(volume: &VolumeArgs, param: &ParamArgs) -> LoadOptions {
     LoadOptions {
         raw: volume.raw_options(),
         basis: param.basis,
+        glyph_radius: param.glyph_radius,
         u_range: param.u_range,
         v_range: param.v_range,
     }

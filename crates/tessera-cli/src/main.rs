@@ -26,6 +26,10 @@ struct Cli {
     /// Enable the Khronos validation layer and fail on any error it reports.
     #[arg(long, global = true)]
     validation: bool,
+    /// Seconds one batch of GPU work may run before it is given up (a shader that never ends,
+    /// e.g. an endless loop in a user function); 0: no limit.
+    #[arg(long, global = true, default_value_t = 60.0)]
+    gpu_timeout: f64,
     #[command(subcommand)]
     command: Command,
 }
@@ -49,9 +53,20 @@ enum Command {
 
 fn main() {
     let cli = Cli::parse();
+    let timeout = match cli.gpu_timeout {
+        t if t == 0.0 => None,
+        t => match std::time::Duration::try_from_secs_f64(t) {
+            Ok(d) => Some(d),
+            Err(_) => {
+                eprintln!("error: --gpu-timeout {t}: give seconds (0 = no limit)");
+                std::process::exit(2);
+            }
+        },
+    };
     let gpu_options = tessera_gpu::GpuOptions {
         device_index: cli.device,
         validation: cli.validation,
+        timeout,
     };
     let result: Result<()> = match cli.command {
         Command::Info(a) => info::run(&gpu_options, &a),

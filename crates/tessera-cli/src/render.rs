@@ -90,21 +90,27 @@ pub fn run(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
         Ok(renderer)
     })();
     bar.finish_and_clear();
-    let mut renderer = built.with_context(|| format!("preparing {}", args.data))?;
+    let mut renderer =
+        built.with_context(|| format!("preparing {} for {}", args.data, technique.name()))?;
+    let rendering = || format!("rendering {} with {}", args.data, technique.name());
     look::warn_ignored(&renderer_options, technique);
     let prepare_s = started.elapsed().as_secs_f64();
     let view = renderer.view(&camera, args.size)?;
     let mut frame = Frame::new(&gpu, args.size)?;
     let (image, gpu_ms) = match args.stereo {
         None => {
-            let ms = frame.render(&gpu, renderer.as_mut(), &view)?.total_ms();
+            let ms = frame
+                .render(&gpu, renderer.as_mut(), &view)
+                .with_context(rendering)?
+                .total_ms();
             (frame.target.read(&gpu)?, ms)
         }
         Some(separation) => {
             let eyes = view.stereo_pair(separation);
             let mut right = Frame::new(&gpu, args.size)?;
             let times =
-                renderer::render_stereo(&gpu, renderer.as_mut(), &eyes, &mut frame, &mut right)?;
+                renderer::render_stereo(&gpu, renderer.as_mut(), &eyes, &mut frame, &mut right)
+                    .with_context(rendering)?;
             let image = side_by_side(&frame.target.read(&gpu)?, &right.target.read(&gpu)?);
             (image, times.total_ms())
         }

@@ -208,3 +208,39 @@ fn renders_diffusion_glyphs_from_a_coefficient_volume() {
     ]);
     assert_fails_with(&o, &["missing.nii"]);
 }
+
+/// User functions the GPU cannot survive stop cleanly: an endless loop at the time limit (in
+/// seconds, not for ever), naming the file, the technique and the pass; a huge local array
+/// before any GPU work. A bad `--gpu-timeout` is refused.
+#[test]
+fn user_functions_that_never_end_or_need_too_much_memory_stop_cleanly() {
+    let data = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data");
+    let out = scratch("user-limits").join("out.png");
+    let run = |file: &str, extra: &[&str]| {
+        let path = data.join(file);
+        let mut args = vec!["render", path.to_str().unwrap(), "--size", "16x16", "-o"];
+        args.push(out.to_str().unwrap());
+        args.extend_from_slice(extra);
+        let started = std::time::Instant::now();
+        (tessera(&args), started.elapsed())
+    };
+    let (o, took) = run("endless_loop.glsl", &["--gpu-timeout", "3"]);
+    assert_fails_with(
+        &o,
+        &[
+            "endless_loop.glsl",
+            "param-points",
+            "did not finish within 3 s",
+        ],
+    );
+    assert!(took.as_secs() < 120, "took {took:?}");
+    let (o, _) = run("huge_local_array.glsl", &["--technique", "param-tess"]);
+    assert_fails_with(
+        &o,
+        &["huge_local_array.glsl", "4000012 bytes of local variables"],
+    );
+    let (o, _) = run("huge_local_array.glsl", &["--gpu-timeout", "-1"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("--gpu-timeout"), "{}", stderr(&o));
+    assert!(!out.exists());
+}

@@ -524,6 +524,9 @@ impl Gpu {
     /// [`crate::Image`], [`crate::Pipeline`] or [`crate::Timer`] may be dropped afterwards;
     /// objects dropped inside `record` are destroyed once the submission completed.
     pub fn submit(&self, pass: &str, record: impl FnOnce(&Recorder)) -> Result<()> {
+        if self.shared.hung.load(std::sync::atomic::Ordering::Acquire) {
+            return Err(GpuError::Hung { pass: pass.into() });
+        }
         let alloc = vk::CommandBufferAllocateInfo::default()
             .command_pool(self.command_pool)
             .level(vk::CommandBufferLevel::PRIMARY)
@@ -535,6 +538,11 @@ impl Gpu {
         // Objects dropped from here until the guard goes (after the fence wait) are kept.
         let open = self.shared.open_submission();
         let result = self.record_and_run(pass, cmd, record);
+        if matches!(result, Err(GpuError::Timeout { .. })) {
+            // The work may still run: the command buffer, and everything dropped meanwhile,
+            // stay as they are (`DeviceShared::hung`).
+            return result;
+        }
         // SAFETY: the command buffer came from this pool and is no longer pending:
         // `record_and_run` waited for its fence (or it was never submitted).
         unsafe { self.device.free_command_buffers(self.command_pool, &[cmd]) };
@@ -572,15 +580,27 @@ impl Gpu {
         };
         // SAFETY: `cmd` is executable and `fence` unsignalled; the queue is only used here, and we
         // wait for the fence before returning, so no work outlives this call (which is what
-        // lets objects be dropped after any `submit`).
+        // lets objects be dropped after any `submit`) — unless the wait times out, after which
+        // the device is marked hung and nothing it may use is destroyed.
         let result = unsafe {
             self.device
                 .queue_submit(self.queue, &submit, fence)
-                .and_then(|_| self.device.wait_for_fences(&[fence], true, u64::MAX))
+                .and_then(|_| {
+                    self.device
+                        .wait_for_fences(&[fence], true, self.shared.timeout_ns)
+                })
+        };
+        if result == Err(vk::Result::TIMEOUT) {
+            self.shared
+                .hung
+                .store(true, std::sync::atomic::Ordering::Release);
+            return Err(GpuError::Timeout {
+                pass: pass.into(),
+                seconds: self.shared.timeout_ns as f64 * 1e-9,
+            });
         }
-        .map_err(lost);
         // SAFETY: the fence is no longer in use: we waited for it, or the submission failed.
         unsafe { self.device.destroy_fence(fence, None) };
-        result
+        result.map_err(lost)
     }
 }

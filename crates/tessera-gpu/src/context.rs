@@ -11,7 +11,7 @@ use std::cell::Cell;
 use std::ffi::{CStr, CString};
 use std::marker::PhantomData;
 use std::mem::ManuallyDrop;
-use std::sync::atomic::AtomicU32;
+use std::sync::atomic::{AtomicBool, AtomicU32};
 use std::sync::{Arc, Mutex};
 
 /// How to open the device.
@@ -22,6 +22,10 @@ pub struct GpuOptions {
     pub device_index: Option<usize>,
     /// Enables the Khronos validation layer and counts its error messages.
     pub validation: bool,
+    /// The longest one submission may run before [`crate::Gpu::submit`] gives up on it with
+    /// [`crate::GpuError::Timeout`] (an endless loop in a user's shader function, say); `None`
+    /// waits for ever. After a timeout the device is unusable and is not destroyed.
+    pub timeout: Option<std::time::Duration>,
 }
 
 /// A physical device as listed for the user, before one is opened.
@@ -218,6 +222,10 @@ impl Gpu {
             _entry: entry,
             open_submissions: AtomicU32::new(0),
             retired: Mutex::new(Vec::new()),
+            hung: AtomicBool::new(false),
+            timeout_ns: options.timeout.map_or(u64::MAX, |t| {
+                u64::try_from(t.as_nanos()).unwrap_or(u64::MAX)
+            }),
         });
         // From here on `shared` owns the device and instance: a failure drops it, which destroys
         // them exactly once.
@@ -521,6 +529,9 @@ impl Drop for Gpu {
         // hands them out (command buffers live within one `submit`, samplers are bound only in
         // recordings that `submit` waits for); waiting for idle makes sure nothing uses them.
         // The device itself stays alive in `shared` as long as any object needs it.
+        if self.shared.hung.load(std::sync::atomic::Ordering::Acquire) {
+            return; // see `DeviceShared::hung`
+        }
         unsafe {
             let _ = self.device.device_wait_idle();
             self.device.destroy_command_pool(self.command_pool, None);

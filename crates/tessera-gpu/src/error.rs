@@ -47,6 +47,12 @@ pub enum GpuError {
     TimerNotSubmitted { scopes: String },
     #[error("device lost during '{pass}'")]
     DeviceLost { pass: String },
+    #[error(
+        "'{pass}' did not finish within {seconds} s (the GPU time limit): a shader that does not end, or work too large for this device; the device is left as it is"
+    )]
+    Timeout { pass: String, seconds: f64 },
+    #[error("'{pass}' was not started: earlier work on this device did not finish in time")]
+    Hung { pass: String },
     #[error("shader {path}: {log}")]
     ShaderCompile { path: String, log: String },
     #[error("shader {path}: {message}")]

@@ -11,7 +11,7 @@ use crate::validation::ValidationLog;
 use ash::vk;
 use gpu_allocator::vulkan::{Allocation, Allocator};
 use std::mem::ManuallyDrop;
-use std::sync::atomic::{AtomicU32, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
 use std::sync::{Arc, Mutex};
 
 pub(crate) type Messenger = (ash::ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT);
@@ -29,6 +29,12 @@ pub(crate) struct DeviceShared {
     pub(crate) open_submissions: AtomicU32,
     /// Objects dropped while a submission was open, destroyed when the last one closes.
     pub(crate) retired: Mutex<Vec<Retired>>,
+    /// Set when a submission outran its time limit: its work may still run (an endless loop
+    /// in a shader), so nothing it might use is destroyed, the device included; the process
+    /// is expected to end soon, and the handles end with it.
+    pub(crate) hung: AtomicBool,
+    /// How long a submission's fence is waited for ([`crate::GpuOptions::timeout`]).
+    pub(crate) timeout_ns: u64,
 }
 
 /// The Vulkan handles (and memory) of a dropped GPU object, destroyed in the order given.
@@ -52,6 +58,9 @@ pub(crate) struct OpenSubmission<'a>(&'a DeviceShared);
 
 impl Drop for OpenSubmission<'_> {
     fn drop(&mut self) {
+        if self.0.hung.load(Ordering::Acquire) {
+            return; // the submission stays open for good: everything retired is kept
+        }
         if self.0.open_submissions.fetch_sub(1, Ordering::AcqRel) == 1 {
             let retired = match self.0.retired.lock() {
                 Ok(mut list) => std::mem::take(&mut *list),
@@ -144,6 +153,11 @@ impl DeviceShared {
 
 impl Drop for DeviceShared {
     fn drop(&mut self) {
+        if self.hung.load(Ordering::Acquire) {
+            // Waiting for idle would wait for the hung work; destroying would pull memory
+            // from under it. The allocator's memory is left to the process's end.
+            return;
+        }
         // SAFETY: this is the last reference to the device: every object created on it holds
         // an `Arc` of this struct, so all of them are gone and none of their handles is used
         // again. Waiting for idle first means no submitted work still runs. The allocator is

@@ -8,6 +8,18 @@ const OP_MEMBER_NAME: u32 = 6;
 const OP_EXECUTION_MODE: u32 = 16;
 const OP_MEMBER_DECORATE: u32 = 72;
 const OP_ENTRY_POINT: u32 = 15;
+const OP_TYPE_BOOL: u32 = 20;
+const OP_TYPE_INT: u32 = 21;
+const OP_TYPE_FLOAT: u32 = 22;
+const OP_TYPE_VECTOR: u32 = 23;
+const OP_TYPE_MATRIX: u32 = 24;
+const OP_TYPE_ARRAY: u32 = 28;
+const OP_TYPE_STRUCT: u32 = 30;
+const OP_TYPE_POINTER: u32 = 32;
+const OP_CONSTANT: u32 = 43;
+const OP_VARIABLE: u32 = 59;
+const STORAGE_PRIVATE: u32 = 6;
+const STORAGE_FUNCTION: u32 = 7;
 const OP_FUNCTION: u32 = 54;
 const OP_FUNCTION_END: u32 = 56;
 const OP_FUNCTION_CALL: u32 = 57;
@@ -129,4 +141,70 @@ pub fn inlined_copies(words: &[u32], name: &str) -> Option<u64> {
     entries.iter().try_fold(0u64, |total, &entry| {
         total.checked_add(copies(entry, &targets, &calls, &mut memo, 0)?)
     })
+}
+
+/// Bytes of the variables each invocation holds on its own (`Function` and `Private` storage:
+/// locals and globals without a buffer), counted without padding; arrays of unknown length or
+/// types outside the plain scalars, vectors, matrices, arrays and structs count 0. Drivers
+/// give each invocation this much scratch memory, and some fail hard when it is large.
+pub fn invocation_local_bytes(words: &[u32]) -> u64 {
+    use std::collections::HashMap;
+    enum Type {
+        Scalar(u64),
+        Composite(u32, u64),
+        Array(u32, u32),
+        Struct(Vec<u32>),
+        Pointer(u32),
+    }
+    let mut types: HashMap<u32, Type> = HashMap::new();
+    let mut constants: HashMap<u32, u64> = HashMap::new();
+    let mut variables = Vec::new();
+    for (op, args) in instructions(words) {
+        match (op, args) {
+            (OP_TYPE_BOOL, [id, ..]) => drop(types.insert(*id, Type::Scalar(4))),
+            (OP_TYPE_INT | OP_TYPE_FLOAT, [id, width, ..]) => {
+                types.insert(*id, Type::Scalar(u64::from(*width) / 8));
+            }
+            (OP_TYPE_VECTOR | OP_TYPE_MATRIX, [id, element, count]) => {
+                types.insert(*id, Type::Composite(*element, u64::from(*count)));
+            }
+            (OP_TYPE_ARRAY, [id, element, length]) => {
+                types.insert(*id, Type::Array(*element, *length));
+            }
+            (OP_TYPE_STRUCT, [id, members @ ..]) => {
+                drop(types.insert(*id, Type::Struct(members.to_vec())))
+            }
+            (OP_TYPE_POINTER, [id, _, pointee]) => drop(types.insert(*id, Type::Pointer(*pointee))),
+            (OP_CONSTANT, [_, id, value, ..]) => drop(constants.insert(*id, u64::from(*value))),
+            (OP_VARIABLE, [pointer, _, storage, ..])
+                if *storage == STORAGE_FUNCTION || *storage == STORAGE_PRIVATE =>
+            {
+                variables.push(*pointer);
+            }
+            _ => {}
+        }
+    }
+    fn size(id: u32, types: &HashMap<u32, Type>, constants: &HashMap<u32, u64>, depth: u32) -> u64 {
+        if depth > 64 {
+            return 0;
+        }
+        let inner = |t| size(t, types, constants, depth + 1);
+        match types.get(&id) {
+            Some(Type::Scalar(bytes)) => *bytes,
+            Some(Type::Composite(element, count)) => inner(*element).saturating_mul(*count),
+            Some(Type::Array(element, length)) => {
+                inner(*element).saturating_mul(constants.get(length).copied().unwrap_or(0))
+            }
+            Some(Type::Struct(members)) => members
+                .iter()
+                .map(|&m| inner(m))
+                .fold(0, u64::saturating_add),
+            Some(Type::Pointer(pointee)) => inner(*pointee),
+            None => 0,
+        }
+    }
+    variables
+        .into_iter()
+        .map(|pointer| size(pointer, &types, &constants, 0))
+        .fold(0, u64::saturating_add)
 }

@@ -9,6 +9,7 @@ fn open() -> Option<Gpu> {
     match Gpu::new(&GpuOptions {
         device_index: None,
         validation: true,
+        ..GpuOptions::default()
     }) {
         Ok(gpu) => Some(gpu),
         Err(e) => {

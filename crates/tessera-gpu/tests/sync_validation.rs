@@ -14,6 +14,7 @@ fn copy_after_dispatch(barrier: bool) -> Vec<String> {
     let gpu = match Gpu::new(&GpuOptions {
         device_index: None,
         validation: true,
+        ..GpuOptions::default()
     }) {
         Ok(gpu) => gpu,
         Err(e) => {
@@ -57,7 +58,8 @@ fn a_missing_barrier_is_reported_and_a_barrier_silences_it() {
         assert!(
             Gpu::new(&GpuOptions {
                 device_index: None,
-                validation: true
+                validation: true,
+                ..GpuOptions::default()
             })
             .is_err(),
             "validation on, yet the missing barrier went unreported"

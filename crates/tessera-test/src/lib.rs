@@ -96,6 +96,7 @@ impl TestGpu {
         let gpu = Gpu::new(&GpuOptions {
             device_index: None,
             validation: true,
+            ..GpuOptions::default()
         })
         .unwrap_or_else(|e| panic!("cannot open a Vulkan device for tests: {e}"));
         TestGpu { gpu }

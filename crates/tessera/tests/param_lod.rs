@@ -82,7 +82,7 @@ fn assert_lod_matches(
         .enumerate()
         .flat_map(|(i, o)| {
             Patch::from_domain(&o.function.domain(), i as u32)
-                .pre_split(options.pre_split)
+                .pre_split(options.pre_split.unwrap_or(scene.initial_split()))
                 .unwrap()
         })
         .collect();
@@ -147,7 +147,8 @@ fn lod_matches_the_cpu() {
         ("step limit", sphere(), camera(0.0, 0.0, 3.0), 4.0, 3, 50, 3, false, true),
     ];
     for (name, scene, cam, t, max_steps, patches, steps, culls, limit) in cases {
-        let options = points_opts!(thresholds: [t, t], max_steps: max_steps);
+        // Whole objects, so that the glyphs exercise every step (pre-splits: the next test).
+        let options = points_opts!(thresholds: [t, t], max_steps: max_steps, pre_split: Some(1));
         let (n, s, culled, hits) = assert_lod_matches(&gpu, name, &scene, &cam, options);
         assert!(n >= patches && s >= steps, "{name}: {n} patches, {s} steps");
         assert_eq!((culled > 0, hits > 0), (culls, limit), "{name}");
@@ -158,7 +159,7 @@ fn lod_matches_the_cpu() {
 #[test]
 fn pre_split_lod_matches_the_cpu() {
     let gpu = gpu();
-    let options = points_opts!(thresholds: [20.0, 20.0], pre_split: 4);
+    let options = points_opts!(thresholds: [20.0, 20.0], pre_split: Some(4));
     let (n, _, _, _) = assert_lod_matches(
         &gpu,
         "trio pre-split",
@@ -170,8 +171,47 @@ fn pre_split_lod_matches_the_cpu() {
     let compiler = shaders::compiler();
     for bad in [0, 3, 32] {
         assert!(
-            ParamPoints::new(&gpu, &compiler, points_opts!(pre_split: bad)).is_err(),
+            ParamPoints::new(&gpu, &compiler, points_opts!(pre_split: Some(bad))).is_err(),
             "{bad}"
+        );
+    }
+    assert_clean(&gpu);
+}
+
+/// The default pre-split keeps small glyphs' thin lobes: an 8×8 field of order-8 glyphs at
+/// 256² by points and by tessellation covers what the ray tracer covers (IoU ≥ 0.98), where
+/// starting each glyph whole loses lobes between the LOD's sample lines.
+#[test]
+fn default_lod_keeps_thin_lobes_of_small_glyphs() {
+    use tessera::renderer::{self, RendererOptions, Technique};
+    use tessera_data::scene::{Appearance, Dataset, LoadOptions};
+    let gpu = gpu();
+    let data = Dataset::load("param:sh-glyphs:8x8:order8", &LoadOptions::default()).unwrap();
+    let look = Appearance {
+        background: Some(BACKGROUND),
+        ..Appearance::default()
+    };
+    let render = |technique, pre_split| {
+        let options = RendererOptions {
+            pre_split,
+            ..RendererOptions::default()
+        };
+        let mut r = renderer::create(&gpu, technique, &options).unwrap();
+        r.set_appearance(&gpu, &look).unwrap();
+        r.set_data(&gpu, &data).unwrap();
+        renderer::render_image(&gpu, r.as_mut(), &camera(0.0, 0.0, 1.2), (256, 256))
+            .unwrap()
+            .image
+    };
+    let traced = render(Technique::ShRaytrace, None);
+    for technique in [Technique::ParamPoints, Technique::ParamTess] {
+        let (iou, _, _) = compare(&render(technique, None), &traced);
+        assert!(iou >= 0.98, "{}: IoU {iou}", technique.name());
+        let (whole, _, _) = compare(&render(technique, Some(1)), &traced);
+        assert!(
+            whole < 0.9,
+            "{}: pre-split 1 gave IoU {whole}",
+            technique.name()
         );
     }
     assert_clean(&gpu);

@@ -7,8 +7,13 @@
 //! `to_sphere(u, v, r)` with the raw, possibly negative `r` (a negative lobe passes through the
 //! centre and appears on the opposite side). dMRI glyph displays usually min-max normalise each
 //! glyph instead (DIPY's `minmax_normalize` in `dipy/reconst/odf.py`: `(r - min) / (max - min)`
-//! over the sphere), which makes glyphs of different voxels comparable in size and never inverted. Both are offered
-//! ([`RadiusNormalization`]); the extremes are estimated once per glyph on a fixed direction grid.
+//! over the sphere), which makes glyphs of different voxels comparable in size and never
+//! inverted, but lifts every direction by `-min` where the ODF dips below zero. `MaxAbs`
+//! keeps shapes instead: `r / max|r|`, where a negative lobe passes through the centre. The SH
+//! orders drawn here are even, so `r(-d) = r(d)` and that lobe lands where `|r|` points: the
+//! glyph is the surface of `|r| / max|r|` (what the ray tracer's squared implicit form draws
+//! too). Every mapping is offered ([`RadiusNormalization`]); the extremes are estimated once
+//! per glyph on a fixed direction grid.
 //!
 //! Colour by direction: the glyph shader of paper E's code colours a surface point by the
 //! absolute components of its unit direction from the glyph centre, RGB = `(|x|, |y|, |z|)`, in
@@ -22,12 +27,13 @@ use super::sh::{check_coefficients, evaluate_unchecked, ShBasis};
 use crate::error::Result;
 
 /// How the raw SH radius is mapped to the glyph radius.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 pub enum RadiusNormalization {
     /// `r` as is (paper E's shader); negative values flip through the centre.
     Raw,
     /// `(r - r_min) / (r_max - r_min)`, clamped to `[0, 1]` (DIPY's `minmax_normalize`); an
     /// isotropic glyph (`r_max == r_min`) becomes the unit sphere.
+    #[default]
     MinMax,
     /// `r / max|r|`; an all-zero glyph stays a point.
     MaxAbs,
@@ -134,6 +140,17 @@ impl ShGlyph {
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), r| {
                 (lo.min(r), hi.max(r))
             })
+    }
+
+    /// The same glyph under another radius mapping (the range estimate is kept; a `Raw` glyph,
+    /// which has none, is sampled for it).
+    pub fn renormalized(&self, normalization: RadiusNormalization) -> ShGlyph {
+        let mut glyph = self.clone();
+        glyph.normalization = normalization;
+        if self.normalization == RadiusNormalization::Raw && normalization != self.normalization {
+            (glyph.raw_min, glyph.raw_max) = glyph.sample_extremes();
+        }
+        glyph
     }
 
     /// [`ShGlyph::new`] with the raw radius range already known (e.g. from a basis table shared

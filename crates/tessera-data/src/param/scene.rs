@@ -150,6 +150,26 @@ impl ParamScene {
             .collect()
     }
 
+    /// Every SH glyph under `normalization` ([`ShGlyph::renormalized`]); other objects as
+    /// they are.
+    pub fn with_glyph_radius(mut self, normalization: RadiusNormalization) -> ParamScene {
+        for o in &mut self.objects {
+            if let ParamFunction::ShGlyph(g) = &o.function {
+                o.function = ParamFunction::ShGlyph(g.renormalized(normalization));
+            }
+        }
+        self
+    }
+
+    /// The pre-split that suits every object: the largest [`ParamFunction::initial_split`].
+    pub fn initial_split(&self) -> u32 {
+        self.objects
+            .iter()
+            .map(|o| o.function.initial_split())
+            .max()
+            .unwrap_or(1)
+    }
+
     pub fn reference_objects(&self) -> Vec<ReferenceObject<'_>> {
         self.objects.iter().map(ParamObject::reference).collect()
     }

@@ -119,3 +119,57 @@ fn bounding_sphere_follows_the_transform() {
     assert_eq!(refs[0].colour, Vec3::new(0.1, 0.2, 0.3));
     assert_eq!(refs[1].colour, Vec3::splat(0.85));
 }
+
+/// Glyphs start split by their order, everything else whole; a scene takes its largest.
+#[test]
+fn initial_split_follows_the_glyph_order() {
+    let basis = ShBasis::Descoteaux07 { legacy: false };
+    let glyph = |order: u32| {
+        let mut c = vec![0.0; sh_coefficient_count(order).unwrap()];
+        c[0] = 1.0;
+        let g = ShGlyph::new(basis, order, c, RadiusNormalization::MinMax).unwrap();
+        ParamObject::new(ParamFunction::ShGlyph(g))
+    };
+    let splits: Vec<u32> = [0, 2, 4, 6, 8, 12, 16]
+        .into_iter()
+        .map(|order| glyph(order).function.initial_split())
+        .collect();
+    assert_eq!(splits, [1, 2, 4, 4, 8, 8, 16]);
+    assert_eq!(ParamFunction::Heart.initial_split(), 1);
+    let mixed = ParamScene::new(vec![ParamObject::new(ParamFunction::Sphere), glyph(8)]);
+    assert_eq!(mixed.initial_split(), 8);
+    assert_eq!(
+        ParamScene::new(vec![ParamObject::new(ParamFunction::Sphere)]).initial_split(),
+        1
+    );
+}
+
+/// A glyph with a negative lobe: min-max lifts it, abs draws |r| / max|r|, and renormalizing a
+/// raw glyph samples the range it lacked.
+#[test]
+fn glyph_radius_mappings() {
+    let basis = ShBasis::Descoteaux07 { legacy: false };
+    let mut c = vec![0.0; sh_coefficient_count(2).unwrap()];
+    c[0] = 0.1;
+    c[3] = 1.0; // (l, m) = (2, 0): negative around the equator
+    let raw = ShGlyph::new(basis, 2, c, RadiusNormalization::Raw).unwrap();
+    let scene = ParamScene::new(vec![ParamObject::new(ParamFunction::ShGlyph(raw.clone()))]);
+    let abs = scene.with_glyph_radius(RadiusNormalization::MaxAbs);
+    let ParamFunction::ShGlyph(g) = &abs.objects[0].function else {
+        panic!("not a glyph")
+    };
+    let (lo, hi) = g.raw_range();
+    assert!(lo < 0.0 && hi > 0.0, "range {lo} {hi}");
+    let m = lo.abs().max(hi);
+    let function = &abs.objects[0].function;
+    for (u, v) in grid(&function.domain(), 17) {
+        let r = raw.raw_radius(f64::from(u), f64::from(v));
+        let length = f64::from(function.position(u, v).length());
+        assert!((length - r.abs() / m).abs() < 1e-5, "at ({u}, {v})");
+    }
+    let minmax = raw.renormalized(RadiusNormalization::MinMax);
+    let equator = std::f64::consts::FRAC_PI_2;
+    assert!(raw.raw_radius(equator, 0.0) < 0.0);
+    assert!((minmax.radius(equator, 0.0) - 0.0).abs() < 1e-3);
+    assert!((minmax.radius(0.0, 0.0) - 1.0).abs() < 1e-9);
+}

@@ -22,7 +22,7 @@ pub use spec::{expected_volume_bytes, load_volume_spec};
 use crate::error::Result;
 use crate::param::scene::ParamScene;
 use crate::param::user::UserFunction;
-use crate::param::ShBasis;
+use crate::param::{RadiusNormalization, ShBasis};
 use crate::raw::RawOptions;
 use crate::tet::{MeshReport, TetMesh};
 use crate::volume::Volume;
@@ -82,6 +82,8 @@ pub struct LoadOptions {
     pub raw: RawOptions,
     /// SH basis of glyph scenes; `None` = [`default_basis`] of the spec.
     pub basis: Option<ShBasis>,
+    /// How glyph scenes map each glyph's SH values to its radius (min-max by default, as DIPY).
+    pub glyph_radius: RadiusNormalization,
     /// Parameter ranges of a user function, overriding the file's `// u:` / `// v:` lines.
     pub u_range: Option<[f32; 2]>,
     pub v_range: Option<[f32; 2]>,

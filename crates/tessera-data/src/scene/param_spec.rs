@@ -28,7 +28,8 @@ impl ParamData {
             (ParamScene::new(vec![object]), Some(f))
         } else {
             let basis = options.basis.unwrap_or_else(|| default_basis(spec));
-            (named_scene(spec, basis)?, None)
+            let scene = named_scene(spec, basis)?.with_glyph_radius(options.glyph_radius);
+            (scene, None)
         };
         Ok(ParamData {
             name: spec.to_string(),

@@ -7,7 +7,7 @@ use std::str::FromStr;
 
 use super::appearance::IntegrandChoice;
 use crate::param::user::parse_end;
-use crate::param::ShBasis;
+use crate::param::{RadiusNormalization, ShBasis};
 use crate::raw::Endian;
 
 /// Largest image side [`parse_size`] accepts.
@@ -119,6 +119,15 @@ pub fn parse_basis(text: &str) -> Result<ShBasis, String> {
             "SH basis '{text}': choose descoteaux07, descoteaux07-legacy, tournier07 or \
              tournier07-legacy"
         )),
+    }
+}
+
+/// A glyph radius mapping by name: `minmax` or `abs`.
+pub fn parse_glyph_radius(text: &str) -> Result<RadiusNormalization, String> {
+    match text {
+        "minmax" => Ok(RadiusNormalization::MinMax),
+        "abs" => Ok(RadiusNormalization::MaxAbs),
+        _ => Err(format!("glyph radius '{text}': choose minmax or abs")),
     }
 }
 

@@ -126,8 +126,9 @@ pub struct LodSettings {
     pub frustum_culling: bool,
     /// Patches each list holds.
     pub capacity: u32,
-    /// Each object starts as `k × k` patches ([`tessera_data::param::Patch::pre_split`]).
-    pub pre_split: u32,
+    /// Each object starts as `k × k` patches ([`tessera_data::param::Patch::pre_split`]);
+    /// `None`: the scene's own ([`GpuParamScene::initial_split`]).
+    pub pre_split: Option<u32>,
 }
 
 /// Defines of the LOD shaders: the scene layout and the split tables.
@@ -229,11 +230,12 @@ impl LodStage {
             )));
         }
         let max_split = tessera_data::param::lod::MAX_PRE_SPLIT;
-        if !settings.pre_split.is_power_of_two() || settings.pre_split > max_split {
-            return Err(Error::Invalid(format!(
-                "pre-split {}: must be a power of two from 1 to {max_split}",
-                settings.pre_split
-            )));
+        if let Some(k) = settings.pre_split {
+            if !k.is_power_of_two() || k > max_split {
+                return Err(Error::Invalid(format!(
+                    "pre-split {k}: must be a power of two from 1 to {max_split}"
+                )));
+            }
         }
         let defines = lod_defines();
         let spirv = |source| compiler.compile(&source, &defines);
@@ -322,6 +324,7 @@ impl LodStage {
         capture: Option<(&Buffer, u32)>,
     ) {
         let s = &self.settings;
+        let pre_split = s.pre_split.unwrap_or(scene.initial_split);
         let viewport = view.viewport();
         let mut params = LodParams {
             world_to_clip: view.world_to_clip.to_cols_array_2d(),
@@ -334,7 +337,7 @@ impl LodStage {
             culling: u32::from(s.frustum_culling),
             capture_capacity: capture.map_or(0, |c| c.1),
             object_count: scene.object_count,
-            pre_split: s.pre_split,
+            pre_split,
         };
         let capture_buffer = capture.map_or(&self.no_capture, |c| c.0);
         rec.fill_buffer(&self.state, 0);
@@ -351,7 +354,7 @@ impl LodStage {
             ],
             bytemuck::bytes_of(&params),
             tessera_gpu::spread_groups(
-                (scene.object_count * s.pre_split * s.pre_split).div_ceil(64),
+                (scene.object_count * pre_split * pre_split).div_ceil(64),
                 self.max_groups[0],
             ),
         );

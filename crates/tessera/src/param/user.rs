@@ -33,9 +33,38 @@ pub const USER_HEADER: &str = "param/user_function.glsl";
 pub const NO_USER_FUNCTION: &str =
     "vec3 param_user_function(float u, float v) { return vec3(0.0); }\n";
 
-/// Makes the passes `compiler` builds evaluate `function`.
-pub fn register_user_function(function: &UserFunction, compiler: &mut ShaderCompiler) {
+/// Most bytes of local variables `f` may keep per invocation. Every sample evaluates `f` in
+/// its own invocation, and drivers reserve that scratch memory for all of them at once: a
+/// function with a large local array exhausted memory and brought the driver down.
+pub const MAX_LOCAL_BYTES: u64 = 16 * 1024;
+
+/// Makes the passes `compiler` builds evaluate `function`, after checking that it compiles on
+/// its own and keeps at most [`MAX_LOCAL_BYTES`] of local variables. Whether it ends cannot be
+/// told before it runs: a GPU time limit (`tessera_gpu::GpuOptions::timeout`) catches that.
+pub fn register_user_function(
+    function: &UserFunction,
+    compiler: &mut ShaderCompiler,
+) -> Result<()> {
     compiler.add_header(&function.name, &function.text);
+    let alone = tessera_gpu::Source::new(
+        format!("{}.comp", function.name),
+        format!(
+            "#version 460\nlayout(local_size_x = 1) in;\n\
+             layout(std430, binding = 0) writeonly buffer Out {{ vec3 result; }};\n\
+             #include \"{}\"\nvoid main() {{ result = f(0.5, 0.5); }}\n",
+            function.name
+        ),
+    );
+    let spirv = compiler.compile(&alone, &[])?;
+    let bytes = tessera_gpu::spirv::invocation_local_bytes(&spirv.words);
+    if bytes > MAX_LOCAL_BYTES {
+        return Err(Error::Invalid(format!(
+            "{}: f keeps {bytes} bytes of local variables per evaluation, more than the \
+             {MAX_LOCAL_BYTES} a GPU can give each of its many simultaneous evaluations; use \
+             smaller arrays",
+            function.name
+        )));
+    }
     compiler.add_header(
         USER_HEADER,
         &format!(
@@ -43,6 +72,7 @@ pub fn register_user_function(function: &UserFunction, compiler: &mut ShaderComp
             function.name
         ),
     );
+    Ok(())
 }
 
 /// Sets the bounding sphere of object `object` (`function`) in `scene` from the function

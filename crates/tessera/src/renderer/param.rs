@@ -107,7 +107,7 @@ impl ParamRenderer {
         self.frame = None;
         let mut compiler = crate::shaders::compiler();
         if let Some(f) = user {
-            register_user_function(f, &mut compiler);
+            register_user_function(f, &mut compiler)?;
         }
         let o = &self.options;
         let pipelines = match self.technique {
@@ -158,7 +158,7 @@ impl ParamRenderer {
             }
             _ => {
                 let mut compiler = crate::shaders::compiler();
-                register_user_function(f, &mut compiler);
+                register_user_function(f, &mut compiler)?;
                 let probe = ParamPoints::new(gpu, &compiler, ParamPointsOptions::default())?;
                 crate::param::user::measure_bounds(f, gpu, &probe, scene, 0)
             }

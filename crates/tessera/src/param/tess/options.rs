@@ -29,9 +29,8 @@ pub struct ParamTessOptions {
     pub frustum_culling: bool,
     /// Patches each patch list holds (32 bytes each, three lists).
     pub patch_capacity: u32,
-    /// PATCH INITIALIZATION's optional uniform pre-split: each object starts as `k × k`
-    /// patches (a power of two up to 16; 1 = the whole domain).
-    pub pre_split: u32,
+    /// As [`crate::param::ParamPointsOptions::pre_split`].
+    pub pre_split: Option<u32>,
     pub levels: TessLevels,
     /// Clamp of adaptive levels, `1 <= min_level <= max_level <= ` the device's limit.
     pub min_level: u32,
