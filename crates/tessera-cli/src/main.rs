@@ -54,7 +54,7 @@ enum Command {
 fn main() {
     let cli = Cli::parse();
     let timeout = match cli.gpu_timeout {
-        t if t == 0.0 => None,
+        0.0 => None,
         t => match std::time::Duration::try_from_secs_f64(t) {
             Ok(d) => Some(d),
             Err(_) => {
