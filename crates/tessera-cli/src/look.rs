@@ -62,7 +62,8 @@ pub struct ParamArgs {
     basis: Option<tessera_data::param::ShBasis>,
     /// How a glyph's SH values become its radius: minmax ((r - min) / (max - min) per glyph, as
     /// DIPY draws ODFs: never inverted, but directions where the ODF dips below zero are lifted)
-    /// or abs (|r| / max|r|: shapes kept, a negative lobe drawn as large as a positive one)
+    /// abs (|r| / max|r|: shapes kept, a negative lobe drawn as large as a positive one) or
+    /// clamp (max(r, 0) / max r: negative lobes dropped)
     #[arg(long, default_value = "minmax", value_parser = parse_glyph_radius)]
     glyph_radius: tessera_data::param::RadiusNormalization,
 }

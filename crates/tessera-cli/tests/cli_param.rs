@@ -244,3 +244,42 @@ fn user_functions_that_never_end_or_need_too_much_memory_stop_cleanly() {
     assert!(stderr(&o).contains("--gpu-timeout"), "{}", stderr(&o));
     assert!(!out.exists());
 }
+
+/// `--glyph-radius` picks how SH values become radii: the three mappings draw different
+/// glyphs, by ray tracing and by points alike, and an unknown name is refused.
+#[test]
+fn glyph_radius_mappings_change_the_glyphs() {
+    let dir = scratch("glyph-radius");
+    for technique in ["sh-raytrace", "param-points"] {
+        let images: Vec<Vec<[u8; 4]>> = ["minmax", "abs", "clamp"]
+            .into_iter()
+            .map(|mapping| {
+                let out = dir.join(format!("{technique}-{mapping}.png"));
+                let o = tessera(&[
+                    "render",
+                    "param:sh-glyphs:3x2:order6",
+                    "--technique",
+                    technique,
+                    "--glyph-radius",
+                    mapping,
+                    "--size",
+                    "64x48",
+                    "-o",
+                    out.to_str().unwrap(),
+                ]);
+                assert!(o.status.success(), "{mapping}: {}", stderr(&o));
+                png_pixels(&out)
+            })
+            .collect();
+        assert_ne!(images[0], images[1], "{technique}: minmax = abs");
+        assert_ne!(images[1], images[2], "{technique}: abs = clamp");
+        assert_ne!(images[0], images[2], "{technique}: minmax = clamp");
+    }
+    let o = tessera(&["render", "param:heart", "--glyph-radius", "log"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("minmax, abs or clamp"),
+        "{}",
+        stderr(&o)
+    );
+}

@@ -44,9 +44,15 @@ fn lobed(order: u32, seed: u32, basis: ShBasis, norm: RadiusNormalization) -> Pa
         f64::from(state) / f64::from(u32::MAX) - 0.5
     };
     let degrees = tessera_data::param::sh::sh_degrees_and_orders(order).unwrap();
+    // Positive-lobe glyphs get a small constant term, so that they have negative lobes to drop.
+    let dc = if norm == RadiusNormalization::PositiveLobes {
+        0.15
+    } else {
+        1.2
+    };
     let c = (0..n)
         .map(|j| match degrees[j].0 {
-            0 => 1.2,
+            0 => dc,
             l => next() * 1.6 / f64::from(l).sqrt(),
         })
         .collect();
@@ -54,7 +60,8 @@ fn lobed(order: u32, seed: u32, basis: ShBasis, norm: RadiusNormalization) -> Pa
 }
 
 /// A 4×4 field of glyphs of orders 2…12 in all bases, turned and scaled non-uniformly: min-max
-/// normalised but for one raw and one max-abs glyph, and an order-0 (min-max: unit sphere) one.
+/// normalised but for one raw, one max-abs and one positive-lobes glyph, and an order-0
+/// (min-max: unit sphere) one.
 fn field() -> ParamScene {
     let bases = [
         NON_LEGACY,
@@ -67,6 +74,7 @@ fn field() -> ParamScene {
             let order = if i == 15 { 0 } else { 2 + 2 * (i % 6) };
             let norm = match i {
                 5 => RadiusNormalization::MaxAbs,
+                7 => RadiusNormalization::PositiveLobes,
                 10 => RadiusNormalization::Raw,
                 _ => RadiusNormalization::MinMax,
             };
@@ -308,7 +316,13 @@ fn hits_lie_on_the_glyph_surfaces() {
         let q = m.inverse().transform_point3(position.as_dvec3());
         let (theta, phi) = (q.x.hypot(q.y).atan2(q.z), q.y.atan2(q.x));
         let (s, o) = radius_scale_offset(g);
-        let radius = (g.raw_radius(theta, phi) * s + o).abs().min(glyph_bound(g));
+        let value = g.raw_radius(theta, phi) * s + o;
+        let drawn = if g.normalization() == RadiusNormalization::PositiveLobes {
+            value.max(0.0)
+        } else {
+            value.abs()
+        };
+        let radius = drawn.min(glyph_bound(g));
         let residual = (q.length() - radius).abs() / glyph_bound(g);
         worst = worst.max(residual);
         on_surface += usize::from(residual < 2e-4);

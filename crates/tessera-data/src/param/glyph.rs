@@ -12,7 +12,7 @@
 //! keeps shapes instead: `r / max|r|`, where a negative lobe passes through the centre. The SH
 //! orders drawn here are even, so `r(-d) = r(d)` and that lobe lands where `|r|` points: the
 //! glyph is the surface of `|r| / max|r|` (what the ray tracer's squared implicit form draws
-//! too). Every mapping is offered ([`RadiusNormalization`]); the extremes are estimated once
+//! too). `PositiveLobes` draws `max(r, 0) / max r`: negative lobes vanish. Every mapping is offered ([`RadiusNormalization`]); the extremes are estimated once
 //! per glyph on a fixed direction grid.
 //!
 //! Colour by direction: the glyph shader of paper E's code colours a surface point by the
@@ -37,6 +37,9 @@ pub enum RadiusNormalization {
     MinMax,
     /// `r / max|r|`; an all-zero glyph stays a point.
     MaxAbs,
+    /// `max(r, 0) / max r`: directions where the ODF is negative get no radius (the negative
+    /// lobes vanish); a glyph with no positive value is a point.
+    PositiveLobes,
 }
 
 /// One SH glyph: validated coefficients plus its normalisation.
@@ -114,6 +117,13 @@ impl ShGlyph {
                     1.0
                 } else {
                     ((r - self.raw_min) / span).clamp(0.0, 1.0)
+                }
+            }
+            RadiusNormalization::PositiveLobes => {
+                if self.raw_max <= 0.0 {
+                    0.0
+                } else {
+                    (r / self.raw_max).clamp(0.0, 1.0)
                 }
             }
             RadiusNormalization::MaxAbs => {

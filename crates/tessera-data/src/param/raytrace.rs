@@ -32,6 +32,9 @@
 //!   `B` = the clamp: a ray that enters the bounding sphere inside the glyph hits that sphere.
 //!   The lower clamp of `MinMax` (at 0) is not: where the unclamped radius dips below zero by
 //!   the estimate's residual, a lobe of that tiny size appears through the centre.
+//! * `PositiveLobes` glyphs (`max(r, 0)`): `F`'s roots are where `R = ±|p|^(k+1)`, and only
+//!   those with `R > 0` lie on a positive lobe, so roots where the plane polynomial `R` along the
+//!   ray is not positive are passed over, and a ray starts inside only where `R > 0` too.
 //! * Only the first root is kept (no uncertainty glyphs or shadows), and the polynomial degree
 //!   follows each glyph's own order, so one scene may mix orders.
 
@@ -124,6 +127,8 @@ pub fn radius_scale_offset(g: &ShGlyph) -> (f64, f64) {
         RadiusNormalization::MinMax => (1.0 / (hi - lo), -lo / (hi - lo)),
         RadiusNormalization::MaxAbs if hi.abs().max(lo.abs()) == 0.0 => (0.0, 0.0),
         RadiusNormalization::MaxAbs => (1.0 / hi.abs().max(lo.abs()), 0.0),
+        RadiusNormalization::PositiveLobes if hi <= 0.0 => (0.0, 0.0),
+        RadiusNormalization::PositiveLobes => (1.0 / hi, 0.0),
     }
 }
 
@@ -279,8 +284,12 @@ pub fn intersect_glyph(
     if lo > hi {
         return None;
     }
-    let starts_inside = horner(&poly, lo).0 > 0.0;
-    let x = match polynomial_roots(&poly, lo, hi, true).first() {
+    // R along the ray, in the ray coordinate: its sign tells a positive lobe from a negative one.
+    let on_lobe =
+        |x: f64| g.normalization() != RadiusNormalization::PositiveLobes || horner(&p, x).0 > 0.0;
+    let starts_inside = horner(&poly, lo).0 > 0.0 && on_lobe(lo);
+    let roots = polynomial_roots(&poly, lo, hi, false);
+    let x = match roots.into_iter().find(|&x| on_lobe(x)).as_ref() {
         // Entering the bounding sphere inside the glyph: the upper clamp is the surface there.
         _ if starts_inside && q + t_min <= -half => lo,
         Some(&x) => x,

@@ -26,15 +26,36 @@ fn glyph(rng: &mut Rng, order: u32, norm: RadiusNormalization) -> ShGlyph {
     ShGlyph::new(ShBasis::Descoteaux07 { legacy: false }, order, c, norm).unwrap()
 }
 
+/// A glyph whose radius is negative in some directions: a small constant term.
+fn negative_lobed(rng: &mut Rng, order: u32, norm: RadiusNormalization) -> ShGlyph {
+    let n = sh_coefficient_count(order).unwrap();
+    let c = (0..n)
+        .map(|j| if j == 0 { 0.3 } else { rng.next() - 0.3 })
+        .collect();
+    ShGlyph::new(ShBasis::Descoteaux07 { legacy: false }, order, c, norm).unwrap()
+}
+
+/// The drawn radius of the raw value `raw`: `max(v, 0)` for positive lobes, else `|v|` (what
+/// the squared implicit form describes), `v = raw · scale + offset`.
+fn drawn_radius(g: &ShGlyph, raw: f64) -> f64 {
+    let (scale, offset) = radius_scale_offset(g);
+    let v = raw * scale + offset;
+    if g.normalization() == RadiusNormalization::PositiveLobes {
+        v.max(0.0)
+    } else {
+        v.abs()
+    }
+}
+
 /// The first `t >= 0` where `|p| < min(|r(p̂)|, B)` (the surface the polynomial describes)
 /// changes from its value at the start, by marching 4000 steps over the bounding sphere
 /// and bisecting.
 fn march(g: &ShGlyph, o: DVec3, d: DVec3) -> Option<f64> {
-    let (bound, (scale, offset)) = (glyph_bound(g), radius_scale_offset(g));
+    let bound = glyph_bound(g);
     let inside = |t: f64| {
         let p = o + t * d;
         let (theta, phi) = angles(p);
-        p.length() < (g.raw_radius(theta, phi) * scale + offset).abs().min(bound)
+        p.length() < drawn_radius(g, g.raw_radius(theta, phi)).min(bound)
     };
     let (q, h2) = (d.dot(o), (o - d.dot(o) * d).length_squared());
     let half = (bound * bound - h2).max(0.0).sqrt();
@@ -104,8 +125,13 @@ fn first_roots_match_marching() {
             RadiusNormalization::MinMax,
             RadiusNormalization::MaxAbs,
             RadiusNormalization::Raw,
+            RadiusNormalization::PositiveLobes,
         ] {
-            let g = glyph(&mut rng, k, norm);
+            let g = if norm == RadiusNormalization::PositiveLobes {
+                negative_lobed(&mut rng, k, norm)
+            } else {
+                glyph(&mut rng, k, norm)
+            };
             let b = glyph_bound(&g);
             for ray in 0..40 {
                 let o = rng.vec().normalize() * 3.0 * b;
@@ -129,10 +155,9 @@ fn first_roots_match_marching() {
             // From inside outwards: the first root is the way out. The start is halfway
             // out along the longest of a few directions: near the centre of a glyph much
             // smaller than its coefficients, `F` cancels to noise (cameras are not there).
-            let (s, c) = radius_scale_offset(&g);
             let radius = |d: DVec3| {
                 let (theta, phi) = angles(d);
-                (g.raw_radius(theta, phi) * s + c).abs().min(b)
+                drawn_radius(&g, g.raw_radius(theta, phi)).min(b)
             };
             let start = (0..8)
                 .map(|_| rng.vec().normalize())

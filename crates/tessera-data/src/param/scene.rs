@@ -64,7 +64,9 @@ impl ParamObject {
             // |f| <= 1 for both: the heart only shrinks the unit sphere's coordinates.
             ParamFunction::Sphere | ParamFunction::Heart => 1.0,
             ParamFunction::ShGlyph(g) => match g.normalization() {
-                RadiusNormalization::MinMax | RadiusNormalization::MaxAbs => 1.0,
+                RadiusNormalization::MinMax
+                | RadiusNormalization::MaxAbs
+                | RadiusNormalization::PositiveLobes => 1.0,
                 // |Y_l^m| <= sqrt(2 (2l + 1) / 4π) for every real basis here, so this bounds |r|.
                 RadiusNormalization::Raw => sh_degrees_and_orders(g.order())
                     .map(|lm| {

@@ -172,4 +172,10 @@ fn glyph_radius_mappings() {
     assert!(raw.raw_radius(equator, 0.0) < 0.0);
     assert!((minmax.radius(equator, 0.0) - 0.0).abs() < 1e-3);
     assert!((minmax.radius(0.0, 0.0) - 1.0).abs() < 1e-9);
+    let positive = raw.renormalized(RadiusNormalization::PositiveLobes);
+    assert_eq!(positive.radius(equator, 0.0), 0.0);
+    assert!((positive.radius(0.0, 0.0) - 1.0).abs() < 1e-9);
+    let polar = 0.3;
+    let expected = raw.raw_radius(polar, 0.0) / positive.raw_range().1;
+    assert!((positive.radius(polar, 0.0) - expected).abs() < 1e-12);
 }

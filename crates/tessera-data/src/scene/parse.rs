@@ -122,12 +122,15 @@ pub fn parse_basis(text: &str) -> Result<ShBasis, String> {
     }
 }
 
-/// A glyph radius mapping by name: `minmax` or `abs`.
+/// A glyph radius mapping by name: `minmax`, `abs` or `clamp`.
 pub fn parse_glyph_radius(text: &str) -> Result<RadiusNormalization, String> {
     match text {
         "minmax" => Ok(RadiusNormalization::MinMax),
         "abs" => Ok(RadiusNormalization::MaxAbs),
-        _ => Err(format!("glyph radius '{text}': choose minmax or abs")),
+        "clamp" => Ok(RadiusNormalization::PositiveLobes),
+        _ => Err(format!(
+            "glyph radius '{text}': choose minmax, abs or clamp"
+        )),
     }
 }
 

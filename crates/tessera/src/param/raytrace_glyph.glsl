@@ -25,6 +25,21 @@ layout(binding = 6, std430) readonly buffer RtVandermonde { float rt_vandermonde
 float rt_poly[RT_MAX_DEGREE + 1];
 float rt_deriv[RT_MAX_DEGREE + 1];
 float rt_roots[RT_MAX_DEGREE + 1];
+// R along the ray in the ray coordinate (coefficients by power), whose sign tells a positive lobe
+// from a negative one; rt_lobe_degree < 0: every root of F is surface.
+float rt_lobe[RT_MAX_ORDER + 1];
+int rt_lobe_degree;
+
+bool rt_on_lobe(float x) {
+    if (rt_lobe_degree < 0) {
+        return true;
+    }
+    float v = 0.0;
+    for (int j = rt_lobe_degree; j >= 0; --j) {
+        v = v * x + rt_lobe[j];
+    }
+    return v > 0.0;
+}
 
 // Value of rt_deriv (degree m) at x, and its derivative.
 float rt_eval(int m, float x, out float slope) {
@@ -72,7 +87,7 @@ float rt_bracketed_root(int m, float a, float b, bool a_positive, float tol) {
     return x;
 }
 
-// The first root of rt_poly (degree n) in [lo, hi] where it changes sign. Derivative m is
+// The first root of rt_poly (degree n) in [lo, hi] where it changes sign and rt_on_lobe holds. Derivative m is
 // F^(n-m) / (n-m)!, monotonic between the roots of derivative m - 1.
 bool rt_first_root(int n, float lo, float hi, out float root) {
     float tol = 2e-7 * max(abs(lo), abs(hi));
@@ -94,8 +109,13 @@ bool rt_first_root(int n, float lo, float hi, out float root) {
             if ((fa > 0.0) != (fb > 0.0) && b > a) {
                 float r = rt_bracketed_root(m, a, b, fa > 0.0, tol);
                 if (m == n) {
-                    root = r;
-                    return true;
+                    if (rt_on_lobe(r)) {
+                        root = r;
+                        return true;
+                    }
+                    a = b;
+                    fa = fb;
+                    continue;  // a negative lobe's surface, passed over
                 }
                 // found <= i: rt_roots[i] has been read already.
                 rt_roots[found++] = r;
@@ -170,7 +190,9 @@ bool rt_intersect_glyph(uint object, float bound, vec3 o, vec3 d, float t_min, f
     for (int j = k; j >= 0; --j) {
         a[j] *= power / scale;
         power *= eta;
+        rt_lobe[j] = a[j];
     }
+    rt_lobe_degree = (obj.flags & PARAM_FLAG_POSITIVE_LOBES) != 0u ? k : -1;
     for (int i = 0; i <= k; ++i) {
         for (int j = 0; j <= k; ++j) {
             rt_poly[i + j] += a[i] * a[j];
@@ -191,7 +213,7 @@ bool rt_intersect_glyph(uint object, float bound, vec3 o, vec3 d, float t_min, f
         return false;
     }
     rt_deriv = rt_poly;
-    bool starts_inside = rt_value(n, lo) > 0.0;
+    bool starts_inside = rt_value(n, lo) > 0.0 && rt_on_lobe(lo);
     float u;
     if (starts_inside && q + t_min <= -half_chord) {
         u = lo;  // entering the bounding sphere inside the glyph: the upper clamp is the surface

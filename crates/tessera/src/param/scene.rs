@@ -42,6 +42,10 @@ pub enum GpuKind {
 
 /// `PARAM_FLAG_DIRECTION_COLOUR`: colour by direction from the object's centre.
 pub const FLAG_DIRECTION_COLOUR: u32 = 1;
+/// `PARAM_FLAG_POSITIVE_LOBES`: an SH glyph drawn as `max(r, 0)`, which the ray tracer must
+/// know (its squared implicit form holds negative lobes too; the radius map clamps them away
+/// for the other techniques).
+pub const FLAG_POSITIVE_LOBES: u32 = 2;
 /// Bits 4–5 of the flags hold the SH basis (`SH_*` codes).
 pub const BASIS_SHIFT: u32 = 4;
 
@@ -87,7 +91,10 @@ pub fn encode_function(
                 )));
             }
             values.extend(g.coefficients().iter().map(|&c| c as f32));
-            let flags = FLAG_DIRECTION_COLOUR | (basis_code(g.basis()) << BASIS_SHIFT);
+            let positive = g.normalization() == RadiusNormalization::PositiveLobes;
+            let flags = FLAG_DIRECTION_COLOUR
+                | if positive { FLAG_POSITIVE_LOBES } else { 0 }
+                | (basis_code(g.basis()) << BASIS_SHIFT);
             Ok((GpuKind::ShGlyph, g.order(), flags, radius_map(g)))
         }
         ParamFunction::Seashell(p) => {
@@ -184,6 +191,8 @@ fn radius_map(g: &tessera_data::param::ShGlyph) -> [f32; 4] {
                 [(1.0 / span) as f32, (-lo / span) as f32, 0.0, 1.0]
             }
         }
+        RadiusNormalization::PositiveLobes if hi <= 0.0 => [0.0, 0.0, 0.0, 1.0],
+        RadiusNormalization::PositiveLobes => [(1.0 / hi) as f32, 0.0, 0.0, 1.0],
         RadiusNormalization::MaxAbs => {
             let m = hi.abs().max(lo.abs());
             if m == 0.0 {
@@ -235,6 +244,7 @@ pub fn scene_defines() -> Vec<(String, String)> {
             "PARAM_FLAG_DIRECTION_COLOUR".into(),
             u(FLAG_DIRECTION_COLOUR),
         ),
+        ("PARAM_FLAG_POSITIVE_LOBES".into(), u(FLAG_POSITIVE_LOBES)),
         ("PARAM_BASIS_SHIFT".into(), u(BASIS_SHIFT)),
         ("SH_DESCOTEAUX_LEGACY".into(), u(0)),
         ("SH_DESCOTEAUX".into(), u(1)),
