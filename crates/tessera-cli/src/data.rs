@@ -163,6 +163,15 @@ fn report_volume(volume: &Volume) {
         volume.name(),
         volume.scalar_type().name()
     );
+    if let Some(declared) = volume.orientation().unusable() {
+        eprintln!(
+            "warning: {}: the header's {} cannot be used (an axis of no length or a value that \
+             is not finite); placed by {} instead",
+            volume.name(),
+            declared.name(),
+            volume.orientation().source().name()
+        );
+    }
     if let Some([ax, ay, az]) = volume.replaced_spacing() {
         eprintln!(
             "note: --spacing {sx},{sy},{sz} replaces the spacing {ax},{ay},{az} of {}",

@@ -3,7 +3,9 @@
 //! library nifti1_io; with neither the orientation is the default.
 //!
 //! Leniency: an sform or qform that cannot be normalized (an axis of no length, a value that
-//! is not finite) is skipped as if its code were 0, since the samples load fine without it.
+//! is not finite) is skipped as if its code were 0, since the samples load fine without it;
+//! the orientation records the first one skipped ([`Orientation::unusable`]) so that a front
+//! end can say so.
 
 use super::RawHeader;
 use crate::orientation::{AnatomicalSpace, Orientation, OrientationSource};
@@ -11,8 +13,22 @@ use crate::orientation::{AnatomicalSpace, Orientation, OrientationSource};
 /// The orientation the header's sform, else qform, gives.
 pub(super) fn placement(raw: &RawHeader) -> Orientation {
     let sform = if raw.sform_code > 0 { sform(raw) } else { None };
-    let qform = || if raw.qform_code > 0 { qform(raw) } else { None };
-    sform.or_else(qform).unwrap_or_default()
+    if let Some(placed) = sform {
+        return placed;
+    }
+    let qform = if raw.qform_code > 0 { qform(raw) } else { None };
+    let placed = qform.unwrap_or_default();
+    let skipped = if raw.sform_code > 0 {
+        Some(OrientationSource::NiftiSform)
+    } else if raw.qform_code > 0 && qform.is_none() {
+        Some(OrientationSource::NiftiQform)
+    } else {
+        None
+    };
+    match skipped {
+        Some(declared) => placed.passing_over(declared),
+        None => placed,
+    }
 }
 
 /// The affine's columns are the world vectors of the grid axes, its last column the origin.

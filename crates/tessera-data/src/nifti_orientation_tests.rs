@@ -72,13 +72,29 @@ fn no_usable_placement_means_the_default() {
     let nii = Nii::new([2, 2, 2], 2);
     let v = load(&nii.write("plain.nii", &[0; 8]));
     assert_eq!(v.orientation().source(), OrientationSource::Default);
+    assert_eq!(v.orientation().unusable(), None);
     assert_eq!(v.up_axis(), None);
 
-    // An sform of zeros is skipped for the qform.
+    // An sform of zeros is skipped for the qform, and the skip is recorded.
     let mut nii = Nii::new([2, 2, 2], 2);
     nii.sform_code = 1;
     nii.qform_code = 1;
     let v = load(&nii.write("zeros.nii", &[0; 8]));
     assert_eq!(v.orientation().source(), OrientationSource::NiftiQform);
+    assert_eq!(
+        v.orientation().unusable(),
+        Some(OrientationSource::NiftiSform)
+    );
     assert_eq!(v.up_axis(), Some((2, 1)));
+
+    // A qform alone that cannot be used (a NaN offset) leaves the default, recorded too.
+    let mut nii = Nii::new([2, 2, 2], 2);
+    nii.qform_code = 1;
+    nii.qoffset = [f64::NAN, 0.0, 0.0];
+    let v = load(&nii.write("nan.nii", &[0; 8]));
+    assert_eq!(v.orientation().source(), OrientationSource::Default);
+    assert_eq!(
+        v.orientation().unusable(),
+        Some(OrientationSource::NiftiQform)
+    );
 }

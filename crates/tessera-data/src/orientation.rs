@@ -19,6 +19,19 @@ pub enum OrientationSource {
     Vti,
 }
 
+impl OrientationSource {
+    /// The header fields, as a message names them.
+    pub fn name(self) -> &'static str {
+        match self {
+            OrientationSource::Default => "no placement",
+            OrientationSource::Nrrd => "NRRD space directions and origin",
+            OrientationSource::NiftiSform => "NIfTI sform",
+            OrientationSource::NiftiQform => "NIfTI qform",
+            OrientationSource::Vti => "VTK Origin and Direction",
+        }
+    }
+}
+
 /// The patient-based space a medical file's world axes are in, named by where +x, +y and +z
 /// point (RAS: +x right, +y anterior, +z superior).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -63,6 +76,9 @@ pub struct Orientation {
     direction: [[f32; 3]; 3],
     space: Option<AnatomicalSpace>,
     source: OrientationSource,
+    /// A placement the header declared but that could not be used (an axis of no length, a
+    /// value that is not finite), passed over for `source`.
+    unusable: Option<OrientationSource>,
 }
 
 impl Default for Orientation {
@@ -72,6 +88,7 @@ impl Default for Orientation {
             direction: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
             space: None,
             source: OrientationSource::Default,
+            unusable: None,
         }
     }
 }
@@ -102,7 +119,20 @@ impl Orientation {
             direction,
             space,
             source,
+            unusable: None,
         })
+    }
+
+    /// The same placement, noting that the header's `declared` placement was passed over.
+    pub fn passing_over(mut self, declared: OrientationSource) -> Orientation {
+        self.unusable = Some(declared);
+        self
+    }
+
+    /// The placement the header declared but that could not be used, if any: the volume is
+    /// placed by [`Orientation::source`] instead, and a front end should say so.
+    pub fn unusable(&self) -> Option<OrientationSource> {
+        self.unusable
     }
 
     /// World position of the centre of voxel (0, 0, 0).

@@ -87,7 +87,9 @@ pub fn parse_bytes(data: &[u8], path: &Path, nan_policy: NanPolicy) -> Result<Vt
     });
     let volume = match Orientation::new(first, columns, None, OrientationSource::Vti) {
         Some(placed) => volume.with_orientation(placed),
-        None => volume,
+        None => {
+            volume.with_orientation(Orientation::default().passing_over(OrientationSource::Vti))
+        }
     };
     Ok(VtiImage {
         volume,

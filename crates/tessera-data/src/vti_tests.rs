@@ -200,3 +200,23 @@ fn bytes_load_like_the_file() {
     let err = parse_bytes(&bytes[..bytes.len() / 2], &path, NanPolicy::Reject).expect_err("cut");
     assert!(err.to_string().contains("zlib_f64.vti"), "{err}");
 }
+
+/// A `Direction` with a column of zeros cannot place the grid: the samples load at the default
+/// placement, and the orientation says which placement was passed over.
+#[test]
+fn unusable_direction_is_recorded() {
+    let good = std::fs::read_to_string(data_file("ascii_u8.vti")).expect("read");
+    let bad = good.replace(
+        "Direction=\"0 1 0 1 0 0 0 0 1\"",
+        "Direction=\"0 1 0 0 0 0 0 0 1\"",
+    );
+    assert_ne!(bad, good);
+    let parsed =
+        parse_bytes(bad.as_bytes(), &data_file("flat.vti"), NanPolicy::Reject).expect("parse");
+    let o = parsed.volume.orientation();
+    assert_eq!(o.source(), crate::orientation::OrientationSource::Default);
+    assert_eq!(
+        o.unusable(),
+        Some(crate::orientation::OrientationSource::Vti)
+    );
+}
