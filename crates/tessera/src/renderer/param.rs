@@ -53,6 +53,9 @@ pub(super) struct ParamRenderer {
     /// only): a user function is compiled into every pass, and building twice would cost the
     /// compile twice.
     pipelines: Option<(Option<UserFunction>, Pipelines)>,
+    /// Patches each LOD list holds: raised to hold a scene's initial patches, and grown when a
+    /// frame overflows (the pipelines are then built again).
+    patch_capacity: u32,
     scene: Option<SceneOnGpu>,
     background: [f32; 3],
     frame: Option<((u32, u32), FrameBuffers)>,
@@ -84,6 +87,7 @@ impl ParamRenderer {
             path: super::path_for(gpu.caps(), technique, options.path)?,
             options: *options,
             pipelines: None,
+            patch_capacity: ParamPointsOptions::default().patch_capacity,
             scene: None,
             background: Appearance::default().background(DataKind::Param, None),
             frame: None,
@@ -96,10 +100,16 @@ impl ParamRenderer {
         let same = |a: Option<&UserFunction>| {
             a.map(|f| (&f.name, &f.text)) == user.map(|f| (&f.name, &f.text))
         };
+        let capacity = self.patch_capacity;
+        let built_capacity = |p: &Pipelines| match p {
+            Pipelines::Points(p) => p.options().patch_capacity,
+            Pipelines::Tess(t) => t.options().patch_capacity,
+            Pipelines::Raytrace(_) => capacity,
+        };
         if self
             .pipelines
             .as_ref()
-            .is_some_and(|(u, _)| same(u.as_ref()))
+            .is_some_and(|(u, p)| same(u.as_ref()) && built_capacity(p) == capacity)
         {
             return Ok(());
         }
@@ -118,6 +128,7 @@ impl ParamRenderer {
                     supersample: o.supersample,
                     msaa: o.msaa,
                     pre_split: o.pre_split,
+                    patch_capacity: capacity,
                     ..ParamTessOptions::default()
                 },
             )?)),
@@ -135,6 +146,7 @@ impl ParamRenderer {
                 ParamPointsOptions {
                     supersample: o.supersample,
                     pre_split: o.pre_split,
+                    patch_capacity: capacity,
                     ..ParamPointsOptions::default()
                 },
             )?)),
@@ -180,6 +192,14 @@ impl Renderer for ParamRenderer {
             return Err(wrong_data(self.technique, data));
         };
         self.scene = None;
+        // The first LOD list holds every object's initial patches, with headroom for splits.
+        let split = self
+            .options
+            .pre_split
+            .unwrap_or_else(|| param.scene.initial_split());
+        let initial = param.scene.objects.len() as u64 * u64::from(split * split);
+        let wanted = (initial + initial / 4).min(u64::from(patch_capacity_limit(gpu))) as u32;
+        self.patch_capacity = self.patch_capacity.max(wanted);
         self.build(gpu, param.user.as_ref())?;
         let scene = match &self.pipelines {
             Some((_, Pipelines::Raytrace(r))) => {
@@ -286,11 +306,24 @@ impl Renderer for ParamRenderer {
         self.stats = FrameStats::default();
         if let Some((stats, capacity)) = lod {
             if stats.dropped > 0 {
-                return Err(Error::Invalid(format!(
-                    "{} lost {} patches to full lists of {capacity}",
-                    self.technique.name(),
-                    stats.dropped
-                )));
+                let limit = patch_capacity_limit(gpu);
+                if capacity >= limit {
+                    return Err(Error::Invalid(format!(
+                        "{} lost {} patches to full lists of {capacity}, the most this device \
+                         holds: raise the LOD thresholds or lower the pre-split",
+                        self.technique.name(),
+                        stats.dropped
+                    )));
+                }
+                // Patches lost in one step also hide the children they would have made:
+                // at least double.
+                let needed = u64::from(capacity) + u64::from(stats.dropped) * 5 / 4;
+                self.patch_capacity =
+                    needed.max(u64::from(capacity) * 2).min(u64::from(limit)) as u32;
+                let user = self.pipelines.take().and_then(|(u, _)| u);
+                self.frame = None;
+                self.build(gpu, user.as_ref())?;
+                return Ok(FrameOutcome::Retry);
             }
             self.stats.patches = Some(u64::from(stats.rendered));
         }
@@ -304,4 +337,18 @@ impl Renderer for ParamRenderer {
     fn counters(&self) -> WorkCounters {
         self.counters
     }
+}
+
+#[cfg(test)]
+#[path = "param_tests.rs"]
+mod tests;
+
+/// Most patches a LOD list may hold on `gpu`: three lists within an eighth of its memory,
+/// each within one storage-buffer binding and 32-bit byte offsets.
+fn patch_capacity_limit(gpu: &Gpu) -> u32 {
+    let patch = std::mem::size_of::<crate::param::lod::GpuPatch>() as u64;
+    let caps = gpu.caps();
+    (caps.device_local_bytes / 8 / (3 * patch))
+        .min(caps.max_storage_buffer_range / patch)
+        .min(u64::from(u32::MAX) / patch) as u32
 }
