@@ -41,11 +41,9 @@ pub struct ParamArgs {
     /// Render at K×K samples per pixel and average (supersampling).
     #[arg(long, default_value_t = 1)]
     supersample: u32,
-    /// Start each object as K×K patches (a power of two up to 16) before the LOD stage
-    /// (default: SH glyphs of order L the power of two at or above 2L/3, so that thin lobes of
-    /// small glyphs are not lost; other objects 1)
-    #[arg(long)]
-    pre_split: Option<u32>,
+    /// Start each object as K×K patches (a power of two up to 16) before the LOD stage.
+    #[arg(long, default_value_t = 1)]
+    pre_split: u32,
     /// Multisampling of param-tess: 1, 2, 4 or 8 samples per pixel.
     #[arg(long, default_value_t = 1)]
     msaa: u32,

@@ -97,6 +97,10 @@ const COMMON: &[(&str, &str)] = &[
     ),
     ("param/payload.glsl", include_str!("param/payload.glsl")),
     (
+        "param/min_extent.glsl",
+        include_str!("param/min_extent.glsl"),
+    ),
+    (
         crate::param::user::USER_HEADER,
         crate::param::user::NO_USER_FUNCTION,
     ),

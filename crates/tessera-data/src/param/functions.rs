@@ -58,24 +58,6 @@ pub enum ParamFunction {
 }
 
 impl ParamFunction {
-    /// The uniform pre-split PATCH INITIALIZATION gives this function by default (paper E §4:
-    /// "objects known to be very detailed"). An LOD step measures a patch along lines of 8
-    /// samples, so a feature narrower than a seventh of the patch can fall between them: the
-    /// patch is then measured small, kept whole and drawn too coarsely. An SH glyph of order
-    /// `L` has lobes about `π / L` wide; starting from `k × k` patches, `k` the power of two at
-    /// or above `2L / 3`, keeps 8×8 fields of order 4, 8 and 12 at 256² within a silhouette
-    /// IoU of 0.98 of the ray-traced glyphs (1 × 1 gave 0.94, 0.62 and 0.45). Other functions
-    /// start whole.
-    pub fn initial_split(&self) -> u32 {
-        match self {
-            ParamFunction::ShGlyph(g) => (2 * g.order())
-                .div_ceil(3)
-                .next_power_of_two()
-                .clamp(1, super::lod::MAX_PRE_SPLIT),
-            _ => 1,
-        }
-    }
-
     pub fn domain(&self) -> ParamDomain {
         match self {
             ParamFunction::Sphere | ParamFunction::Heart | ParamFunction::ShGlyph(_) => {

@@ -163,15 +163,6 @@ impl ParamScene {
         self
     }
 
-    /// The pre-split that suits every object: the largest [`ParamFunction::initial_split`].
-    pub fn initial_split(&self) -> u32 {
-        self.objects
-            .iter()
-            .map(|o| o.function.initial_split())
-            .max()
-            .unwrap_or(1)
-    }
-
     pub fn reference_objects(&self) -> Vec<ReferenceObject<'_>> {
         self.objects.iter().map(ParamObject::reference).collect()
     }

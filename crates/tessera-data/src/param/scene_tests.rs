@@ -120,30 +120,6 @@ fn bounding_sphere_follows_the_transform() {
     assert_eq!(refs[1].colour, Vec3::splat(0.85));
 }
 
-/// Glyphs start split by their order, everything else whole; a scene takes its largest.
-#[test]
-fn initial_split_follows_the_glyph_order() {
-    let basis = ShBasis::Descoteaux07 { legacy: false };
-    let glyph = |order: u32| {
-        let mut c = vec![0.0; sh_coefficient_count(order).unwrap()];
-        c[0] = 1.0;
-        let g = ShGlyph::new(basis, order, c, RadiusNormalization::MinMax).unwrap();
-        ParamObject::new(ParamFunction::ShGlyph(g))
-    };
-    let splits: Vec<u32> = [0, 2, 4, 6, 8, 12, 16]
-        .into_iter()
-        .map(|order| glyph(order).function.initial_split())
-        .collect();
-    assert_eq!(splits, [1, 2, 4, 4, 8, 8, 16]);
-    assert_eq!(ParamFunction::Heart.initial_split(), 1);
-    let mixed = ParamScene::new(vec![ParamObject::new(ParamFunction::Sphere), glyph(8)]);
-    assert_eq!(mixed.initial_split(), 8);
-    assert_eq!(
-        ParamScene::new(vec![ParamObject::new(ParamFunction::Sphere)]).initial_split(),
-        1
-    );
-}
-
 /// A glyph with a negative lobe: min-max lifts it, abs draws |r| / max|r|, and renormalizing a
 /// raw glyph samples the range it lacked.
 #[test]

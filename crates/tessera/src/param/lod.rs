@@ -126,9 +126,8 @@ pub struct LodSettings {
     pub frustum_culling: bool,
     /// Patches each list holds.
     pub capacity: u32,
-    /// Each object starts as `k × k` patches ([`tessera_data::param::Patch::pre_split`]);
-    /// `None`: the scene's own ([`GpuParamScene::initial_split`]).
-    pub pre_split: Option<u32>,
+    /// Each object starts as `k × k` patches ([`tessera_data::param::Patch::pre_split`]).
+    pub pre_split: u32,
 }
 
 /// Defines of the LOD shaders: the scene layout and the split tables.
@@ -230,12 +229,11 @@ impl LodStage {
             )));
         }
         let max_split = tessera_data::param::lod::MAX_PRE_SPLIT;
-        if let Some(k) = settings.pre_split {
-            if !k.is_power_of_two() || k > max_split {
-                return Err(Error::Invalid(format!(
-                    "pre-split {k}: must be a power of two from 1 to {max_split}"
-                )));
-            }
+        let k = settings.pre_split;
+        if !k.is_power_of_two() || k > max_split {
+            return Err(Error::Invalid(format!(
+                "pre-split {k}: must be a power of two from 1 to {max_split}"
+            )));
         }
         let defines = lod_defines();
         let spirv = |source| compiler.compile(&source, &defines);
@@ -324,7 +322,7 @@ impl LodStage {
         capture: Option<(&Buffer, u32)>,
     ) {
         let s = &self.settings;
-        let pre_split = s.pre_split.unwrap_or(scene.initial_split);
+        let pre_split = s.pre_split;
         let viewport = view.viewport();
         let mut params = LodParams {
             world_to_clip: view.world_to_clip.to_cols_array_2d(),

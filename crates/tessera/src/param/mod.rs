@@ -54,9 +54,8 @@ pub struct ParamPointsOptions {
     /// Patches each patch list holds (32 bytes each, three lists).
     pub patch_capacity: u32,
     /// PATCH INITIALIZATION's optional uniform pre-split: each object starts as `k × k`
-    /// patches (a power of two up to 16; 1 = the whole domain); `None`: what the scene's
-    /// objects need ([`tessera_data::param::ParamFunction::initial_split`]).
-    pub pre_split: Option<u32>,
+    /// patches (a power of two up to 16; 1 = the whole domain).
+    pub pre_split: u32,
     pub footprint: Footprint,
     /// Samples per pixel of a patch's measured extent along each direction (1 = the paper's
     /// "about one sample per pixel"; [`Footprint::Pixel`] needs more to avoid holes).
@@ -74,7 +73,7 @@ impl Default for ParamPointsOptions {
             max_steps: tessera_data::param::lod::DEFAULT_MAX_STEPS,
             frustum_culling: true,
             patch_capacity: 1 << 20,
-            pre_split: None,
+            pre_split: 1,
             footprint: Footprint::Cell,
             density: 1.0,
             max_side: 512,

@@ -16,6 +16,7 @@
 #include "param/view.glsl"
 #include "param/patch.glsl"
 #include "param/payload.glsl"
+#include "param/min_extent.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(binding = 4, std430) readonly buffer PatchesRender { Patch patches_render[]; };
@@ -103,7 +104,8 @@ void main() {
         return;  // uniform over the workgroup
     }
     Patch p = patches_render[index];
-    uvec2 n = uvec2(clamp(ceil(p.extent * params.density), vec2(1.0), vec2(float(params.max_side))));
+    vec2 extent = max(p.extent, param_min_extent(p, params.world_to_clip, params.viewport));
+    uvec2 n = uvec2(clamp(ceil(extent * params.density), vec2(1.0), vec2(float(params.max_side))));
     uvec2 tiles = (n + TILE - 1u) / TILE;
     uint lane = gl_LocalInvocationIndex;
     for (uint t = 0u; t < tiles.x * tiles.y; ++t) {

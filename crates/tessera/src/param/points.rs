@@ -92,6 +92,12 @@ impl PointsFrame {
     }
 }
 
+/// Samples per pixel along an SH glyph's bounding sphere with which a patch the LOD stage kept
+/// whole is drawn at least (`param/min_extent.glsl`). Measured on an 8×8 field of order-8
+/// glyphs at 256² against ray tracing: 1.0 gave a silhouette IoU of 0.977, 1.5 gave 0.991,
+/// 2.0 gave 0.994; the cost falls on fields of many small glyphs.
+pub const MIN_EXTENT_FACTOR: f32 = 1.5;
+
 /// Defines of the point pass and the resolve.
 pub fn points_defines() -> Vec<(String, String)> {
     let mut d = scene_defines();
@@ -103,6 +109,10 @@ pub fn points_defines() -> Vec<(String, String)> {
         (
             "FOOTPRINT_PIXEL".into(),
             format!("{}u", Footprint::Pixel.code()),
+        ),
+        (
+            "PARAM_MIN_EXTENT_FACTOR".into(),
+            format!("{MIN_EXTENT_FACTOR:?}"),
         ),
         ("SHADE_AMBIENT".into(), format!("{AMBIENT:?}")),
         ("SHADE_DIFFUSE".into(), format!("{DIFFUSE:?}")),

@@ -279,9 +279,6 @@ pub struct GpuParamScene {
     pub uv_bits: u32,
     /// World-space bounding spheres, for the view's depth range.
     pub bounds: Vec<(Vec3, f32)>,
-    /// The pre-split the objects need where the renderer is not told one
-    /// ([`ParamScene::initial_split`]).
-    pub initial_split: u32,
 }
 
 impl GpuParamScene {
@@ -342,7 +339,6 @@ impl GpuParamScene {
             object_count: n as u32,
             uv_bits: ((32 - object_bits) / 2).min(16),
             bounds,
-            initial_split: scene.initial_split(),
         })
     }
 }

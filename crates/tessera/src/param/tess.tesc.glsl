@@ -15,6 +15,7 @@
 #undef gl_WorkGroupID
 #undef gl_NumWorkGroups
 #include "param/tess_params.glsl"
+#include "param/min_extent.glsl"
 
 layout(vertices = 4) out;
 layout(binding = 3, std430) readonly buffer PatchesRender { Patch patches_render[]; };
@@ -70,10 +71,14 @@ void main() {
     }
     Patch p = patches_render[index];
     bool fixed_levels = params.fixed_level > 0.0;
-    gl_TessLevelOuter[edge] = fixed_levels ? params.fixed_level : adaptive_level(edge_length(p, edge));
+    // Edges 0 and 2 run along v, 1 and 3 along u; a patch's neighbour across a whole edge has
+    // the same range along it, so both pick the same floor.
+    vec2 least = param_min_extent(p, params.world_to_clip, params.viewport);
+    float edge_least = (edge & 1u) == 0u ? least.y : least.x;
+    gl_TessLevelOuter[edge] = fixed_levels ? params.fixed_level : adaptive_level(max(edge_length(p, edge), edge_least));
     if (edge == 0u) {
-        gl_TessLevelInner[0] = fixed_levels ? params.fixed_level : adaptive_level(p.extent.x);
-        gl_TessLevelInner[1] = fixed_levels ? params.fixed_level : adaptive_level(p.extent.y);
+        gl_TessLevelInner[0] = fixed_levels ? params.fixed_level : adaptive_level(max(p.extent.x, least.x));
+        gl_TessLevelInner[1] = fixed_levels ? params.fixed_level : adaptive_level(max(p.extent.y, least.y));
         tc_range = vec4(p.u, p.v);
         tc_object = p.object;
     }

@@ -142,9 +142,8 @@ pub struct RendererOptions {
     pub supersample: u32,
     /// Samples per pixel of `param-tess`'s multisampling.
     pub msaa: u32,
-    /// Each parametric object starts as `pre_split`² patches before the LOD stage; `None`:
-    /// as many as its detail needs (SH glyphs by their order).
-    pub pre_split: Option<u32>,
+    /// Each parametric object starts as `pre_split`² patches before the LOD stage.
+    pub pre_split: u32,
     /// Interval shading's speed settings.
     pub interval: IntervalTuning,
     /// How `direct`'s marching cubes cuts ambiguous faces (a shader define).
@@ -158,7 +157,7 @@ impl Default for RendererOptions {
             culling: true,
             supersample: 1,
             msaa: 1,
-            pre_split: None,
+            pre_split: 1,
             interval: IntervalTuning::default(),
             ambiguity: AmbiguityRule::default(),
         }

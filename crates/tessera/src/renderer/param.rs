@@ -193,10 +193,7 @@ impl Renderer for ParamRenderer {
         };
         self.scene = None;
         // The first LOD list holds every object's initial patches, with headroom for splits.
-        let split = self
-            .options
-            .pre_split
-            .unwrap_or_else(|| param.scene.initial_split());
+        let split = self.options.pre_split;
         let initial = param.scene.objects.len() as u64 * u64::from(split * split);
         let wanted = (initial + initial / 4).min(u64::from(patch_capacity_limit(gpu))) as u32;
         self.patch_capacity = self.patch_capacity.max(wanted);

@@ -17,7 +17,11 @@ fn full_patch_lists_grow_and_the_frame_is_drawn_again() {
         distance: 1.2,
         ..OrbitCamera::default()
     };
-    let options = RendererOptions::default();
+    // 16 glyphs of order 8 pre-split 8 × 8 start as 1024 patches: lists of 300 overflow at once.
+    let options = RendererOptions {
+        pre_split: 8,
+        ..RendererOptions::default()
+    };
     let draw = |renderer: &mut ParamRenderer| {
         render_image(&gpu, renderer, &camera, (96, 96))
             .unwrap()
@@ -29,7 +33,6 @@ fn full_patch_lists_grow_and_the_frame_is_drawn_again() {
 
     let mut tight = ParamRenderer::new(&gpu, Technique::ParamPoints, &options).unwrap();
     tight.set_data(&gpu, &data).unwrap();
-    // 16 glyphs of order 8 start as 16 × 8 × 8 patches: lists of 300 overflow at once.
     tight.patch_capacity = 300;
     tight.build(&gpu, None).unwrap();
     let builds = tight.counters().pipeline_builds;

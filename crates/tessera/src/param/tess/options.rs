@@ -30,7 +30,7 @@ pub struct ParamTessOptions {
     /// Patches each patch list holds (32 bytes each, three lists).
     pub patch_capacity: u32,
     /// As [`crate::param::ParamPointsOptions::pre_split`].
-    pub pre_split: Option<u32>,
+    pub pre_split: u32,
     pub levels: TessLevels,
     /// Clamp of adaptive levels, `1 <= min_level <= max_level <= ` the device's limit.
     pub min_level: u32,
