@@ -111,12 +111,9 @@ fn the_ambiguity_rule_changes_the_surface_and_the_meshlets_follow() {
     let dims = [12, 12, 12];
     let volume = Volume::new("noise", dims, [1.0; 3], Samples::F32(noise(dims, 11))).unwrap();
     let [decider, vtk] = RULES.map(|rule| extract_meshlets(&volume, 0.5, rule).unwrap());
-    assert_ne!(
-        decider
-            .to_triangle_mesh()
-            .canonical_triangle_multiset(QUANTUM),
-        vtk.to_triangle_mesh().canonical_triangle_multiset(QUANTUM)
-    );
+    let [decider, vtk] =
+        [decider, vtk].map(|m| m.to_triangle_mesh().canonical_triangle_multiset(QUANTUM));
+    assert!(decider != vtk, "both rules cut every ambiguous face alike");
 }
 
 #[test]

@@ -18,10 +18,9 @@ fn offline_meshlets_cover_the_marching_cubes_triangles() {
             let meshlets = offline_meshlets(&mesh).unwrap();
             meshlets.validate().unwrap();
             let flat = meshlets.to_triangle_mesh();
-            assert_eq!(
-                flat.canonical_triangle_multiset(1e-5),
-                mesh.canonical_triangle_multiset(1e-5),
-                "{kind:?} {rule:?}"
+            assert!(
+                flat.canonical_triangle_multiset(1e-5) == mesh.canonical_triangle_multiset(1e-5),
+                "{kind:?} {rule:?}: triangles differ"
             );
             // Clusters as large as the limits allow, give or take the last one's remainder.
             let n = meshlets.meshlets.len();

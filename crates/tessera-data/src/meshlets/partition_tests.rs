@@ -95,3 +95,37 @@ fn a_quarter_too_full_for_one_meshlet_is_cut_but_its_neighbours_are_not() {
     assert!(sizes[3..].iter().all(|&s| s == 2), "{sizes:?}");
     assert!(parts.iter().all(|p| p.fits()));
 }
+
+#[test]
+fn too_many_occupied_cells_alone_split_a_block() {
+    // Isolated low samples at 21 of the block's 32 interior points of odd coordinates: each
+    // closes a small octahedron of 6 vertices and 8 single-triangle cells, so the block needs
+    // 126 vertices and 168 triangles (both within the limits) but has 168 occupied cells.
+    let low: Vec<[u32; 3]> = (0..32)
+        .map(|k| [1 + 2 * (k % 4), 1 + 2 * (k / 4 % 4), 1 + 2 * (k / 16)])
+        .take(21)
+        .collect();
+    let volume = field([9, 9, 5], |p| {
+        let p = p.to_array().map(|c| c as u32);
+        if low.contains(&p) {
+            0.0
+        } else {
+            1.0
+        }
+    });
+    let whole = SubblockSurface::scan(
+        &volume,
+        0.5,
+        AmbiguityRule::default(),
+        Subblock::whole_block([0; 3]),
+    );
+    assert_eq!(whole.vertex_count(), 126);
+    assert_eq!(whole.triangle_count, 168);
+    assert_eq!(whole.occupied_cell_count(), 168);
+    assert!(!whole.fits());
+    let parts = partition_block(&volume, 0.5, AmbiguityRule::default(), [0; 3]).unwrap();
+    assert!(parts.len() > 1);
+    assert!(parts
+        .iter()
+        .all(|p| p.occupied_cell_count() <= MAX_OCCUPIED_CELLS));
+}
