@@ -110,9 +110,12 @@ fn meshlets_hold_the_marching_cubes_triangles() {
 fn the_ambiguity_rule_changes_the_surface_and_the_meshlets_follow() {
     let dims = [12, 12, 12];
     let volume = Volume::new("noise", dims, [1.0; 3], Samples::F32(noise(dims, 11))).unwrap();
-    let [decider, vtk] = RULES.map(|rule| extract_meshlets(&volume, 0.5, rule).unwrap());
-    let [decider, vtk] =
-        [decider, vtk].map(|m| m.to_triangle_mesh().canonical_triangle_multiset(QUANTUM));
+    let [decider, vtk] = RULES.map(|rule| {
+        let meshlets = extract_meshlets(&volume, 0.5, rule).unwrap();
+        meshlets
+            .to_triangle_mesh()
+            .canonical_triangle_multiset(QUANTUM)
+    });
     assert!(decider != vtk, "both rules cut every ambiguous face alike");
 }
 
@@ -170,4 +173,28 @@ fn physical_meshlets_are_placed_like_the_physical_mesh() {
     assert_same_surface(&meshlets, &reference, "sphere with spacing");
     let area = meshlets.to_triangle_mesh().surface_area();
     assert!((area / reference.surface_area() - 1.0).abs() < 1e-5);
+}
+
+#[test]
+fn an_isovalue_hitting_samples_still_gives_the_marching_cubes_triangles() {
+    // Integer data at an integer isovalue: crossings land on samples equal to it, where
+    // several edges' vertices coincide. They stay distinct vertices, as in marching cubes,
+    // which `validate` reports as repeated positions and nothing else.
+    let volume = generate(ProceduralKind::HeadPhantom, 32, ScalarType::U8).unwrap();
+    let iso = 64.0;
+    assert!((0..32 * 32 * 32).any(|i| volume.texel(i % 32, i / 32 % 32, i / 1024) == iso));
+    for rule in RULES {
+        let meshlets = extract_meshlets(&volume, iso, rule).unwrap();
+        let reference = marching_cubes_with(&volume, iso, rule);
+        if let Err(e) = meshlets.validate() {
+            assert!(e.to_string().contains("repeats position"), "{e}");
+        }
+        assert!(
+            meshlets
+                .to_triangle_mesh()
+                .canonical_triangle_multiset(QUANTUM)
+                == reference.canonical_triangle_multiset(QUANTUM),
+            "{rule:?}: triangles differ"
+        );
+    }
 }
