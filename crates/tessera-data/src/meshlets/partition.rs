@@ -5,7 +5,9 @@
 //!
 //! A 2×2×2 subblock always fits: its closed box has 54 edges (at most 54 vertices ≤ 128), it
 //! has 8 cells (≤ 128 occupied) and at most 8 × [`crate::mc_tables::MAX_TRIANGLES`] = 80
-//! triangles (≤ 254); `partition_tests.rs` checks these bounds against the tables.
+//! triangles (≤ 254); `partition_tests.rs` checks these bounds against the tables. (The
+//! paper says 40 triangles: classic tables have at most 5 per cell, ours up to 10 where
+//! the asymptotic decider joins several ambiguous faces of one cell.)
 
 use crate::error::{DataError, Result};
 use crate::marching_cubes::AmbiguityRule;
