@@ -9,7 +9,8 @@
 //! such edge is an edge of at least one occupied core cell, whose triangles use it, so no
 //! vertex is left unused and none is repeated. A padding cell's edges that leave the box (the
 //! x edge of a cell beyond the max x face, say) are not counted: no core cell's triangle
-//! uses them, and the paper's figure 3 draws padding vertices only on the block's faces.
+//! uses them, and padding cells are there only to supply the vertices of the triangles
+//! inside the subblock (paper C §3.1).
 
 use crate::marching_cubes::{case_of, cell_values, AmbiguityRule};
 use crate::mc_tables::mc_tables;
