@@ -12,6 +12,7 @@ pub mod marching_cubes;
 pub mod mc_ambiguity;
 pub mod mc_tables;
 pub mod mesh;
+pub mod meshlets;
 pub mod minmax;
 pub mod nifti;
 pub mod nrrd;
@@ -27,6 +28,8 @@ pub mod shading;
 pub mod sniff;
 #[cfg(test)]
 mod test_files;
+#[cfg(test)]
+mod test_volumes;
 pub mod tet;
 pub mod transfer;
 pub mod view;

@@ -33,7 +33,7 @@ pub fn classify_cell(volume: &Volume, x: u32, y: u32, z: u32, iso: f32) -> u8 {
 }
 
 /// The values at the eight corners of the cell whose minimum corner is sample `(x, y, z)`.
-fn cell_values(volume: &Volume, x: u32, y: u32, z: u32) -> [f32; 8] {
+pub(crate) fn cell_values(volume: &Volume, x: u32, y: u32, z: u32) -> [f32; 8] {
     CORNER_OFFSETS.map(|o| {
         volume.texel(
             x + u32::from(o[0]),
@@ -43,7 +43,7 @@ fn cell_values(volume: &Volume, x: u32, y: u32, z: u32) -> [f32; 8] {
     })
 }
 
-fn case_of(values: &[f32; 8], iso: f32) -> u8 {
+pub(crate) fn case_of(values: &[f32; 8], iso: f32) -> u8 {
     (0..8).fold(0, |case, c| case | u8::from(values[c] < iso) << c)
 }
 
@@ -159,6 +159,24 @@ fn push_vertex(
     b: f32,
     iso: f32,
 ) -> u32 {
+    let (position, normal) = edge_vertex(volume, start, axis, a, b, iso);
+    let index = u32::try_from(mesh.positions.len()).expect("more than 2^32 vertices");
+    mesh.positions.push(position);
+    mesh.normals.push(normal);
+    index
+}
+
+/// Position and normal of the vertex on the grid edge from sample `start` one step along
+/// `axis`, whose end values are `a` and `b`. Every extractor that must agree with this
+/// reference bit for bit (the meshlet references among them) places its vertices here.
+pub(crate) fn edge_vertex(
+    volume: &Volume,
+    start: [u32; 3],
+    axis: usize,
+    a: f32,
+    b: f32,
+    iso: f32,
+) -> (Vec3, Vec3) {
     // Exactly one end is below iso, so b != a. Volumes are validated finite, but a NaN
     // iso would still make t NaN; the midpoint keeps the vertex on its edge then.
     let t = (iso - a) / (b - a);
@@ -172,10 +190,7 @@ fn push_vertex(
     // above end to its below end points the right way by construction.
     let fallback = if a < iso { -dir } else { dir };
     let normal = (-g).try_normalize().unwrap_or(fallback);
-    let index = u32::try_from(mesh.positions.len()).expect("more than 2^32 vertices");
-    mesh.positions.push(p0 + dir * t);
-    mesh.normals.push(normal);
-    index
+    (p0 + dir * t, normal)
 }
 
 /// Gradient of the samples at grid point `p`: central differences inside, one-sided
@@ -196,20 +211,9 @@ fn gradient(volume: &Volume, p: [u32; 3]) -> Vec3 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::test_volumes::{field, noise};
     use crate::volume::Samples;
     use std::collections::{HashMap, HashSet};
-
-    fn field(dims: [u32; 3], f: impl Fn(Vec3) -> f32) -> Volume {
-        let mut v = Vec::new();
-        for z in 0..dims[2] {
-            for y in 0..dims[1] {
-                for x in 0..dims[0] {
-                    v.push(f(Vec3::new(x as f32, y as f32, z as f32)));
-                }
-            }
-        }
-        Volume::new("test", dims, [1.0; 3], Samples::F32(v)).unwrap()
-    }
 
     /// Directed mesh edge -> uses.
     fn directed_edges(m: &TriangleMesh) -> HashMap<(u32, u32), u32> {
@@ -368,21 +372,6 @@ mod tests {
         }
         let flat = field([2, 3, 2], |_| 0.0);
         assert!(marching_cubes(&flat, 0.5).is_empty());
-    }
-
-    fn noise(dims: [u32; 3], seed: u64) -> Vec<f32> {
-        let mut s = seed;
-        let n = dims.iter().product::<u32>();
-        (0..n)
-            .map(|_| {
-                // splitmix64: a tiny, dependency-free, reproducible generator.
-                s = s.wrapping_add(0x9e37_79b9_7f4a_7c15);
-                let mut z = s;
-                z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-                z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-                ((z ^ (z >> 31)) >> 40) as f32 / (1u64 << 24) as f32
-            })
-            .collect()
     }
 
     #[test]

@@ -87,14 +87,14 @@ impl TriangleMesh {
     /// mirrors (negative determinant), every triangle's winding reversed so that triangles
     /// still face the way their normals point.
     pub fn transformed(mut self, transform: &glam::Affine3A) -> TriangleMesh {
+        let moved = SurfaceTransform::new(transform);
         for p in &mut self.positions {
-            *p = transform.transform_point3(*p);
+            *p = moved.point(*p);
         }
-        let normal_matrix = glam::Mat3::from(transform.matrix3).inverse().transpose();
         for n in &mut self.normals {
-            *n = (normal_matrix * *n).normalize_or_zero();
+            *n = moved.normal(*n);
         }
-        if transform.matrix3.determinant() < 0.0 {
+        if moved.mirrors() {
             for t in &mut self.triangles {
                 t.swap(1, 2);
             }
@@ -165,6 +165,36 @@ impl TriangleMesh {
             .collect();
         out.sort_unstable();
         out
+    }
+}
+
+/// How an affine transform moves a surface: positions as points, normals by the inverse
+/// transpose (renormalized), and whether it mirrors, in which case every triangle's winding
+/// must be reversed to keep facing the way its normals point. Shared by every mesh format so
+/// that they all move alike.
+pub(crate) struct SurfaceTransform {
+    affine: glam::Affine3A,
+    normal_matrix: glam::Mat3,
+}
+
+impl SurfaceTransform {
+    pub(crate) fn new(affine: &glam::Affine3A) -> SurfaceTransform {
+        SurfaceTransform {
+            affine: *affine,
+            normal_matrix: glam::Mat3::from(affine.matrix3).inverse().transpose(),
+        }
+    }
+
+    pub(crate) fn point(&self, p: Vec3) -> Vec3 {
+        self.affine.transform_point3(p)
+    }
+
+    pub(crate) fn normal(&self, n: Vec3) -> Vec3 {
+        (self.normal_matrix * n).normalize_or_zero()
+    }
+
+    pub(crate) fn mirrors(&self) -> bool {
+        self.affine.matrix3.determinant() < 0.0
     }
 }
 

@@ -106,9 +106,24 @@ impl MinMaxOctree {
 
     /// Fraction of blocks that may hold the surface at `iso`.
     pub fn occupied_fraction(&self, iso: f32) -> f64 {
-        let l0 = &self.levels[0].nodes;
-        let occupied = l0.iter().filter(|n| n[0] <= iso && iso <= n[1]).count();
-        occupied as f64 / l0.len().max(1) as f64
+        let blocks = self.levels[0].nodes.len();
+        self.occupied_blocks(iso).count() as f64 / blocks.max(1) as f64
+    }
+
+    /// Block coordinates (level-0 nodes, x fastest) whose range holds `iso`, so that may
+    /// hold surface. Conservative: a block whose minimum is exactly `iso` has no sample below
+    /// it and no crossing.
+    pub fn occupied_blocks(&self, iso: f32) -> impl Iterator<Item = [u32; 3]> + '_ {
+        let l0 = &self.levels[0];
+        let [nx, ny, _] = l0.dims;
+        l0.nodes
+            .iter()
+            .enumerate()
+            .filter(move |(_, n)| n[0] <= iso && iso <= n[1])
+            .map(move |(i, _)| {
+                let i = i as u32;
+                [i % nx, i / nx % ny, i / (nx * ny)]
+            })
     }
 }
 

@@ -1,0 +1,225 @@
+//! The meshlet format every meshlet producer writes (the CPU references here, later the GPU
+//! paths and `extract`'s meshlet output) and every consumer reads.
+
+use std::collections::HashSet;
+
+use glam::Vec3;
+
+use crate::error::{DataError, Result};
+use crate::mesh::{SurfaceTransform, TriangleMesh};
+
+/// Most vertices in one meshlet: local indices must fit in a byte, and 128 is the paper's
+/// trade-off between vertex reuse and culling granularity.
+pub const MAX_VERTICES: u32 = 128;
+/// Most triangles in one meshlet (the paper's limit, and below what mesh shaders may emit).
+pub const MAX_TRIANGLES: u32 = 254;
+/// Most occupied cells one subblock may hand to a single extraction workgroup (the paper's
+/// `C`): it bounds the task-to-mesh payload and the cells each invocation walks.
+pub const MAX_OCCUPIED_CELLS: u32 = 128;
+
+/// One meshlet: a range of [`MeshletMesh::positions`] / [`MeshletMesh::normals`] and a range
+/// of triangles in [`MeshletMesh::local_indices`], with its bounds.
+///
+/// `#[repr(C)]` of 4-byte fields, so a slice of them is plain bytes for an upload.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct Meshlet {
+    /// First vertex in the mesh's vertex arrays.
+    pub vertex_offset: u32,
+    pub vertex_count: u32,
+    /// First triangle; its local indices start at `3 * triangle_offset`.
+    pub triangle_offset: u32,
+    pub triangle_count: u32,
+    /// Bounds of the meshlet's vertices (the explicit AABB).
+    pub aabb_min: [f32; 3],
+    pub aabb_max: [f32; 3],
+    /// Minimum cell of the 8×8×4 block the meshlet was extracted from, in cells.
+    pub block_origin: [u32; 3],
+    /// Minimum cell and size in cells of the subblock it was extracted from (8×8×4, 4×4×4 or
+    /// 2×2×2, not clipped to the volume): the implicit AABB. A size of zero says the meshlet
+    /// has no cell box (the offline reference's meshlets).
+    pub subblock_origin: [u32; 3],
+    pub subblock_size: [u32; 3],
+}
+
+/// An isosurface as meshlets. Triangles face the way [`crate::marching_cubes`]'s do.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct MeshletMesh {
+    pub positions: Vec<[f32; 3]>,
+    /// One per position.
+    pub normals: Vec<[f32; 3]>,
+    /// Three per triangle, each an index into its meshlet's vertex range.
+    pub local_indices: Vec<u8>,
+    pub meshlets: Vec<Meshlet>,
+}
+
+impl MeshletMesh {
+    pub fn triangle_count(&self) -> usize {
+        self.local_indices.len() / 3
+    }
+
+    pub fn vertex_count(&self) -> usize {
+        self.positions.len()
+    }
+
+    /// Every triangle's corner positions, meshlet by meshlet. Triangles whose indices reach
+    /// outside their meshlet or the arrays are skipped; [`Self::validate`] reports them.
+    pub fn triangles(&self) -> impl Iterator<Item = [[f32; 3]; 3]> + '_ {
+        self.global_triangles()
+            .map(|t| t.map(|i| self.positions[i as usize]))
+    }
+
+    /// The same surface as one indexed mesh (indices made global), e.g. to compare it with
+    /// [`crate::marching_cubes`]'s output or to export it. Out-of-range triangles are dropped
+    /// as in [`Self::triangles`].
+    pub fn to_triangle_mesh(&self) -> TriangleMesh {
+        TriangleMesh {
+            positions: self.positions.iter().map(|&p| Vec3::from(p)).collect(),
+            normals: self.normals.iter().map(|&n| Vec3::from(n)).collect(),
+            triangles: self.global_triangles().collect(),
+        }
+    }
+
+    /// Triangles as indices into the vertex arrays, those out of range left out.
+    fn global_triangles(&self) -> impl Iterator<Item = [u32; 3]> + '_ {
+        self.meshlets.iter().flat_map(move |m| {
+            let indices = range(
+                m.triangle_offset,
+                m.triangle_count,
+                3,
+                self.local_indices.len(),
+            )
+            .map_or(&[][..], |r| &self.local_indices[r]);
+            indices.chunks_exact(3).filter_map(move |t| {
+                let global = |i: u8| {
+                    let v = m.vertex_offset.checked_add(u32::from(i))?;
+                    let inside =
+                        u32::from(i) < m.vertex_count && (v as usize) < self.positions.len();
+                    inside.then_some(v)
+                };
+                Some([global(t[0])?, global(t[1])?, global(t[2])?])
+            })
+        })
+    }
+
+    /// Checks what every consumer relies on: one normal per position, the limits, ranges
+    /// inside the arrays, local indices inside their meshlet, every vertex of a meshlet used
+    /// by one of its triangles and none repeated (two vertices at one position), and bounds
+    /// that hold their vertices.
+    ///
+    /// Extraction gives each crossed grid edge its own vertex, so two vertices share a
+    /// position only where a sample equals the isovalue exactly (the crossing then sits on
+    /// that sample for every edge through it); marching cubes keeps those apart too, and this
+    /// check reports them as repeated.
+    pub fn validate(&self) -> Result<()> {
+        let invalid = |what: String| Err(DataError::Invalid(format!("meshlet mesh: {what}")));
+        if self.normals.len() != self.positions.len() {
+            return invalid(format!(
+                "{} normals for {} positions",
+                self.normals.len(),
+                self.positions.len()
+            ));
+        }
+        if !self.local_indices.len().is_multiple_of(3) {
+            return invalid(format!(
+                "{} local indices is not a whole number of triangles",
+                self.local_indices.len()
+            ));
+        }
+        for (k, m) in self.meshlets.iter().enumerate() {
+            if let Err(why) = self.check_meshlet(m) {
+                return invalid(format!("meshlet {k}: {why}"));
+            }
+        }
+        Ok(())
+    }
+
+    fn check_meshlet(&self, m: &Meshlet) -> std::result::Result<(), String> {
+        if m.vertex_count > MAX_VERTICES || m.triangle_count > MAX_TRIANGLES {
+            return Err(format!(
+                "{} vertices and {} triangles exceed the limits {MAX_VERTICES} and \
+                 {MAX_TRIANGLES}",
+                m.vertex_count, m.triangle_count
+            ));
+        }
+        let vertices = range(m.vertex_offset, m.vertex_count, 1, self.positions.len())
+            .ok_or_else(|| "vertex range outside the vertex arrays".to_string())?;
+        let indices = range(
+            m.triangle_offset,
+            m.triangle_count,
+            3,
+            self.local_indices.len(),
+        )
+        .ok_or_else(|| "triangle range outside the local indices".to_string())?;
+        let mut used = vec![false; vertices.len()];
+        for &i in &self.local_indices[indices] {
+            let slot = used
+                .get_mut(usize::from(i))
+                .ok_or_else(|| format!("local index {i} of {} vertices", m.vertex_count))?;
+            *slot = true;
+        }
+        if let Some(i) = used.iter().position(|u| !u) {
+            return Err(format!("vertex {i} is used by no triangle"));
+        }
+        let mut seen = HashSet::with_capacity(vertices.len());
+        for (i, p) in self.positions[vertices].iter().enumerate() {
+            if !seen.insert(p.map(f32::to_bits)) {
+                return Err(format!("vertex {i} repeats position {p:?}"));
+            }
+            if (0..3).any(|a| !(m.aabb_min[a] <= p[a] && p[a] <= m.aabb_max[a])) {
+                return Err(format!(
+                    "vertex {i} at {p:?} outside the bounds {:?}..{:?}",
+                    m.aabb_min, m.aabb_max
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// The mesh moved by `transform` as [`TriangleMesh::transformed`] moves one (e.g. by
+    /// [`crate::Volume::grid_to_physical`]), with every meshlet's bounds recomputed. The
+    /// cell boxes stay in cells.
+    pub fn transformed(mut self, transform: &glam::Affine3A) -> MeshletMesh {
+        let moved = SurfaceTransform::new(transform);
+        for p in &mut self.positions {
+            *p = moved.point(Vec3::from(*p)).to_array();
+        }
+        for n in &mut self.normals {
+            *n = moved.normal(Vec3::from(*n)).to_array();
+        }
+        if moved.mirrors() {
+            for t in self.local_indices.chunks_exact_mut(3) {
+                t.swap(1, 2);
+            }
+        }
+        for m in &mut self.meshlets {
+            let start = m.vertex_offset as usize;
+            let end = start + m.vertex_count as usize;
+            if let Some(vertices) = self.positions.get(start..end) {
+                (m.aabb_min, m.aabb_max) = bounds(vertices);
+            }
+        }
+        self
+    }
+}
+
+/// The index range of `count` items of `stride` elements from item `first`, when it lies in
+/// an array of `len` elements.
+fn range(first: u32, count: u32, stride: usize, len: usize) -> Option<std::ops::Range<usize>> {
+    let start = (first as usize).checked_mul(stride)?;
+    let end = start.checked_add((count as usize).checked_mul(stride)?)?;
+    (end <= len).then_some(start..end)
+}
+
+/// `(min, max)` over `points`; empty gives an inverted box that holds nothing.
+pub(crate) fn bounds(points: &[[f32; 3]]) -> ([f32; 3], [f32; 3]) {
+    points.iter().fold(
+        ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]),
+        |(lo, hi), p| {
+            (
+                std::array::from_fn(|a| lo[a].min(p[a])),
+                std::array::from_fn(|a| hi[a].max(p[a])),
+            )
+        },
+    )
+}
