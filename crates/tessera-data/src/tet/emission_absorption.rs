@@ -54,9 +54,12 @@ impl Default for FrontToBack {
 }
 
 impl FrontToBack {
-    /// Adds a stretch of `length` along which the scalar runs from `s_in` to `s_out`.
+    /// Adds a stretch of `length` along which the scalar runs from `s_in` to `s_out`. A
+    /// stretch without length adds nothing, whatever its scalars: a flat tet's are not finite.
     pub fn add_stretch(&mut self, optics: &EmissionAbsorption, s_in: f64, s_out: f64, length: f64) {
-        let length = length.max(0.0);
+        if !(length > 0.0 && s_in.is_finite() && s_out.is_finite()) {
+            return;
+        }
         let tau = optics.absorption.average(s_in, s_out) * length;
         let emitted = optics.emission.average(s_in, s_out) * length;
         let attenuated = DVec3::from_array(std::array::from_fn(|c| {

@@ -47,7 +47,9 @@ mod traverse;
 pub use faces::{shell_faces, ShellFace};
 pub use layouts::{build_layout, DecodedTet, LayoutKind, TetLayout};
 pub use morton::{morton_order, MortonOrder};
-pub use render::{render_shell_reference, shadow_transmittance, Light, ShellRender};
+pub use render::{
+    render_shell_reference, shadow_transmittance, Light, ShellIntegrator, ShellRender,
+};
 pub use tet16::{Tet16, Tet16Mesh};
 pub use tet20::{Tet20, Tet20Mesh};
 pub use tet32::{Tet32, Tet32Mesh};

@@ -36,8 +36,8 @@ pub struct ShellRender {
 }
 
 /// A shell mesh with a layout, its linear scalars and the optical model: everything a ray
-/// needs.
-pub(crate) struct ShellIntegrator<'a> {
+/// needs, for per-ray comparisons and secondary rays.
+pub struct ShellIntegrator<'a> {
     shell: &'a ShellMesh,
     layout: Box<dyn TetLayout>,
     linears: Vec<TetLinear>,
