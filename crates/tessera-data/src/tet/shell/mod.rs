@@ -11,10 +11,11 @@
 //! - **Vertices**: `vec4` per vertex in the Morton order of [`ShellMesh::mesh`]: world-space
 //!   position (f32) and the normalized scalar in `w`, so one 16-byte load serves projection and
 //!   shading. The paper keeps scalars beside the vertices for the same reason.
-//! - **Tets**: one array of the chosen layout, `#[repr(C)]` as [`Tet32`] (32 bytes: `uvec3 v`,
-//!   `uint vx`, `uvec4 n`), [`Tet20`] (20 bytes: `uint vx`, `uint n[4]`, read as five scalars
-//!   since a `uvec4` after one `uint` would be padded in std430) or [`Tet16`] (16 bytes:
-//!   `uint vx`, `uvec3 nx`). [`NO_NEIGHBOUR`] (`0xFFFF_FFFF`) marks the shell.
+//! - **Tets**: one array of the chosen layout, `#[repr(C)]` as [`Tet32`] (32 bytes in std430
+//!   as `uvec3 v; uint vx; uvec4 n;`), [`Tet20`] (20 bytes as `uint vx; uint n[4];`: scalar
+//!   arrays keep a 4-byte alignment, where a `uvec4` would pad the struct to 32) or [`Tet16`]
+//!   (16 bytes as one `uvec4`: `vx, nx0, nx1, nx2`; `uint vx; uvec3 nx;` would put `nx` at
+//!   offset 16). [`NO_NEIGHBOUR`] (`0xFFFF_FFFF`) marks the shell.
 //! - **Shell triangles**: `uvec4` per [`ShellFace`] as the paper's index buffer: the three
 //!   vertex ids in outward winding and the tet in `w` (the face index is not needed: marching
 //!   starts from the vertex ids). The bottom-level acceleration structure is built over the

@@ -73,10 +73,12 @@ impl<'a> ShellIntegrator<'a> {
     /// Emission–absorption along `ray`, front to back, with early termination.
     pub fn radiance(&self, ray: &Ray, stats: &mut TraversalStats) -> FrontToBack {
         let mut sum = FrontToBack::default();
+        // Step distances are along the unit direction.
+        let dir = ray.dir.normalize_or_zero();
         let mut add = |_: usize, step: &Step| {
             let stretch = RayStretch {
                 eye: ray.origin,
-                dir: ray.dir,
+                dir,
                 enter: step.t_enter,
                 exit: step.t_exit,
             };

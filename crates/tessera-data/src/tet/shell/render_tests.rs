@@ -262,3 +262,33 @@ fn shadow_rays_see_the_transmittance_the_exact_integrator_sees() {
     );
     assert!(results[4].max_element() < 1.0);
 }
+
+#[test]
+fn distances_do_not_depend_on_the_length_of_the_direction() {
+    let shell = ShellMesh::build(&box_mesh(3)).unwrap();
+    let normalized = scalars(&shell);
+    let optics = optics(5.0);
+    let integrator = ShellIntegrator::new(
+        &shell,
+        LayoutKind::Tet32,
+        &normalized,
+        &optics,
+        TraversalOptions::default(),
+    )
+    .unwrap();
+    let mut stats = TraversalStats::default();
+    let origin = DVec3::new(-0.9, 0.1, 0.05);
+    let unit = DVec3::new(1.0, -0.15, 0.05).normalize();
+    let ray = |dir: DVec3| Ray {
+        origin,
+        dir,
+        t_min: 0.0,
+        t_max: 0.7,
+    };
+    let a = integrator.radiance(&ray(unit), &mut stats);
+    let b = integrator.radiance(&ray(unit * 7.5), &mut stats);
+    assert!(a.transmittance.max_element() < 0.99);
+    assert!((a.colour - b.colour).abs().max_element() < 1e-12);
+    assert!((a.transmittance - b.transmittance).abs().max_element() < 1e-12);
+    assert!((Ray::new(origin, unit * 3.0).dir - unit).length() < 1e-15);
+}

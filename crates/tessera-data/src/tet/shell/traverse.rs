@@ -13,8 +13,8 @@ use super::shell_hits::shell_hits;
 use super::ShellMesh;
 use crate::tet::topology::NO_NEIGHBOUR;
 
-/// A ray in world space: the part `t_min ≤ t ≤ t_max` of `origin + t * dir` (`dir` is
-/// normalized, so `t` is a length).
+/// A ray in world space: the part `t_min ≤ t ≤ t_max` of `origin + t * dir`. Distances are
+/// measured along `dir` normalized, so `t` is a length whatever `dir`'s own length.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Ray {
     pub origin: DVec3,
@@ -24,11 +24,11 @@ pub struct Ray {
 }
 
 impl Ray {
-    /// The whole ray ahead of `origin`.
+    /// The whole ray ahead of `origin`, `dir` normalized (zero when it has no length).
     pub fn new(origin: DVec3, dir: DVec3) -> Ray {
         Ray {
             origin,
-            dir,
+            dir: dir.normalize_or_zero(),
             t_min: 0.0,
             t_max: f64::INFINITY,
         }
