@@ -15,10 +15,12 @@ use crate::sniff::{sniff, Sniffed};
 
 pub mod asteroids;
 mod cells;
+pub mod emission_absorption;
 pub mod gmsh;
 pub mod optical;
 pub mod procedural;
 pub mod scalar_integral;
+pub mod shell;
 pub mod tetgen;
 mod text;
 pub mod topology;

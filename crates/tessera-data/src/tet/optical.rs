@@ -110,7 +110,7 @@ pub fn ray_tet_interval(origin: Vec3, dir: Vec3, corners: [Vec3; 4]) -> Option<(
 }
 
 /// [`ray_tet_interval`] in `f64`.
-fn interval(origin: DVec3, dir: DVec3, c: &[DVec3; 4]) -> Option<(f64, f64)> {
+pub(crate) fn interval(origin: DVec3, dir: DVec3, c: &[DVec3; 4]) -> Option<(f64, f64)> {
     let mut t_in = 0.0_f64;
     let mut t_out = f64::INFINITY;
     for apex in 0..4 {
@@ -155,8 +155,8 @@ fn faces_perturbation(outward: DVec3) -> bool {
 }
 
 /// The camera in world space with the pixel model of the module documentation, in `f64`.
-struct WorldView {
-    eye: DVec3,
+pub(crate) struct WorldView {
+    pub(crate) eye: DVec3,
     forward: DVec3,
     right: DVec3,
     up: DVec3,
@@ -168,7 +168,7 @@ struct WorldView {
 }
 
 impl WorldView {
-    fn new(camera: &OrbitCamera, width: u32, height: u32) -> WorldView {
+    pub(crate) fn new(camera: &OrbitCamera, width: u32, height: u32) -> WorldView {
         let (forward, right, up) = camera.basis();
         let tan_y = f64::from((camera.fov_y_deg.to_radians() * 0.5).tan());
         WorldView {
@@ -185,7 +185,7 @@ impl WorldView {
     }
 
     /// Unit direction of pixel (x, y)'s ray and the distance along it to the near plane.
-    fn ray(&self, x: u32, y: u32) -> (DVec3, f64) {
+    pub(crate) fn ray(&self, x: u32, y: u32) -> (DVec3, f64) {
         let sx = (2.0 * (f64::from(x) + 0.5) / self.width - 1.0) * self.tan_x;
         let sy = (1.0 - 2.0 * (f64::from(y) + 0.5) / self.height) * self.tan_y;
         let dir = (self.forward + sx * self.right + sy * self.up).normalize();

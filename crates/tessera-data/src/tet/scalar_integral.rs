@@ -67,7 +67,7 @@ pub fn normalized_scalars(
 }
 
 /// A tet's corners and the map from a point to its barycentric weights of corners 1..3.
-struct TetLinear {
+pub(crate) struct TetLinear {
     origin: DVec3,
     to_barycentric: DMat3,
     values: [f64; 4],
@@ -87,11 +87,31 @@ impl TetLinear {
         }
     }
 
+    /// The scalar at the two ends of `stretch`: where the ray enters and leaves the tet.
+    pub(crate) fn at_ends(&self, stretch: &RayStretch) -> (f64, f64) {
+        (
+            self.at(stretch.eye + stretch.dir * stretch.enter),
+            self.at(stretch.eye + stretch.dir * stretch.exit),
+        )
+    }
+
     fn at(&self, p: DVec3) -> f64 {
         let w = self.to_barycentric * (p - self.origin);
         let w0 = 1.0 - w.x - w.y - w.z;
         w0 * self.values[0] + w.x * self.values[1] + w.y * self.values[2] + w.z * self.values[3]
     }
+}
+
+/// The linear scalar of every tet in world space (placed by [`MeshFrame::of`]), from one
+/// normalized value per vertex.
+pub(crate) fn tet_linears(mesh: &TetMesh, normalized: &[f32]) -> Vec<TetLinear> {
+    let frame = MeshFrame::of(mesh);
+    (0..mesh.tets.len())
+        .map(|t| {
+            let values = mesh.tets[t].map(|v| f64::from(normalized[v as usize]));
+            TetLinear::new(world_tet(mesh, &frame, t), values)
+        })
+        .collect()
 }
 
 /// Per pixel (row-major, top row first): for [`ScalarMode::Absorption`] and
@@ -107,17 +127,9 @@ pub fn integrate_scalar(
     table: &IntegrandTable,
     mode: ScalarMode,
 ) -> Vec<[f32; 3]> {
-    let frame = MeshFrame::of(mesh);
-    let linear: Vec<TetLinear> = (0..mesh.tets.len())
-        .map(|t| {
-            let values = mesh.tets[t].map(|v| f64::from(normalized[v as usize]));
-            TetLinear::new(world_tet(mesh, &frame, t), values)
-        })
-        .collect();
+    let linear = tet_linears(mesh, normalized);
     accumulate(mesh, camera, width, height, |t, ray: RayStretch, sum| {
-        let f = &linear[t];
-        let s_in = f.at(ray.eye + ray.dir * ray.enter);
-        let s_out = f.at(ray.eye + ray.dir * ray.exit);
+        let (s_in, s_out) = linear[t].at_ends(&ray);
         match mode {
             ScalarMode::Maximum => {
                 *sum = DVec3::new(sum.x.max(s_in).max(s_out), 1.0, 0.0);

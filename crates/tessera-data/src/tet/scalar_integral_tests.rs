@@ -79,3 +79,33 @@ fn a_mesh_without_scalars_is_refused_by_name() {
         .to_string();
     assert!(err.contains("cube.vtu") && err.contains("scalars"), "{err}");
 }
+
+#[test]
+fn a_stretchs_ends_carry_the_linear_fields_values() {
+    // A field linear in space is reproduced exactly by every tet's interpolation.
+    let field = |p: DVec3| 0.3 + 0.2 * p.x - 0.1 * p.y + 0.25 * p.z;
+    let mut mesh = box_mesh(2);
+    let frame = MeshFrame::of(&mesh);
+    let world = |v: &[f32; 3]| frame.to_world(glam::Vec3::from(*v)).as_dvec3();
+    mesh.scalars = Some(
+        mesh.vertices
+            .iter()
+            .map(|v| field(world(v)) as f32)
+            .collect(),
+    );
+    let normalized = mesh.scalars.clone().unwrap();
+    let linears = tet_linears(&mesh, &normalized);
+    let stretch = RayStretch {
+        eye: DVec3::new(-1.0, 0.1, 0.05),
+        dir: DVec3::new(1.0, 0.2, -0.1).normalize(),
+        enter: 0.7,
+        exit: 0.9,
+    };
+    for linear in &linears {
+        let (s_in, s_out) = linear.at_ends(&stretch);
+        let want_in = field(stretch.eye + stretch.dir * stretch.enter);
+        let want_out = field(stretch.eye + stretch.dir * stretch.exit);
+        assert!((s_in - want_in).abs() < 1e-6, "{s_in} vs {want_in}");
+        assert!((s_out - want_out).abs() < 1e-6, "{s_out} vs {want_out}");
+    }
+}

@@ -1,0 +1,185 @@
+//! CPU foundation of ray-traced shell traversal (paper B, after Aman et al. for the marching):
+//! the mesh reordered along a Morton curve, its shell (boundary triangles, each with its tet),
+//! the compact tet layouts Tet32 / Tet20 / Tet16, the shell-to-shell traversal of Alg. 1 with
+//! tet marching in a ray-centric 2-D projection, and emission–absorption rendering and shadow
+//! transmittance on top of it. This is the ground truth the GPU paths will be held to.
+//!
+//! Everything works in world space as [`MeshFrame::of`] places the mesh, so results compare
+//! directly with interval shading's references ([`crate::tet::optical`]).
+//!
+//! # GPU buffers (planned; what the ray-generation shader and the compute path will read)
+//! - **Vertices**: `vec4` per vertex in the Morton order of [`ShellMesh::mesh`]: world-space
+//!   position (f32) and the normalized scalar in `w`, so one 16-byte load serves projection and
+//!   shading. The paper keeps scalars beside the vertices for the same reason.
+//! - **Tets**: one array of the chosen layout, `#[repr(C)]` as [`Tet32`] (32 bytes in std430
+//!   as `uvec3 v; uint vx; uvec4 n;`), [`Tet20`] (20 bytes as `uint vx; uint n[4];`: scalar
+//!   arrays keep a 4-byte alignment, where a `uvec4` would pad the struct to 32) or [`Tet16`]
+//!   (16 bytes as one `uvec4`: `vx, nx0, nx1, nx2`; `uint vx; uvec3 nx;` would put `nx` at
+//!   offset 16). [`NO_NEIGHBOUR`] (`0xFFFF_FFFF`) marks the shell.
+//! - **Shell triangles**: `uvec4` per [`ShellFace`] as the paper's index buffer: the three
+//!   vertex ids in outward winding and the tet in `w` (the face index is not needed: marching
+//!   starts from the vertex ids). The bottom-level acceleration structure is built over the
+//!   vertex buffer with these indices (stride 16); the compute path's BVH nodes hold the same
+//!   face ids in their leaves.
+//! - **Per ray**: the traversal needs only the current tet, the tet it came from (Tet16), the
+//!   three entered-face vertex ids and their 2-D projections, so the state fits registers.
+//!
+//! [`NO_NEIGHBOUR`]: crate::tet::topology::NO_NEIGHBOUR
+
+use glam::{DVec3, Vec3};
+
+use super::optical::MeshFrame;
+use super::topology::NO_NEIGHBOUR;
+use super::TetMesh;
+use crate::error::{DataError, Result};
+
+mod faces;
+mod layouts;
+mod march;
+mod morton;
+mod projection;
+mod render;
+mod shell_hits;
+mod tet16;
+mod tet20;
+mod tet32;
+mod traverse;
+
+pub use faces::{shell_faces, ShellFace};
+pub use layouts::{build_layout, DecodedTet, LayoutKind, TetLayout};
+pub use morton::{morton_order, MortonOrder};
+pub use render::{
+    render_shell_reference, shadow_transmittance, Light, ShellIntegrator, ShellRender,
+};
+pub use tet16::{Tet16, Tet16Mesh};
+pub use tet20::{Tet20, Tet20Mesh};
+pub use tet32::{Tet32, Tet32Mesh};
+pub use traverse::{
+    trace_segments, traverse, Ray, Segment, SegmentEnd, Step, StepVisitor, TraversalOptions,
+    TraversalStats,
+};
+
+/// A tet mesh prepared for shell traversal: reordered along a Morton curve, with its face
+/// neighbours, shell faces and world-space vertex positions.
+#[derive(Clone, Debug)]
+pub struct ShellMesh {
+    /// The input mesh with vertices and tets (and their scalars and attributes) in Morton
+    /// order.
+    pub mesh: TetMesh,
+    /// How the input's vertices and tets were renumbered.
+    pub order: MortonOrder,
+    /// Per tet of [`ShellMesh::mesh`], the tet across each face (face `i` opposite vertex `i`).
+    pub neighbours: Vec<[u32; 4]>,
+    /// The boundary triangles, in outward winding.
+    pub faces: Vec<ShellFace>,
+    /// Where the mesh sits in world space (the same as for the input mesh).
+    pub frame: MeshFrame,
+    /// Vertex positions in world space, in `f64` as the references compute.
+    pub(crate) world: Vec<DVec3>,
+}
+
+impl ShellMesh {
+    /// Reorders `mesh` and builds its connectivity. Errors on an empty mesh, vertex indices
+    /// out of range, non-finite coordinates or attributes of the wrong length; degenerate and
+    /// inverted tets are kept (the traversal's loop guard copes with them).
+    pub fn build(mesh: &TetMesh) -> Result<ShellMesh> {
+        check(mesh)?;
+        let order = morton_order(mesh);
+        let reordered = order.apply(mesh);
+        let neighbours = reordered.neighbours();
+        let faces = shell_faces(&reordered.tets, &neighbours);
+        let frame = MeshFrame::of(&reordered);
+        let world = reordered
+            .vertices
+            .iter()
+            .map(|p| frame.to_world(Vec3::from(*p)).as_dvec3())
+            .collect();
+        Ok(ShellMesh {
+            mesh: reordered,
+            order,
+            neighbours,
+            faces,
+            frame,
+            world,
+        })
+    }
+
+    /// The compact layout `kind` of this mesh's tets.
+    pub fn layout(&self, kind: LayoutKind) -> Box<dyn TetLayout> {
+        build_layout(kind, &self.mesh.tets, &self.neighbours)
+    }
+}
+
+/// What the traversal needs to index safely; the full [`TetMesh::validate`] would also
+/// reorient tets, which is the loaders' business.
+fn check(mesh: &TetMesh) -> Result<()> {
+    let invalid = |m: String| Err(DataError::Invalid(format!("shell traversal: {m}")));
+    if mesh.tets.is_empty() {
+        return invalid("the mesh has no tetrahedra".into());
+    }
+    let n = mesh.vertices.len();
+    // Tet ids share u32 with the NO_NEIGHBOUR marker.
+    if mesh.tets.len() >= NO_NEIGHBOUR as usize || n >= NO_NEIGHBOUR as usize {
+        return invalid(format!(
+            "{} tets and {n} vertices do not fit 32-bit ids",
+            mesh.tets.len()
+        ));
+    }
+    if let Some(t) = mesh
+        .tets
+        .iter()
+        .position(|tet| tet.iter().any(|&v| v as usize >= n))
+    {
+        return invalid(format!(
+            "tet {t} has a vertex index out of range ({n} vertices)"
+        ));
+    }
+    if let Some(v) = mesh
+        .vertices
+        .iter()
+        .position(|p| p.iter().any(|c| !c.is_finite()))
+    {
+        return invalid(format!("vertex {v} has a non-finite coordinate"));
+    }
+    let lengths = [
+        (
+            "scalars",
+            mesh.scalars.as_ref().map(Vec::len),
+            n,
+            "vertices",
+        ),
+        (
+            "absorption colours",
+            mesh.absorption.as_ref().map(Vec::len),
+            mesh.tets.len(),
+            "tets",
+        ),
+        (
+            "regions",
+            mesh.regions.as_ref().map(Vec::len),
+            mesh.tets.len(),
+            "tets",
+        ),
+    ];
+    for (what, len, want, of) in lengths {
+        if let Some(len) = len.filter(|&l| l != want) {
+            return invalid(format!("{len} {what} for {want} {of}"));
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+pub(crate) mod test_meshes;
+
+#[cfg(test)]
+#[path = "layouts_tests.rs"]
+mod layouts_tests;
+
+#[cfg(test)]
+#[path = "traverse_tests.rs"]
+mod traverse_tests;
+
+#[cfg(test)]
+#[path = "render_tests.rs"]
+mod render_tests;
