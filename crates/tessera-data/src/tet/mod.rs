@@ -224,6 +224,17 @@ pub(crate) fn finish(
     path: &Path,
     skipped_cells: usize,
 ) -> Result<(TetMesh, MeshReport)> {
+    if mesh.tets.is_empty() && skipped_cells > 0 {
+        // Say why there is nothing: a mesh of hexahedra, wedges or surface triangles only.
+        return Err(DataError::format(
+            path,
+            format!(
+                "empty mesh: no tetrahedra; all {skipped_cells} cell(s) are of other types (hexahedra, \
+                 wedges, triangles, ...), which are skipped; tetrahedralize the mesh first \
+                 (e.g. TetGen, or VTK's vtkDataSetTriangleFilter)"
+            ),
+        ));
+    }
     let mut report = mesh.validate(&path.display().to_string())?;
     report.skipped_cells = skipped_cells;
     Ok((mesh, report))

@@ -168,3 +168,14 @@ fn counts_beyond_the_file_fail_before_allocating() {
         );
     }
 }
+
+/// A mesh of other cells only says so and how to get tetrahedra, not just "empty".
+#[test]
+fn only_other_cells_is_explained() {
+    let text = format!("{HEAD}CELLS 1 9\n8 0 1 2 3 4 0 1 2\nCELL_TYPES 1\n12\n");
+    let path = write_text("hex.vtk", &text);
+    let err = load_vtk_legacy(&path).expect_err("no tets").to_string();
+    assert!(err.contains("hex.vtk"), "{err}");
+    assert!(err.contains("all 1 cell(s) are of other types"), "{err}");
+    assert!(err.contains("tetrahedralize"), "{err}");
+}
