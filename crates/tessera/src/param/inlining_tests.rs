@@ -37,3 +37,25 @@ fn every_parametric_pass_evaluates_the_functions_at_few_call_sites() {
         );
     }
 }
+
+/// The ray tracer evaluates the SH series once while intersecting and once for the normal.
+#[test]
+fn the_ray_tracer_evaluates_the_sh_series_at_few_call_sites() {
+    let compiler = crate::shaders::compiler();
+    let defines = crate::param::raytrace::raytrace_defines(12);
+    for source in [
+        builtin_shader!("raytrace.comp.glsl"),
+        builtin_shader!("raytrace_probe.comp.glsl"),
+    ] {
+        let spirv = compiler
+            .compile(&source, &defines)
+            .unwrap_or_else(|e| panic!("{e}"));
+        let copies = inlined_copies(&spirv.words, "sh_evaluate")
+            .unwrap_or_else(|| panic!("{}: no sh_evaluate", source.path));
+        assert!(
+            (1..=2).contains(&copies),
+            "{}: sh_evaluate inlined {copies} times (at most 2)",
+            source.path
+        );
+    }
+}

@@ -165,9 +165,18 @@ void rt_surface(uint index, vec3 position, out vec3 normal, out vec3 colour) {
     // Steps of 1/1000 of the radius: the truncation error (~ (k e / r)^2) and the f32 rounding
     // (~ 1e-7 r / e) both stay near 1e-4 up to order 16.
     float e = 1e-3 * len + 1e-6 * bound;
-    vec3 grad = vec3(rt_implicit(o, bound, p + vec3(e, 0.0, 0.0)) - rt_implicit(o, bound, p - vec3(e, 0.0, 0.0)),
-                     rt_implicit(o, bound, p + vec3(0.0, e, 0.0)) - rt_implicit(o, bound, p - vec3(0.0, e, 0.0)),
-                     rt_implicit(o, bound, p + vec3(0.0, 0.0, e)) - rt_implicit(o, bound, p - vec3(0.0, 0.0, e)));
+    // Central differences through one call site (each call inlines the whole SH series; the
+    // six written out made the pass several times slower to compile): grad[axis] =
+    // (0 + f(p + e)) + -f(p - e), which rounds as f(p + e) - f(p - e).
+    vec3 grad = vec3(0.0);
+    for (int i = 0; i < 6; ++i) {
+        int axis = i >> 1;
+        bool ahead = (i & 1) == 0;
+        vec3 offset = vec3(0.0);
+        offset[axis] = ahead ? e : -e;
+        float value = rt_implicit(o, bound, p + offset);
+        grad[axis] += ahead ? value : -value;
+    }
     // Normals go by the inverse transpose of object-to-world, i.e. the transpose of to_object.
     normal = grad.x * rt_glyphs[index].to_object[0].xyz + grad.y * rt_glyphs[index].to_object[1].xyz
            + grad.z * rt_glyphs[index].to_object[2].xyz;
