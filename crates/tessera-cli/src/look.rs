@@ -41,9 +41,11 @@ pub struct ParamArgs {
     /// Render at K×K samples per pixel and average (supersampling).
     #[arg(long, default_value_t = 1)]
     supersample: u32,
-    /// Start each object as K×K patches (a power of two up to 16) before the LOD stage.
-    #[arg(long, default_value_t = 1)]
-    pre_split: u32,
+    /// Start each object as K×K patches (a power of two up to 16) before the LOD stage
+    /// (default 1; param-tess starts SH glyphs as 2×2, since a patch gets at most 64 segments
+    /// per edge)
+    #[arg(long)]
+    pre_split: Option<u32>,
     /// Multisampling of param-tess: 1, 2, 4 or 8 samples per pixel.
     #[arg(long, default_value_t = 1)]
     msaa: u32,

@@ -142,8 +142,10 @@ pub struct RendererOptions {
     pub supersample: u32,
     /// Samples per pixel of `param-tess`'s multisampling.
     pub msaa: u32,
-    /// Each parametric object starts as `pre_split`² patches before the LOD stage.
-    pub pre_split: u32,
+    /// Each parametric object starts as `pre_split`² patches before the LOD stage; `None`: the
+    /// technique's own choice (param-tess starts SH glyphs as 2 × 2 patches, since a patch
+    /// gets at most 64 segments per edge and a small glyph's lobes need more; else 1).
+    pub pre_split: Option<u32>,
     /// Interval shading's speed settings.
     pub interval: IntervalTuning,
     /// How `direct`'s marching cubes cuts ambiguous faces (a shader define).
@@ -157,7 +159,7 @@ impl Default for RendererOptions {
             culling: true,
             supersample: 1,
             msaa: 1,
-            pre_split: 1,
+            pre_split: None,
             interval: IntervalTuning::default(),
             ambiguity: AmbiguityRule::default(),
         }

@@ -19,7 +19,7 @@ fn full_patch_lists_grow_and_the_frame_is_drawn_again() {
     };
     // 16 glyphs of order 8 pre-split 8 × 8 start as 1024 patches: lists of 300 overflow at once.
     let options = RendererOptions {
-        pre_split: 8,
+        pre_split: Some(8),
         ..RendererOptions::default()
     };
     let draw = |renderer: &mut ParamRenderer| {
