@@ -16,6 +16,7 @@ pub mod pipeline;
 pub mod shader;
 mod shared;
 pub mod spirv;
+mod submit;
 pub mod timer;
 pub mod timing;
 pub mod validation;

@@ -161,7 +161,9 @@ pub fn invocation_local_bytes(words: &[u32]) -> u64 {
     let mut variables = Vec::new();
     for (op, args) in instructions(words) {
         match (op, args) {
-            (OP_TYPE_BOOL, [id, ..]) => drop(types.insert(*id, Type::Scalar(4))),
+            (OP_TYPE_BOOL, [id, ..]) => {
+                types.insert(*id, Type::Scalar(4));
+            }
             (OP_TYPE_INT | OP_TYPE_FLOAT, [id, width, ..]) => {
                 types.insert(*id, Type::Scalar(u64::from(*width) / 8));
             }
@@ -172,10 +174,14 @@ pub fn invocation_local_bytes(words: &[u32]) -> u64 {
                 types.insert(*id, Type::Array(*element, *length));
             }
             (OP_TYPE_STRUCT, [id, members @ ..]) => {
-                drop(types.insert(*id, Type::Struct(members.to_vec())))
+                types.insert(*id, Type::Struct(members.to_vec()));
             }
-            (OP_TYPE_POINTER, [id, _, pointee]) => drop(types.insert(*id, Type::Pointer(*pointee))),
-            (OP_CONSTANT, [_, id, value, ..]) => drop(constants.insert(*id, u64::from(*value))),
+            (OP_TYPE_POINTER, [id, _, pointee]) => {
+                types.insert(*id, Type::Pointer(*pointee));
+            }
+            (OP_CONSTANT, [_, id, value, ..]) => {
+                constants.insert(*id, u64::from(*value));
+            }
             (OP_VARIABLE, [pointer, _, storage, ..])
                 if *storage == STORAGE_FUNCTION || *storage == STORAGE_PRIVATE =>
             {

@@ -87,6 +87,17 @@ pub(crate) fn fourth_vertex(vx: u32, face: [u32; 3]) -> u32 {
     vx ^ xor_of(&face)
 }
 
+/// The four vertices of a tet entered through `entered`, the vertex opposite it last,
+/// recovered from the tet's XOR field `vx` (Tet20 and Tet16 store no vertex ids).
+pub(crate) fn entered_tet_vertices(vx: u32, entered: [u32; 3]) -> [u32; 4] {
+    [
+        entered[0],
+        entered[1],
+        entered[2],
+        fourth_vertex(vx, entered),
+    ]
+}
+
 /// Rank of `ids[i]` among the four ids (ascending; equal ids, which only degenerate tets
 /// have, ranked by position). Tet20 and Tet16 store neighbours in this order, so the rank of
 /// the vertex opposite a face picks the neighbour across it without storing vertex ids.

@@ -11,7 +11,7 @@
 use bytemuck::{Pod, Zeroable};
 
 use super::layouts::{
-    fourth_vertex, neighbours_by_rank, rank_of, DecodedTet, LayoutKind, TetLayout,
+    entered_tet_vertices, neighbours_by_rank, rank_of, DecodedTet, LayoutKind, TetLayout,
 };
 
 #[repr(C)]
@@ -64,12 +64,7 @@ impl TetLayout for Tet16Mesh {
     /// they are out of range.
     fn decode(&self, tet: u32, came_from: u32, entered: [u32; 3]) -> Option<DecodedTet> {
         let stored = self.tets.get(tet as usize)?;
-        let vertices = [
-            entered[0],
-            entered[1],
-            entered[2],
-            fourth_vertex(stored.vx, entered),
-        ];
+        let vertices = entered_tet_vertices(stored.vx, entered);
         // The entered face is opposite the fourth vertex.
         let last = match rank_of(vertices, 3) {
             3 => came_from,

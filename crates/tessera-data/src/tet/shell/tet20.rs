@@ -4,7 +4,7 @@
 use bytemuck::{Pod, Zeroable};
 
 use super::layouts::{
-    fourth_vertex, neighbours_by_rank, rank_of, DecodedTet, LayoutKind, TetLayout,
+    entered_tet_vertices, neighbours_by_rank, rank_of, DecodedTet, LayoutKind, TetLayout,
 };
 
 #[repr(C)]
@@ -54,12 +54,7 @@ impl TetLayout for Tet20Mesh {
     /// wrong but in no way unsafe.
     fn decode(&self, tet: u32, _came_from: u32, entered: [u32; 3]) -> Option<DecodedTet> {
         let stored = self.tets.get(tet as usize)?;
-        let vertices = [
-            entered[0],
-            entered[1],
-            entered[2],
-            fourth_vertex(stored.vx, entered),
-        ];
+        let vertices = entered_tet_vertices(stored.vx, entered);
         Some(DecodedTet {
             vertices,
             neighbours: std::array::from_fn(|i| stored.n[rank_of(vertices, i)]),
