@@ -66,8 +66,9 @@ pub fn run(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
     let mut camera = args.camera;
     if let Dataset::Volume(volume) = &dataset {
         look.iso = args.iso.resolve(volume);
-        camera.up = args.up.unwrap_or_else(|| {
-            let up = ViewUp::for_volume(volume);
+    }
+    camera.up = args.up.unwrap_or_else(|| match dataset.view_up() {
+        Some(up) => {
             if up != ViewUp::default() {
                 eprintln!(
                     "view up {} (towards the head, from the file's orientation)",
@@ -75,10 +76,9 @@ pub fn run(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
                 );
             }
             up
-        });
-    } else {
-        camera.up = args.up.unwrap_or_default();
-    }
+        }
+        None => ViewUp::default(),
+    });
     let renderer_options = look::renderer_options(&args.paths, &args.param, &args.iso);
     let started = Instant::now();
     let bar = data::spinner("compiling shaders, uploading, building auxiliary structures".into());

@@ -64,13 +64,11 @@ impl ViewUp {
         Some(if sign > 0 { up[0] } else { up[1] })
     }
 
-    /// The view up a volume asks for: towards the patient's head where the file names an
-    /// anatomical space ([`crate::Volume::up_axis`]), else +y.
-    pub fn for_volume(volume: &crate::Volume) -> ViewUp {
-        volume
-            .up_axis()
-            .and_then(|(axis, sign)| ViewUp::from_axis(axis, sign))
-            .unwrap_or_default()
+    /// The view up towards the patient's head, from a grid's `up_axis` (as
+    /// [`crate::Orientation::up_axis`] gives it); `None` where the file names no anatomical
+    /// space.
+    pub fn towards_head(up_axis: Option<(usize, i8)>) -> Option<ViewUp> {
+        up_axis.and_then(|(axis, sign)| ViewUp::from_axis(axis, sign))
     }
 
     /// A right-handed orthonormal frame (x', y', z') with y' up: the orbit is laid out in it
@@ -393,11 +391,11 @@ mod tests {
     }
 
     #[test]
-    fn volume_up_axis_gives_the_default_view_up() {
+    fn volume_up_axis_gives_the_view_up_towards_the_head() {
         use crate::orientation::{AnatomicalSpace, Orientation, OrientationSource};
         use crate::{Samples, Volume};
         let v = Volume::new("v", [2, 2, 2], [1.0; 3], Samples::U8(vec![0; 8])).unwrap();
-        assert_eq!(ViewUp::for_volume(&v), ViewUp::PlusY);
+        assert_eq!(ViewUp::towards_head(v.up_axis()), None);
         // Grid z runs from head to feet in an LPS file.
         let flipped = Orientation::new(
             [0.0; 3],
@@ -407,8 +405,8 @@ mod tests {
         )
         .unwrap();
         assert_eq!(
-            ViewUp::for_volume(&v.with_orientation(flipped)),
-            ViewUp::MinusZ
+            ViewUp::towards_head(v.with_orientation(flipped).up_axis()),
+            Some(ViewUp::MinusZ)
         );
     }
 

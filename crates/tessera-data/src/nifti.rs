@@ -120,6 +120,8 @@ fn scalar_volume(
 pub struct ComponentVolume {
     pub dims: [u32; 3],
     pub spacing: [f32; 3],
+    /// The grid's placement from the qform or sform, as for a scalar volume.
+    pub orientation: Orientation,
     pub components: u32,
     pub values: Vec<f32>,
 }
@@ -132,6 +134,11 @@ impl ComponentVolume {
         (0..self.components as usize)
             .map(|c| self.values[c * nx * ny * nz + at])
             .collect()
+    }
+
+    /// The grid axis towards the patient's head ([`Orientation::up_axis`]).
+    pub fn up_axis(&self) -> Option<(usize, i8)> {
+        self.orientation.up_axis()
     }
 }
 
@@ -163,6 +170,7 @@ fn component_volume((header, samples): (Header, Samples), path: &Path) -> Result
     Ok(ComponentVolume {
         dims: header.dims,
         spacing: header.spacing,
+        orientation: header.orientation,
         components: header.components,
         values,
     })

@@ -13,7 +13,8 @@ use crate::nifti::ComponentVolume;
 /// Lobe sharpness: large enough that crossing fibres stay apart at order 8 and up.
 const SHARPNESS: f64 = 12.0;
 
-/// One glyph of a field: its centre (grid units, spacing 1) and shape.
+/// One glyph of a field: its centre and shape. Centres of a generated grid are one unit
+/// apart; those of a coefficient volume are in the file's physical units (its spacing).
 #[derive(Debug, Clone)]
 pub struct FieldGlyph {
     pub centre: Vec3,
@@ -71,7 +72,10 @@ pub fn sh_glyph_grid(
 
 /// The glyphs of an SH coefficient volume (e.g. DIPY's `shm_coeff` saved as NIfTI): one per
 /// voxel whose coefficients are not all zero, of the order the component count implies, centred
-/// on the volume's middle in voxel units; only slice `z` if given. `what` names the file.
+/// on the volume's middle and spaced by the voxel spacing (physical units, as a scalar volume's
+/// grid); only slice `z` if given. `what` names the file. Glyph shapes stay in the grid's
+/// frame, as the coefficients were fitted in it: the orientation turns the view (see
+/// [`ComponentVolume::up_axis`]), not each glyph.
 pub fn sh_glyph_volume(
     volume: &ComponentVolume,
     basis: ShBasis,
@@ -95,15 +99,16 @@ pub fn sh_glyph_volume(
         )));
     }
     let middle = Vec3::new(nx as f32 - 1.0, ny as f32 - 1.0, nz as f32 - 1.0) * 0.5;
+    let spacing = Vec3::from(volume.spacing);
     let slices = z_slice.map_or(0..nz, |z| z..z + 1);
     let shapes: Vec<(Vec3, Vec<f64>)> = slices
         .flat_map(|z| (0..ny).flat_map(move |y| (0..nx).map(move |x| (x, y, z))))
         .filter_map(|(x, y, z)| {
             let coeffs: Vec<f64> = volume.voxel(x, y, z).into_iter().map(f64::from).collect();
-            coeffs
-                .iter()
-                .any(|&c| c != 0.0)
-                .then(|| (Vec3::new(x as f32, y as f32, z as f32) - middle, coeffs))
+            coeffs.iter().any(|&c| c != 0.0).then(|| {
+                let centre = (Vec3::new(x as f32, y as f32, z as f32) - middle) * spacing;
+                (centre, coeffs)
+            })
         })
         .collect();
     if shapes.is_empty() {

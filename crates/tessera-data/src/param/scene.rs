@@ -10,6 +10,7 @@ use glam::{Mat4, Vec3};
 use super::reference::ReferenceObject;
 use super::sh::sh_degrees_and_orders;
 use super::{KnitCurve, ParamFunction, RadiusNormalization, SeashellParams, YarnTube};
+use crate::camera::ViewUp;
 
 /// Most objects one scene holds: the payload keeps at least 4 bits per parameter.
 pub const MAX_OBJECTS: usize = 1 << 24;
@@ -138,11 +139,14 @@ pub fn yarn_radius(t: &YarnTube) -> f32 {
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct ParamScene {
     pub objects: Vec<ParamObject>,
+    /// The view up the data asks for (towards the head for a field read from a medical
+    /// file that names an anatomical space); `None`: the viewer's default.
+    pub up: Option<ViewUp>,
 }
 
 impl ParamScene {
     pub fn new(objects: Vec<ParamObject>) -> ParamScene {
-        ParamScene { objects }
+        ParamScene { objects, up: None }
     }
 
     pub fn bounding_spheres(&self) -> Vec<(Vec3, f32)> {

@@ -19,6 +19,7 @@ pub use appearance::{Appearance, IntegrandChoice, ResolvedIntegrand};
 pub use param_spec::{default_basis, named_scene};
 pub use spec::{expected_volume_bytes, load_volume_spec};
 
+use crate::camera::ViewUp;
 use crate::error::Result;
 use crate::param::scene::ParamScene;
 use crate::param::user::UserFunction;
@@ -114,6 +115,16 @@ impl Dataset {
             Dataset::Volume(_) => DataKind::Volume,
             Dataset::Tets(_) => DataKind::Tets,
             Dataset::Param(_) => DataKind::Param,
+        }
+    }
+
+    /// The view up the data asks for: towards the head where a medical file names an
+    /// anatomical space; `None` where it says nothing.
+    pub fn view_up(&self) -> Option<ViewUp> {
+        match self {
+            Dataset::Volume(v) => ViewUp::towards_head(v.up_axis()),
+            Dataset::Tets(_) => None,
+            Dataset::Param(p) => p.scene.up,
         }
     }
 }

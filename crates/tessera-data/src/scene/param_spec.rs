@@ -7,6 +7,7 @@ use glam::{Mat4, Vec3};
 
 use super::spec::is_user_function;
 use super::{LoadOptions, ParamData};
+use crate::camera::ViewUp;
 use crate::error::{DataError, Result};
 use crate::nifti::load_nifti_components;
 use crate::param::glyph_field::{sh_glyph_grid, sh_glyph_volume, FieldGlyph};
@@ -82,7 +83,8 @@ pub fn named_scene(spec: &str, basis: ShBasis) -> Result<ParamScene> {
             let field =
                 sh_glyph_grid(nx, ny, order, basis, GLYPH_SEED).map_err(|e| e.labelled(spec))?;
             // The grid spans the unit square; glyphs of min-max radius 1 keep a gap.
-            Ok(glyph_scene(field, 1.0 / nx.max(ny) as f32))
+            let pitch = 1.0 / nx.max(ny) as f32;
+            Ok(glyph_scene(field, pitch, pitch))
         }
         _ => Err(DataError::Invalid(format!(
             "'{spec}': unknown parametric scene (param:sphere, param:heart, param:seashell, \
@@ -115,7 +117,9 @@ fn parse_order(text: &str, spec: &str) -> Result<u32> {
 }
 
 /// Glyphs of an SH coefficient volume: `sh:FILE` (every voxel) or `sh:FILE:zN` (slice N),
-/// spaced and sized like the glyph grid, in the unit box.
+/// placed by the voxel spacing, the longest side of the volume spanning the unit box, each as
+/// wide as the finest voxel side lets glyphs of the grid be; the view up from the file's
+/// orientation.
 fn coefficient_scene(spec: &str, file: &str, basis: ShBasis) -> Result<ParamScene> {
     // A `:z` that is not followed by a number belongs to the file name.
     let (file, slice) = match file.rsplit_once(":z") {
@@ -124,17 +128,22 @@ fn coefficient_scene(spec: &str, file: &str, basis: ShBasis) -> Result<ParamScen
     };
     let volume = load_nifti_components(Path::new(file))?;
     let field = sh_glyph_volume(&volume, basis, slice, file).map_err(|e| e.labelled(spec))?;
-    let spacing = 1.0 / volume.dims.into_iter().max().unwrap_or(1) as f32;
-    Ok(glyph_scene(field, spacing))
+    let sides = Vec3::from(volume.dims.map(|d| d as f32)) * Vec3::from(volume.spacing);
+    let scale = 1.0 / sides.max_element();
+    let finest = volume.spacing.into_iter().fold(f32::INFINITY, f32::min);
+    let mut scene = glyph_scene(field, scale, finest * scale);
+    scene.up = ViewUp::towards_head(volume.up_axis());
+    Ok(scene)
 }
 
-/// Glyphs at their centres times `spacing`, of radius 0.45 spacing (min-max radius 1).
-fn glyph_scene(field: Vec<FieldGlyph>, spacing: f32) -> ParamScene {
+/// Glyphs at their centres times `scale`, of radius 0.45 `pitch` (min-max radius 1): a gap
+/// stays between neighbours `pitch` apart.
+fn glyph_scene(field: Vec<FieldGlyph>, scale: f32, pitch: f32) -> ParamScene {
     let objects = field
         .into_iter()
         .map(|g| {
-            let to_world = Mat4::from_translation(g.centre * spacing)
-                * Mat4::from_scale(Vec3::splat(0.45 * spacing));
+            let to_world = Mat4::from_translation(g.centre * scale)
+                * Mat4::from_scale(Vec3::splat(0.45 * pitch));
             ParamObject::new(ParamFunction::ShGlyph(g.glyph)).with_transform(to_world)
         })
         .collect();

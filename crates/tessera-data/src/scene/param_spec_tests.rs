@@ -113,8 +113,18 @@ fn scene_errors_name_the_spec() {
 }
 
 /// A NIfTI-1 file of `dims` voxels with `values.len() / voxels` f32 values each, stored as
-/// NIfTI does: x fastest, the values' axis last.
+/// NIfTI does: x fastest, the values' axis last; spacing 1, no placement.
 fn coefficient_file(name: &str, dims: [i16; 3], values: &[f32]) -> std::path::PathBuf {
+    placed_coefficient_file(name, dims, values, |_| {})
+}
+
+/// [`coefficient_file`] with the 352 header bytes edited by `edit` before writing.
+fn placed_coefficient_file(
+    name: &str,
+    dims: [i16; 3],
+    values: &[f32],
+    edit: impl FnOnce(&mut [u8]),
+) -> std::path::PathBuf {
     let voxels = dims.iter().map(|&d| d as usize).product::<usize>();
     let components = (values.len() / voxels) as i16;
     let mut bytes = vec![0u8; 352];
@@ -130,6 +140,7 @@ fn coefficient_file(name: &str, dims: [i16; 3], values: &[f32]) -> std::path::Pa
     }
     bytes[108..112].copy_from_slice(&352f32.to_le_bytes());
     bytes[344..348].copy_from_slice(b"n+1\0");
+    edit(&mut bytes);
     bytes.extend(values.iter().flat_map(|v| v.to_le_bytes()));
     let path = test_path(name);
     std::fs::write(&path, bytes).unwrap();
@@ -173,6 +184,45 @@ fn coefficient_files() {
     // A :z without a number is part of the file name.
     let err = error(&format!("sh:{}:zed", missing.display()));
     assert!(err.contains("nothing.nii:zed"), "{err}");
+}
+
+#[test]
+fn coefficient_files_are_placed_by_spacing_and_turned_by_orientation() {
+    // 2x1x2 voxels of spacing 1 x 1 x 3 whose sform puts grid z from head to feet (world z =
+    // -3 k) and grid y anterior.
+    let mut values = vec![0.0f32; 4 * 6];
+    values[..4].fill(1.0);
+    let path = placed_coefficient_file("placed.nii", [2, 1, 2], &values, |header| {
+        let put = |header: &mut [u8], at: usize, v: &[f32]| {
+            for (i, x) in v.iter().enumerate() {
+                header[at + 4 * i..at + 4 * i + 4].copy_from_slice(&x.to_le_bytes());
+            }
+        };
+        put(header, 80, &[1.0, 1.0, 3.0]);
+        header[254..256].copy_from_slice(&1i16.to_le_bytes());
+        put(header, 280, &[1.0, 0.0, 0.0, 0.0]);
+        put(header, 296, &[0.0, 1.0, 0.0, 0.0]);
+        put(header, 312, &[0.0, 0.0, -3.0, 0.0]);
+    });
+    let field = scene(&format!("sh:{}", path.display()));
+    assert_eq!(field.objects.len(), 4);
+    assert_eq!(field.up, Some(ViewUp::MinusZ));
+    // The longest side is z's 2 voxels of 3: 6 units span the unit box.
+    let centres: Vec<Vec3> = field
+        .objects
+        .iter()
+        .map(|o| o.bounding_sphere().0)
+        .collect();
+    let expected = [(-0.5, -1.5), (0.5, -1.5), (-0.5, 1.5), (0.5, 1.5)]
+        .map(|(x, z)| Vec3::new(x, 0.0, z) / 6.0);
+    for (got, want) in centres.iter().zip(expected) {
+        assert!(got.abs_diff_eq(want, 1e-6), "{got} != {want}");
+    }
+    // Glyphs as wide as the finest side (1) allows, not the coarsest.
+    let size = field.objects[0].object_to_world.x_axis.length();
+    assert!((size - 0.45 / 6.0).abs() < 1e-6, "{size}");
+    // No placement in the file: no view up asked for.
+    assert_eq!(scene(&format!("sh:{}", coefficients().display())).up, None);
 }
 
 #[test]
