@@ -16,6 +16,7 @@ SKIP_LOG := $(CURDIR)/target/skipped-tests.txt
 test: deps
 	@mkdir -p target && rm -f $(SKIP_LOG)
 	TESSERA_SKIP_LOG=$(SKIP_LOG) $(CARGO) test --workspace
+	TESSERA_SKIP_LOG=$(SKIP_LOG) ./scripts/test-python.sh
 	@./scripts/report-skips.sh $(SKIP_LOG)
 
 demo: deps

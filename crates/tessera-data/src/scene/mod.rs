@@ -16,7 +16,7 @@ pub mod parse;
 pub mod spec;
 
 pub use appearance::{Appearance, IntegrandChoice, ResolvedIntegrand};
-pub use param_spec::{default_basis, named_scene};
+pub use param_spec::{default_basis, glyph_field_scene, named_scene};
 pub use spec::{expected_volume_bytes, load_volume_spec};
 
 use crate::camera::ViewUp;

@@ -9,7 +9,7 @@ use super::spec::is_user_function;
 use super::{LoadOptions, ParamData};
 use crate::camera::ViewUp;
 use crate::error::{DataError, Result};
-use crate::nifti::load_nifti_components;
+use crate::nifti::{load_nifti_components, ComponentVolume};
 use crate::param::glyph_field::{sh_glyph_grid, sh_glyph_volume, FieldGlyph};
 use crate::param::scene::{ParamObject, ParamScene};
 use crate::param::scenes;
@@ -116,10 +116,7 @@ fn parse_order(text: &str, spec: &str) -> Result<u32> {
         })
 }
 
-/// Glyphs of an SH coefficient volume: `sh:FILE` (every voxel) or `sh:FILE:zN` (slice N),
-/// placed by the voxel spacing, the longest side of the volume spanning the unit box, each as
-/// wide as the finest voxel side lets glyphs of the grid be; the view up from the file's
-/// orientation.
+/// Glyphs of an SH coefficient volume: `sh:FILE` (every voxel) or `sh:FILE:zN` (slice N).
 fn coefficient_scene(spec: &str, file: &str, basis: ShBasis) -> Result<ParamScene> {
     // A `:z` that is not followed by a number belongs to the file name.
     let (file, slice) = match file.rsplit_once(":z") {
@@ -127,7 +124,26 @@ fn coefficient_scene(spec: &str, file: &str, basis: ShBasis) -> Result<ParamScen
         _ => (file, None),
     };
     let volume = load_nifti_components(Path::new(file))?;
-    let field = sh_glyph_volume(&volume, basis, slice, file).map_err(|e| e.labelled(spec))?;
+    glyph_field_scene(&volume, basis, slice, file).map_err(|e| e.labelled(spec))
+}
+
+/// The glyphs of a coefficient volume (of slice `z_slice` only, if given) as a scene: placed
+/// by the voxel spacing, the longest side of the volume spanning the unit box, each as wide as
+/// the finest voxel side lets glyphs of the grid be; the view up from the volume's
+/// orientation. `what` names the data in errors.
+pub fn glyph_field_scene(
+    volume: &ComponentVolume,
+    basis: ShBasis,
+    z_slice: Option<u32>,
+    what: &str,
+) -> Result<ParamScene> {
+    if volume.spacing.iter().any(|s| !s.is_finite() || *s <= 0.0) {
+        return Err(DataError::Invalid(format!(
+            "{what}: spacing {:?} must be positive along every axis",
+            volume.spacing
+        )));
+    }
+    let field = sh_glyph_volume(volume, basis, z_slice, what)?;
     let sides = Vec3::from(volume.dims.map(|d| d as f32)) * Vec3::from(volume.spacing);
     let scale = 1.0 / sides.max_element();
     let finest = volume.spacing.into_iter().fold(f32::INFINITY, f32::min);

@@ -271,7 +271,7 @@ pub enum FrameOutcome {
 }
 
 /// One technique behind the front door (see the module documentation for the order of calls).
-pub trait Renderer {
+pub trait Renderer: Send {
     fn technique(&self) -> Technique;
     fn path(&self) -> Path;
     /// Uploads `data` and builds what the technique needs of it; data of another kind than

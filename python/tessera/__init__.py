@@ -1,0 +1,62 @@
+"""Tessera: volumes, tetrahedral meshes and glyph fields rendered on the GPU from numpy.
+
+    import numpy as np, tessera
+    device = tessera.Device()
+    volume = tessera.Volume(np.load("ct.npy"), spacing=(0.7, 0.7, 1.25))
+    r = tessera.Renderer(device, "direct")
+    r.set_data(volume)
+    image = r.render(camera=(30, 20), size=(800, 600), iso=300)   # (600, 800, 4) uint8
+    verts, faces, normals, values = tessera.marching_cubes(volume, 300)
+
+Arrays are indexed ``[x, y, z]`` as nibabel and scikit-image index them. Errors are
+``tessera.DataError`` (input) and ``tessera.GpuError`` (device), both ``TesseraError``.
+"""
+
+import json as _json
+
+from ._tessera import (
+    DataError,
+    Device,
+    GlyphField,
+    GpuError,
+    Renderer,
+    Scene,
+    TesseraError,
+    TetMesh,
+    Volume,
+    devices,
+    load,
+    marching_cubes,
+)
+from .convert import from_meshio, from_pyvista
+
+__all__ = [
+    "DataError",
+    "Device",
+    "GlyphField",
+    "GpuError",
+    "Renderer",
+    "Scene",
+    "TesseraError",
+    "TetMesh",
+    "Volume",
+    "devices",
+    "from_meshio",
+    "from_pyvista",
+    "info",
+    "load",
+    "marching_cubes",
+]
+
+
+def info(device=None):
+    """The devices present and what ``device`` (default: the best one) can do, as a dict."""
+    if device is None:
+        device = Device()
+    return {
+        "devices": [
+            {"index": index, "name": name, "type": kind} for index, name, kind in devices()
+        ],
+        "device": device.name,
+        "capabilities": _json.loads(device._capabilities_json()),
+    }

@@ -1,0 +1,208 @@
+"""Tet meshes, glyph fields and parametric scenes from numpy, their converters, and
+marching_cubes against the geometry it must reproduce."""
+
+import importlib.util
+
+import numpy as np
+import pytest
+
+import tessera
+
+SIZE = (64, 64)
+
+
+def cube_tets():
+    """The unit cube as six tets around its main diagonal, with x + y + z per point."""
+    corners = np.array([[x, y, z] for z in (0, 1) for y in (0, 1) for x in (0, 1)], float)
+    tets = np.array(
+        [[0, 1, 3, 7], [0, 3, 2, 7], [0, 2, 6, 7], [0, 6, 4, 7], [0, 4, 5, 7], [0, 5, 1, 7]]
+    )
+    return corners, tets, corners.sum(axis=1)
+
+
+def test_tet_mesh_renders_and_counts(device):
+    points, tets, values = cube_tets()
+    mesh = tessera.TetMesh(points, tets, point_data={"sum": values})
+    assert (mesh.n_points, mesh.n_tets, mesh.scalars) == (8, 6, "sum")
+    r = tessera.Renderer(device, "interval")
+    r.set_data(mesh)
+    image = r.render(camera=(30, 20), size=SIZE)
+    background = image[0, 0]
+    covered = np.any(image != background, axis=2)
+    # The cube covers the middle of the image and not its corners.
+    assert covered[SIZE[1] // 2, SIZE[0] // 2] and 0.1 < covered.mean() < 0.9
+
+
+def test_tet_mesh_from_file_equals_arrays(device, tmp_path):
+    points, tets, values = cube_tets()
+    path = tmp_path / "cube.vtk"
+    lines = ["# vtk DataFile Version 2.0", "cube", "ASCII", "DATASET UNSTRUCTURED_GRID"]
+    lines.append(f"POINTS {len(points)} float")
+    lines += [" ".join(map(str, p)) for p in points]
+    lines.append(f"CELLS {len(tets)} {5 * len(tets)}")
+    lines += ["4 " + " ".join(map(str, t)) for t in tets]
+    lines.append(f"CELL_TYPES {len(tets)}")
+    lines += ["10"] * len(tets)
+    lines += [f"POINT_DATA {len(points)}", "SCALARS sum float 1", "LOOKUP_TABLE default"]
+    lines += [str(v) for v in values]
+    path.write_text("\n".join(lines) + "\n")
+    images = []
+    for mesh in (tessera.load(path), tessera.TetMesh(points, tets, point_data=values)):
+        r = tessera.Renderer(device, "interval")
+        r.set_data(mesh)
+        images.append(r.render(camera=(30, 20), size=SIZE))
+    assert np.array_equal(images[0], images[1])
+
+
+@pytest.mark.parametrize(
+    "points, tets, message",
+    [
+        (np.zeros((4, 2)), [[0, 1, 2, 3]], r"shape \(N, 3\)"),
+        (np.eye(4, 3), [[0, 1, 2, 9]], "uses vertex 9, but there are 4 points"),
+        (np.eye(4, 3), [[0, 1, 2, -1]], "uses vertex -1"),
+        (np.eye(4, 3), [[0.0, 1, 2, 3]], "float64 is not supported"),
+        (np.full((4, 3), np.nan), [[0, 1, 2, 3]], "non-finite"),
+    ],
+)
+def test_bad_meshes_raise(points, tets, message):
+    with pytest.raises(tessera.DataError, match=message):
+        tessera.TetMesh(points, tets)
+
+
+def test_point_data_must_fit():
+    points, tets, values = cube_tets()
+    with pytest.raises(tessera.DataError, match="7 values for 8 items"):
+        tessera.TetMesh(points, tets, point_data=values[:7])
+    with pytest.raises(tessera.DataError, match="no entry 'temp'"):
+        tessera.TetMesh(points, tets, point_data={"sum": values}, scalars="temp")
+
+
+class FakeMeshio:
+    """The parts of a meshio.Mesh the converter reads."""
+
+    class Block:
+        def __init__(self, kind, data):
+            self.type, self.data = kind, data
+
+    def __init__(self, points, tets, values):
+        self.points = points
+        self.cells = [self.Block("triangle", np.zeros((1, 3), int)), self.Block("tetra", tets)]
+        self.point_data = {"velocity": np.zeros((len(points), 3)), "sum": values}
+
+
+def test_from_meshio_takes_tetra_and_scalars():
+    points, tets, values = cube_tets()
+    mesh = tessera.from_meshio(FakeMeshio(points, tets, values))
+    assert (mesh.n_tets, mesh.scalars) == (6, "sum")
+    surface = FakeMeshio(points, tets, values)
+    surface.cells = surface.cells[:1]
+    with pytest.raises(tessera.DataError, match="no tetra cells.*triangle"):
+        tessera.from_meshio(surface)
+
+
+def glyph_coefficients():
+    """2 x 2 x 1 voxels of order-4 coefficients (15 each); one voxel all zero."""
+    coeffs = np.zeros((2, 2, 1, 15), np.float32)
+    coeffs[..., 0] = 1.0
+    coeffs[0, 0, 0, 3] = 0.4  # an l = 2 term: an elongated glyph
+    coeffs[1, 1, 0, :] = 0.0
+    return coeffs
+
+
+def test_glyph_field_matches_the_nifti_file(device, tmp_path):
+    coeffs = glyph_coefficients()
+    field = tessera.GlyphField(coeffs)
+    assert field.n_glyphs == 3
+    path = tmp_path / "fit.nii"
+    write_nifti(path, coeffs)
+    images = []
+    for data in (field, tessera.load(f"sh:{path}")):
+        r = tessera.Renderer(device, "sh-raytrace")
+        r.set_data(data)
+        images.append(r.render(camera=(0, 60), size=SIZE))
+    assert np.array_equal(images[0], images[1])
+    assert len(np.unique(images[0].reshape(-1, 4), axis=0)) > 10
+
+
+def write_nifti(path, values):
+    """A NIfTI-1 file of float32 `values` shaped (X, Y, Z, K), spacing 1, no placement."""
+    header = bytearray(352)
+    header[0:4] = (348).to_bytes(4, "little")
+    dims = [4, *values.shape, 1, 1, 1]
+    header[40:56] = np.array(dims, "<i2").tobytes()
+    header[70:72] = (16).to_bytes(2, "little")
+    header[72:74] = (32).to_bytes(2, "little")
+    header[76:108] = np.ones(8, "<f4").tobytes()
+    header[108:112] = np.array([352], "<f4").tobytes()
+    header[344:348] = b"n+1\0"
+    path.write_bytes(bytes(header) + values.astype("<f4").tobytes(order="F"))
+
+
+def test_bad_coefficients_raise():
+    with pytest.raises(tessera.DataError, match="7 values per voxel is no SH"):
+        tessera.GlyphField(np.ones((2, 2, 2, 7)))
+    with pytest.raises(tessera.DataError, match="SH basis 'nope'"):
+        tessera.GlyphField(glyph_coefficients(), basis="nope")
+    with pytest.raises(tessera.DataError, match="spacing"):
+        tessera.GlyphField(glyph_coefficients(), spacing=(1, 0, 1))
+
+
+def test_scene_renders(device):
+    scene = tessera.Scene("param:sh-glyphs:2x2:order4")
+    assert scene.n_objects == 4
+    r = tessera.Renderer(device, "param-points")
+    r.set_data(scene)
+    image = r.render(size=SIZE)
+    assert len(np.unique(image.reshape(-1, 4), axis=0)) > 10
+    assert r.stats["patches"] > 0
+
+
+def ball(n=20, radius=7.0):
+    x, y, z = np.meshgrid(*(np.arange(n, dtype=np.float32),) * 3, indexing="ij")
+    c = (n - 1) / 2
+    return np.sqrt((x - c) ** 2 + (y - c) ** 2 + (z - c) ** 2), radius
+
+
+def area(verts, faces):
+    a, b, c = (verts[faces[:, i]] for i in range(3))
+    return 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1).sum()
+
+
+def test_marching_cubes_shapes_and_geometry():
+    distance, radius = ball()
+    verts, faces, normals, values = tessera.marching_cubes(distance, radius)
+    assert verts.shape[1] == 3 and faces.shape[1] == 3 and normals.shape == verts.shape
+    assert values.shape == (len(verts),) and faces.min() >= 0 and faces.max() < len(verts)
+    # Every vertex on the sphere (linear interpolation errs inwards by a fraction of a voxel).
+    centre = (distance.shape[0] - 1) / 2
+    r = np.linalg.norm(verts - centre, axis=1)
+    assert np.all(np.abs(r - radius) < 0.1), (r.min(), r.max())
+    assert abs(area(verts, faces) / (4 * np.pi * radius**2) - 1) < 0.02
+    # Normals point to lower values: inwards here, where the distance falls.
+    assert np.all(np.einsum("ij,ij->i", normals, verts - centre) < 0)
+    # The largest sample of each vertex's cell is at or above the level.
+    assert np.all(values >= radius)
+    # Spacing scales the vertices, as scikit-image's does.
+    scaled, faces2, _, _ = tessera.marching_cubes(distance, radius, spacing=(1, 2, 3))
+    assert np.array_equal(faces, faces2)
+    assert np.allclose(scaled, verts * [1, 2, 3], atol=1e-4)
+
+
+@pytest.mark.skipif(importlib.util.find_spec("skimage") is None, reason="scikit-image absent")
+def test_marching_cubes_area_agrees_with_scikit_image():
+    from skimage.measure import marching_cubes as skimage_mc
+
+    distance, radius = ball(32, 11.3)
+    verts, faces, _, _ = tessera.marching_cubes(distance, radius)
+    sk_verts, sk_faces, _, _ = skimage_mc(distance, radius)
+    # Same edge intersections; the tables split ambiguous cells differently, which moves
+    # the area by far less than this on a smooth surface.
+    assert abs(area(verts, faces) / area(sk_verts, sk_faces) - 1) < 0.005
+
+
+def test_marching_cubes_refuses_what_it_cannot_do():
+    distance, radius = ball()
+    with pytest.raises(tessera.DataError, match="method 'pmb'"):
+        tessera.marching_cubes(distance, radius, method="pmb")
+    with pytest.raises(tessera.DataError, match="not a number"):
+        tessera.marching_cubes(distance, float("nan"))
