@@ -21,9 +21,10 @@ pub struct RenderArgs {
     /// param:sh-glyphs:WxH:orderN (= procedural:sh-glyphs:…), glyphs of an SH coefficient NIfTI
     /// sh:FILE[:zN], or a GLSL file defining `vec3 f(float u, float v)`.
     pub(crate) data: String,
-    /// Technique: raymarch or direct for volumes, interval for tetrahedral meshes, param-points,
-    /// param-tess or sh-raytrace for parametric objects (the default follows the data).
-    #[arg(long, value_parser = ["raymarch", "direct", "interval", "param-points", "param-tess", "sh-raytrace"])]
+    /// Technique: raymarch or direct for volumes, interval or shell for tetrahedral meshes,
+    /// param-points, param-tess or sh-raytrace for parametric objects (the default follows the
+    /// data).
+    #[arg(long, value_parser = ["raymarch", "direct", "interval", "shell", "param-points", "param-tess", "sh-raytrace"])]
     pub(crate) technique: Option<String>,
     #[command(flatten)]
     iso: IsoArgs,
@@ -79,7 +80,10 @@ pub fn run(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
     } else {
         camera.up = args.up.unwrap_or_default();
     }
-    let renderer_options = look::renderer_options(&args.paths, &args.param, &args.iso);
+    let renderer_options = renderer::RendererOptions {
+        layout: args.tet.layout(),
+        ..look::renderer_options(&args.paths, &args.param, &args.iso)
+    };
     let started = Instant::now();
     let bar = data::spinner("compiling shaders, uploading, building auxiliary structures".into());
     let built = (|| -> tessera::Result<_> {

@@ -33,6 +33,7 @@ use super::topology::NO_NEIGHBOUR;
 use super::TetMesh;
 use crate::error::{DataError, Result};
 
+mod bvh;
 mod faces;
 mod layouts;
 mod march;
@@ -45,6 +46,7 @@ mod tet20;
 mod tet32;
 mod traverse;
 
+pub use bvh::{build_bvh, BvhNode, ShellBvh, BVH_LEAF_FACES, BVH_MAX_DEPTH};
 pub use faces::{shell_faces, ShellFace};
 pub use layouts::{build_layout, DecodedTet, LayoutKind, TetLayout};
 pub use morton::{morton_order, MortonOrder};
@@ -102,6 +104,11 @@ impl ShellMesh {
             frame,
             world,
         })
+    }
+
+    /// Vertex positions in world space (each an `f32` point widened to `f64`).
+    pub fn world(&self) -> &[DVec3] {
+        &self.world
     }
 
     /// The compact layout `kind` of this mesh's tets.
@@ -179,6 +186,10 @@ mod layouts_tests;
 #[cfg(test)]
 #[path = "traverse_tests.rs"]
 mod traverse_tests;
+
+#[cfg(test)]
+#[path = "bvh_tests.rs"]
+mod bvh_tests;
 
 #[cfg(test)]
 #[path = "render_tests.rs"]
