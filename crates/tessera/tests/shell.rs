@@ -11,6 +11,7 @@ mod common;
 use common::{assert_images_match, gpu, skip};
 use glam::DVec3;
 use tessera::path::Path;
+use tessera::renderer::{self, RendererOptions, Technique};
 use tessera::shaders;
 use tessera::target::Target;
 use tessera::tet::interval::{GpuTetMesh, Integrand, Interval, IntervalOptions};
@@ -24,6 +25,7 @@ use tessera_data::tet::shell::{
 };
 use tessera_data::tet::TetMesh;
 use tessera_data::transfer::{IntegrandTable, ScalarMode, TransferFunction, TABLE_KNOTS};
+use tessera_data::scene::{Appearance, DataKind, Dataset, LoadOptions};
 use tessera_data::{OrbitCamera, View};
 use tessera_gpu::Gpu;
 
@@ -217,6 +219,12 @@ fn gpu_image(
     (image, pass.read_stats(gpu).unwrap())
 }
 
+/// Pixels whose colour is not the background's: the mesh covers the view.
+fn covered(image: &tessera_data::RgbaImage, background: [f32; 3]) -> f64 {
+    let bg = tessera_data::shading::pack_rgba8([background[0], background[1], background[2], 1.0]);
+    image.pixels.iter().filter(|&&p| p != bg).count() as f64 / image.pixels.len() as f64
+}
+
 #[test]
 fn images_equal_the_cpu_reference_from_outside_and_inside() {
     let gpu = gpu();
@@ -252,6 +260,7 @@ fn images_equal_the_cpu_reference_from_outside_and_inside() {
                 let label = format!("shell-{name}-{}-{where_from}", kind.name()).replace(' ', "-");
                 // The same stretches in f32: colours within 1/255 but for rays along an edge.
                 assert_images_match(&label, &image, &reference.image, 1, 0.995);
+                assert!(covered(&image, background) > 0.2, "{label}: little drawn");
                 assert_eq!(stats.rays, u64::from(size.0 * size.1), "{label}");
                 assert_eq!(stats.guard_hits(), 0, "{label}: {stats:?}");
                 assert_eq!(stats.unmatched_exits, 0, "{label}: {stats:?}");
@@ -364,6 +373,12 @@ fn shadow_transmittance_equals_the_cpu_reference() {
                 (got - *want).abs().max_element() < 1e-4,
                 "{kind:?} ray {i}: {got} against {want}"
             );
+            // Rays that did not turn opaque cross the tets up to the light, and no further.
+            if want.max_element() > 0.05 {
+                let mut stats = TraversalStats::default();
+                let steps = cpu_visits(&shell, kind, &rays[i], &mut stats).len();
+                assert_eq!(traced[i].result.steps as usize, steps, "{kind:?} ray {i}");
+            }
             shadowed += usize::from(want.max_element() < 0.9);
         }
         assert!(shadowed > 5, "{kind:?}: only {shadowed} points in shadow");
@@ -434,5 +449,75 @@ fn pure_absorption_and_pure_emission_images_equal_interval_shading() {
         assert_eq!(stats.guard_hits(), 0, "{stats:?}");
         // Interval shading rasterizes proxies: pixels on a projected tet edge may differ.
         assert_images_match(&format!("shell-vs-interval-{mode:?}"), &got, &want, 2, 0.97);
+        assert!(covered(&got, background) > 0.2, "{mode:?}: little drawn");
     }
+}
+
+/// `Technique::Shell` behind the front door draws the look's emission–absorption of the mesh
+/// (the CPU reference's image) in each layout, changes its look without uploading anything,
+/// and refuses what it cannot draw with a reason.
+#[test]
+fn the_front_door_draws_tets_in_each_layout_and_refuses_what_it_cannot() {
+    let gpu = gpu();
+    let data = Dataset::load("tets:box:3", &LoadOptions::default()).unwrap();
+    let Dataset::Tets(tets) = &data else {
+        unreachable!()
+    };
+    let shell = ShellMesh::build(&tets.mesh).unwrap();
+    let normalized = normalized_scalars(&shell.mesh, None, "box").unwrap();
+    let camera = camera(33.0, 21.0, 1.9);
+    let size = (48, 32);
+    let look = Appearance::default();
+    let background = look.background(DataKind::Tets, None);
+    let optics = EmissionAbsorption::new(&look.transfer, look.density);
+    for kind in LayoutKind::ALL {
+        let options = RendererOptions {
+            layout: kind,
+            ..RendererOptions::default()
+        };
+        let mut r = renderer::create(&gpu, Technique::Shell, &options).unwrap();
+        r.set_appearance(&gpu, &look).unwrap();
+        r.set_data(&gpu, &data).unwrap();
+        let through = renderer::render_image(&gpu, r.as_mut(), &camera, size).unwrap();
+        let reference =
+            render_shell_reference(&shell, kind, &normalized, &optics, &camera, size, background)
+                .unwrap();
+        let label = format!("shell-front-door-{}", kind.name());
+        assert_images_match(&label, &through.image, &reference.image, 1, 0.995);
+        assert_eq!(
+            through.times.scopes.first().map(|s| s.0.as_str()),
+            Some("shell traversal")
+        );
+        assert_eq!(through.stats.details["guard_step_limits"], 0);
+        assert!(through.stats.details["tet_steps"] > 0);
+        // A new look is a table write and a push constant.
+        let before = r.counters();
+        let denser = Appearance {
+            density: 12.0,
+            range: Some((0.0, 2.0)),
+            ..look.clone()
+        };
+        r.set_appearance(&gpu, &denser).unwrap();
+        assert_eq!(r.counters(), before);
+        let darker = renderer::render_image(&gpu, r.as_mut(), &camera, size).unwrap();
+        assert_ne!(darker.image, through.image);
+    }
+    let mut r = renderer::create(&gpu, Technique::Shell, &RendererOptions::default()).unwrap();
+    let field = Dataset::load("tets:asteroids:4", &LoadOptions::default()).unwrap();
+    let err = r.set_data(&gpu, &field).unwrap_err().to_string();
+    assert!(err.contains("interval"), "{err}");
+    let mut bare = tets.clone();
+    bare.mesh.scalars = None;
+    let err = r.set_data(&gpu, &Dataset::Tets(bare)).unwrap_err().to_string();
+    assert!(err.contains("scalars"), "{err}");
+    let volume = Dataset::load("procedural:sphere:8", &LoadOptions::default()).unwrap();
+    assert!(r.set_data(&gpu, &volume).is_err());
+    assert_eq!(Technique::parse("shell").unwrap(), Technique::Shell);
+    assert_eq!(Technique::Shell.draws(), DataKind::Tets);
+    let tet16 = RendererOptions {
+        layout: LayoutKind::Tet16,
+        ..RendererOptions::default()
+    };
+    assert_eq!(tet16.ignored_by(Technique::Interval), ["layout"]);
+    assert!(tet16.ignored_by(Technique::Shell).is_empty());
 }
