@@ -32,9 +32,9 @@ int shell_crossing(RaySpace ray, uint f, out float t) {
 }
 
 // Parameter range [near, far] of the ray's line inside a node's box.
-vec2 box_span(RaySpace ray, vec3 inv_dir, BvhNode node) {
-    vec3 a = (node.lo - ray.origin) * inv_dir;
-    vec3 b = (node.hi - ray.origin) * inv_dir;
+vec2 box_span(RaySpace ray, vec3 inv_dir, uint node) {
+    vec3 a = (bvh_nodes[node].lo - ray.origin) * inv_dir;
+    vec3 b = (bvh_nodes[node].hi - ray.origin) * inv_dir;
     vec3 near = min(a, b);
     vec3 far = max(a, b);
     return vec2(max(max(near.x, near.y), near.z), min(min(far.x, far.y), far.z));
@@ -50,18 +50,19 @@ ShellHit shell_trace(RaySpace ray, bool leaving, float lo, float hi) {
     uint top = 0u;
     uint node = 0u;
     while (true) {
-        BvhNode n = bvh_nodes[node];
-        vec2 span = box_span(ray, inv_dir, n);
+        vec2 span = box_span(ray, inv_dir, node);
+        uint first = bvh_nodes[node].first;
+        uint count = bvh_nodes[node].count;
         float window_lo = leaving ? lo : best.t;
         float window_hi = leaving ? best.t : hi;
         bool enter = span.x <= span.y && span.y >= window_lo && span.x <= window_hi;
-        if (enter && n.count == 0u && top <= uint(BVH_MAX_DEPTH)) {
-            stack[top++] = n.first + 1u;
-            node = n.first;
+        if (enter && count == 0u && top <= uint(BVH_MAX_DEPTH)) {
+            stack[top++] = first + 1u;
+            node = first;
             continue;
         }
         if (enter) {
-            for (uint f = n.first; f < n.first + n.count; ++f) {
+            for (uint f = first; f < first + count; ++f) {
                 float t;
                 int side = shell_crossing(ray, f, t);
                 bool better;

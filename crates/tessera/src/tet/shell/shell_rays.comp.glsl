@@ -40,7 +40,9 @@ uint reported_steps;
 
 bool visit_step(uint segment, ShellStep step) {
     if (reported_steps < uint(RECORDED_STEPS)) {
-        visited[ray_index * uint(RECORDED_STEPS) + reported_steps] = VisitedTet(step.tet, segment);
+        uint slot = ray_index * uint(RECORDED_STEPS) + reported_steps;
+        visited[slot].tet = step.tet;
+        visited[slot].segment = segment;
     }
     reported_steps += 1u;
     add_stretch(sum, step.s_enter, step.s_exit, step.t_exit - step.t_enter);
@@ -52,10 +54,15 @@ void main() {
     if (ray_index >= params.size.x) {
         return;
     }
-    ShellRay ray = rays[ray_index];
     sum = FrontToBack(vec3(0.0), vec3(1.0));
     reported_steps = 0u;
-    TraversalCounts counts = traverse(ray.origin, ray.dir, ray.t_min, ray.t_max);
+    // Fields one by one: a copy of the whole struct would give the shader a second type of
+    // that name, which the layout check cannot tell from the buffer's.
+    TraversalCounts counts = traverse(rays[ray_index].origin, rays[ray_index].dir, rays[ray_index].t_min,
+                                      rays[ray_index].t_max);
     add_counts(counts);
-    results[ray_index] = RayResult(sum.colour, reported_steps, sum.transmittance, counts.segments);
+    results[ray_index].colour = sum.colour;
+    results[ray_index].steps = reported_steps;
+    results[ray_index].transmittance = sum.transmittance;
+    results[ray_index].segments = counts.segments;
 }
