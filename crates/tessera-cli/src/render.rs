@@ -131,7 +131,7 @@ pub fn run(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
         dataset.name(),
         technique.name(),
         renderer.path().name(),
-        describe(&dataset, &look),
+        describe(&dataset, &look, technique, &renderer_options),
         args.output.display()
     );
     drop(renderer);
@@ -140,8 +140,19 @@ pub fn run(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
 }
 
 /// What the image shows besides technique and path, as the report line gives it.
-fn describe(dataset: &Dataset, look: &tessera_data::scene::Appearance) -> String {
+fn describe(
+    dataset: &Dataset,
+    look: &tessera_data::scene::Appearance,
+    technique: Technique,
+    options: &renderer::RendererOptions,
+) -> String {
     match dataset {
+        // Shell traversal always composites emission and absorption of the vertex scalars.
+        Dataset::Tets(tets) if technique == Technique::Shell => format!(
+            ", emission-absorption in {}, {} tets",
+            options.layout.name(),
+            tets.mesh.tets.len()
+        ),
         Dataset::Volume(volume) => look
             .iso_texel(volume)
             .map(|iso| format!(", iso {iso}"))

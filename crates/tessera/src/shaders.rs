@@ -98,10 +98,7 @@ const COMMON: &[(&str, &str)] = &[
         "tet/shell/ray_space.glsl",
         include_str!("tet/shell/ray_space.glsl"),
     ),
-    (
-        "tet/shell/bvh.glsl",
-        include_str!("tet/shell/bvh.glsl"),
-    ),
+    ("tet/shell/bvh.glsl", include_str!("tet/shell/bvh.glsl")),
     (
         "tet/shell/layout.glsl",
         include_str!("tet/shell/layout.glsl"),
@@ -114,10 +111,7 @@ const COMMON: &[(&str, &str)] = &[
         "tet/shell/traverse.glsl",
         include_str!("tet/shell/traverse.glsl"),
     ),
-    (
-        "tet/shell/stats.glsl",
-        include_str!("tet/shell/stats.glsl"),
-    ),
+    ("tet/shell/stats.glsl", include_str!("tet/shell/stats.glsl")),
     ("param/scene.glsl", include_str!("param/scene.glsl")),
     ("param/sh.glsl", include_str!("param/sh.glsl")),
     ("param/functions.glsl", include_str!("param/functions.glsl")),

@@ -16,16 +16,16 @@ use tessera::shaders;
 use tessera::target::Target;
 use tessera::tet::interval::{GpuTetMesh, Integrand, Interval, IntervalOptions};
 use tessera::tet::shell::{shadow_ray, GpuShellMesh, Shell, ShellOptions, ShellRays};
+use tessera_data::scene::{Appearance, DataKind, Dataset, LoadOptions};
 use tessera_data::tet::emission_absorption::EmissionAbsorption;
 use tessera_data::tet::procedural::{box_mesh, exploded, sphere_mesh};
 use tessera_data::tet::scalar_integral::normalized_scalars;
 use tessera_data::tet::shell::{
-    build_layout, render_shell_reference, shadow_transmittance, trace_segments, LayoutKind,
-    Light, Ray, ShellMesh, TraversalOptions, TraversalStats,
+    build_layout, render_shell_reference, shadow_transmittance, trace_segments, LayoutKind, Light,
+    Ray, ShellMesh, TraversalOptions, TraversalStats,
 };
 use tessera_data::tet::TetMesh;
 use tessera_data::transfer::{IntegrandTable, ScalarMode, TransferFunction, TABLE_KNOTS};
-use tessera_data::scene::{Appearance, DataKind, Dataset, LoadOptions};
 use tessera_data::{OrbitCamera, View};
 use tessera_gpu::Gpu;
 
@@ -133,7 +133,10 @@ fn every_ray_visits_the_tets_the_cpu_traversal_visits() {
     let rays = test_rays(60, 0x5eed_0001);
     for (name, mesh) in meshes() {
         let shell = ShellMesh::build(&mesh).unwrap();
-        let excluded: Vec<bool> = rays.iter().map(|(_, r)| grazes_an_edge(&shell, r)).collect();
+        let excluded: Vec<bool> = rays
+            .iter()
+            .map(|(_, r)| grazes_an_edge(&shell, r))
+            .collect();
         let excluded_count = excluded.iter().filter(|&&e| e).count();
         // Random rays come this close to an edge rarely.
         assert!(
@@ -155,10 +158,7 @@ fn every_ray_visits_the_tets_the_cpu_traversal_visits() {
                     continue;
                 }
                 let got: Vec<(u32, u32)> = got.visited.iter().map(|v| (v.tet, v.segment)).collect();
-                assert_eq!(
-                    got, want,
-                    "{name}, {kind:?}, ray {i} from {from}: {ray:?}"
-                );
+                assert_eq!(got, want, "{name}, {kind:?}, ray {i} from {from}: {ray:?}");
                 assert_eq!(traced[i].result.steps as usize, want.len());
                 compared += 1;
                 crossing += usize::from(!want.is_empty());
@@ -169,7 +169,10 @@ fn every_ray_visits_the_tets_the_cpu_traversal_visits() {
             assert_eq!(cpu_stats.guard_hits(), 0, "{name} {kind:?}: {cpu_stats:?}");
             // The rays exercise what they are meant to: most cross the mesh, and some cross
             // the gap between the boxes.
-            assert!(crossing * 2 > compared, "{name} {kind:?}: {crossing}/{compared}");
+            assert!(
+                crossing * 2 > compared,
+                "{name} {kind:?}: {crossing}/{compared}"
+            );
             if name == "two boxes" {
                 assert!(two_segments > 0, "{kind:?}: no ray crossed the gap");
             }
@@ -442,8 +445,13 @@ fn pure_absorption_and_pure_emission_images_equal_interval_shading() {
         let (want, _) = interval
             .render_image(&gpu, &interval_mesh, &camera, size, background)
             .unwrap();
-        let pass = Shell::new(&gpu, &compiler, &ShellOptions::new(LayoutKind::Tet20), &optics)
-            .unwrap();
+        let pass = Shell::new(
+            &gpu,
+            &compiler,
+            &ShellOptions::new(LayoutKind::Tet20),
+            &optics,
+        )
+        .unwrap();
         let shell_mesh = GpuShellMesh::upload(&gpu, &shell, LayoutKind::Tet20).unwrap();
         let (got, stats) = gpu_image(&gpu, &pass, &shell_mesh, &camera, size, background);
         assert_eq!(stats.guard_hits(), 0, "{stats:?}");
@@ -479,9 +487,16 @@ fn the_front_door_draws_tets_in_each_layout_and_refuses_what_it_cannot() {
         r.set_appearance(&gpu, &look).unwrap();
         r.set_data(&gpu, &data).unwrap();
         let through = renderer::render_image(&gpu, r.as_mut(), &camera, size).unwrap();
-        let reference =
-            render_shell_reference(&shell, kind, &normalized, &optics, &camera, size, background)
-                .unwrap();
+        let reference = render_shell_reference(
+            &shell,
+            kind,
+            &normalized,
+            &optics,
+            &camera,
+            size,
+            background,
+        )
+        .unwrap();
         let label = format!("shell-front-door-{}", kind.name());
         assert_images_match(&label, &through.image, &reference.image, 1, 0.995);
         assert_eq!(
@@ -508,7 +523,10 @@ fn the_front_door_draws_tets_in_each_layout_and_refuses_what_it_cannot() {
     assert!(err.contains("interval"), "{err}");
     let mut bare = tets.clone();
     bare.mesh.scalars = None;
-    let err = r.set_data(&gpu, &Dataset::Tets(bare)).unwrap_err().to_string();
+    let err = r
+        .set_data(&gpu, &Dataset::Tets(bare))
+        .unwrap_err()
+        .to_string();
     assert!(err.contains("scalars"), "{err}");
     let volume = Dataset::load("procedural:sphere:8", &LoadOptions::default()).unwrap();
     assert!(r.set_data(&gpu, &volume).is_err());

@@ -134,7 +134,10 @@ impl Renderer for ShellRenderer {
     }
 
     fn finish_frame(&mut self, gpu: &Gpu) -> Result<FrameOutcome> {
-        let pass = self.pass.as_ref().ok_or_else(|| no_data(Technique::Shell))?;
+        let pass = self
+            .pass
+            .as_ref()
+            .ok_or_else(|| no_data(Technique::Shell))?;
         let s = pass.read_stats(gpu)?;
         self.stats = FrameStats {
             details: [

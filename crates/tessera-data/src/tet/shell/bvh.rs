@@ -180,7 +180,11 @@ impl Builder {
             if extent[axis] <= 0.0 {
                 continue;
             }
-            let empty = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY), 0);
+            let empty = (
+                Vec3::splat(f32::INFINITY),
+                Vec3::splat(f32::NEG_INFINITY),
+                0,
+            );
             let mut bins = [empty; BINS];
             for &p in &self.order[start..end] {
                 let b = &mut bins[bin_of(self.centroids[p as usize], axis)];
@@ -191,12 +195,20 @@ impl Builder {
             let mut left = [(0.0f32, 0usize); BINS];
             let mut acc = empty;
             for i in 0..BINS - 1 {
-                acc = (acc.0.min(bins[i].0), acc.1.max(bins[i].1), acc.2 + bins[i].2);
+                acc = (
+                    acc.0.min(bins[i].0),
+                    acc.1.max(bins[i].1),
+                    acc.2 + bins[i].2,
+                );
                 left[i] = (half_area(acc.0, acc.1), acc.2);
             }
             let mut acc = empty;
             for i in (1..BINS).rev() {
-                acc = (acc.0.min(bins[i].0), acc.1.max(bins[i].1), acc.2 + bins[i].2);
+                acc = (
+                    acc.0.min(bins[i].0),
+                    acc.1.max(bins[i].1),
+                    acc.2 + bins[i].2,
+                );
                 let (area_left, n_left) = left[i - 1];
                 if n_left == 0 || acc.2 == 0 {
                     continue;

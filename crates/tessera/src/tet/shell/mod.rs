@@ -287,7 +287,9 @@ impl Shell {
             )));
         }
         if params.size != [target.width, target.height] {
-            return Err(Error::Invalid("shell traversal: target of another size".into()));
+            return Err(Error::Invalid(
+                "shell traversal: target of another size".into(),
+            ));
         }
         rec.fill_buffer(&self.tables.stats, 0);
         rec.barrier();
@@ -325,9 +327,7 @@ impl Shell {
         timer.reset(gpu);
         let mut recorded = Ok(());
         gpu.submit("shell traversal image", |rec| {
-            recorded = timer.scope(rec, "shell", |rec| {
-                self.record(rec, mesh, &target, &params)
-            });
+            recorded = timer.scope(rec, "shell", |rec| self.record(rec, mesh, &target, &params));
         })?;
         recorded?;
         let ms = timer.read_ms(gpu)?.first().map(|s| s.1).unwrap_or(0.0);
