@@ -42,6 +42,15 @@ impl GpuShellMesh {
                 shell.mesh.tets.len()
             )));
         }
+        // The shaders index the tets' 32-bit words with 32-bit integers.
+        let words = layout.tet_count() as u64 * (layout.bytes_per_tet() / 4) as u64;
+        if words > u64::from(u32::MAX) {
+            return Err(Error::Invalid(format!(
+                "shell traversal: {} tets in {} take more than 2^32 words",
+                layout.tet_count(),
+                layout.kind().name()
+            )));
+        }
         let bvh = shell.bvh();
         // The shaders' stack holds one entry per level (BVH_MAX_DEPTH + 1).
         debug_assert!(bvh.depth <= BVH_MAX_DEPTH);

@@ -199,6 +199,18 @@ impl ShellTables {
     }
 }
 
+/// Refuses a mesh uploaded in another layout than the pipelines decode.
+fn check_layout(mesh: &GpuShellMesh, options: &ShellOptions) -> Result<()> {
+    if mesh.layout != options.layout {
+        return Err(Error::Invalid(format!(
+            "shell traversal: a {} mesh for {} pipelines",
+            mesh.layout.name(),
+            options.layout.name()
+        )));
+    }
+    Ok(())
+}
+
 /// The push constants of a pass over `mesh` (the view's fields are zero for given rays).
 fn base_params(mesh: &GpuShellMesh, options: &ShellOptions) -> ShellParams {
     ShellParams {
@@ -279,13 +291,7 @@ impl Shell {
         target: &Target,
         params: &ShellParams,
     ) -> Result<()> {
-        if mesh.layout != self.options.layout {
-            return Err(Error::Invalid(format!(
-                "shell traversal: a {} mesh for {} pipelines",
-                mesh.layout.name(),
-                self.options.layout.name()
-            )));
-        }
+        check_layout(mesh, &self.options)?;
         if params.size != [target.width, target.height] {
             return Err(Error::Invalid(
                 "shell traversal: target of another size".into(),

@@ -1,9 +1,11 @@
 //! Shell traversal of given rays: shadow rays towards a light, and the per-ray record of the
 //! tets visited that the tests hold to the CPU traversal.
 
-use super::{base_params, defines, GpuShellMesh, ShellOptions, ShellTables, COMMON_BINDINGS};
+use super::{
+    base_params, check_layout, defines, GpuShellMesh, ShellOptions, ShellTables, COMMON_BINDINGS,
+};
 use crate::builtin_shader;
-use crate::error::{Error, Result};
+use crate::error::Result;
 use bytemuck::{Pod, Zeroable};
 use glam::DVec3;
 use tessera_data::tet::emission_absorption::EmissionAbsorption;
@@ -101,13 +103,7 @@ impl ShellRays {
         mesh: &GpuShellMesh,
         rays: &[Ray],
     ) -> Result<(Vec<TracedRay>, TraversalStats)> {
-        if mesh.layout != self.options.layout {
-            return Err(Error::Invalid(format!(
-                "shell traversal: a {} mesh for {} pipelines",
-                mesh.layout.name(),
-                self.options.layout.name()
-            )));
-        }
+        check_layout(mesh, &self.options)?;
         if rays.is_empty() {
             return Ok((Vec::new(), TraversalStats::default()));
         }
