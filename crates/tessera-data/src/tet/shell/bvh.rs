@@ -70,19 +70,8 @@ pub fn build_bvh(boxes: &[(Vec3, Vec3)]) -> ShellBvh {
         nodes: vec![BvhNode::default()],
         depth: 0,
     };
-    if boxes.is_empty() {
-        // An inverted box: no ray enters it (a walker should not start on an empty tree).
-        let empty = BvhNode {
-            lo: [f32::INFINITY; 3],
-            hi: [f32::NEG_INFINITY; 3],
-            ..BvhNode::default()
-        };
-        return ShellBvh {
-            nodes: vec![empty],
-            faces: Vec::new(),
-            depth: 0,
-        };
-    }
+    // Without boxes the root is a leaf without faces whose box is inverted (lo > hi); the GPU
+    // upload refuses an empty shell before any walk.
     let (lo, hi) = builder.bounds(0, boxes.len());
     let pad = 1e-6 * (hi - lo).max_element() + 1e-6 * lo.abs().max(hi.abs()).max_element();
     for b in &mut builder.boxes {
