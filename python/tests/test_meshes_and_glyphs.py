@@ -206,3 +206,18 @@ def test_marching_cubes_refuses_what_it_cannot_do():
         tessera.marching_cubes(distance, radius, method="pmb")
     with pytest.raises(tessera.DataError, match="not a number"):
         tessera.marching_cubes(distance, float("nan"))
+
+
+def test_shell_traversal_layouts_draw_the_same_image(device):
+    points, tets, values = cube_tets()
+    mesh = tessera.TetMesh(points, tets, point_data=values)
+    images = []
+    for layout in ("tet32", "tet20", "tet16"):
+        r = tessera.Renderer(device, "shell", layout=layout)
+        r.set_data(mesh)
+        images.append(r.render(camera=(30, 20), size=SIZE))
+        assert r.stats["technique"] == "shell"
+    assert np.array_equal(images[0], images[1]) and np.array_equal(images[0], images[2])
+    assert np.any(images[0] != images[0][0, 0], axis=2).mean() > 0.1
+    with pytest.raises(tessera.DataError, match="tet64"):
+        tessera.Renderer(device, "shell", layout="tet64")

@@ -9,9 +9,10 @@ use tessera_data::scene::parse::{
     parse_basis, parse_colour, parse_glyph_radius, parse_integrand, parse_param_range, parse_range,
 };
 use tessera_data::scene::{Appearance, IntegrandChoice, LoadOptions};
+use tessera_data::tet::shell::LayoutKind;
 use tessera_data::transfer::TransferFunction;
 
-/// How tet meshes are shown (interval shading).
+/// How tet meshes are shown (interval shading, shell traversal).
 #[derive(Args)]
 pub struct TetArgs {
     /// What rays accumulate through a tet mesh: tet-absorption (per-tet colours, or white),
@@ -33,6 +34,15 @@ pub struct TetArgs {
     /// Scalar range LO,HI mapped onto the transfer function (default: the mesh's own).
     #[arg(long, value_parser = parse_range, allow_hyphen_values = true)]
     range: Option<(f32, f32)>,
+    /// Compact tet layout shell traversal marches through: tet32, tet20 or tet16.
+    #[arg(long, default_value = "tet20", value_parser = |s: &str| LayoutKind::parse(s))]
+    layout: LayoutKind,
+}
+
+impl TetArgs {
+    pub fn layout(&self) -> LayoutKind {
+        self.layout
+    }
 }
 
 /// Options of the parametric-object techniques.

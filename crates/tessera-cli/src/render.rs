@@ -21,9 +21,10 @@ pub struct RenderArgs {
     /// param:sh-glyphs:WxH:orderN (= procedural:sh-glyphs:…), glyphs of an SH coefficient NIfTI
     /// sh:FILE[:zN], or a GLSL file defining `vec3 f(float u, float v)`.
     pub(crate) data: String,
-    /// Technique: raymarch or direct for volumes, interval for tetrahedral meshes, param-points,
-    /// param-tess or sh-raytrace for parametric objects (the default follows the data).
-    #[arg(long, value_parser = ["raymarch", "direct", "interval", "param-points", "param-tess", "sh-raytrace"])]
+    /// Technique: raymarch or direct for volumes, interval or shell for tetrahedral meshes,
+    /// param-points, param-tess or sh-raytrace for parametric objects (the default follows the
+    /// data).
+    #[arg(long, value_parser = ["raymarch", "direct", "interval", "shell", "param-points", "param-tess", "sh-raytrace"])]
     pub(crate) technique: Option<String>,
     #[command(flatten)]
     iso: IsoArgs,
@@ -79,7 +80,10 @@ pub fn run(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
         }
         None => ViewUp::default(),
     });
-    let renderer_options = look::renderer_options(&args.paths, &args.param, &args.iso);
+    let renderer_options = renderer::RendererOptions {
+        layout: args.tet.layout(),
+        ..look::renderer_options(&args.paths, &args.param, &args.iso)
+    };
     let started = Instant::now();
     let bar = data::spinner("compiling shaders, uploading, building auxiliary structures".into());
     let built = (|| -> tessera::Result<_> {
@@ -127,7 +131,7 @@ pub fn run(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
         dataset.name(),
         technique.name(),
         renderer.path().name(),
-        describe(&dataset, &look),
+        describe(&dataset, &look, technique, &renderer_options),
         args.output.display()
     );
     drop(renderer);
@@ -136,8 +140,19 @@ pub fn run(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
 }
 
 /// What the image shows besides technique and path, as the report line gives it.
-fn describe(dataset: &Dataset, look: &tessera_data::scene::Appearance) -> String {
+fn describe(
+    dataset: &Dataset,
+    look: &tessera_data::scene::Appearance,
+    technique: Technique,
+    options: &renderer::RendererOptions,
+) -> String {
     match dataset {
+        // Shell traversal always composites emission and absorption of the vertex scalars.
+        Dataset::Tets(tets) if technique == Technique::Shell => format!(
+            ", emission-absorption in {}, {} tets",
+            options.layout.name(),
+            tets.mesh.tets.len()
+        ),
         Dataset::Volume(volume) => look
             .iso_texel(volume)
             .map(|iso| format!(", iso {iso}"))

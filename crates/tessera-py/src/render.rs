@@ -10,7 +10,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use tessera::path::PathChoice;
 use tessera::renderer::{
-    self, AmbiguityRule, Frame, FrameStats, FrameTimes, RendererOptions, Technique,
+    self, AmbiguityRule, Frame, FrameStats, FrameTimes, LayoutKind, RendererOptions, Technique,
 };
 use tessera_data::scene::parse::parse_colour;
 use tessera_data::scene::{Appearance, Dataset, IntegrandChoice};
@@ -48,7 +48,9 @@ struct State {
 
 /// A technique on a device: `Renderer(device, "direct", path="auto")`, then `set_data(data)`
 /// and `render(...)` as often as wanted. `technique=None` draws each kind of data with its
-/// default (raymarch, interval, param-points).
+/// default (raymarch, interval, param-points). Options as the CLI's flags: `culling`
+/// (direct), `supersample`, `msaa`, `pre_split` (parametric), `ambiguity` (direct's
+/// marching cubes), `layout` (shell: tet32, tet20 or tet16).
 #[pyclass(module = "tessera", frozen)]
 pub struct Renderer {
     state: Mutex<State>,
@@ -166,7 +168,7 @@ fn camera_of(camera: Option<Vec<f32>>, up: Option<ViewUp>) -> PyResult<OrbitCame
 #[pymethods]
 impl Renderer {
     #[new]
-    #[pyo3(signature = (device, technique=None, path="auto", culling=true, supersample=1, msaa=1, pre_split=None, ambiguity="decider"))]
+    #[pyo3(signature = (device, technique=None, path="auto", culling=true, supersample=1, msaa=1, pre_split=None, ambiguity="decider", layout="tet20"))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         device: &Bound<'_, Device>,
@@ -177,6 +179,7 @@ impl Renderer {
         msaa: u32,
         pre_split: Option<u32>,
         ambiguity: &str,
+        layout: &str,
     ) -> PyResult<Self> {
         if let Some(name) = &technique {
             Technique::parse(name).map_err(from_tessera)?;
@@ -188,7 +191,7 @@ impl Renderer {
             msaa,
             pre_split,
             ambiguity: AmbiguityRule::parse(ambiguity).map_err(from_data)?,
-            ..RendererOptions::default()
+            layout: LayoutKind::parse(layout).map_err(from_data)?,
         };
         Ok(Renderer {
             state: Mutex::new(State {

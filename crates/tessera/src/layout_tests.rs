@@ -229,6 +229,23 @@ fn interval_structs(t: &mut Table) {
     );
 }
 
+fn shell_structs(t: &mut Table) {
+    use crate::tet::shell::{defines, GpuRay, RayResult, ShellParams, VisitedTet, RECORDED_STEPS};
+    use tessera_data::tet::shell::{BvhNode, LayoutKind};
+    let mut defines = defines(LayoutKind::Tet20, 256);
+    defines.push(("RECORDED_STEPS".into(), RECORDED_STEPS.to_string()));
+    let rays = compile(&builtin_shader!("tet/shell/shell_rays.comp.glsl"), &defines);
+    #[rustfmt::skip]
+    t.push_constants::<ShellParams>(&rays, "ShellParams", host!(ShellParams,
+        eye, near_depth, forward, tan_half_fov_x, right, tan_half_fov_y, up, max_steps,
+        background, tet_count, scalar_range, size, vertex_count));
+    t.buffer(&rays, "BvhNode", host!(BvhNode, lo, first, hi, count));
+    t.buffer(&rays, "ShellRay", host!(GpuRay, origin, t_min, dir, t_max));
+    #[rustfmt::skip]
+    t.buffer(&rays, "RayResult", host!(RayResult, colour, steps, transmittance, segments));
+    t.buffer(&rays, "VisitedTet", host!(VisitedTet, tet, segment));
+}
+
 fn parametric_structs(t: &mut Table) {
     use crate::param::lod::{lod_defines, GpuPatch, LodParams, LodSample, PrepareParams};
     use crate::param::points::{points_defines, PointsParams, ResolveParams};
@@ -338,6 +355,7 @@ fn table() -> Table {
     isosurface_structs(&mut t);
     raster_structs(&mut t);
     interval_structs(&mut t);
+    shell_structs(&mut t);
     parametric_structs(&mut t);
     throughput_structs(&mut t);
     t

@@ -51,6 +51,7 @@ const COMMON: &[(&str, &str)] = &[
         "tet/interval/compute_buffers.glsl",
         include_str!("tet/interval/compute_buffers.glsl"),
     ),
+    ("tet/table.glsl", include_str!("tet/table.glsl")),
     (
         "tet/interval/table.glsl",
         include_str!("tet/interval/table.glsl"),
@@ -85,6 +86,32 @@ const COMMON: &[(&str, &str)] = &[
         "common/throughput.glsl",
         include_str!("shaders/common/throughput.glsl"),
     ),
+    (
+        "tet/shell/buffers.glsl",
+        include_str!("tet/shell/buffers.glsl"),
+    ),
+    (
+        "tet/shell/params.glsl",
+        include_str!("tet/shell/params.glsl"),
+    ),
+    (
+        "tet/shell/ray_space.glsl",
+        include_str!("tet/shell/ray_space.glsl"),
+    ),
+    ("tet/shell/bvh.glsl", include_str!("tet/shell/bvh.glsl")),
+    (
+        "tet/shell/layout.glsl",
+        include_str!("tet/shell/layout.glsl"),
+    ),
+    (
+        "tet/shell/integrate.glsl",
+        include_str!("tet/shell/integrate.glsl"),
+    ),
+    (
+        "tet/shell/traverse.glsl",
+        include_str!("tet/shell/traverse.glsl"),
+    ),
+    ("tet/shell/stats.glsl", include_str!("tet/shell/stats.glsl")),
     ("param/scene.glsl", include_str!("param/scene.glsl")),
     ("param/sh.glsl", include_str!("param/sh.glsl")),
     ("param/functions.glsl", include_str!("param/functions.glsl")),

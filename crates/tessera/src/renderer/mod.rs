@@ -23,6 +23,7 @@
 mod interval;
 mod iso;
 mod param;
+mod shell;
 
 use crate::error::{Error, Result};
 use crate::path::{Path, PathChoice};
@@ -31,6 +32,7 @@ pub use crate::tet::interval::IntervalTuning;
 use std::collections::BTreeMap;
 pub use tessera_data::mc_ambiguity::AmbiguityRule;
 use tessera_data::scene::{Appearance, DataKind, Dataset};
+pub use tessera_data::tet::shell::LayoutKind;
 use tessera_data::{DepthFit, OrbitCamera, RgbaImage, View};
 use tessera_gpu::{Capabilities, Gpu, Recorder, Timer};
 
@@ -48,6 +50,8 @@ pub enum Technique {
     Direct,
     /// Interval shading of tet meshes (paper A): mesh shaders or compute.
     Interval,
+    /// Ray-traced shell traversal of tet meshes (paper B): compute.
+    Shell,
     /// Parametric objects: patch LOD, then points (paper E).
     ParamPoints,
     /// Parametric objects: patch LOD, then hardware tessellation (paper E).
@@ -57,10 +61,11 @@ pub enum Technique {
 }
 
 impl Technique {
-    pub const ALL: [Technique; 6] = [
+    pub const ALL: [Technique; 7] = [
         Technique::Raymarch,
         Technique::Direct,
         Technique::Interval,
+        Technique::Shell,
         Technique::ParamPoints,
         Technique::ParamTess,
         Technique::ShRaytrace,
@@ -71,6 +76,7 @@ impl Technique {
             Technique::Raymarch => "raymarch",
             Technique::Direct => "direct",
             Technique::Interval => "interval",
+            Technique::Shell => "shell",
             Technique::ParamPoints => "param-points",
             Technique::ParamTess => "param-tess",
             Technique::ShRaytrace => "sh-raytrace",
@@ -91,7 +97,7 @@ impl Technique {
     pub fn draws(self) -> DataKind {
         match self {
             Technique::Raymarch | Technique::Direct => DataKind::Volume,
-            Technique::Interval => DataKind::Tets,
+            Technique::Interval | Technique::Shell => DataKind::Tets,
             Technique::ParamPoints | Technique::ParamTess | Technique::ShRaytrace => {
                 DataKind::Param
             }
@@ -150,6 +156,8 @@ pub struct RendererOptions {
     pub interval: IntervalTuning,
     /// How `direct`'s marching cubes cuts ambiguous faces (a shader define).
     pub ambiguity: AmbiguityRule,
+    /// The compact tet layout shell traversal marches through.
+    pub layout: LayoutKind,
 }
 
 impl Default for RendererOptions {
@@ -162,12 +170,13 @@ impl Default for RendererOptions {
             pre_split: None,
             interval: IntervalTuning::default(),
             ambiguity: AmbiguityRule::default(),
+            layout: LayoutKind::Tet20,
         }
     }
 }
 
 /// The settings of [`RendererOptions`] by name (as the CLI's flags spell them, `_` for `-`).
-pub const OPTION_NAMES: [&str; 7] = [
+pub const OPTION_NAMES: [&str; 8] = [
     "path",
     "culling",
     "supersample",
@@ -175,6 +184,7 @@ pub const OPTION_NAMES: [&str; 7] = [
     "pre_split",
     "interval",
     "ambiguity",
+    "layout",
 ];
 
 impl Technique {
@@ -185,6 +195,7 @@ impl Technique {
             Technique::Raymarch => &[],
             Technique::Direct => &["path", "culling", "ambiguity"],
             Technique::Interval => &["path", "interval"],
+            Technique::Shell => &["layout"],
             Technique::ParamPoints => &["supersample", "pre_split"],
             Technique::ParamTess => &["supersample", "msaa", "pre_split"],
             Technique::ShRaytrace => &["supersample"],
@@ -205,6 +216,7 @@ impl RendererOptions {
             self.pre_split != d.pre_split,
             self.interval != d.interval,
             self.ambiguity != d.ambiguity,
+            self.layout != d.layout,
         ];
         OPTION_NAMES
             .into_iter()
@@ -222,7 +234,9 @@ impl RendererOptions {
 pub fn path_for(caps: &Capabilities, technique: Technique, choice: PathChoice) -> Result<Path> {
     let measured = crate::path::remembered(caps);
     match technique {
-        Technique::Raymarch | Technique::ParamPoints | Technique::ShRaytrace => Ok(Path::Compute),
+        Technique::Raymarch | Technique::ParamPoints | Technique::ShRaytrace | Technique::Shell => {
+            Ok(Path::Compute)
+        }
         Technique::ParamTess => Ok(Path::Graphics),
         Technique::Direct => crate::path::choose(caps, choice, measured.as_ref()),
         Technique::Interval => crate::path::choose_for(
@@ -344,6 +358,7 @@ pub fn create(
             Box::new(iso::IsoRenderer::new(gpu, technique, options)?)
         }
         Technique::Interval => Box::new(interval::IntervalRenderer::new(gpu, options)?),
+        Technique::Shell => Box::new(shell::ShellRenderer::new(options)),
         Technique::ParamPoints | Technique::ParamTess | Technique::ShRaytrace => {
             Box::new(param::ParamRenderer::new(gpu, technique, options)?)
         }

@@ -1,3 +1,4 @@
 //! Techniques for tetrahedral meshes (paper A and B).
 
 pub mod interval;
+pub mod shell;

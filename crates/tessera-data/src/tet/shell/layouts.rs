@@ -56,6 +56,10 @@ pub trait TetLayout: Sync + Send {
 
     fn tet_count(&self) -> usize;
 
+    /// The array as a GPU reads it: the layout's `#[repr(C)]` structs back to back, 32-bit
+    /// words only.
+    fn as_bytes(&self) -> &[u8];
+
     /// Tet `tet` entered through the face with vertex ids `entered` from tet `came_from` (the
     /// tet across that face, [`crate::tet::topology::NO_NEIGHBOUR`] when entering from the
     /// shell). `None` when the input cannot belong to the tet (an id out of range, or a face

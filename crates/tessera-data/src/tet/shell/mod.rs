@@ -7,10 +7,12 @@
 //! Everything works in world space as [`MeshFrame::of`] places the mesh, so results compare
 //! directly with interval shading's references ([`crate::tet::optical`]).
 //!
-//! # GPU buffers (planned; what the ray-generation shader and the compute path will read)
+//! # GPU buffers (what the compute path reads; a ray-generation shader would read the same)
 //! - **Vertices**: `vec4` per vertex in the Morton order of [`ShellMesh::mesh`]: world-space
-//!   position (f32) and the normalized scalar in `w`, so one 16-byte load serves projection and
-//!   shading. The paper keeps scalars beside the vertices for the same reason.
+//!   position (f32) and the scalar in `w`, so one 16-byte load serves projection and shading
+//!   (the paper keeps scalars beside the vertices for the same reason). The scalar is kept as
+//!   loaded and mapped onto [0, 1] through a range in push constants, so a new range uploads
+//!   nothing.
 //! - **Tets**: one array of the chosen layout, `#[repr(C)]` as [`Tet32`] (32 bytes in std430
 //!   as `uvec3 v; uint vx; uvec4 n;`), [`Tet20`] (20 bytes as `uint vx; uint n[4];`: scalar
 //!   arrays keep a 4-byte alignment, where a `uvec4` would pad the struct to 32) or [`Tet16`]
@@ -18,9 +20,9 @@
 //!   offset 16). [`NO_NEIGHBOUR`] (`0xFFFF_FFFF`) marks the shell.
 //! - **Shell triangles**: `uvec4` per [`ShellFace`] as the paper's index buffer: the three
 //!   vertex ids in outward winding and the tet in `w` (the face index is not needed: marching
-//!   starts from the vertex ids). The bottom-level acceleration structure is built over the
-//!   vertex buffer with these indices (stride 16); the compute path's BVH nodes hold the same
-//!   face ids in their leaves.
+//!   starts from the vertex ids), in the leaf order of [`ShellMesh::bvh`], whose [`BvhNode`]s
+//!   the compute path walks. A bottom-level acceleration structure would be built over the
+//!   vertex buffer with these indices (stride 16).
 //! - **Per ray**: the traversal needs only the current tet, the tet it came from (Tet16), the
 //!   three entered-face vertex ids and their 2-D projections, so the state fits registers.
 //!
@@ -33,6 +35,7 @@ use super::topology::NO_NEIGHBOUR;
 use super::TetMesh;
 use crate::error::{DataError, Result};
 
+mod bvh;
 mod faces;
 mod layouts;
 mod march;
@@ -45,6 +48,7 @@ mod tet20;
 mod tet32;
 mod traverse;
 
+pub use bvh::{build_bvh, BvhNode, ShellBvh, BVH_LEAF_FACES, BVH_MAX_DEPTH};
 pub use faces::{shell_faces, ShellFace};
 pub use layouts::{build_layout, DecodedTet, LayoutKind, TetLayout};
 pub use morton::{morton_order, MortonOrder};
@@ -102,6 +106,11 @@ impl ShellMesh {
             frame,
             world,
         })
+    }
+
+    /// Vertex positions in world space (each an `f32` point widened to `f64`).
+    pub fn world(&self) -> &[DVec3] {
+        &self.world
     }
 
     /// The compact layout `kind` of this mesh's tets.
@@ -179,6 +188,10 @@ mod layouts_tests;
 #[cfg(test)]
 #[path = "traverse_tests.rs"]
 mod traverse_tests;
+
+#[cfg(test)]
+#[path = "bvh_tests.rs"]
+mod bvh_tests;
 
 #[cfg(test)]
 #[path = "render_tests.rs"]

@@ -60,6 +60,10 @@ impl TetLayout for Tet16Mesh {
         self.tets.len()
     }
 
+    fn as_bytes(&self) -> &[u8] {
+        bytemuck::cast_slice(&self.tets)
+    }
+
     /// A wrong `came_from` or face gives wrong neighbour ids, which the traversal refuses when
     /// they are out of range.
     fn decode(&self, tet: u32, came_from: u32, entered: [u32; 3]) -> Option<DecodedTet> {

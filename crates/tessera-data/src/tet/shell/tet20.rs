@@ -50,6 +50,10 @@ impl TetLayout for Tet20Mesh {
         self.tets.len()
     }
 
+    fn as_bytes(&self) -> &[u8] {
+        bytemuck::cast_slice(&self.tets)
+    }
+
     /// Without vertex ids the layout cannot tell a wrong face; the ids it then yields are
     /// wrong but in no way unsafe.
     fn decode(&self, tet: u32, _came_from: u32, entered: [u32; 3]) -> Option<DecodedTet> {

@@ -56,6 +56,10 @@ impl TetLayout for Tet32Mesh {
         self.tets.len()
     }
 
+    fn as_bytes(&self) -> &[u8] {
+        bytemuck::cast_slice(&self.tets)
+    }
+
     /// The neighbour across a face is the one at the position, in the stored vertex list, of
     /// the vertex opposite it (the paper's "rank of the exit face's index"). A face that is
     /// not the tet's is detected.

@@ -1,0 +1,163 @@
+//! Tet meshes behind the front door by shell traversal (paper B): emission–absorption of the
+//! vertex scalars through the look's transfer function. The layout is compiled into the
+//! pipeline; a new transfer function, density or scalar range is a table write and a push
+//! constant.
+
+use super::{
+    no_data, wrong_data, FrameOutcome, FrameStats, Renderer, RendererOptions, Target, Technique,
+    WorkCounters,
+};
+use crate::error::{Error, Result};
+use crate::path::Path;
+use crate::tet::shell::{GpuShellMesh, Shell, ShellOptions};
+use tessera_data::scene::{Appearance, DataKind, Dataset, TetData};
+use tessera_data::tet::emission_absorption::EmissionAbsorption;
+use tessera_data::tet::scalar_integral::mapping_range;
+use tessera_data::tet::shell::{LayoutKind, ShellMesh};
+use tessera_data::View;
+use tessera_gpu::{Gpu, Recorder, Timer};
+
+struct MeshOnGpu {
+    data: TetData,
+    mesh: GpuShellMesh,
+}
+
+pub(super) struct ShellRenderer {
+    layout: LayoutKind,
+    data: Option<MeshOnGpu>,
+    look: Appearance,
+    pass: Option<Shell>,
+    background: [f32; 3],
+    stats: FrameStats,
+    counters: WorkCounters,
+}
+
+impl ShellRenderer {
+    pub(super) fn new(options: &RendererOptions) -> ShellRenderer {
+        ShellRenderer {
+            layout: options.layout,
+            data: None,
+            look: Appearance::default(),
+            pass: None,
+            background: [0.0; 3],
+            stats: FrameStats::default(),
+            counters: WorkCounters::default(),
+        }
+    }
+
+    /// The optical model and scalar range of the look for the mesh; builds the pipeline the
+    /// first time, else writes the tables.
+    fn apply_look(&mut self, gpu: &Gpu) -> Result<()> {
+        let Some(data) = &mut self.data else {
+            return Ok(());
+        };
+        if !(self.look.density.is_finite() && self.look.density > 0.0) {
+            return Err(Error::Invalid(format!(
+                "--density must be a positive number, not {}",
+                self.look.density
+            )));
+        }
+        data.mesh.scalar_range = mapping_range(&data.data.mesh, self.look.range, &data.data.name)?;
+        let optics = EmissionAbsorption::new(&self.look.transfer, self.look.density);
+        match &self.pass {
+            Some(pass) => pass.set_optics(gpu, &optics)?,
+            None => {
+                let options = ShellOptions::new(self.layout);
+                let pass = Shell::new(gpu, &crate::shaders::compiler(), &options, &optics)?;
+                self.pass = Some(pass);
+                self.counters.pipeline_builds += 1;
+            }
+        }
+        self.background = self.look.background(DataKind::Tets, None);
+        Ok(())
+    }
+}
+
+impl Renderer for ShellRenderer {
+    fn technique(&self) -> Technique {
+        Technique::Shell
+    }
+
+    fn path(&self) -> Path {
+        Path::Compute
+    }
+
+    fn set_data(&mut self, gpu: &Gpu, data: &Dataset) -> Result<()> {
+        let Dataset::Tets(tets) = data else {
+            return Err(wrong_data(Technique::Shell, data));
+        };
+        if tets.asteroids {
+            return Err(Error::Invalid(format!(
+                "{}: shell traversal integrates vertex scalars; draw asteroid fields with interval",
+                tets.name
+            )));
+        }
+        self.data = None;
+        let shell = ShellMesh::build(&tets.mesh)?;
+        let mesh = GpuShellMesh::upload(gpu, &shell, self.layout)?;
+        self.counters.data_uploads += 1;
+        self.counters.data_bytes += mesh.bytes();
+        // The mesh as loaded names the scalars' range; the reordered copy is on the GPU.
+        self.data = Some(MeshOnGpu {
+            data: tets.clone(),
+            mesh,
+        });
+        self.apply_look(gpu)
+    }
+
+    fn set_appearance(&mut self, gpu: &Gpu, look: &Appearance) -> Result<()> {
+        self.look = look.clone();
+        self.apply_look(gpu)
+    }
+
+    fn prepare_frame(&mut self, _gpu: &Gpu, _view: &View) -> Result<()> {
+        match (&self.pass, &self.data) {
+            (Some(_), Some(_)) => Ok(()),
+            _ => Err(no_data(Technique::Shell)),
+        }
+    }
+
+    fn record(
+        &mut self,
+        rec: &Recorder,
+        view: &View,
+        target: &Target,
+        timer: &mut Timer,
+    ) -> Result<()> {
+        let (Some(pass), Some(data)) = (&self.pass, &self.data) else {
+            return Err(no_data(Technique::Shell));
+        };
+        let params = pass.params(&data.mesh, view, self.background);
+        timer.scope(rec, "shell traversal", |rec| {
+            pass.record(rec, &data.mesh, target, &params)
+        })
+    }
+
+    fn finish_frame(&mut self, gpu: &Gpu) -> Result<FrameOutcome> {
+        let pass = self
+            .pass
+            .as_ref()
+            .ok_or_else(|| no_data(Technique::Shell))?;
+        let s = pass.read_stats(gpu)?;
+        self.stats = FrameStats {
+            details: [
+                ("segments", s.segments),
+                ("tet_steps", s.steps),
+                ("guard_dead_ends", s.dead_ends),
+                ("guard_step_limits", s.step_limits),
+                ("unmatched_exits", s.unmatched_exits),
+            ]
+            .into(),
+            ..FrameStats::default()
+        };
+        Ok(FrameOutcome::Done)
+    }
+
+    fn stats(&self) -> FrameStats {
+        self.stats.clone()
+    }
+
+    fn counters(&self) -> WorkCounters {
+        self.counters
+    }
+}

@@ -1,0 +1,87 @@
+// The traces of Alg. 1 against the shell BVH, in the ray space of the ray being traversed:
+// the nearest face the ray leaves through beyond a distance (the trace with front faces
+// culled), and the farthest face it enters through before one (the backward trace from the
+// exit, front faces of the reversed ray culled). Faces are tested with the marching's own edge
+// predicates, so the face found agrees with the steps after it; the whole line is searched,
+// so an entry face behind the origin (an eye inside the mesh) is found too. Ties go to the
+// face first in the buffer for exits and last for entries, as the CPU reference's sorted hits.
+// Needs buffers.glsl and ray_space.glsl.
+
+const uint NO_FACE = 0xffffffffu;
+
+struct ShellHit {
+    float t;
+    uint face;  // index into shell_faces, NO_FACE when none
+};
+
+// How the ray crosses shell face f: 1 leaving, -1 entering, 0 missing; t where.
+int shell_crossing(RaySpace ray, uint f, out float t) {
+    uvec4 face = shell_faces[f];
+    Projected a = project(ray, face.x);
+    Projected b = project(ray, face.y);
+    Projected c = project(ray, face.z);
+    bool ab = ray_left_of(a, b);
+    bool bc = ray_left_of(b, c);
+    bool ca = ray_left_of(c, a);
+    t = 0.0;
+    if (ab != bc || bc != ca) {
+        return 0;
+    }
+    t = crossing(a, b, c).x;
+    return ab ? 1 : -1;
+}
+
+// Parameter range [near, far] of the ray's line inside a node's box.
+vec2 box_span(RaySpace ray, vec3 inv_dir, uint node) {
+    vec3 a = (bvh_nodes[node].lo - ray.origin) * inv_dir;
+    vec3 b = (bvh_nodes[node].hi - ray.origin) * inv_dir;
+    vec3 near = min(a, b);
+    vec3 far = max(a, b);
+    return vec2(max(max(near.x, near.y), near.z), min(min(far.x, far.y), far.z));
+}
+
+// leaving: the nearest leaving face with t > lo. Else: the farthest entering face with
+// lo <= t < hi.
+ShellHit shell_trace(RaySpace ray, bool leaving, float lo, float hi) {
+    // A zero component would make 0 * inf in the slab test; a tiny one only widens the span.
+    vec3 inv_dir = 1.0 / mix(vec3(1e-30), ray.dir, greaterThan(abs(ray.dir), vec3(1e-30)));
+    ShellHit best = ShellHit(leaving ? hi : lo, NO_FACE);
+    uint stack[BVH_MAX_DEPTH + 1];
+    uint top = 0u;
+    uint node = 0u;
+    while (true) {
+        vec2 span = box_span(ray, inv_dir, node);
+        uint first = bvh_nodes[node].first;
+        uint count = bvh_nodes[node].count;
+        float window_lo = leaving ? lo : best.t;
+        float window_hi = leaving ? best.t : hi;
+        bool enter = span.x <= span.y && span.y >= window_lo && span.x <= window_hi;
+        if (enter && count == 0u && top <= uint(BVH_MAX_DEPTH)) {
+            stack[top++] = first + 1u;
+            node = first;
+            continue;
+        }
+        if (enter) {
+            for (uint f = first; f < first + count; ++f) {
+                float t;
+                int side = shell_crossing(ray, f, t);
+                bool better;
+                if (leaving) {
+                    better = side == 1 && t > lo
+                        && (t < best.t || (t == best.t && (best.face == NO_FACE || f < best.face)));
+                } else {
+                    better = side == -1 && t >= lo && t < hi
+                        && (t > best.t || (t == best.t && (best.face == NO_FACE || f > best.face)));
+                }
+                if (better) {
+                    best = ShellHit(t, f);
+                }
+            }
+        }
+        if (top == 0u) {
+            break;
+        }
+        node = stack[--top];
+    }
+    return best;
+}

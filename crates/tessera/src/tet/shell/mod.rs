@@ -1,0 +1,342 @@
+//! Ray-traced shell traversal of tet meshes — paper B (Sahistan et al.), compute path: per
+//! pixel, the nearest shell face the ray leaves through is found in a BVH over the shell
+//! triangles (front faces culled), the backward trace from there finds the segment's entry
+//! face, and the ray marches tet to tet through the compact layout (Tet32, Tet20 or Tet16)
+//! with the ray-centric projection and exit decision of the CPU reference
+//! (`tessera_data::tet::shell`), integrating emission–absorption per tet stretch through the
+//! transfer function's tables, until 98 % opacity; then on past the exit for the next segment
+//! of a non-convex mesh. The eye may sit inside the mesh. A loop guard ends a segment after a
+//! step limit and counts it.
+//!
+//! [`ShellRays`] runs the same traversal for given rays (shadow rays; per-ray checks against
+//! the CPU traversal).
+
+pub mod mesh;
+pub mod rays;
+
+pub use mesh::GpuShellMesh;
+pub use rays::{shadow_ray, GpuRay, RayResult, ShellRays, TracedRay, VisitedTet, RECORDED_STEPS};
+
+use crate::builtin_shader;
+use crate::error::{Error, Result};
+use crate::target::Target;
+use bytemuck::{Pod, Zeroable};
+use tessera_data::tet::emission_absorption::{EmissionAbsorption, EARLY_TERMINATION_OPACITY};
+use tessera_data::tet::shell::{
+    LayoutKind, Tet16, Tet20, Tet32, TraversalOptions, TraversalStats, BVH_MAX_DEPTH,
+};
+use tessera_data::{OrbitCamera, RgbaImage, View};
+use tessera_gpu::{vk, Binding, Buffer, Gpu, Pipeline, Recorder, ShaderCompiler, Slot, Timer};
+
+/// Bindings every shell pass shares (`buffers.glsl`).
+const COMMON_BINDINGS: usize = 6;
+
+/// The counters of `stats.glsl`, in buffer order (each a `STAT_…` define).
+const STATS: [&str; 8] = [
+    "STAT_RAYS",
+    "STAT_SEGMENTS",
+    "STAT_STEPS_LOW",
+    "STAT_STEPS_HIGH",
+    "STAT_DEAD_ENDS",
+    "STAT_STEP_LIMITS",
+    "STAT_BACKWARD_STEPS",
+    "STAT_UNMATCHED_EXITS",
+];
+
+/// Push constants (`params.glsl`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct ShellParams {
+    pub eye: [f32; 3],
+    /// View-space depth where pixel rays begin.
+    pub near_depth: f32,
+    pub forward: [f32; 3],
+    pub tan_half_fov_x: f32,
+    pub right: [f32; 3],
+    pub tan_half_fov_y: f32,
+    pub up: [f32; 3],
+    /// Steps per segment before the loop guard ends it.
+    pub max_steps: u32,
+    pub background: [f32; 3],
+    pub tet_count: u32,
+    pub scalar_range: [f32; 2],
+    /// Image width and height, or (rays, 1).
+    pub size: [u32; 2],
+    pub vertex_count: u32,
+    pub pad: [u32; 3],
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ShellOptions {
+    pub layout: LayoutKind,
+    pub traversal: TraversalOptions,
+}
+
+impl ShellOptions {
+    pub fn new(layout: LayoutKind) -> ShellOptions {
+        ShellOptions {
+            layout,
+            traversal: TraversalOptions::default(),
+        }
+    }
+}
+
+/// The defines of every shell pass for `layout` with tables of `knots` knots.
+pub(crate) fn defines(layout: LayoutKind, knots: usize) -> Vec<(String, String)> {
+    let (code, bytes) = match layout {
+        LayoutKind::Tet32 => (0, std::mem::size_of::<Tet32>()),
+        LayoutKind::Tet20 => (1, std::mem::size_of::<Tet20>()),
+        LayoutKind::Tet16 => (2, std::mem::size_of::<Tet16>()),
+    };
+    let mut defines = crate::config::common_defines();
+    defines.extend([
+        ("TET_LAYOUT_TET32".into(), "0".into()),
+        ("TET_LAYOUT_TET20".into(), "1".into()),
+        ("TET_LAYOUT_TET16".into(), "2".into()),
+        ("TET_LAYOUT".into(), code.to_string()),
+        ("TET_WORDS".into(), (bytes / 4).to_string()),
+        ("BVH_MAX_DEPTH".into(), BVH_MAX_DEPTH.to_string()),
+        ("TABLE_KNOTS".into(), knots.to_string()),
+        ("ABSORPTION_TABLE".into(), "0u".into()),
+        ("EMISSION_TABLE".into(), format!("{}u", 2 * knots)),
+        (
+            "EARLY_TERMINATION_OPACITY".into(),
+            format!("{:?}", EARLY_TERMINATION_OPACITY as f32),
+        ),
+    ]);
+    defines.extend(
+        STATS
+            .iter()
+            .enumerate()
+            .map(|(i, name)| (name.to_string(), format!("{i}u"))),
+    );
+    defines
+}
+
+/// The absorption and emission tables back to back, as `integrate.glsl` reads them.
+fn table_words(optics: &EmissionAbsorption) -> Result<Vec<[f32; 4]>> {
+    if optics.absorption.values.len() != optics.emission.values.len()
+        || optics.absorption.values.len() < 2
+    {
+        return Err(Error::Invalid(format!(
+            "shell traversal: tables of {} and {} knots (need one count, at least 2)",
+            optics.absorption.values.len(),
+            optics.emission.values.len()
+        )));
+    }
+    let mut words = optics.absorption.gpu_words();
+    words.extend(optics.emission.gpu_words());
+    Ok(words)
+}
+
+/// What every pass binds besides the mesh: the tables and the counters.
+pub(crate) struct ShellTables {
+    table: Buffer,
+    stats: Buffer,
+    knots: usize,
+}
+
+impl ShellTables {
+    fn new(gpu: &Gpu, optics: &EmissionAbsorption) -> Result<ShellTables> {
+        let words = table_words(optics)?;
+        let table = gpu.upload_buffer(
+            "shell tables",
+            bytemuck::cast_slice(&words),
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+        )?;
+        let stats = gpu.upload_buffer(
+            "shell stats",
+            bytemuck::cast_slice(&[0u32; STATS.len()]),
+            vk::BufferUsageFlags::STORAGE_BUFFER
+                | vk::BufferUsageFlags::TRANSFER_DST
+                | vk::BufferUsageFlags::TRANSFER_SRC,
+        )?;
+        Ok(ShellTables {
+            table,
+            stats,
+            knots: optics.absorption.values.len(),
+        })
+    }
+
+    /// Writes `optics`' tables (of the knot count the pipelines were built for).
+    fn write(&self, gpu: &Gpu, optics: &EmissionAbsorption) -> Result<()> {
+        if optics.absorption.values.len() != self.knots {
+            return Err(Error::Invalid(format!(
+                "shell traversal: tables of {} knots for pipelines built for {}",
+                optics.absorption.values.len(),
+                self.knots
+            )));
+        }
+        Ok(gpu.write_buffer(&self.table, bytemuck::cast_slice(&table_words(optics)?))?)
+    }
+
+    fn bindings<'a>(&'a self, mesh: &'a GpuShellMesh) -> [Binding<'a>; COMMON_BINDINGS] {
+        [
+            Binding::Buffer(&mesh.vertices),
+            Binding::Buffer(&mesh.tets),
+            Binding::Buffer(&mesh.faces),
+            Binding::Buffer(&mesh.bvh),
+            Binding::Buffer(&self.table),
+            Binding::Buffer(&self.stats),
+        ]
+    }
+
+    fn read_stats(&self, gpu: &Gpu) -> Result<TraversalStats> {
+        let w = tessera_gpu::timing::read_words(gpu, &self.stats)?;
+        let word = |name: &str| {
+            let i = STATS.iter().position(|s| *s == name).unwrap_or(0);
+            u64::from(w.get(i).copied().unwrap_or(0))
+        };
+        Ok(TraversalStats {
+            rays: word("STAT_RAYS"),
+            segments: word("STAT_SEGMENTS"),
+            steps: word("STAT_STEPS_LOW") | word("STAT_STEPS_HIGH") << 32,
+            dead_ends: word("STAT_DEAD_ENDS"),
+            step_limits: word("STAT_STEP_LIMITS"),
+            backward_steps: word("STAT_BACKWARD_STEPS"),
+            unmatched_exits: word("STAT_UNMATCHED_EXITS"),
+        })
+    }
+}
+
+/// Refuses a mesh uploaded in another layout than the pipelines decode.
+fn check_layout(mesh: &GpuShellMesh, options: &ShellOptions) -> Result<()> {
+    if mesh.layout != options.layout {
+        return Err(Error::Invalid(format!(
+            "shell traversal: a {} mesh for {} pipelines",
+            mesh.layout.name(),
+            options.layout.name()
+        )));
+    }
+    Ok(())
+}
+
+/// The push constants of a pass over `mesh` (the view's fields are zero for given rays).
+fn base_params(mesh: &GpuShellMesh, options: &ShellOptions) -> ShellParams {
+    ShellParams {
+        max_steps: options
+            .traversal
+            .max_steps_per_segment
+            .min(u64::from(u32::MAX)) as u32,
+        tet_count: mesh.tet_count,
+        vertex_count: mesh.vertex_count,
+        scalar_range: [mesh.scalar_range.0, mesh.scalar_range.1],
+        ..ShellParams::default()
+    }
+}
+
+/// The pixel pass: one image of emission–absorption by shell traversal.
+pub struct Shell {
+    pipeline: Pipeline,
+    tables: ShellTables,
+    options: ShellOptions,
+}
+
+impl Shell {
+    /// Pipelines for `options.layout` with `optics`' tables (later tables of the same knot
+    /// count are a buffer write: [`Shell::set_optics`]).
+    pub fn new(
+        gpu: &Gpu,
+        compiler: &ShaderCompiler,
+        options: &ShellOptions,
+        optics: &EmissionAbsorption,
+    ) -> Result<Shell> {
+        let tables = ShellTables::new(gpu, optics)?;
+        let spirv = compiler.compile(
+            &builtin_shader!("shell.comp.glsl"),
+            &defines(options.layout, tables.knots),
+        )?;
+        let pipeline = gpu.compute_pipeline(
+            "shell traversal",
+            &spirv,
+            &[Slot::StorageBuffer; COMMON_BINDINGS + 1],
+        )?;
+        Ok(Shell {
+            pipeline,
+            tables,
+            options: *options,
+        })
+    }
+
+    pub fn options(&self) -> &ShellOptions {
+        &self.options
+    }
+
+    pub fn set_optics(&self, gpu: &Gpu, optics: &EmissionAbsorption) -> Result<()> {
+        self.tables.write(gpu, optics)
+    }
+
+    /// The push constants of a frame of `view` (pixel rays as the CPU reference casts them:
+    /// from the eye, starting at the near plane).
+    pub fn params(&self, mesh: &GpuShellMesh, view: &View, background: [f32; 3]) -> ShellParams {
+        ShellParams {
+            eye: view.eye.to_array(),
+            near_depth: view.near,
+            forward: view.forward.to_array(),
+            tan_half_fov_x: view.tan_half_fov.x,
+            right: view.right.to_array(),
+            tan_half_fov_y: view.tan_half_fov.y,
+            up: view.up.to_array(),
+            background,
+            size: [view.size.0, view.size.1],
+            ..base_params(mesh, &self.options)
+        }
+    }
+
+    /// Records one frame into `target`, counters cleared first.
+    pub fn record(
+        &self,
+        rec: &Recorder,
+        mesh: &GpuShellMesh,
+        target: &Target,
+        params: &ShellParams,
+    ) -> Result<()> {
+        check_layout(mesh, &self.options)?;
+        if params.size != [target.width, target.height] {
+            return Err(Error::Invalid(
+                "shell traversal: target of another size".into(),
+            ));
+        }
+        rec.fill_buffer(&self.tables.stats, 0);
+        rec.barrier();
+        let mut bindings = self.tables.bindings(mesh).to_vec();
+        bindings.push(Binding::Buffer(&target.pixels));
+        rec.dispatch(
+            &self.pipeline,
+            &bindings,
+            bytemuck::bytes_of(params),
+            [target.width, target.height, 1],
+        );
+        rec.barrier();
+        Ok(())
+    }
+
+    /// The counters of the last frame.
+    pub fn read_stats(&self, gpu: &Gpu) -> Result<TraversalStats> {
+        self.tables.read_stats(gpu)
+    }
+
+    /// Renders `mesh` seen by `camera` at `size` over `background`: the image, what the
+    /// traversal counted and the GPU time.
+    pub fn render_image(
+        &self,
+        gpu: &Gpu,
+        mesh: &GpuShellMesh,
+        camera: &OrbitCamera,
+        size: (u32, u32),
+        background: [f32; 3],
+    ) -> Result<(RgbaImage, TraversalStats, f64)> {
+        let view = View::of_unit_box(camera, size);
+        let target = Target::new(gpu, size.0, size.1)?;
+        let params = self.params(mesh, &view, background);
+        let mut timer = Timer::new(gpu, 1)?;
+        timer.reset(gpu);
+        let mut recorded = Ok(());
+        gpu.submit("shell traversal image", |rec| {
+            recorded = timer.scope(rec, "shell", |rec| self.record(rec, mesh, &target, &params));
+        })?;
+        recorded?;
+        let ms = timer.read_ms(gpu)?.first().map(|s| s.1).unwrap_or(0.0);
+        Ok((target.read(gpu)?, self.read_stats(gpu)?, ms))
+    }
+}
