@@ -183,11 +183,8 @@ impl MeshletMesh {
     /// ranges leave the arrays are an error ([`Self::validate`] says why).
     pub fn in_origin_order(&self) -> Result<MeshletMesh> {
         let mut order: Vec<&Meshlet> = self.meshlets.iter().collect();
-        let key = |m: &Meshlet| {
-            let zyx = |p: [u32; 3]| [p[2], p[1], p[0]];
-            (zyx(m.block_origin), zyx(m.subblock_origin))
-        };
-        order.sort_by_key(|m| key(m));
+        let zyx = |p: [u32; 3]| [p[2], p[1], p[0]];
+        order.sort_by_key(|m| (zyx(m.block_origin), zyx(m.subblock_origin)));
         let mut out = MeshletMesh::default();
         for m in order {
             let vertices = range(m.vertex_offset, m.vertex_count, 1, self.positions.len());
