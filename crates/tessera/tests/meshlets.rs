@@ -322,7 +322,10 @@ fn pipelines_refuse_a_volume_of_another_sample_type() {
     let (volume, iso) = volumes().swap_remove(0);
     let prepared = prepare(&gpu, &volume);
     let error = ex.extract(&gpu, &prepared, iso).unwrap_err().to_string();
-    assert!(error.contains("uint8") && error.contains("float32"), "{error}");
+    assert!(
+        error.contains("uint8") && error.contains("float32"),
+        "{error}"
+    );
     assert_clean(&gpu);
 }
 
