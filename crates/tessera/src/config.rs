@@ -89,6 +89,26 @@ pub fn marching_cubes_defines(scalar: ScalarType, rule: AmbiguityRule) -> Vec<(S
     d
 }
 
+/// Defines for the meshlet extraction (`iso/meshlets`): marching cubes' (see
+/// [`marching_cubes_defines`]) plus the meshlet limits and the cells each region-analysis
+/// invocation classifies (a 2×2×2 subblock, the smallest of the partition).
+pub fn meshlet_defines(scalar: ScalarType, rule: AmbiguityRule) -> Vec<(String, String)> {
+    use tessera_data::meshlets::{
+        subblock::SUBBLOCK_CELL_COUNTS, MAX_OCCUPIED_CELLS, MAX_TRIANGLES, MAX_VERTICES,
+    };
+    let mut d = marching_cubes_defines(scalar, rule);
+    let smallest_subblock = SUBBLOCK_CELL_COUNTS[SUBBLOCK_CELL_COUNTS.len() - 1];
+    for (name, value) in [
+        ("MESHLET_MAX_VERTICES", MAX_VERTICES),
+        ("MESHLET_MAX_TRIANGLES", MAX_TRIANGLES),
+        ("MESHLET_MAX_OCCUPIED_CELLS", MAX_OCCUPIED_CELLS),
+        ("MESHLET_CELLS_PER_INVOCATION", smallest_subblock),
+    ] {
+        d.push((name.into(), format!("{value}u")));
+    }
+    d
+}
+
 /// The asteroid field's constants (`tet/interval/sdf.glsl`), from its CPU reference.
 pub fn asteroid_defines() -> Vec<(String, String)> {
     use tessera_data::tet::asteroids as a;

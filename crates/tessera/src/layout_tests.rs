@@ -180,6 +180,37 @@ fn isosurface_structs(t: &mut Table) {
     t.push_constants::<ReduceParams>(&reduce, "ReduceParams", host!(ReduceParams, child, parent));
 }
 
+fn meshlet_structs(t: &mut Table) {
+    use crate::iso::direct::block_list::BlockListHeader;
+    use crate::iso::meshlets::{MeshletCounters, MeshletParams};
+    use tessera_data::meshlets::Meshlet;
+    let defines = crate::config::meshlet_defines(ScalarType::U8, Default::default());
+    let extract = compile(&builtin_shader!("iso/meshlets/extract.comp.glsl"), &defines);
+    let occupied = compile(
+        &builtin_shader!("iso/meshlets/occupied.comp.glsl"),
+        &defines,
+    );
+    for spirv in [&extract, &occupied] {
+        #[rustfmt::skip]
+        t.push_constants::<MeshletParams>(spirv, "MeshletParams", host!(MeshletParams,
+            volume_dims, isovalue, block_dims, meshlet_capacity, vertex_capacity,
+            triangle_capacity));
+        t.buffer(
+            spirv,
+            "BlockListHeader",
+            host!(BlockListHeader, count, args),
+        );
+    }
+    #[rustfmt::skip]
+    t.buffer(&extract, "Meshlet", host!(Meshlet, vertex_offset, vertex_count, triangle_offset,
+        triangle_count, aabb_min, aabb_max, block_origin, subblock_origin, subblock_size));
+    t.buffer(
+        &extract,
+        "MeshletCounters",
+        host!(MeshletCounters, meshlets, vertices, triangles, overflow),
+    );
+}
+
 fn raster_structs(t: &mut Table) {
     use crate::raster::indirect::PrepareParams;
     use crate::raster::{raster_defines, RasterCounts, RasterParams, RasterTriangle};
@@ -353,6 +384,7 @@ fn throughput_structs(t: &mut Table) {
 fn table() -> Table {
     let mut t = Table(Vec::new());
     isosurface_structs(&mut t);
+    meshlet_structs(&mut t);
     raster_structs(&mut t);
     interval_structs(&mut t);
     shell_structs(&mut t);

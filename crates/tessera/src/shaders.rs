@@ -23,6 +23,34 @@ const COMMON: &[(&str, &str)] = &[
         include_str!("shaders/common/mc_cell.glsl"),
     ),
     (
+        "common/mc_vertex.glsl",
+        include_str!("shaders/common/mc_vertex.glsl"),
+    ),
+    (
+        "iso/meshlets/params.glsl",
+        include_str!("iso/meshlets/params.glsl"),
+    ),
+    (
+        "iso/meshlets/buffers.glsl",
+        include_str!("iso/meshlets/buffers.glsl"),
+    ),
+    (
+        "iso/meshlets/payload.glsl",
+        include_str!("iso/meshlets/payload.glsl"),
+    ),
+    (
+        "iso/meshlets/subblock.glsl",
+        include_str!("iso/meshlets/subblock.glsl"),
+    ),
+    (
+        "iso/meshlets/analysis.glsl",
+        include_str!("iso/meshlets/analysis.glsl"),
+    ),
+    (
+        "iso/meshlets/extraction.glsl",
+        include_str!("iso/meshlets/extraction.glsl"),
+    ),
+    (
         "iso/direct/payload.glsl",
         include_str!("iso/direct/payload.glsl"),
     ),

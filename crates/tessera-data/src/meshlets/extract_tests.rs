@@ -198,3 +198,44 @@ fn an_isovalue_hitting_samples_still_gives_the_marching_cubes_triangles() {
         );
     }
 }
+
+#[test]
+fn origin_order_undoes_block_order_and_triangle_gaps() {
+    // As the GPU writes them: meshlets in another order, unused triangles between them.
+    for (volume, iso) in volumes() {
+        let reference = extract_meshlets(&volume, iso, AmbiguityRule::default()).unwrap();
+        let mut scrambled = MeshletMesh {
+            positions: reference.positions.clone(),
+            normals: reference.normals.clone(),
+            ..MeshletMesh::default()
+        };
+        for m in reference.meshlets.iter().rev() {
+            let start = 3 * m.triangle_offset as usize;
+            let indices = &reference.local_indices[start..start + 3 * m.triangle_count as usize];
+            let mut moved = *m;
+            moved.triangle_offset = scrambled.triangle_count() as u32 + 1;
+            scrambled.local_indices.extend_from_slice(&[0, 0, 0]);
+            scrambled.local_indices.extend_from_slice(indices);
+            scrambled.meshlets.push(moved);
+        }
+        scrambled.validate().unwrap();
+        let sorted = scrambled.in_origin_order().unwrap();
+        assert_eq!(
+            sorted,
+            reference.in_origin_order().unwrap(),
+            "{}",
+            volume.name()
+        );
+        assert_eq!(sorted.triangle_count(), reference.triangle_count());
+        assert_eq!(sorted.in_origin_order().unwrap(), sorted);
+    }
+}
+
+#[test]
+fn origin_order_refuses_ranges_outside_the_arrays() {
+    let (volume, iso) = volumes().swap_remove(0);
+    let mut mesh = extract_meshlets(&volume, iso, AmbiguityRule::default()).unwrap();
+    mesh.meshlets[0].vertex_count += mesh.positions.len() as u32;
+    let error = mesh.in_origin_order().unwrap_err().to_string();
+    assert!(error.contains("outside the arrays"), "{error}");
+}

@@ -176,6 +176,45 @@ impl MeshletMesh {
         Ok(())
     }
 
+    /// The same meshlets sorted by `(block_origin, subblock_origin)` (z, then y, then x of
+    /// each), their vertices and triangles copied in that order without gaps. Producers that
+    /// place blocks in scheduling order, and leave unused triangles between meshlets as the
+    /// GPU paths do, then compare with [`super::extract_meshlets`] with `==`. Meshlets whose
+    /// ranges leave the arrays are an error ([`Self::validate`] says why).
+    pub fn in_origin_order(&self) -> Result<MeshletMesh> {
+        let mut order: Vec<&Meshlet> = self.meshlets.iter().collect();
+        let zyx = |p: [u32; 3]| [p[2], p[1], p[0]];
+        order.sort_by_key(|m| (zyx(m.block_origin), zyx(m.subblock_origin)));
+        let mut out = MeshletMesh::default();
+        for m in order {
+            let vertices = range(m.vertex_offset, m.vertex_count, 1, self.positions.len());
+            let indices = range(
+                m.triangle_offset,
+                m.triangle_count,
+                3,
+                self.local_indices.len(),
+            );
+            let (Some(vertices), Some(indices)) = (vertices, indices) else {
+                return Err(DataError::Invalid(format!(
+                    "meshlet mesh: the meshlet of block {:?}, subblock {:?} reaches outside \
+                     the arrays",
+                    m.block_origin, m.subblock_origin
+                )));
+            };
+            let mut moved = *m;
+            moved.vertex_offset = out.positions.len() as u32;
+            moved.triangle_offset = out.triangle_count() as u32;
+            out.positions
+                .extend_from_slice(&self.positions[vertices.clone()]);
+            out.normals
+                .extend_from_slice(self.normals.get(vertices).unwrap_or_default());
+            out.local_indices
+                .extend_from_slice(&self.local_indices[indices]);
+            out.meshlets.push(moved);
+        }
+        Ok(out)
+    }
+
     /// The mesh moved by `transform` as [`TriangleMesh::transformed`] moves one (e.g. by
     /// [`crate::Volume::grid_to_physical`]), with every meshlet's bounds recomputed. The
     /// cell boxes stay in cells.

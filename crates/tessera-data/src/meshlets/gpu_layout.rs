@@ -1,12 +1,13 @@
-//! The layout the GPU paths (mesh-shader and compute) are to write the same meshlets in, so
-//! that a readback is a [`super::MeshletMesh`] and compares with [`super::extract_meshlets`]
-//! meshlet for meshlet. Nothing here runs; it fixes the contract before the shaders exist.
+//! The layout the GPU paths (mesh-shader and compute, `tessera::iso::meshlets`) write the same
+//! meshlets in, so that a readback is a [`super::MeshletMesh`] and compares with
+//! [`super::extract_meshlets`] meshlet for meshlet. Nothing here runs; it is the contract the
+//! shaders follow.
 //!
 //! # Buffers (std430, 4-byte words)
 //!
 //! | buffer | content |
 //! |---|---|
-//! | `counters` | `uint meshlets, vertices, triangles, overflow`: totals reserved with `atomicAdd`; the totals keep counting past the capacities, `overflow` is set, and the host grows the buffers and extracts again (never a silent truncation) |
+//! | `counters` | `uint meshlets, vertices, triangles, overflow`: totals reserved with `atomicAdd`; the totals keep counting past the capacities, `overflow` gets bit 0, and the host grows the buffers and extracts again (never a silent truncation); bit 1 says an extraction counted otherwise than its analysis (a defect, reported as an error) |
 //! | `meshlets` | [`super::Meshlet`] as declared (`#[repr(C)]`, 19 words, stride 76 bytes): in GLSL with `float[3]`/`uint[3]` members, never `vec3`, whose std430 alignment of 16 would pad it |
 //! | `positions`, `normals` | `float[]`, three per vertex, as `Vec<[f32; 3]>` |
 //! | `local_indices` | `uint[]` holding the bytes of [`super::MeshletMesh::local_indices`] |
@@ -41,12 +42,13 @@
 //!
 //! * `uint block`: index into the occupied-block list;
 //! * `uint base_meshlet, base_vertex, base_triangle`: the block's reservation;
-//! * per subblock (at most 32): `uint8 first_code, code_count`, its vertex and triangle
-//!   offsets within the block's reservation, and the range of its occupied cells in
-//!   `cells`;
+//! * per subblock (at most 32), four words of 16-bit halves: `first_code, code_count`; its
+//!   vertex and triangle offsets within the block's reservation; its vertex and triangle
+//!   counts as the analysis made them (the extraction checks its own against them); the
+//!   range of its occupied cells in `cells`;
 //! * `uint8 cells[256]`: Morton codes of occupied core cells, subblock after subblock (at
 //!   most [`super::MAX_OCCUPIED_CELLS`] per subblock, 256 per block).
 //!
 //! Padding points are not listed: the extraction workgroup re-tests the at most
 //! 9·9·5 − 8·8·4 = 149 points beyond a subblock's max faces (fewer for smaller subblocks),
-//! which reads the volume but keeps the payload within 1.3 KiB.
+//! which reads the volume but keeps the payload within 1 KiB.

@@ -89,21 +89,6 @@ float divide_by_7(float x) {
     return best;
 }
 
-// sqrt(x) as the CPU rounds it (to nearest). Vulkan lets sqrt be off by a few ulp, so the
-// root is corrected by the exact residual x - s^2 (Sterbenz again): s + (x - s^2) / 2s differs
-// from the true root by far less than an ulp's millionth, and one correctly rounded addition
-// rounds it as the CPU does, short of roots within that distance of a rounding midpoint.
-float rounded_sqrt(float x) {
-    float s = sqrt(x);
-    if (!(s > 0.0)) {
-        return s;
-    }
-    precise float p = s * s;
-    precise float residual = (x - p) - product_error(s, s, p);
-    precise float root = s + residual / (2.0 * s);
-    return root;
-}
-
 // Sum of the 7 segment lengths of a line, endpoints clamped to the viewport; a segment with an
 // end behind the eye counts 0.
 float line_extent(uint first) {

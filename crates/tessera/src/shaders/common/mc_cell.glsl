@@ -46,7 +46,9 @@ uint mc_cell_row(VOLUME_SAMPLER vol, uvec3 cell, uint case_index, float iso) {
     return mc_first_row(case_index) + choice;
 }
 
-// Gradient at grid point p: central differences inside, one-sided on the border.
+// Gradient at grid point p: central differences inside, one-sided on the border. The span is
+// 1 or 2 samples, so multiplying by its exact reciprocal rounds as the CPU's division does,
+// where Vulkan lets `/` be inexact.
 vec3 mc_grid_gradient(VOLUME_SAMPLER vol, uvec3 p, uvec3 dims) {
     vec3 g;
     for (int axis = 0; axis < 3; ++axis) {
@@ -54,8 +56,8 @@ vec3 mc_grid_gradient(VOLUME_SAMPLER vol, uvec3 p, uvec3 dims) {
         uvec3 hi = p;
         lo[axis] = p[axis] > 0u ? p[axis] - 1u : 0u;
         hi[axis] = min(p[axis] + 1u, dims[axis] - 1u);
-        float span = float(hi[axis] - lo[axis]);
-        g[axis] = (volume_texel(vol, ivec3(hi)) - volume_texel(vol, ivec3(lo))) / span;
+        float inverse_span = hi[axis] - lo[axis] == 2u ? 0.5 : 1.0;
+        g[axis] = (volume_texel(vol, ivec3(hi)) - volume_texel(vol, ivec3(lo))) * inverse_span;
     }
     return g;
 }

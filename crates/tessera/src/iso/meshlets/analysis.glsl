@@ -1,0 +1,186 @@
+// Region analysis (paper C §3.2.1) of one occupied block by one workgroup of
+// MESHLET_WORKGROUP invocations: the partition into subblocks that each fit a meshlet, exactly
+// as tessera_data::meshlets::partition makes it, and the block's reservation in the output
+// buffers. Writes `payload` (declared by the includer: task payload or shared memory).
+// Sums are shared-memory reductions over consecutive invocations, so no subgroup size is
+// assumed. Needs iso/meshlets/{params,buffers,payload,subblock}.glsl and the marching-cubes
+// headers.
+
+// Per eighth (invocation): occupied cells, their triangles, the crossed edges they own.
+shared uint s_eighth_cells[MESHLET_WORKGROUP];
+shared uint s_eighth_triangles[MESHLET_WORKGROUP];
+shared uint s_eighth_core[MESHLET_WORKGROUP];
+// Crossed padding edges of the eighth's own box, and this invocation's share of those of its
+// quarter's box and of the block's box.
+shared uint s_eighth_padding[MESHLET_WORKGROUP];
+shared uint s_quarter_padding[MESHLET_WORKGROUP];
+shared uint s_block_padding[MESHLET_WORKGROUP];
+// Exclusive prefix of s_eighth_cells: where each eighth's cells start in `payload.cells`.
+shared uint s_first_cell[MESHLET_WORKGROUP];
+shared uint s_codes[BLOCK_X * BLOCK_Y * BLOCK_Z];
+
+const uint EIGHTHS_PER_QUARTER = MESHLET_WORKGROUP / 4u;
+
+bool meshlet_fits(uint vertices, uint triangles, uint cells) {
+    return vertices <= MESHLET_MAX_VERTICES && triangles <= MESHLET_MAX_TRIANGLES
+        && cells <= MESHLET_MAX_OCCUPIED_CELLS;
+}
+
+// Padding crossings of the box of `count` codes from `first_code`, the share of invocation
+// `part` of `parts` (contiguous runs of the box's points).
+uint meshlet_padding_share(uvec3 block_origin, uint first_code, uint count, uint part, uint parts,
+                           float iso) {
+    uvec3 lo = block_origin + meshlet_cell_of_code(first_code);
+    uvec3 size = meshlet_cell_of_code(first_code + count - 1u) - meshlet_cell_of_code(first_code) + 1u;
+    uvec3 hi = meshlet_box_end(lo, size);
+    uint points = meshlet_box_points(lo, hi);
+    uint share = (points + parts - 1u) / parts;
+    uint first = min(part * share, points);
+    return meshlet_padding_crossings(lo, hi, first, min(first + share, points), iso);
+}
+
+void meshlet_add_subblock(inout uint n, inout uint vertex_cursor, inout uint triangle_cursor,
+                          uint first_code, uint code_count, uint vertices, uint triangles,
+                          uint first_cell, uint cells) {
+    payload.subblocks[n] = MeshletSubblock(first_code | code_count << 16,
+                                           vertex_cursor | triangle_cursor << 16,
+                                           vertices | triangles << 16, first_cell | cells << 16);
+    n += 1u;
+    vertex_cursor += vertices;
+    triangle_cursor += (triangles + 3u) & ~3u;
+}
+
+// Partitions block `occupied_blocks[listed]` into `payload` and reserves its output; ends
+// with a barrier, so every invocation may read the payload after it.
+void meshlet_analyse(uint listed) {
+    uint me = gl_LocalInvocationIndex;
+    float iso = params.isovalue;
+    uvec3 block_origin = meshlet_block_origin(occupied_blocks[listed]);
+    uvec3 last_cell = params.volume_dims - 1u;
+
+    uint cells = 0u;
+    uint triangles = 0u;
+    uint core = 0u;
+    uint occupied_mask = 0u;
+    for (uint k = 0u; k < MESHLET_CELLS_PER_INVOCATION; ++k) {
+        uvec3 cell = block_origin + meshlet_cell_of_code(me * MESHLET_CELLS_PER_INVOCATION + k);
+        if (any(greaterThanEqual(cell, last_cell))) {
+            continue;
+        }
+        uint case_index = mc_cell_case(volume_tex, cell, iso);
+        if (MC_EDGE_MASK[case_index] == 0u) {
+            continue;
+        }
+        cells += 1u;
+        occupied_mask |= 1u << k;
+        triangles += mc_tri_count(mc_cell_row(volume_tex, cell, case_index, iso));
+        // The cell owns the edges from corner 0 to corners 1, 2 and 4 (x, y, z).
+        for (uint axis = 0u; axis < 3u; ++axis) {
+            core += ((case_index ^ (case_index >> (1u << axis))) & 1u);
+        }
+    }
+    s_eighth_cells[me] = cells;
+    s_eighth_triangles[me] = triangles;
+    s_eighth_core[me] = core;
+    uint eighth = me * MESHLET_CELLS_PER_INVOCATION;
+    uint quarter = (me / EIGHTHS_PER_QUARTER) * EIGHTHS_PER_QUARTER * MESHLET_CELLS_PER_INVOCATION;
+    s_eighth_padding[me] = cells == 0u ? 0u
+        : meshlet_padding_share(block_origin, eighth, MESHLET_CELLS_PER_INVOCATION, 0u, 1u, iso);
+    s_quarter_padding[me] = meshlet_padding_share(block_origin, quarter,
+        EIGHTHS_PER_QUARTER * MESHLET_CELLS_PER_INVOCATION, me % EIGHTHS_PER_QUARTER,
+        EIGHTHS_PER_QUARTER, iso);
+    s_block_padding[me] = meshlet_padding_share(block_origin, 0u, BLOCK_X * BLOCK_Y * BLOCK_Z, me,
+        MESHLET_WORKGROUP, iso);
+    barrier();
+
+    if (me == 0u) {
+        uint total = 0u;
+        for (uint i = 0u; i < MESHLET_WORKGROUP; ++i) {
+            s_first_cell[i] = total;
+            total += s_eighth_cells[i];
+        }
+        uint n = 0u;
+        uint vertex_cursor = 0u;
+        uint triangle_cursor = 0u;
+        uint block_v = 0u;
+        uint block_t = 0u;
+        for (uint i = 0u; i < MESHLET_WORKGROUP; ++i) {
+            block_v += s_eighth_core[i] + s_block_padding[i];
+            block_t += s_eighth_triangles[i];
+        }
+        if (total == 0u) {
+            // The block's range holds iso, yet no cell has a corner below and one above.
+        } else if (meshlet_fits(block_v, block_t, total)) {
+            meshlet_add_subblock(n, vertex_cursor, triangle_cursor, 0u,
+                                 BLOCK_X * BLOCK_Y * BLOCK_Z, block_v, block_t, 0u, total);
+        } else {
+            for (uint q = 0u; q < MESHLET_WORKGROUP; q += EIGHTHS_PER_QUARTER) {
+                uint quarter_v = 0u;
+                uint quarter_t = 0u;
+                uint quarter_c = 0u;
+                for (uint i = q; i < q + EIGHTHS_PER_QUARTER; ++i) {
+                    quarter_v += s_eighth_core[i] + s_quarter_padding[i];
+                    quarter_t += s_eighth_triangles[i];
+                    quarter_c += s_eighth_cells[i];
+                }
+                if (quarter_c == 0u) {
+                    continue;
+                }
+                if (meshlet_fits(quarter_v, quarter_t, quarter_c)) {
+                    meshlet_add_subblock(n, vertex_cursor, triangle_cursor,
+                                         q * MESHLET_CELLS_PER_INVOCATION,
+                                         EIGHTHS_PER_QUARTER * MESHLET_CELLS_PER_INVOCATION,
+                                         quarter_v, quarter_t, s_first_cell[q], quarter_c);
+                    continue;
+                }
+                // An eighth always fits (tessera_data::meshlets::partition).
+                for (uint i = q; i < q + EIGHTHS_PER_QUARTER; ++i) {
+                    if (s_eighth_cells[i] != 0u) {
+                        meshlet_add_subblock(n, vertex_cursor, triangle_cursor,
+                                             i * MESHLET_CELLS_PER_INVOCATION,
+                                             MESHLET_CELLS_PER_INVOCATION,
+                                             s_eighth_core[i] + s_eighth_padding[i],
+                                             s_eighth_triangles[i], s_first_cell[i],
+                                             s_eighth_cells[i]);
+                    }
+                }
+            }
+        }
+        payload.block = listed;
+        payload.subblock_count = n;
+        payload.base_meshlet = 0u;
+        payload.base_vertex = 0u;
+        payload.base_triangle = 0u;
+        if (n > 0u) {
+            // Totals keep counting past the capacities, so the host learns what to grow to.
+            payload.base_meshlet = atomicAdd(counters.meshlets, n);
+            payload.base_vertex = atomicAdd(counters.vertices, vertex_cursor);
+            payload.base_triangle = atomicAdd(counters.triangles, triangle_cursor);
+            bool fits = payload.base_meshlet + n <= params.meshlet_capacity
+                && payload.base_vertex + vertex_cursor <= params.vertex_capacity
+                && payload.base_triangle + triangle_cursor <= params.triangle_capacity;
+            if (!fits) {
+                atomicOr(counters.overflow, MESHLET_OVERFLOW_CAPACITY);
+                payload.subblock_count = 0u;
+            }
+        }
+        block_meshlets[listed] = uvec2(payload.base_meshlet, n);
+    }
+    barrier();
+
+    // The occupied cells' codes in order, packed four to a word.
+    uint at = s_first_cell[me];
+    for (uint k = 0u; k < MESHLET_CELLS_PER_INVOCATION; ++k) {
+        if ((occupied_mask & (1u << k)) != 0u) {
+            s_codes[at] = eighth + k;
+            at += 1u;
+        }
+    }
+    barrier();
+    const uint WORDS_PER_INVOCATION = BLOCK_X * BLOCK_Y * BLOCK_Z / 4u / MESHLET_WORKGROUP;
+    for (uint w = me * WORDS_PER_INVOCATION; w < (me + 1u) * WORDS_PER_INVOCATION; ++w) {
+        payload.cells[w] = (s_codes[4u * w] & 255u) | (s_codes[4u * w + 1u] & 255u) << 8
+            | (s_codes[4u * w + 2u] & 255u) << 16 | (s_codes[4u * w + 3u] & 255u) << 24;
+    }
+    barrier();
+}

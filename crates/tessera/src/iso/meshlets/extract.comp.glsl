@@ -1,0 +1,32 @@
+#version 460
+// Compute path of the meshlet extraction: the task stage's region analysis and the mesh
+// stage's extraction of each subblock, one after the other, in one workgroup per occupied
+// block; the payload lives in shared memory.
+#include "common/volume.glsl"
+#include "common/exact.glsl"
+#include "common/mc_tables.glsl"
+#include "common/mc_cell.glsl"
+#include "common/mc_vertex.glsl"
+#include "iso/direct/block_list.glsl"
+#include "iso/meshlets/params.glsl"
+#include "iso/meshlets/buffers.glsl"
+#include "iso/meshlets/payload.glsl"
+#include "iso/meshlets/subblock.glsl"
+
+layout(local_size_x = MESHLET_WORKGROUP) in;
+shared MeshletPayload payload;
+
+#include "iso/meshlets/analysis.glsl"
+#include "iso/meshlets/extraction.glsl"
+
+void main() {
+    uint listed = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
+    if (listed >= block_header.count) {
+        return;  // the last row of a 2-D grid; uniform across the workgroup
+    }
+    meshlet_analyse(listed);
+    for (uint s = 0u; s < payload.subblock_count; ++s) {
+        meshlet_extract(s);
+        barrier();
+    }
+}

@@ -1,0 +1,183 @@
+// Extraction (paper C §3.2.2) of the meshlet of one subblock of `payload` by one workgroup of
+// MESHLET_WORKGROUP invocations, PMB-style, in the CPU reference's order
+// (tessera_data::meshlets::subblock): vertices of the crossed edges owned by the occupied
+// cells, then of those owned by padding points; triangles by cell, each cell's in table order.
+// Vertex numbers are kept per edge of the subblock's closed box in shared memory, so
+// triangles find theirs without search. Needs the marching-cubes headers,
+// common/mc_vertex.glsl and iso/meshlets/{params,buffers,payload,subblock}.glsl.
+
+const uint MESHLET_CELLS_PER_EXTRACTOR = MESHLET_MAX_OCCUPIED_CELLS / MESHLET_WORKGROUP;
+// Samples of the largest box: a block's cells plus one on each axis.
+const uint MESHLET_BOX_POINTS = (BLOCK_X + 1u) * (BLOCK_Y + 1u) * (BLOCK_Z + 1u);
+const uint MESHLET_INDEX_WORDS = (MESHLET_MAX_TRIANGLES + 3u) / 4u * 3u;
+
+// Local vertex of each edge of the box: three per sample (x, y, z edge), x fastest.
+shared uint s_edge_vertex[MESHLET_BOX_POINTS * 3u];
+shared uint s_index_words[MESHLET_INDEX_WORDS];
+shared uint s_cell_rows[MESHLET_MAX_OCCUPIED_CELLS];
+// Per invocation: core vertices, padding vertices, triangles; then their exclusive prefixes.
+shared uint s_core_count[MESHLET_WORKGROUP];
+shared uint s_padding_count[MESHLET_WORKGROUP];
+shared uint s_triangle_count[MESHLET_WORKGROUP];
+shared uint s_totals[3];
+shared vec3 s_lo[MESHLET_WORKGROUP];
+shared vec3 s_hi[MESHLET_WORKGROUP];
+
+uint meshlet_cell_code(uint i) {
+    return (payload.cells[i >> 2] >> ((i & 3u) * 8u)) & 255u;
+}
+
+uint meshlet_edge_slot(uvec3 p, uint axis, uvec3 lo, uvec3 points) {
+    uvec3 d = p - lo;
+    return ((d.z * points.y + d.y) * points.x + d.x) * 3u + axis;
+}
+
+// Exclusive prefix of `counts` in place; returns the total. One invocation runs it.
+uint meshlet_scan(inout uint counts[MESHLET_WORKGROUP]) {
+    uint total = 0u;
+    for (uint i = 0u; i < MESHLET_WORKGROUP; ++i) {
+        uint c = counts[i];
+        counts[i] = total;
+        total += c;
+    }
+    return total;
+}
+
+void meshlet_extract(uint s) {
+    uint me = gl_LocalInvocationIndex;
+    float iso = params.isovalue;
+    uvec3 dims = params.volume_dims;
+    MeshletSubblock sub = payload.subblocks[s];
+    uint first_code = sub.codes & 0xffffu;
+    uint code_count = sub.codes >> 16;
+    uint first_cell = sub.cells & 0xffffu;
+    uint cell_count = sub.cells >> 16;
+    uvec3 block_origin = meshlet_block_origin(occupied_blocks[payload.block]);
+    uvec3 lo = block_origin + meshlet_cell_of_code(first_code);
+    uvec3 size = meshlet_cell_of_code(first_code + code_count - 1u) - meshlet_cell_of_code(first_code) + 1u;
+    uvec3 hi = meshlet_box_end(lo, size);
+    uvec3 points = hi - lo + 1u;
+    uint box_points = meshlet_box_points(lo, hi);
+    uint padding_share = (box_points + MESHLET_WORKGROUP - 1u) / MESHLET_WORKGROUP;
+    uint padding_first = min(me * padding_share, box_points);
+    uint padding_end = min(padding_first + padding_share, box_points);
+
+    // Counts: each invocation takes a run of cells and a run of box points.
+    uint core = 0u;
+    uint triangles = 0u;
+    uint cell_first = me * MESHLET_CELLS_PER_EXTRACTOR;
+    uint cell_end = clamp(cell_count, cell_first, cell_first + MESHLET_CELLS_PER_EXTRACTOR);
+    for (uint c = cell_first; c < cell_end; ++c) {
+        uvec3 cell = block_origin + meshlet_cell_of_code(meshlet_cell_code(first_cell + c));
+        uint case_index = mc_cell_case(volume_tex, cell, iso);
+        uint row = mc_cell_row(volume_tex, cell, case_index, iso);
+        s_cell_rows[c] = row;
+        triangles += mc_tri_count(row);
+        for (uint axis = 0u; axis < 3u; ++axis) {
+            core += ((case_index ^ (case_index >> (1u << axis))) & 1u);
+        }
+    }
+    s_core_count[me] = core;
+    s_triangle_count[me] = triangles;
+    s_padding_count[me] = meshlet_padding_crossings(lo, hi, padding_first, padding_end, iso);
+    for (uint w = me; w < MESHLET_INDEX_WORDS; w += MESHLET_WORKGROUP) {
+        s_index_words[w] = 0u;
+    }
+    barrier();
+    if (me == 0u) {
+        uint core_total = meshlet_scan(s_core_count);
+        s_totals[0] = core_total;
+        s_totals[1] = core_total + meshlet_scan(s_padding_count);
+        s_totals[2] = meshlet_scan(s_triangle_count);
+        uint vertices = s_totals[1];
+        uint expected = sub.counts;
+        if (vertices != (expected & 0xffffu) || s_totals[2] != expected >> 16) {
+            atomicOr(counters.overflow, MESHLET_OVERFLOW_MISMATCH);
+        }
+    }
+    barrier();
+    uint vertex_count = min(s_totals[1], MESHLET_MAX_VERTICES);
+    uint triangle_count = min(s_totals[2], MESHLET_MAX_TRIANGLES);
+    uint first_vertex = payload.base_vertex + (sub.offsets & 0xffffu);
+    uint first_triangle = payload.base_triangle + (sub.offsets >> 16);
+
+    // Vertices, numbered in the reference's order: this invocation's cells, then its run of
+    // box points (one loop, so the vertex arithmetic is compiled once).
+    vec3 lo_bound = vec3(uintBitsToFloat(0x7f800000u));
+    vec3 hi_bound = -lo_bound;
+    uint cell_items = cell_end - cell_first;
+    uint items = cell_items + (padding_end - padding_first);
+    uint local = s_core_count[me];
+    for (uint i = 0u; i < items; ++i) {
+        bool core = i < cell_items;
+        uvec3 p;
+        if (core) {
+            p = block_origin + meshlet_cell_of_code(meshlet_cell_code(first_cell + cell_first + i));
+        } else {
+            uint j = padding_first + i - cell_items;
+            p = lo + uvec3(j % points.x, (j / points.x) % points.y, j / (points.x * points.y));
+            if (i == cell_items) {
+                local = s_totals[0] + s_padding_count[me];
+            }
+            if (!any(equal(p, hi))) {
+                continue;
+            }
+        }
+        for (uint axis = 0u; axis < 3u; ++axis) {
+            if (p[axis] >= hi[axis] || !meshlet_edge_crosses(p, axis, iso)) {
+                continue;
+            }
+            s_edge_vertex[meshlet_edge_slot(p, axis, lo, points)] = local;
+            if (local < vertex_count) {
+                vec3 position;
+                vec3 normal;
+                mc_exact_edge_vertex(volume_tex, p, axis, iso, dims, position, normal);
+                uint v = first_vertex + local;
+                for (uint a = 0u; a < 3u; ++a) {
+                    positions[3u * v + a] = position[a];
+                    normals[3u * v + a] = normal[a];
+                }
+                lo_bound = min(lo_bound, position);
+                hi_bound = max(hi_bound, position);
+            }
+            local += 1u;
+        }
+    }
+    s_lo[me] = lo_bound;
+    s_hi[me] = hi_bound;
+    barrier();
+
+    // Triangles: local indices packed into shared words, then copied out whole.
+    uint t = 3u * s_triangle_count[me];  // the local index at hand
+    for (uint c = cell_first; c < cell_end; ++c) {
+        uvec3 cell = block_origin + meshlet_cell_of_code(meshlet_cell_code(first_cell + c));
+        uint row = s_cell_rows[c];
+        for (uint i = 0u; i < 3u * mc_tri_count(row); ++i, ++t) {
+            uint corners = MC_EDGE_CORNERS[mc_tri_edge(row, i)];
+            uint start = corners & 15u;
+            uint axis = findLSB(start ^ (corners >> 4));
+            uvec3 p = cell + mc_corner_offset(start);
+            uint index = s_edge_vertex[meshlet_edge_slot(p, axis, lo, points)];
+            if (t < 3u * triangle_count) {
+                atomicOr(s_index_words[t >> 2], (index & 255u) << ((t & 3u) * 8u));
+            }
+        }
+    }
+    barrier();
+    uint words = (triangle_count + 3u) / 4u * 3u;
+    for (uint w = me; w < words; w += MESHLET_WORKGROUP) {
+        local_index_words[first_triangle / 4u * 3u + w] = s_index_words[w];
+    }
+    if (me == 0u) {
+        vec3 lo_all = s_lo[0];
+        vec3 hi_all = s_hi[0];
+        for (uint i = 1u; i < MESHLET_WORKGROUP; ++i) {
+            lo_all = min(lo_all, s_lo[i]);
+            hi_all = max(hi_all, s_hi[i]);
+        }
+        meshlets[payload.base_meshlet + s] = Meshlet(first_vertex, vertex_count, first_triangle,
+            triangle_count, float[3](lo_all.x, lo_all.y, lo_all.z),
+            float[3](hi_all.x, hi_all.y, hi_all.z), uint[3](block_origin.x, block_origin.y,
+            block_origin.z), uint[3](lo.x, lo.y, lo.z), uint[3](size.x, size.y, size.z));
+    }
+}

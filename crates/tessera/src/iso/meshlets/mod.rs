@@ -1,0 +1,346 @@
+//! Paper C's meshlet extraction on the GPU ("Real-Time Meshlet Extraction from Scalar
+//! Volumes"): occupied blocks from the min-max octree, compacted (`occupied.comp.glsl`); per
+//! block a region analysis that partitions it into 8×8×4, 4×4×4 or 2×2×2 subblocks whose
+//! surfaces each fit a meshlet and reserves the block's output with one atomic per total
+//! (`analysis.glsl`); per subblock a PMB-style extraction of one meshlet: f32 positions and
+//! normals, 8-bit local indices, a descriptor with its bounds (`extraction.glsl`).
+//!
+//! Two producers write the same buffers ([`GpuMeshlets`]) in the same order:
+//! * [`ExtractionPath::MeshShaders`], the paper's: the task stage analyses a block and hands
+//!   the partition to one mesh workgroup per subblock in its payload; the pipeline draws
+//!   nothing.
+//! * [`ExtractionPath::Compute`]: one compute workgroup per block analyses it and extracts
+//!   its subblocks one after the other, the payload in shared memory.
+//!
+//! Changes from the paper: workgroups of 32 sum over shared memory, not a subgroup (lavapipe's
+//! subgroup has 8 invocations); the meshlet limits and the partition are
+//! `tessera_data::meshlets`'s, whose CPU reference the output equals bit for bit once both are
+//! sorted by block and subblock. A block whose reservation passes the buffers' capacity
+//! writes nothing; the totals keep counting, so the host grows the buffers and extracts again.
+
+pub mod buffers;
+
+pub use buffers::{GpuMeshlets, MeshletCapacity, MeshletCounters};
+
+use crate::builtin_shader;
+use crate::config::meshlet_defines;
+use crate::error::{Error, Result};
+use crate::iso::direct::block_list::{self, BlockListHeader};
+use crate::iso::PreparedVolume;
+use buffers::{OVERFLOW_CAPACITY, OVERFLOW_MISMATCH};
+use bytemuck::{Pod, Zeroable};
+use tessera_data::mc_ambiguity::AmbiguityRule;
+use tessera_data::meshlets::MeshletMesh;
+use tessera_data::ScalarType;
+use tessera_gpu::{
+    spread_groups, vk, Binding, Gpu, GpuError, Image, Pipeline, Recorder, RenderTargets,
+    ShaderCompiler, Slot,
+};
+
+/// Push constants of every meshlet extraction pass (`params.glsl`).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub struct MeshletParams {
+    pub volume_dims: [u32; 3],
+    pub isovalue: f32,
+    pub block_dims: [u32; 3],
+    pub meshlet_capacity: u32,
+    pub vertex_capacity: u32,
+    pub triangle_capacity: u32,
+}
+
+/// Which pipeline produces the meshlets.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ExtractionPath {
+    /// Region analysis and extraction in one compute workgroup per block.
+    Compute,
+    /// The paper's task (region analysis) and mesh (extraction) stages; needs
+    /// `VK_EXT_mesh_shader`.
+    MeshShaders,
+}
+
+/// Extraction attempts before giving up: the first may overflow, the second is sized by the
+/// first's exact totals.
+const ATTEMPTS: usize = 3;
+
+/// The slots of the extraction pipelines, as `buffers.glsl` binds them.
+const EXTRACT_SLOTS: [Slot; 8] = [
+    Slot::Texture,
+    Slot::StorageBuffer,
+    Slot::StorageBuffer,
+    Slot::StorageBuffer,
+    Slot::StorageBuffer,
+    Slot::StorageBuffer,
+    Slot::StorageBuffer,
+    Slot::StorageBuffer,
+];
+
+enum Producer {
+    Compute(Pipeline),
+    /// The task/mesh pipeline and the 1×1 attachment its (empty) rendering needs.
+    MeshShaders {
+        pipeline: Pipeline,
+        attachment: Image,
+    },
+}
+
+/// The extraction pipelines for volumes of one sample type and one ambiguity rule.
+pub struct MeshletExtractor {
+    occupied: Pipeline,
+    block_args: Pipeline,
+    producer: Producer,
+    scalar: ScalarType,
+    /// Workgroups one dispatch may launch along x on this device.
+    max_groups_x: u32,
+}
+
+impl MeshletExtractor {
+    /// Pipelines for `scalar` volumes, ambiguous faces cut by `rule` (as `direct` cuts them).
+    /// The mesh-shader path is refused on a device without task and mesh shaders.
+    pub fn new(
+        gpu: &Gpu,
+        compiler: &ShaderCompiler,
+        scalar: ScalarType,
+        rule: AmbiguityRule,
+        path: ExtractionPath,
+    ) -> Result<MeshletExtractor> {
+        if path == ExtractionPath::MeshShaders
+            && !(gpu.caps().mesh_shader && gpu.caps().task_shader)
+        {
+            return Err(Error::Gpu(GpuError::Unsupported {
+                device: gpu.caps().device_name.clone(),
+                what: "task and mesh shaders (VK_EXT_mesh_shader)".into(),
+            }));
+        }
+        let defines = meshlet_defines(scalar, rule);
+        let occupied = compiler.compile(&builtin_shader!("occupied.comp.glsl"), &defines)?;
+        let block_args = compiler.compile(&builtin_shader!("block_args.comp.glsl"), &defines)?;
+        let producer = match path {
+            ExtractionPath::Compute => {
+                let extract = compiler.compile(&builtin_shader!("extract.comp.glsl"), &defines)?;
+                Producer::Compute(gpu.compute_pipeline(
+                    "meshlet extraction",
+                    &extract,
+                    &EXTRACT_SLOTS,
+                )?)
+            }
+            ExtractionPath::MeshShaders => {
+                let task = compiler.compile(&builtin_shader!("extract.task.glsl"), &defines)?;
+                let mesh = compiler.compile(&builtin_shader!("extract.mesh.glsl"), &defines)?;
+                let format = vk::Format::R8G8B8A8_UNORM;
+                let targets = RenderTargets {
+                    color_write: false,
+                    ..RenderTargets::color(format)
+                };
+                let pipeline = gpu.graphics_pipeline_for(
+                    "meshlet extraction (task/mesh)",
+                    &[&task, &mesh],
+                    &EXTRACT_SLOTS,
+                    &targets,
+                )?;
+                let attachment = gpu.create_image(
+                    "meshlet extraction attachment",
+                    [1, 1, 1],
+                    format,
+                    vk::ImageUsageFlags::COLOR_ATTACHMENT,
+                    false,
+                )?;
+                Producer::MeshShaders {
+                    pipeline,
+                    attachment,
+                }
+            }
+        };
+        Ok(MeshletExtractor {
+            occupied: gpu.compute_pipeline(
+                "meshlet occupied blocks",
+                &occupied,
+                &[Slot::StorageBuffer; 2],
+            )?,
+            block_args: gpu.compute_pipeline(
+                "meshlet block arguments",
+                &block_args,
+                &[Slot::StorageBuffer],
+            )?,
+            producer,
+            scalar,
+            max_groups_x: gpu.caps().max_compute_workgroup_count[0],
+        })
+    }
+
+    /// Which pipeline produces the meshlets.
+    pub fn path(&self) -> ExtractionPath {
+        match self.producer {
+            Producer::Compute(_) => ExtractionPath::Compute,
+            Producer::MeshShaders { .. } => ExtractionPath::MeshShaders,
+        }
+    }
+
+    /// Output buffers of `capacity` for `prepared` (its block count sizes the block list).
+    pub fn buffers(
+        &self,
+        gpu: &Gpu,
+        prepared: &PreparedVolume,
+        capacity: MeshletCapacity,
+    ) -> Result<GpuMeshlets> {
+        GpuMeshlets::new(gpu, block_count(prepared)?, capacity)
+    }
+
+    /// The push constants of an extraction of `prepared` at `iso` into `out`.
+    pub fn params(prepared: &PreparedVolume, iso: f32, out: &GpuMeshlets) -> MeshletParams {
+        MeshletParams {
+            volume_dims: prepared.volume.dims,
+            isovalue: iso,
+            block_dims: prepared.octree.level_dims[0],
+            meshlet_capacity: out.capacity.meshlets,
+            vertex_capacity: out.capacity.vertices,
+            triangle_capacity: out.capacity.triangles,
+        }
+    }
+
+    /// Records one extraction attempt into `out` (counters reset first). After it, `out`'s
+    /// counters say whether it fit ([`Self::extract_into`] reads them and retries).
+    pub fn record(
+        &self,
+        rec: &Recorder,
+        prepared: &PreparedVolume,
+        iso: f32,
+        out: &GpuMeshlets,
+    ) -> Result<()> {
+        let params = Self::params(prepared, iso, out);
+        let push = bytemuck::bytes_of(&params);
+        let empty_list = BlockListHeader {
+            count: 0,
+            args: [0, 1, 1],
+        };
+        rec.update_buffer(&out.blocks, bytemuck::bytes_of(&empty_list));
+        rec.fill_buffer(&out.counters, 0);
+        rec.barrier();
+        let [bx, by, bz] = params.block_dims;
+        let groups = (bx * by * bz).div_ceil(self.occupied.local_size[0]);
+        rec.dispatch_groups(
+            &self.occupied,
+            &[
+                Binding::Buffer(&prepared.octree.nodes),
+                Binding::Buffer(&out.blocks),
+            ],
+            push,
+            spread_groups(groups, self.max_groups_x),
+        );
+        rec.barrier();
+        rec.dispatch_groups(
+            &self.block_args,
+            &[Binding::Buffer(&out.blocks)],
+            &[],
+            [1, 1, 1],
+        );
+        rec.barrier();
+        let bindings = [
+            Binding::Texture {
+                image: &prepared.volume.texture,
+                linear: false,
+            },
+            Binding::Buffer(&out.blocks),
+            Binding::Buffer(&out.counters),
+            Binding::Buffer(&out.meshlets),
+            Binding::Buffer(&out.positions),
+            Binding::Buffer(&out.normals),
+            Binding::Buffer(&out.local_indices),
+            Binding::Buffer(&out.block_meshlets),
+        ];
+        match &self.producer {
+            Producer::Compute(pipeline) => {
+                rec.dispatch_indirect(
+                    pipeline,
+                    &bindings,
+                    push,
+                    &out.blocks,
+                    block_list::ARGS_OFFSET,
+                );
+            }
+            Producer::MeshShaders {
+                pipeline,
+                attachment,
+            } => {
+                rec.begin_rendering(attachment, [0.0; 4]);
+                rec.draw_mesh_tasks_indirect(
+                    pipeline,
+                    &bindings,
+                    push,
+                    &out.blocks,
+                    block_list::ARGS_OFFSET,
+                )?;
+                rec.end_rendering();
+            }
+        }
+        Ok(())
+    }
+
+    /// Extracts the `iso` level set of `prepared` into `out`, growing its buffers and
+    /// extracting again when they overflow; the meshlets stay on the GPU. Returns the totals
+    /// (also kept in `out.totals`).
+    pub fn extract_into(
+        &self,
+        gpu: &Gpu,
+        prepared: &PreparedVolume,
+        iso: f32,
+        out: &mut GpuMeshlets,
+    ) -> Result<MeshletCounters> {
+        self.check(prepared)?;
+        let blocks = block_count(prepared)?;
+        if blocks > out.block_capacity {
+            *out = GpuMeshlets::new(gpu, blocks, out.capacity)?;
+        }
+        for _ in 0..ATTEMPTS {
+            let mut recorded = Ok(());
+            gpu.submit("meshlet extraction", |rec| {
+                recorded = self.record(rec, prepared, iso, out);
+            })?;
+            recorded?;
+            let counters: MeshletCounters =
+                bytemuck::pod_read_unaligned(&gpu.read_buffer(&out.counters)?);
+            if counters.overflow & OVERFLOW_MISMATCH != 0 {
+                return Err(Error::Invalid(
+                    "meshlet extraction: a subblock's extraction counted other vertices or \
+                     triangles than its region analysis"
+                        .into(),
+                ));
+            }
+            let grew = out.grow_for(gpu, &counters)?;
+            if counters.overflow & OVERFLOW_CAPACITY == 0 && !grew {
+                out.totals = counters;
+                return Ok(counters);
+            }
+        }
+        Err(Error::Invalid(format!(
+            "meshlet extraction still overflowed its buffers after {ATTEMPTS} attempts"
+        )))
+    }
+
+    /// Extracts the `iso` level set of `prepared` and reads it back (blocks in the GPU's
+    /// order; see [`MeshletMesh::in_origin_order`]).
+    pub fn extract(&self, gpu: &Gpu, prepared: &PreparedVolume, iso: f32) -> Result<MeshletMesh> {
+        let mut out = self.buffers(gpu, prepared, MeshletCapacity::default())?;
+        self.extract_into(gpu, prepared, iso, &mut out)?;
+        out.read(gpu)
+    }
+
+    fn check(&self, prepared: &PreparedVolume) -> Result<()> {
+        if prepared.volume.scalar != self.scalar {
+            return Err(Error::Invalid(format!(
+                "the meshlet pipelines were built for {} samples, the volume has {}",
+                self.scalar.name(),
+                prepared.volume.scalar.name()
+            )));
+        }
+        Ok(())
+    }
+}
+
+/// Blocks of level 0 of `prepared`'s octree.
+fn block_count(prepared: &PreparedVolume) -> Result<u32> {
+    let [x, y, z] = prepared.octree.level_dims[0];
+    x.checked_mul(y)
+        .and_then(|xy| xy.checked_mul(z))
+        .ok_or_else(|| Error::Invalid("the volume has more than 2^32 blocks".into()))
+}

@@ -1,0 +1,27 @@
+// What the region analysis hands the extraction of one block's meshlets: the task payload on
+// the mesh-shader path, shared memory on the compute path (tessera_data::meshlets::gpu_layout).
+
+// Workgroup size of both stages: one analysis invocation per 2×2×2 eighth of a block
+// (MESHLET_CELLS_PER_INVOCATION cells each).
+#define MESHLET_WORKGROUP (BLOCK_X * BLOCK_Y * BLOCK_Z / MESHLET_CELLS_PER_INVOCATION)
+
+// One subblock of the partition, offsets relative to the block's reservation.
+struct MeshletSubblock {
+    uint codes;      // first Morton code | code count << 16
+    uint offsets;    // first vertex | first triangle << 16
+    uint counts;     // vertices | triangles << 16, as the analysis counted them
+    uint cells;      // first entry in `cells` | occupied cell count << 16
+};
+
+struct MeshletPayload {
+    uint block;          // index into the occupied-block list
+    uint base_meshlet;
+    uint base_vertex;
+    uint base_triangle;  // a multiple of 4: no two meshlets share a word of local indices
+    uint subblock_count;
+    // At most one subblock per eighth.
+    MeshletSubblock subblocks[MESHLET_WORKGROUP];
+    // Morton codes of the block's occupied cells in order, a byte each: the cells of each
+    // subblock are a run of them.
+    uint cells[BLOCK_X * BLOCK_Y * BLOCK_Z / 4u];
+};
