@@ -192,6 +192,7 @@ impl Renderer {
             pre_split,
             ambiguity: AmbiguityRule::parse(ambiguity).map_err(from_data)?,
             layout: LayoutKind::parse(layout).map_err(from_data)?,
+            ..RendererOptions::default()
         };
         Ok(Renderer {
             state: Mutex::new(State {
