@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{assert_clean, assert_same_triangles, checkerboard, gpu, Need, TestGpu};
+use common::{assert_clean, assert_same_triangles, checkerboard, field, gpu, Need, TestGpu};
 use glam::Vec3;
 use tessera::iso::direct::compute::{DirectExtract, TriangleLists};
 use tessera::iso::direct::{Direct, FrameOptions, RasterTarget};
@@ -12,21 +12,9 @@ use tessera::iso::minmax::MinMaxBuilder;
 use tessera::iso::PreparedVolume;
 use tessera::shaders;
 use tessera_data::marching_cubes::{marching_cubes_with, AmbiguityRule};
-use tessera_data::{OrbitCamera, Samples, Volume};
+use tessera_data::{OrbitCamera, Volume};
 
 const RULES: [AmbiguityRule; 2] = [AmbiguityRule::AsymptoticDecider, AmbiguityRule::Vtk];
-
-fn field(name: &str, dims: [u32; 3], f: impl Fn(Vec3) -> f32) -> Volume {
-    let mut v = Vec::new();
-    for z in 0..dims[2] {
-        for y in 0..dims[1] {
-            for x in 0..dims[0] {
-                v.push(f(Vec3::new(x as f32, y as f32, z as f32)));
-            }
-        }
-    }
-    Volume::new(name, dims, [1.0; 3], Samples::F32(v)).unwrap()
-}
 
 /// `(volume, iso)` pairs whose cells are mostly ambiguous: one cell with 1 at two diagonal
 /// corners of a face (saddle value 0.5, so the decider joins them at 0.2 and not at 0.8),

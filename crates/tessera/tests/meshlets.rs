@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{assert_clean, checkerboard, gpu, Need, TestGpu};
+use common::{assert_clean, checkerboard, field, gpu, Need, TestGpu};
 use glam::Vec3;
 use tessera::iso::meshlets::{
     ExtractionPath, GpuMeshlets, MeshletCapacity, MeshletCounters, MeshletExtractor,
@@ -17,22 +17,10 @@ use tessera_data::marching_cubes::AmbiguityRule;
 use tessera_data::meshlets::{extract_meshlets, MeshletMesh};
 use tessera_data::minmax::{MinMaxOctree, BLOCK_CELLS};
 use tessera_data::procedural::{generate, ProceduralKind};
-use tessera_data::{Samples, ScalarType, Volume};
+use tessera_data::{ScalarType, Volume};
 use tessera_gpu::Gpu;
 
 const RULES: [AmbiguityRule; 2] = [AmbiguityRule::AsymptoticDecider, AmbiguityRule::Vtk];
-
-fn field(name: &str, dims: [u32; 3], f: impl Fn(Vec3) -> f32) -> Volume {
-    let mut v = Vec::new();
-    for z in 0..dims[2] {
-        for y in 0..dims[1] {
-            for x in 0..dims[0] {
-                v.push(f(Vec3::new(x as f32, y as f32, z as f32)));
-            }
-        }
-    }
-    Volume::new(name, dims, [1.0; 3], Samples::F32(v)).unwrap()
-}
 
 /// Reproducible values in [0, 1) from a multiplicative hash of the sample position.
 fn noise(name: &str, dims: [u32; 3]) -> Volume {

@@ -131,18 +131,25 @@ pub fn assert_matches_cpu_raster(
     }
 }
 
-/// Every cell has a sign change on every edge: 12 vertices and 4 triangles per cell, so each
-/// block is fully occupied and lists are cut by the vertex limit, not the cell limit.
-pub fn checkerboard(dims: [u32; 3]) -> Volume {
+/// A float volume of spacing 1 whose sample at grid point `p` is `f(p)`.
+pub fn field(name: &str, dims: [u32; 3], f: impl Fn(Vec3) -> f32) -> Volume {
     let mut v = Vec::new();
     for z in 0..dims[2] {
         for y in 0..dims[1] {
             for x in 0..dims[0] {
-                v.push(((x + y + z) % 2) as f32);
+                v.push(f(Vec3::new(x as f32, y as f32, z as f32)));
             }
         }
     }
-    Volume::new("checkerboard", dims, [1.0; 3], Samples::F32(v)).unwrap()
+    Volume::new(name, dims, [1.0; 3], Samples::F32(v)).unwrap()
+}
+
+/// Every cell has a sign change on every edge: 12 vertices and 4 triangles per cell, so each
+/// block is fully occupied and lists are cut by the vertex limit, not the cell limit.
+pub fn checkerboard(dims: [u32; 3]) -> Volume {
+    field("checkerboard", dims, |p| {
+        ((p.x + p.y + p.z) as u32 % 2) as f32
+    })
 }
 
 /// Asserts the two triangle lists are the same multiset: each GPU triangle matches one
