@@ -168,9 +168,21 @@ def area(verts, faces):
     return 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1).sum()
 
 
-def test_marching_cubes_shapes_and_geometry():
+def canonical_triangles(verts, faces, quantum=1e-4):
+    """The triangles as a sorted list of corner tuples, each rotated (not mirrored) to start
+    at its smallest corner: equal for equal surfaces whatever the vertex numbering."""
+    corners = np.round(verts[faces] / quantum).astype(np.int64)
+    out = []
+    for tri in corners:
+        tri = [tuple(c) for c in tri]
+        first = min(range(3), key=lambda i: tri[i])
+        out.append(tuple(tri[first:] + tri[:first]))
+    return sorted(out)
+
+
+def test_marching_cubes_shapes_and_geometry(device):
     distance, radius = ball()
-    verts, faces, normals, values = tessera.marching_cubes(distance, radius)
+    verts, faces, normals, values = tessera.marching_cubes(distance, radius, device=device)
     assert verts.shape[1] == 3 and faces.shape[1] == 3 and normals.shape == verts.shape
     assert values.shape == (len(verts),) and faces.min() >= 0 and faces.max() < len(verts)
     # Every vertex on the sphere (linear interpolation errs inwards by a fraction of a voxel).
@@ -183,9 +195,13 @@ def test_marching_cubes_shapes_and_geometry():
     # The largest sample of each vertex's cell is at or above the level.
     assert np.all(values >= radius)
     # Spacing scales the vertices, as scikit-image's does.
-    scaled, faces2, _, _ = tessera.marching_cubes(distance, radius, spacing=(1, 2, 3))
-    assert np.array_equal(faces, faces2)
-    assert np.allclose(scaled, verts * [1, 2, 3], atol=1e-4)
+    scaled, faces2, _, _ = tessera.marching_cubes(
+        distance, radius, spacing=(1, 2, 3), device=device
+    )
+    # (GPU blocks finish in any order, so vertices are compared sorted.)
+    assert len(faces) == len(faces2)
+    expected = verts * [1, 2, 3]
+    assert np.allclose(scaled[np.lexsort(scaled.T)], expected[np.lexsort(expected.T)], atol=1e-4)
 
 
 @pytest.mark.skipif(importlib.util.find_spec("skimage") is None, reason="scikit-image absent")
@@ -193,19 +209,45 @@ def test_marching_cubes_area_agrees_with_scikit_image():
     from skimage.measure import marching_cubes as skimage_mc
 
     distance, radius = ball(32, 11.3)
-    verts, faces, _, _ = tessera.marching_cubes(distance, radius)
+    verts, faces, _, _ = tessera.marching_cubes(distance, radius, method="cpu")
     sk_verts, sk_faces, _, _ = skimage_mc(distance, radius)
     # Same edge intersections; the tables split ambiguous cells differently, which moves
     # the area by far less than this on a smooth surface.
     assert abs(area(verts, faces) / area(sk_verts, sk_faces) - 1) < 0.005
 
 
+@pytest.mark.parametrize("path", ["compute", "mesh"])
+def test_gpu_meshlets_give_the_cpu_surface(device, path):
+    caps = tessera.info(device)["capabilities"]
+    if path == "mesh" and not caps.get("mesh_shader"):
+        pytest.skip("task/mesh extraction: the device has no VK_EXT_mesh_shader")
+    x, y, z = np.meshgrid(*(np.arange(n, dtype=np.float32) for n in (23, 17, 14)), indexing="ij")
+    gyroid = np.sin(0.55 * x) * np.cos(0.55 * y) + np.sin(0.55 * y) * np.cos(0.55 * z)
+    gyroid += np.sin(0.55 * z) * np.cos(0.55 * x)
+    for dtype in (np.float32, np.float64):
+        field = gyroid.astype(dtype)
+        gpu = tessera.marching_cubes(field, 0.1037, spacing=(1, 1.5, 0.75), method="meshlets",
+                                     path=path, device=device)
+        cpu = tessera.marching_cubes(field, 0.1037, spacing=(1, 1.5, 0.75), method="cpu")
+        # Welded: one vertex per crossed edge, as the CPU's.
+        assert len(gpu[0]) == len(cpu[0]) and len(gpu[1]) == len(cpu[1]) > 500
+        assert canonical_triangles(gpu[0], gpu[1]) == canonical_triangles(cpu[0], cpu[1])
+        # Per vertex, the same normal and cell maximum wherever the vertex is numbered.
+        order_gpu = np.lexsort(gpu[0].T)
+        order_cpu = np.lexsort(cpu[0].T)
+        assert np.array_equal(gpu[0][order_gpu], cpu[0][order_cpu])
+        assert np.allclose(gpu[2][order_gpu], cpu[2][order_cpu], atol=1e-6)
+        assert np.array_equal(gpu[3][order_gpu], cpu[3][order_cpu])
+
+
 def test_marching_cubes_refuses_what_it_cannot_do():
     distance, radius = ball()
-    with pytest.raises(tessera.DataError, match="method 'pmb'"):
-        tessera.marching_cubes(distance, radius, method="pmb")
+    with pytest.raises(tessera.DataError, match="method 'pmbx'"):
+        tessera.marching_cubes(distance, radius, method="pmbx")
+    with pytest.raises(tessera.DataError, match="no 'mesh' path"):
+        tessera.marching_cubes(distance, radius, method="cpu", path="mesh")
     with pytest.raises(tessera.DataError, match="not a number"):
-        tessera.marching_cubes(distance, float("nan"))
+        tessera.marching_cubes(distance, float("nan"), method="cpu")
 
 
 def test_shell_traversal_layouts_draw_the_same_image(device):

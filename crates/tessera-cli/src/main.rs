@@ -46,7 +46,8 @@ enum Command {
     Bench(bench::BenchArgs),
     /// Render a gallery of built-in procedural data sets into a folder.
     Demo(demo::DemoArgs),
-    /// Extract an isosurface to a PLY file, in physical units (runs on the CPU).
+    /// Extract an isosurface to a PLY or OBJ mesh in physical units (meshlets on the GPU, or
+    /// marching cubes on the CPU).
     #[command(allow_negative_numbers = true)]
     Extract(extract::ExtractArgs),
 }
@@ -73,10 +74,7 @@ fn main() {
         Command::Render(a) => render::run(&gpu_options, &a),
         Command::Bench(a) => bench::run(&gpu_options, &a),
         Command::Demo(a) => demo::run(&gpu_options, &a),
-        Command::Extract(_) if cli.device.is_some() || cli.validation => Err(anyhow::anyhow!(
-            "extract runs on the CPU (marching cubes): --device and --validation do not apply"
-        )),
-        Command::Extract(a) => extract::run(&a),
+        Command::Extract(a) => extract::run(&gpu_options, &a),
     };
     if let Err(e) = result {
         eprintln!("error: {e:#}");

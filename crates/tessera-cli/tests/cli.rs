@@ -386,16 +386,18 @@ fn options_a_technique_ignores_are_warned_about() {
     }
     let err = render(&["procedural:sphere:16"]);
     assert!(!err.contains("ignores"), "{err}");
-    // Extraction runs on the CPU: a device is refused rather than ignored.
+    // CPU extraction takes no device: one given is refused rather than ignored.
     let o = tessera(&[
         "--device",
         "7",
         "extract",
         "procedural:sphere:16",
+        "--method",
+        "cpu",
         "-o",
-        out,
+        &out.replace(".png", ".ply"),
     ]);
-    assert_fails_with(&o, &["extract runs on the CPU", "--device"]);
+    assert_fails_with(&o, &["--method cpu runs on the CPU", "--device"]);
     // A volume technique on tets, or the other way round, names what fits.
     let o = tessera(&["render", "procedural:sphere:16", "--technique", "interval"]);
     assert_fails_with(&o, &["interval", "tet", "raymarch or direct"]);

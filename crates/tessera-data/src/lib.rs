@@ -12,6 +12,9 @@ pub mod marching_cubes;
 pub mod mc_ambiguity;
 pub mod mc_tables;
 pub mod mesh;
+pub mod mesh_read;
+#[cfg(test)]
+mod mesh_read_tests;
 pub mod meshlets;
 pub mod minmax;
 pub mod nifti;

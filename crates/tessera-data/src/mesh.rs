@@ -143,6 +143,45 @@ impl TriangleMesh {
         w.write_all(&buf)
     }
 
+    /// Writes a Wavefront OBJ: `v` and `vn` lines (normals only when there are as many as
+    /// positions), then `f` lines of 1-based indices, `a//a` when normals are written. Floats
+    /// are printed in their shortest form that reads back to the same bits.
+    pub fn write_obj(&self, w: &mut impl Write) -> io::Result<()> {
+        writeln!(w, "# written by tessera")?;
+        writeln!(
+            w,
+            "# {} vertices, {} triangles",
+            self.positions.len(),
+            self.triangles.len()
+        )?;
+        for p in &self.positions {
+            writeln!(w, "v {} {} {}", p.x, p.y, p.z)?;
+        }
+        let with_normals = !self.positions.is_empty() && self.normals.len() == self.positions.len();
+        if with_normals {
+            for n in &self.normals {
+                writeln!(w, "vn {} {} {}", n.x, n.y, n.z)?;
+            }
+        }
+        for t in &self.triangles {
+            let [a, b, c] = t.map(|i| u64::from(i) + 1);
+            if with_normals {
+                writeln!(w, "f {a}//{a} {b}//{b} {c}//{c}")?;
+            } else {
+                writeln!(w, "f {a} {b} {c}")?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Writes the mesh as `format`.
+    pub fn write_as(&self, format: MeshFormat, w: &mut impl Write) -> io::Result<()> {
+        match format {
+            MeshFormat::Ply => self.write_ply(w),
+            MeshFormat::Obj => self.write_obj(w),
+        }
+    }
+
     /// The triangles as an orientation-preserving, order-independent list, so that meshes
     /// built by different code (GPU vs CPU, different vertex numbering) compare with `==`.
     ///
@@ -165,6 +204,32 @@ impl TriangleMesh {
             .collect();
         out.sort_unstable();
         out
+    }
+}
+
+/// The mesh files Tessera writes and reads back.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MeshFormat {
+    /// Binary little-endian PLY ([`TriangleMesh::write_ply`]).
+    Ply,
+    /// Wavefront OBJ ([`TriangleMesh::write_obj`]).
+    Obj,
+}
+
+impl MeshFormat {
+    /// The format a file name asks for by its extension (`.ply`, `.obj`, any case).
+    pub fn from_path(path: &std::path::Path) -> crate::error::Result<MeshFormat> {
+        let extension = path
+            .extension()
+            .map(|e| e.to_string_lossy().to_ascii_lowercase());
+        match extension.as_deref() {
+            Some("ply") => Ok(MeshFormat::Ply),
+            Some("obj") => Ok(MeshFormat::Obj),
+            _ => Err(crate::error::DataError::Format {
+                path: path.to_path_buf(),
+                message: "a mesh file must end in .ply or .obj".into(),
+            }),
+        }
     }
 }
 

@@ -3,13 +3,16 @@
 use numpy::ndarray::{Array1, Array2};
 use numpy::{IntoPyArray, PyArray1, PyArray2};
 use pyo3::prelude::*;
-use tessera_data::marching_cubes::marching_cubes_with;
+use tessera::iso::surface::{extract_surface, SurfaceMethod};
 use tessera_data::mc_ambiguity::AmbiguityRule;
 use tessera_data::mesh::TriangleMesh;
 use tessera_data::{IsoValue, Volume as CpuVolume};
 
+use tessera_gpu::{Gpu, GpuOptions};
+
 use crate::data::Volume;
-use crate::errors::{from_data, guarded, DataError};
+use crate::device::Device;
+use crate::errors::{from_data, from_gpu, from_tessera, guarded, DataError};
 
 type Surface<'py> = (
     Bound<'py, PyArray2<f32>>,
@@ -44,13 +47,20 @@ fn rows<T: Copy, const N: usize>(items: &[[T; N]]) -> Array2<T> {
 
 /// The `level` isosurface of `volume` (a `tessera.Volume`, or a 3-D array indexed
 /// `[x, y, z]` with `spacing`) as scikit-image's `marching_cubes` returns it: vertices in
-/// physical units (spacing × index, and a file's origin and axis directions), triangles
-/// wound and normals pointing towards lower values (as VTK and scikit-image's default),
-/// per-vertex normals, and per-vertex the largest sample of its cell. Ambiguous faces are
-/// cut by the asymptotic decider (`ambiguity="vtk"` for VTK's table).
-/// `method="cpu"` is the only extractor offered here so far.
+/// physical units (spacing × index, and a file's origin and axis directions), one per crossed
+/// grid edge, triangles wound and normals pointing towards lower values (as VTK and
+/// scikit-image's default), per-vertex normals, and per-vertex the largest sample of its
+/// cell. Ambiguous faces are cut by the asymptotic decider (`ambiguity="vtk"` for VTK's
+/// table).
+///
+/// `method="meshlets"` extracts on the GPU (paper C's meshlets, welded; `path="mesh"` for
+/// the task/mesh pipeline, else compute) on `device`, or on a device opened for this call
+/// when none is given; `method="cpu"` runs marching cubes on the CPU. Both give the same
+/// vertices and triangles; the GPU's come in the order its blocks finished, which may
+/// change from run to run.
 #[pyfunction]
-#[pyo3(signature = (volume, level, spacing=None, method="cpu", ambiguity="decider"))]
+#[pyo3(signature = (volume, level, spacing=None, method="meshlets", ambiguity="decider", device=None, path="auto"))]
+#[allow(clippy::too_many_arguments)]
 fn marching_cubes<'py>(
     py: Python<'py>,
     volume: &Bound<'py, PyAny>,
@@ -58,12 +68,10 @@ fn marching_cubes<'py>(
     spacing: Option<(f32, f32, f32)>,
     method: &str,
     ambiguity: &str,
+    device: Option<&Device>,
+    path: &str,
 ) -> PyResult<Surface<'py>> {
-    if method != "cpu" {
-        return Err(DataError::new_err(format!(
-            "marching_cubes method '{method}': this build extracts with 'cpu' only"
-        )));
-    }
+    let method = SurfaceMethod::parse(method, path).map_err(from_tessera)?;
     if !level.is_finite() {
         return Err(DataError::new_err(format!("level {level} is not a number")));
     }
@@ -82,12 +90,27 @@ fn marching_cubes<'py>(
             CpuVolume::new("array", dims, [x, y, z], samples).map_err(from_data)?
         }
     };
+    let shared_gpu = device.map(|d| d.gpu.clone());
     let (mesh, values) = py.detach(|| {
         guarded("extracting the isosurface", || {
             let texel = volume.iso_to_texel(IsoValue::Raw(level));
-            let grid = marching_cubes_with(&volume, texel, rule);
-            let values = cell_maxima(&volume, &grid);
-            Ok((grid.transformed(&volume.grid_to_physical()), values))
+            let own_gpu;
+            let locked;
+            let gpu = match (&shared_gpu, method.needs_gpu()) {
+                (_, false) => None,
+                (Some(shared), true) => {
+                    locked = Device::lock(shared);
+                    Some(&*locked)
+                }
+                (None, true) => {
+                    own_gpu = Gpu::new(&GpuOptions::default()).map_err(from_gpu)?;
+                    Some(&own_gpu)
+                }
+            };
+            let surface =
+                extract_surface(gpu, &volume, texel, rule, method).map_err(from_tessera)?;
+            let values = cell_maxima(&volume, &surface.mesh);
+            Ok((surface.mesh.transformed(&volume.grid_to_physical()), values))
         })
     })?;
     let positions: Vec<[f32; 3]> = mesh.positions.iter().map(|p| p.to_array()).collect();

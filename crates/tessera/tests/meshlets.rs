@@ -8,7 +8,7 @@ mod common;
 use common::{assert_clean, checkerboard, field, gpu, Need, TestGpu};
 use glam::Vec3;
 use tessera::iso::meshlets::{
-    ExtractionPath, GpuMeshlets, MeshletCapacity, MeshletCounters, MeshletExtractor,
+    Extraction, ExtractionPath, GpuMeshlets, MeshletCapacity, MeshletCounters, MeshletExtractor,
 };
 use tessera::iso::minmax::MinMaxBuilder;
 use tessera::iso::PreparedVolume;
@@ -102,13 +102,15 @@ fn extract_gpu(
     prepared: &PreparedVolume,
     iso: f32,
     capacity: MeshletCapacity,
-) -> (MeshletMesh, GpuMeshlets) {
+) -> (MeshletMesh, GpuMeshlets, Extraction) {
     let mut out = extractor.buffers(gpu, prepared, capacity).unwrap();
     poison(gpu, &out);
-    extractor
+    let extraction = extractor
         .extract_into(gpu, prepared, iso, &mut out)
         .unwrap();
-    (out.read(gpu).unwrap(), out)
+    assert_eq!(extraction.totals, out.totals);
+    assert!(extraction.gpu_ms > 0.0, "{extraction:?}");
+    (out.read(gpu).unwrap(), out, extraction)
 }
 
 /// Room for exactly what the reference needs (each meshlet's triangles rounded up to 4), so
@@ -210,7 +212,12 @@ fn check_volume(
             volume.name(),
             extractor.path()
         );
-        let (gpu_mesh, out) = extract_gpu(gpu, extractor, &prepared, iso, capacity_for(&cpu_mesh));
+        let (gpu_mesh, out, extraction) =
+            extract_gpu(gpu, extractor, &prepared, iso, capacity_for(&cpu_mesh));
+        assert_eq!(
+            extraction.attempts, 1,
+            "{what}: the exact capacity overflowed"
+        );
         assert_same_meshlets(&what, &gpu_mesh, &cpu_mesh);
         assert_block_meshlets(&what, gpu, volume, iso, &out);
     }
@@ -270,8 +277,9 @@ fn compute_meshlets_of_no_surface_are_none() {
         let mut out = ex
             .buffers(&gpu, &prepared, MeshletCapacity::default())
             .unwrap();
-        let totals = ex.extract_into(&gpu, &prepared, iso, &mut out).unwrap();
-        assert_eq!(totals, MeshletCounters::default(), "iso {iso}");
+        let extraction = ex.extract_into(&gpu, &prepared, iso, &mut out).unwrap();
+        assert_eq!(extraction.totals, MeshletCounters::default(), "iso {iso}");
+        assert_eq!(extraction.attempts, 1);
         let mesh = out.read(&gpu).unwrap();
         assert_eq!(mesh, MeshletMesh::default(), "iso {iso}");
         assert_eq!(
@@ -291,7 +299,11 @@ fn overflowing_buffers_grow_and_give_the_same_meshlets() {
     let ex = extractor(&gpu, ScalarType::F32, rule, ExtractionPath::Compute);
     let prepared = prepare(&gpu, &volume);
     let tiny = MeshletCapacity::new(1, 1, 1);
-    let (gpu_mesh, out) = extract_gpu(&gpu, &ex, &prepared, iso, tiny);
+    let (gpu_mesh, out, extraction) = extract_gpu(&gpu, &ex, &prepared, iso, tiny);
+    assert_eq!(
+        extraction.attempts, 2,
+        "one overflow, then the exact totals"
+    );
     assert!(out.capacity.meshlets as usize >= cpu_mesh.meshlets.len());
     assert!(out.capacity.vertices as usize >= cpu_mesh.vertex_count());
     assert_same_meshlets("grown from one of each", &gpu_mesh, &cpu_mesh);

@@ -1,7 +1,7 @@
 //! The meshlet format every meshlet producer writes (the CPU references here, later the GPU
 //! paths and `extract`'s meshlet output) and every consumer reads.
 
-use std::collections::HashSet;
+use std::collections::{HashMap, HashSet};
 
 use glam::Vec3;
 
@@ -80,6 +80,35 @@ impl MeshletMesh {
         }
     }
 
+    /// The same surface as one welded indexed mesh: vertices at the same position (the
+    /// copies of a border vertex in each meshlet that uses it) become one, keeping the first
+    /// copy's normal. Every producer gives a crossed grid edge one position, bit for bit, so
+    /// this is the vertex list of [`crate::marching_cubes`] up to order, except that vertices
+    /// of distinct edges meeting at a sample that equals the isovalue merge too.
+    pub fn welded(&self) -> TriangleMesh {
+        let mut first_at: HashMap<[u32; 3], u32> = HashMap::with_capacity(self.positions.len());
+        let mut welded = TriangleMesh::default();
+        let remap: Vec<u32> = self
+            .positions
+            .iter()
+            .enumerate()
+            .map(|(i, p)| {
+                *first_at.entry(p.map(f32::to_bits)).or_insert_with(|| {
+                    welded.positions.push(Vec3::from(*p));
+                    welded
+                        .normals
+                        .push(Vec3::from(self.normals.get(i).copied().unwrap_or_default()));
+                    (welded.positions.len() - 1) as u32
+                })
+            })
+            .collect();
+        welded.triangles = self
+            .global_triangles()
+            .map(|t| t.map(|i| remap[i as usize]))
+            .collect();
+        welded
+    }
+
     /// Triangles as indices into the vertex arrays, those out of range left out.
     fn global_triangles(&self) -> impl Iterator<Item = [u32; 3]> + '_ {
         self.meshlets.iter().flat_map(move |m| {
@@ -112,6 +141,17 @@ impl MeshletMesh {
     /// that sample for every edge through it); marching cubes keeps those apart too, and this
     /// check reports them as repeated.
     pub fn validate(&self) -> Result<()> {
+        self.check(true)
+    }
+
+    /// What every consumer needs to index safely, without [`Self::validate`]'s checks of
+    /// the producer (repeated positions, bounds): one normal per position, the limits,
+    /// ranges inside the arrays, local indices inside their meshlet, no unused vertex.
+    pub fn validate_structure(&self) -> Result<()> {
+        self.check(false)
+    }
+
+    fn check(&self, producer: bool) -> Result<()> {
         let invalid = |what: String| Err(DataError::Invalid(format!("meshlet mesh: {what}")));
         if self.normals.len() != self.positions.len() {
             return invalid(format!(
@@ -127,14 +167,14 @@ impl MeshletMesh {
             ));
         }
         for (k, m) in self.meshlets.iter().enumerate() {
-            if let Err(why) = self.check_meshlet(m) {
+            if let Err(why) = self.check_meshlet(m, producer) {
                 return invalid(format!("meshlet {k}: {why}"));
             }
         }
         Ok(())
     }
 
-    fn check_meshlet(&self, m: &Meshlet) -> std::result::Result<(), String> {
+    fn check_meshlet(&self, m: &Meshlet, producer: bool) -> std::result::Result<(), String> {
         if m.vertex_count > MAX_VERTICES || m.triangle_count > MAX_TRIANGLES {
             return Err(format!(
                 "{} vertices and {} triangles exceed the limits {MAX_VERTICES} and \
@@ -160,6 +200,9 @@ impl MeshletMesh {
         }
         if let Some(i) = used.iter().position(|u| !u) {
             return Err(format!("vertex {i} is used by no triangle"));
+        }
+        if !producer {
+            return Ok(());
         }
         let mut seen = HashSet::with_capacity(vertices.len());
         for (i, p) in self.positions[vertices].iter().enumerate() {

@@ -10,9 +10,11 @@
 //! | `partition` | region analysis: a block into subblocks that each fit a meshlet |
 //! | `extract` | the extraction: occupied blocks → partitions → meshlets |
 //! | `offline` | meshoptimizer meshlets of a welded mesh |
+//! | `file` | the meshlet file `extract --meshlets` writes, and its reader |
 //! | `gpu_layout` | (documentation only) the buffers and order the GPU paths will write |
 
 pub mod extract;
+pub mod file;
 pub mod format;
 pub mod gpu_layout;
 pub mod morton;
@@ -21,11 +23,14 @@ pub mod partition;
 pub mod subblock;
 
 pub use extract::{extract_meshlets, extract_meshlets_physical};
+pub use file::{read_meshlet_file, write_meshlet_file, MeshletFile, MeshletUnits};
 pub use format::{Meshlet, MeshletMesh, MAX_OCCUPIED_CELLS, MAX_TRIANGLES, MAX_VERTICES};
 pub use offline::offline_meshlets;
 
 #[cfg(test)]
 mod extract_tests;
+#[cfg(test)]
+mod file_tests;
 #[cfg(test)]
 mod format_tests;
 #[cfg(test)]

@@ -4,6 +4,7 @@ pub mod direct;
 pub mod meshlets;
 pub mod minmax;
 pub mod raymarch;
+pub mod surface;
 
 use crate::error::{Error, Result};
 use crate::gpu_volume::GpuVolume;

@@ -21,6 +21,16 @@ pub struct MeshletCounters {
     pub overflow: u32,
 }
 
+impl MeshletCounters {
+    /// Bytes of the surface these totals describe: descriptors, f32 positions and normals,
+    /// 8-bit local indices (the paper's memory footprint).
+    pub fn stored_bytes(&self) -> u64 {
+        u64::from(self.meshlets) * size_of::<Meshlet>() as u64
+            + u64::from(self.vertices) * 24
+            + u64::from(self.triangles) * 3
+    }
+}
+
 /// A block's reservation passed a capacity (`MESHLET_OVERFLOW_CAPACITY`).
 pub const OVERFLOW_CAPACITY: u32 = 1;
 /// An extraction counted otherwise than its region analysis (`MESHLET_OVERFLOW_MISMATCH`).

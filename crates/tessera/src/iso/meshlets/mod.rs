@@ -34,7 +34,7 @@ use tessera_data::meshlets::MeshletMesh;
 use tessera_data::ScalarType;
 use tessera_gpu::{
     spread_groups, vk, Binding, Gpu, GpuError, Image, Pipeline, Recorder, RenderTargets,
-    ShaderCompiler, Slot,
+    ShaderCompiler, Slot, Timer,
 };
 
 /// Push constants of every meshlet extraction pass (`params.glsl`).
@@ -57,6 +57,17 @@ pub enum ExtractionPath {
     /// The paper's task (region analysis) and mesh (extraction) stages; needs
     /// `VK_EXT_mesh_shader`.
     MeshShaders,
+}
+
+/// One finished extraction.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Extraction {
+    /// What it reserved (also kept in the output's `totals`).
+    pub totals: MeshletCounters,
+    /// GPU time of the attempt that fit, from timestamps around its passes.
+    pub gpu_ms: f64,
+    /// Attempts made, the last the one that fit.
+    pub attempts: u32,
 }
 
 /// Extraction attempts before giving up: the first may overflow, the second is sized by the
@@ -277,24 +288,27 @@ impl MeshletExtractor {
     }
 
     /// Extracts the `iso` level set of `prepared` into `out`, growing its buffers and
-    /// extracting again when they overflow; the meshlets stay on the GPU. Returns the totals
-    /// (also kept in `out.totals`).
+    /// extracting again when they overflow; the meshlets stay on the GPU.
     pub fn extract_into(
         &self,
         gpu: &Gpu,
         prepared: &PreparedVolume,
         iso: f32,
         out: &mut GpuMeshlets,
-    ) -> Result<MeshletCounters> {
+    ) -> Result<Extraction> {
         self.check(prepared)?;
         let blocks = block_count(prepared)?;
         if blocks > out.block_capacity {
             *out = GpuMeshlets::new(gpu, blocks, out.capacity)?;
         }
-        for _ in 0..ATTEMPTS {
+        let mut timer = Timer::new(gpu, 1)?;
+        for attempt in 1..=ATTEMPTS as u32 {
+            timer.reset(gpu);
             let mut recorded = Ok(());
             gpu.submit("meshlet extraction", |rec| {
-                recorded = self.record(rec, prepared, iso, out);
+                recorded = timer.scope(rec, "extraction", |rec| {
+                    self.record(rec, prepared, iso, out)
+                });
             })?;
             recorded?;
             let counters: MeshletCounters =
@@ -309,7 +323,12 @@ impl MeshletExtractor {
             let grew = out.grow_for(gpu, &counters)?;
             if counters.overflow & OVERFLOW_CAPACITY == 0 && !grew {
                 out.totals = counters;
-                return Ok(counters);
+                let gpu_ms = timer.read_ms(gpu)?.iter().map(|(_, ms)| ms).sum();
+                return Ok(Extraction {
+                    totals: counters,
+                    gpu_ms,
+                    attempts: attempt,
+                });
             }
         }
         Err(Error::Invalid(format!(
