@@ -109,6 +109,25 @@ pub fn meshlet_defines(scalar: ScalarType, rule: AmbiguityRule) -> Vec<(String, 
     d
 }
 
+/// Defines for the meshlet draw (`iso/meshlet_draw`): the meshlet limits, the task
+/// workgroup's size and the codes of the culling boxes.
+pub fn meshlet_draw_defines() -> Vec<(String, String)> {
+    use crate::iso::meshlet_draw::{MeshletBounds, TASK_SIZE};
+    use tessera_data::meshlets::{MAX_TRIANGLES, MAX_VERTICES};
+    let mut d = common_defines();
+    for (name, value) in [
+        ("MESHLET_MAX_VERTICES", MAX_VERTICES),
+        ("MESHLET_MAX_TRIANGLES", MAX_TRIANGLES),
+        ("MESHLET_DRAW_TASK_SIZE", TASK_SIZE),
+        ("MESHLET_BOUNDS_EXPLICIT", MeshletBounds::Explicit.code()),
+        ("MESHLET_BOUNDS_IMPLICIT", MeshletBounds::Implicit.code()),
+        ("MESHLET_BOUNDS_NONE", MeshletBounds::None.code()),
+    ] {
+        d.push((name.into(), format!("{value}u")));
+    }
+    d
+}
+
 /// The asteroid field's constants (`tet/interval/sdf.glsl`), from its CPU reference.
 pub fn asteroid_defines() -> Vec<(String, String)> {
     use tessera_data::tet::asteroids as a;

@@ -31,6 +31,26 @@ const COMMON: &[(&str, &str)] = &[
         include_str!("iso/meshlets/params.glsl"),
     ),
     (
+        "common/grid_world.glsl",
+        include_str!("shaders/common/grid_world.glsl"),
+    ),
+    (
+        "iso/meshlets/format.glsl",
+        include_str!("iso/meshlets/format.glsl"),
+    ),
+    (
+        "iso/meshlet_draw/params.glsl",
+        include_str!("iso/meshlet_draw/params.glsl"),
+    ),
+    (
+        "iso/meshlet_draw/buffers.glsl",
+        include_str!("iso/meshlet_draw/buffers.glsl"),
+    ),
+    (
+        "iso/meshlet_draw/payload.glsl",
+        include_str!("iso/meshlet_draw/payload.glsl"),
+    ),
+    (
         "iso/meshlets/buffers.glsl",
         include_str!("iso/meshlets/buffers.glsl"),
     ),

@@ -1,6 +1,7 @@
 //! Isosurface techniques over regular volumes (papers C and D and their references).
 
 pub mod direct;
+pub mod meshlet_draw;
 pub mod meshlets;
 pub mod minmax;
 pub mod raymarch;

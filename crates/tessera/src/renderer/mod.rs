@@ -22,6 +22,7 @@
 
 mod interval;
 mod iso;
+mod meshlets;
 mod param;
 mod shell;
 
@@ -48,6 +49,12 @@ pub enum Technique {
     Raymarch,
     /// Marching cubes straight to a rasterizer (paper D): task/mesh shaders or compute.
     Direct,
+    /// Persistent meshlets extracted on the GPU when the isovalue changes, then drawn
+    /// (paper C): task/mesh shaders or compute.
+    Meshlets,
+    /// meshoptimizer meshlets of the CPU marching-cubes mesh, drawn like `meshlets` (paper
+    /// C's offline reference).
+    Offline,
     /// Interval shading of tet meshes (paper A): mesh shaders or compute.
     Interval,
     /// Ray-traced shell traversal of tet meshes (paper B): compute.
@@ -61,9 +68,11 @@ pub enum Technique {
 }
 
 impl Technique {
-    pub const ALL: [Technique; 7] = [
+    pub const ALL: [Technique; 9] = [
         Technique::Raymarch,
         Technique::Direct,
+        Technique::Meshlets,
+        Technique::Offline,
         Technique::Interval,
         Technique::Shell,
         Technique::ParamPoints,
@@ -75,6 +84,8 @@ impl Technique {
         match self {
             Technique::Raymarch => "raymarch",
             Technique::Direct => "direct",
+            Technique::Meshlets => "meshlets",
+            Technique::Offline => "offline",
             Technique::Interval => "interval",
             Technique::Shell => "shell",
             Technique::ParamPoints => "param-points",
@@ -96,7 +107,9 @@ impl Technique {
     /// The kind of data the technique draws.
     pub fn draws(self) -> DataKind {
         match self {
-            Technique::Raymarch | Technique::Direct => DataKind::Volume,
+            Technique::Raymarch | Technique::Direct | Technique::Meshlets | Technique::Offline => {
+                DataKind::Volume
+            }
             Technique::Interval | Technique::Shell => DataKind::Tets,
             Technique::ParamPoints | Technique::ParamTess | Technique::ShRaytrace => {
                 DataKind::Param
@@ -193,7 +206,9 @@ impl Technique {
     pub fn reads_options(self) -> &'static [&'static str] {
         match self {
             Technique::Raymarch => &[],
-            Technique::Direct => &["path", "culling", "ambiguity"],
+            Technique::Direct | Technique::Meshlets | Technique::Offline => {
+                &["path", "culling", "ambiguity"]
+            }
             Technique::Interval => &["path", "interval"],
             Technique::Shell => &["layout"],
             Technique::ParamPoints => &["supersample", "pre_split"],
@@ -238,7 +253,11 @@ pub fn path_for(caps: &Capabilities, technique: Technique, choice: PathChoice) -
             Ok(Path::Compute)
         }
         Technique::ParamTess => Ok(Path::Graphics),
-        Technique::Direct => crate::path::choose(caps, choice, measured.as_ref()),
+        // The meshlet draw needs what direct's two paths need: task and mesh shaders, or the
+        // compute rasterizer's 64-bit atomics.
+        Technique::Direct | Technique::Meshlets | Technique::Offline => {
+            crate::path::choose(caps, choice, measured.as_ref())
+        }
         Technique::Interval => crate::path::choose_for(
             caps,
             &crate::tet::interval::path_support(caps),
@@ -356,6 +375,9 @@ pub fn create(
     Ok(match technique {
         Technique::Raymarch | Technique::Direct => {
             Box::new(iso::IsoRenderer::new(gpu, technique, options)?)
+        }
+        Technique::Meshlets | Technique::Offline => {
+            Box::new(meshlets::MeshletRenderer::new(gpu, technique, options)?)
         }
         Technique::Interval => Box::new(interval::IntervalRenderer::new(gpu, options)?),
         Technique::Shell => Box::new(shell::ShellRenderer::new(options)),

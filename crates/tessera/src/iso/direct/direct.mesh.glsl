@@ -9,6 +9,7 @@
 #include "common/volume.glsl"
 #include "common/mc_tables.glsl"
 #include "common/mc_cell.glsl"
+#include "common/grid_world.glsl"
 #include "iso/direct/payload.glsl"
 #include "iso/direct/params.glsl"
 
@@ -74,9 +75,8 @@ void main() {
         mc_edge_vertex(volume_tex, cell, e, iso, dims, p, n);
         uint v = v0 + bitCount(edges & ((1u << e) - 1u));
         gl_MeshVerticesEXT[v].gl_Position = view_grid_to_clip() * vec4(p, 1.0);
-        vec3 nw = n / params.grid_to_world.xyz;
-        normal_world[v] = dot(nw, nw) > 0.0 ? normalize(nw) : nw;
-        position_world[v] = (p - 0.5 * vec3(dims - 1u)) * params.grid_to_world.xyz;
+        normal_world[v] = grid_normal_to_world(n, params.grid_to_world.xyz);
+        position_world[v] = grid_point_to_world(p, dims, params.grid_to_world.xyz);
     }
     uint t0 = triangle_offsets[me];
     for (uint k = 0u; k < triangles; ++k) {

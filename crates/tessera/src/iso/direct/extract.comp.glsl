@@ -9,6 +9,7 @@
 #include "common/volume.glsl"
 #include "common/mc_tables.glsl"
 #include "common/mc_cell.glsl"
+#include "common/grid_world.glsl"
 #include "iso/direct/params.glsl"
 #include "iso/direct/block_list.glsl"
 #include "iso/direct/attributes.glsl"
@@ -89,7 +90,6 @@ void main() {
     barrier();
 
     uint slot = base + prefix[me];
-    vec3 centre = 0.5 * vec3(dims - 1u);
     for (uint k = 0u; k < PER_THREAD; ++k) {
         uint row = rows[k];
         uint n = mc_tri_count(row);
@@ -107,11 +107,10 @@ void main() {
                 vec3 p;
                 vec3 normal;
                 mc_edge_vertex(volume_tex, cell, mc_tri_edge(row, 3u * t + j), iso, dims, p, normal);
-                vec3 nw = normal / params.grid_to_world.xyz;
                 triangles[slot].clip[j] = params.grid_to_clip * vec4(p, 1.0);
                 float tag = j == 0u ? uintBitsToFloat(block_id) : 0.0;  // bits kept: no arithmetic
-                attributes[slot].normal_world[j] = vec4(dot(nw, nw) > 0.0 ? normalize(nw) : nw, tag);
-                attributes[slot].position_world[j] = vec4((p - centre) * params.grid_to_world.xyz, 1.0);
+                attributes[slot].normal_world[j] = vec4(grid_normal_to_world(normal, params.grid_to_world.xyz), tag);
+                attributes[slot].position_world[j] = vec4(grid_point_to_world(p, dims, params.grid_to_world.xyz), 1.0);
             }
         }
     }

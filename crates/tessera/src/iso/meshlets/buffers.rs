@@ -139,6 +139,37 @@ impl GpuMeshlets {
         })
     }
 
+    /// `mesh` uploaded in the layout an extraction writes (no block list), to be drawn like
+    /// extracted meshlets: the offline reference's meshlets, or meshlets read from a file.
+    pub fn upload(gpu: &Gpu, mesh: &MeshletMesh) -> Result<GpuMeshlets> {
+        mesh.validate_structure()?;
+        let too_many = || Error::Invalid("more than 2^32 meshlets, vertices or triangles".into());
+        let count = |n: usize| u32::try_from(n).map_err(|_| too_many());
+        let totals = MeshletCounters {
+            meshlets: count(mesh.meshlets.len())?,
+            vertices: count(mesh.positions.len())?,
+            triangles: count(mesh.triangle_count())?,
+            overflow: 0,
+        };
+        let capacity = MeshletCapacity::new(totals.meshlets, totals.vertices, totals.triangles);
+        let mut out = GpuMeshlets::new(gpu, 1, capacity)?;
+        let mut indices = mesh.local_indices.clone();
+        indices.resize(indices.len().next_multiple_of(4), 0);
+        for (buffer, bytes) in [
+            (&out.counters, bytemuck::bytes_of(&totals)),
+            (&out.meshlets, bytemuck::cast_slice(&mesh.meshlets)),
+            (&out.positions, bytemuck::cast_slice(&mesh.positions)),
+            (&out.normals, bytemuck::cast_slice(&mesh.normals)),
+            (&out.local_indices, &indices[..]),
+        ] {
+            if !bytes.is_empty() {
+                gpu.write_buffer(buffer, bytes)?;
+            }
+        }
+        out.totals = totals;
+        Ok(out)
+    }
+
     /// Replaces the output buffers by larger ones when `counters` did not fit; whether it did.
     pub(super) fn grow_for(&mut self, gpu: &Gpu, counters: &MeshletCounters) -> Result<bool> {
         if self.capacity.holds(counters) {

@@ -1,0 +1,56 @@
+// What every meshlet draw pass reads: the meshlet buffers an extraction (or an upload) left,
+// and the frame's draw counters. Needs iso/meshlet_draw/params.glsl.
+#include "iso/meshlets/format.glsl"
+
+layout(binding = 0) readonly buffer Counters { MeshletCounters counters; };
+layout(binding = 1) readonly buffer Meshlets { Meshlet meshlets[]; };
+layout(binding = 2) readonly buffer Positions { float positions[]; };
+layout(binding = 3) readonly buffer Normals { float normals[]; };
+layout(binding = 4) readonly buffer LocalIndices { uint local_index_words[]; };
+// Meshlets that passed culling and the triangles they hold (all of them, also those a full
+// compute list could not take).
+layout(binding = 5) buffer DrawCounters { uint meshlets_drawn; uint triangles_drawn; };
+
+vec3 meshlet_position(uint v) {
+    return vec3(positions[3u * v], positions[3u * v + 1u], positions[3u * v + 2u]);
+}
+
+vec3 meshlet_normal(uint v) {
+    return vec3(normals[3u * v], normals[3u * v + 1u], normals[3u * v + 2u]);
+}
+
+// Local index `i` of the meshlet mesh: bytes, four to a word.
+uint meshlet_local_index(uint i) {
+    return (local_index_words[i >> 2u] >> (8u * (i & 3u))) & 0xffu;
+}
+
+// The meshlet this workgroup handles, counted over a grid of workgroups spread in x and y.
+uint meshlet_group() {
+    return gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
+}
+
+// Whether meshlet `m` may reach the view: false only when the eight corners of its box (grid
+// units) all lie beyond one clip plane, so no triangle inside the box is culled that the
+// rasterizer would draw. The implicit box is its subblock's cells; a meshlet without one (the
+// offline reference's) falls back to its explicit AABB.
+bool meshlet_in_frustum(Meshlet m) {
+    if (params.bounds == MESHLET_BOUNDS_NONE) {
+        return true;
+    }
+    vec3 lo = vec3(m.aabb_min[0], m.aabb_min[1], m.aabb_min[2]);
+    vec3 hi = vec3(m.aabb_max[0], m.aabb_max[1], m.aabb_max[2]);
+    if (params.bounds == MESHLET_BOUNDS_IMPLICIT && m.subblock_size[0] != 0u) {
+        lo = vec3(m.subblock_origin[0], m.subblock_origin[1], m.subblock_origin[2]);
+        hi = lo + vec3(m.subblock_size[0], m.subblock_size[1], m.subblock_size[2]);
+    }
+    uint outside_all = 63u;
+    for (uint c = 0u; c < 8u; ++c) {
+        vec3 corner = mix(lo, hi, vec3(uvec3(c, c >> 1u, c >> 2u) & 1u));
+        vec4 clip = params.grid_to_clip * vec4(corner, 1.0);
+        uint outside = (clip.x < -clip.w ? 1u : 0u) | (clip.x > clip.w ? 2u : 0u)
+                     | (clip.y < -clip.w ? 4u : 0u) | (clip.y > clip.w ? 8u : 0u)
+                     | (clip.z < 0.0 ? 16u : 0u) | (clip.z > clip.w ? 32u : 0u);
+        outside_all &= outside;
+    }
+    return outside_all == 0u;
+}

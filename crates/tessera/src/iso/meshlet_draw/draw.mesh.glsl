@@ -1,0 +1,35 @@
+#version 460
+// One meshlet: its vertices projected, with the world-space attributes the fragment stage
+// shades, and its triangles from the 8-bit local indices.
+#extension GL_EXT_mesh_shader : require
+#include "common/grid_world.glsl"
+#include "iso/meshlet_draw/params.glsl"
+#include "iso/meshlet_draw/buffers.glsl"
+#include "iso/meshlet_draw/payload.glsl"
+
+layout(local_size_x = 32) in;
+layout(triangles, max_vertices = MESHLET_MAX_VERTICES, max_primitives = MESHLET_MAX_TRIANGLES) out;
+layout(location = 0) out vec3 normal_world[];
+layout(location = 1) out vec3 position_world[];
+
+void main() {
+    Meshlet m = meshlets[payload.meshlet_ids[gl_WorkGroupID.x]];
+    SetMeshOutputsEXT(m.vertex_count, m.triangle_count);
+    uint me = gl_LocalInvocationIndex;
+    vec3 grid_to_world = params.grid_to_world.xyz;
+    for (uint v = me; v < m.vertex_count; v += 32u) {
+        vec3 p = meshlet_position(m.vertex_offset + v);
+        gl_MeshVerticesEXT[v].gl_Position = params.grid_to_clip * vec4(p, 1.0);
+        normal_world[v] = grid_normal_to_world(meshlet_normal(m.vertex_offset + v), grid_to_world);
+        position_world[v] = grid_point_to_world(p, params.dims, grid_to_world);
+    }
+    for (uint t = me; t < m.triangle_count; t += 32u) {
+        uint first = 3u * (m.triangle_offset + t);
+        gl_PrimitiveTriangleIndicesEXT[t] = uvec3(meshlet_local_index(first),
+                                                  meshlet_local_index(first + 1u),
+                                                  meshlet_local_index(first + 2u));
+    }
+    if (me == 0u) {
+        atomicAdd(triangles_drawn, m.triangle_count);
+    }
+}

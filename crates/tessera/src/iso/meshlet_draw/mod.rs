@@ -1,0 +1,316 @@
+//! Drawing persistent meshlets (paper C §3.3): an extraction's [`GpuMeshlets`] (or meshlets
+//! uploaded from the CPU, the offline reference's) drawn from any view without extracting
+//! again, each meshlet first tested against the view frustum by its box.
+//!
+//! * Graphics path, the paper's: a task workgroup tests 32 meshlets and launches one mesh
+//!   workgroup per survivor, which projects its vertices and emits its triangles from the
+//!   8-bit local indices; a fragment shader shades them (`draw.*.glsl`).
+//! * Compute path: one workgroup per meshlet tests it and writes its triangles with their
+//!   shading attributes into the frame's list (`triangles.comp.glsl`), which the shared
+//!   compute rasterizer draws and `direct`'s resolve shades, so the two paths and `direct`
+//!   shade alike.
+//!
+//! The box is the explicit AABB of the meshlet's vertices, or the implicit one of the
+//! subblock it was extracted from (no bounds stored; the paper's cheaper choice); culling
+//! only drops meshlets wholly beyond one clip plane, so it never changes the image.
+
+use crate::builtin_shader;
+use crate::config::meshlet_draw_defines;
+use crate::error::{Error, Result};
+use crate::iso::direct::compute::{ComputeTarget, ResolveParams};
+use crate::iso::direct::{RasterTarget, COLOR_FORMAT, DEPTH_FORMAT};
+use crate::iso::meshlets::GpuMeshlets;
+use crate::path::Path;
+use crate::raster::ComputeRasterizer;
+use crate::target::Target;
+use bytemuck::{Pod, Zeroable};
+use tessera_data::shading::BACKGROUND;
+use tessera_data::{GridFrame, View};
+use tessera_gpu::{
+    spread_groups, vk, Binding, Buffer, Gpu, MemoryLocation, Pipeline, Recorder, RenderTargets,
+    ShaderCompiler, Slot,
+};
+
+/// Meshlets one task workgroup tests (one invocation each).
+pub const TASK_SIZE: u32 = 32;
+
+/// The box a meshlet is frustum-culled by.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum MeshletBounds {
+    /// The AABB of its vertices, stored with it.
+    #[default]
+    Explicit,
+    /// The cells of the subblock it came from (the explicit box for meshlets without one).
+    Implicit,
+    /// No culling.
+    None,
+}
+
+impl MeshletBounds {
+    pub const ALL: [MeshletBounds; 3] = [
+        MeshletBounds::Explicit,
+        MeshletBounds::Implicit,
+        MeshletBounds::None,
+    ];
+
+    /// The value `params.bounds` carries (`MESHLET_BOUNDS_*`).
+    pub fn code(self) -> u32 {
+        match self {
+            MeshletBounds::Explicit => 0,
+            MeshletBounds::Implicit => 1,
+            MeshletBounds::None => 2,
+        }
+    }
+}
+
+/// Push constants of every draw pass (`params.glsl`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct MeshletDrawParams {
+    pub grid_to_clip: [[f32; 4]; 4],
+    pub eye_world: [f32; 3],
+    /// [`MeshletBounds::code`].
+    pub bounds: u32,
+    pub grid_to_world: [f32; 4],
+    pub light: [f32; 4],
+    pub dims: [u32; 3],
+    /// Compute path: triangles the frame's list holds.
+    pub triangle_capacity: u32,
+}
+
+impl MeshletDrawParams {
+    /// The draw of meshlets of a volume of `dims` samples and `spacing` seen in `view`.
+    pub fn new(
+        view: &View,
+        dims: [u32; 3],
+        spacing: [f32; 3],
+        bounds: MeshletBounds,
+        triangle_capacity: u32,
+    ) -> MeshletDrawParams {
+        let frame = GridFrame::new(dims, spacing);
+        MeshletDrawParams {
+            grid_to_clip: view.grid_to_clip(&frame).to_cols_array_2d(),
+            eye_world: view.eye.to_array(),
+            bounds: bounds.code(),
+            grid_to_world: frame.grid_to_world.extend(0.0).to_array(),
+            light: view.light.extend(0.0).to_array(),
+            dims,
+            triangle_capacity,
+        }
+    }
+}
+
+/// What the last frame drew.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Pod, Zeroable)]
+#[repr(C)]
+pub struct DrawCounters {
+    /// Meshlets that passed culling.
+    pub meshlets: u32,
+    /// Their triangles.
+    pub triangles: u32,
+}
+
+enum Passes {
+    Graphics(Pipeline),
+    Compute {
+        triangles: Pipeline,
+        rasterizer: ComputeRasterizer,
+        resolve: Pipeline,
+    },
+}
+
+/// The draw pipelines of one path.
+pub struct MeshletDraw {
+    passes: Passes,
+    counters: Buffer,
+    max_groups_x: u32,
+}
+
+const READ_SLOTS: usize = 6;
+
+impl MeshletDraw {
+    pub fn new(gpu: &Gpu, compiler: &ShaderCompiler, path: Path) -> Result<MeshletDraw> {
+        let defines = meshlet_draw_defines();
+        let passes = match path {
+            Path::Graphics => {
+                if !(gpu.caps().mesh_shader && gpu.caps().task_shader) {
+                    return Err(Error::Gpu(tessera_gpu::GpuError::Unsupported {
+                        device: gpu.caps().device_name.clone(),
+                        what: "task and mesh shaders (VK_EXT_mesh_shader)".into(),
+                    }));
+                }
+                let task = compiler.compile(&builtin_shader!("draw.task.glsl"), &defines)?;
+                let mesh = compiler.compile(&builtin_shader!("draw.mesh.glsl"), &defines)?;
+                let frag = compiler.compile(&builtin_shader!("draw.frag.glsl"), &defines)?;
+                Passes::Graphics(gpu.graphics_pipeline_for(
+                    "meshlet draw",
+                    &[&task, &mesh, &frag],
+                    &[Slot::StorageBuffer; READ_SLOTS],
+                    &RenderTargets::color_depth(COLOR_FORMAT, DEPTH_FORMAT),
+                )?)
+            }
+            Path::Compute => {
+                let triangles =
+                    compiler.compile(&builtin_shader!("triangles.comp.glsl"), &defines)?;
+                let resolve =
+                    compiler.compile(&builtin_shader!("../direct/resolve.comp.glsl"), &defines)?;
+                Passes::Compute {
+                    triangles: gpu.compute_pipeline(
+                        "meshlet triangles",
+                        &triangles,
+                        &[Slot::StorageBuffer; READ_SLOTS + 3],
+                    )?,
+                    rasterizer: ComputeRasterizer::new(gpu, compiler)?,
+                    resolve: gpu.compute_pipeline(
+                        "meshlet resolve",
+                        &resolve,
+                        &[Slot::StorageBuffer; 4],
+                    )?,
+                }
+            }
+        };
+        let counters = gpu.create_buffer(
+            "meshlet draw counters",
+            std::mem::size_of::<DrawCounters>() as u64,
+            vk::BufferUsageFlags::STORAGE_BUFFER
+                | vk::BufferUsageFlags::TRANSFER_SRC
+                | vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuOnly,
+        )?;
+        Ok(MeshletDraw {
+            passes,
+            counters,
+            max_groups_x: gpu.caps().max_compute_workgroup_count[0],
+        })
+    }
+
+    pub fn path(&self) -> Path {
+        match self.passes {
+            Passes::Graphics(_) => Path::Graphics,
+            Passes::Compute { .. } => Path::Compute,
+        }
+    }
+
+    fn read_bindings<'a>(&'a self, meshlets: &'a GpuMeshlets) -> [Binding<'a>; READ_SLOTS] {
+        [
+            Binding::Buffer(&meshlets.counters),
+            Binding::Buffer(&meshlets.meshlets),
+            Binding::Buffer(&meshlets.positions),
+            Binding::Buffer(&meshlets.normals),
+            Binding::Buffer(&meshlets.local_indices),
+            Binding::Buffer(&self.counters),
+        ]
+    }
+
+    /// Records the graphics path's draw of `meshlets` (its totals say how many) into `target`.
+    pub fn record_graphics(
+        &self,
+        rec: &Recorder,
+        meshlets: &GpuMeshlets,
+        target: &RasterTarget,
+        params: &MeshletDrawParams,
+    ) -> Result<()> {
+        let Passes::Graphics(pipeline) = &self.passes else {
+            return Err(Error::Invalid(
+                "meshlet draw: built for the compute path".into(),
+            ));
+        };
+        rec.fill_buffer(&self.counters, 0);
+        rec.barrier();
+        rec.discard_to_general(&target.color);
+        rec.discard_to_general(&target.depth);
+        rec.begin_rendering_with_depth(&target.color, Some(&target.depth), BACKGROUND);
+        let groups = meshlets.totals.meshlets.div_ceil(TASK_SIZE);
+        let drawn = if groups > 0 {
+            rec.draw_mesh_tasks(
+                pipeline,
+                &self.read_bindings(meshlets),
+                bytemuck::bytes_of(params),
+                spread_groups(groups, self.max_groups_x),
+            )
+        } else {
+            Ok(())
+        };
+        rec.end_rendering();
+        rec.barrier();
+        Ok(drawn?)
+    }
+
+    /// Records the compute path's draw of `meshlets` through `target`'s list and frame,
+    /// shaded into `pixels`; `params.triangle_capacity` must be the list's capacity.
+    pub fn record_compute(
+        &self,
+        rec: &Recorder,
+        meshlets: &GpuMeshlets,
+        target: &ComputeTarget,
+        pixels: &Target,
+        params: &MeshletDrawParams,
+    ) -> Result<()> {
+        let Passes::Compute {
+            triangles,
+            rasterizer,
+            resolve,
+        } = &self.passes
+        else {
+            return Err(Error::Invalid(
+                "meshlet draw: built for the graphics path".into(),
+            ));
+        };
+        let frame = &target.frame;
+        if (frame.width, frame.height) != (pixels.width, pixels.height) {
+            return Err(Error::Invalid(format!(
+                "meshlet draw: a {}x{} image for a {}x{} frame",
+                pixels.width, pixels.height, frame.width, frame.height
+            )));
+        }
+        rec.fill_buffer(&self.counters, 0);
+        rec.fill_buffer(&target.lists.counts, 0);
+        rec.barrier();
+        let read = self.read_bindings(meshlets);
+        let bindings: Vec<Binding> = read
+            .into_iter()
+            .chain([
+                Binding::Buffer(&target.lists.triangles),
+                Binding::Buffer(&target.lists.attributes),
+                Binding::Buffer(&target.lists.counts),
+            ])
+            .collect();
+        let groups = meshlets.totals.meshlets;
+        if groups > 0 {
+            rec.dispatch_groups(
+                triangles,
+                &bindings,
+                bytemuck::bytes_of(params),
+                spread_groups(groups, self.max_groups_x),
+            );
+        }
+        rec.barrier();
+        rasterizer.record(rec, &target.lists.triangles, &target.lists.counts, frame);
+        let e = params.eye_world;
+        let shading = ResolveParams {
+            eye_world: [e[0], e[1], e[2], 0.0],
+            light: params.light,
+            size: [frame.width, frame.height, 0, 0],
+        };
+        rec.dispatch(
+            resolve,
+            &[
+                Binding::Buffer(&frame.depth_payload),
+                Binding::Buffer(&target.lists.triangles),
+                Binding::Buffer(&target.lists.attributes),
+                Binding::Buffer(&pixels.pixels),
+            ],
+            bytemuck::bytes_of(&shading),
+            [frame.width, frame.height, 1],
+        );
+        rec.barrier();
+        Ok(())
+    }
+
+    /// What the last recorded frame drew (read after it was submitted).
+    pub fn read_counters(&self, gpu: &Gpu) -> Result<DrawCounters> {
+        Ok(bytemuck::pod_read_unaligned(
+            &gpu.read_buffer(&self.counters)?,
+        ))
+    }
+}

@@ -1,0 +1,237 @@
+//! Drawing persistent meshlets (`tessera::iso::meshlet_draw`, techniques `meshlets` and
+//! `offline`) on both paths: the image is the CPU rasterization of the CPU marching-cubes
+//! mesh, and `direct`'s; frustum culling by either box changes counts, never the image; a new
+//! isovalue extracts again without uploading the volume again.
+
+mod common;
+
+use common::{assert_clean, assert_images_match, assert_matches_cpu_raster, gpu, skip};
+use tessera::path::{Path, PathChoice};
+use tessera::renderer::{self, Renderer, RendererOptions, Technique};
+use tessera_data::scene::{Appearance, Dataset, LoadOptions};
+use tessera_data::{IsoValue, OrbitCamera, RgbaImage};
+use tessera_gpu::Gpu;
+
+const SIZE: (u32, u32) = (96, 72);
+
+fn load(spec: &str) -> Dataset {
+    Dataset::load(spec, &LoadOptions::default()).unwrap_or_else(|e| panic!("{spec}: {e}"))
+}
+
+fn camera(distance: f32) -> OrbitCamera {
+    OrbitCamera {
+        azimuth_deg: 35.0,
+        elevation_deg: 25.0,
+        distance,
+        ..OrbitCamera::default()
+    }
+}
+
+/// The paths this device can draw meshlets on, the others reported as skipped.
+fn paths(gpu: &Gpu) -> Vec<PathChoice> {
+    let caps = gpu.caps();
+    let mut out = Vec::new();
+    if caps.buffer_int64_atomics {
+        out.push(PathChoice::Compute);
+    } else {
+        skip("compute path", "no 64-bit buffer atomics");
+    }
+    if caps.mesh_shader && caps.task_shader {
+        out.push(PathChoice::Graphics);
+    } else {
+        skip("graphics path", "no task/mesh shaders");
+    }
+    out
+}
+
+fn renderer_for(
+    gpu: &Gpu,
+    technique: Technique,
+    path: PathChoice,
+    culling: bool,
+    data: &Dataset,
+    iso: f32,
+) -> Box<dyn Renderer> {
+    let options = RendererOptions {
+        path,
+        culling,
+        ..RendererOptions::default()
+    };
+    let mut r = renderer::create(gpu, technique, &options).unwrap();
+    r.set_appearance(gpu, &look(iso)).unwrap();
+    r.set_data(gpu, data).unwrap();
+    r
+}
+
+fn look(iso: f32) -> Appearance {
+    Appearance {
+        iso: IsoValue::Normalized(iso),
+        ..Appearance::default()
+    }
+}
+
+fn render(gpu: &Gpu, r: &mut dyn Renderer, distance: f32) -> (RgbaImage, u64, u64) {
+    let out = renderer::render_image(gpu, r, &camera(distance), SIZE).unwrap();
+    let detail = |name| out.stats.details.get(name).copied().unwrap_or(0);
+    assert!(!out.image.pixels.contains(&u32::MAX), "unwritten pixels");
+    (out.image, detail("meshlets"), detail("meshlets_drawn"))
+}
+
+#[test]
+fn meshlet_images_are_the_marching_cubes_surface_on_both_paths() {
+    let gpu = gpu();
+    for (spec, iso) in [("procedural:marschner-lobb:40:f32", 0.43)] {
+        let data = load(spec);
+        let Dataset::Volume(volume) = &data else {
+            unreachable!()
+        };
+        let texel = volume.iso_to_texel(IsoValue::Normalized(iso));
+        for path in paths(&gpu) {
+            let name = format!("{spec} {path:?}");
+            let mut direct = renderer_for(&gpu, Technique::Direct, path, false, &data, iso);
+            let (direct_image, _, _) = render(&gpu, direct.as_mut(), 1.9);
+            for technique in [Technique::Meshlets, Technique::Offline] {
+                let mut r = renderer_for(&gpu, technique, path, true, &data, iso);
+                assert_eq!(
+                    r.path(),
+                    if path == PathChoice::Compute {
+                        Path::Compute
+                    } else {
+                        Path::Graphics
+                    }
+                );
+                let (image, meshlets, drawn) = render(&gpu, r.as_mut(), 1.9);
+                let what = format!("{name} {}", technique.name());
+                assert!(
+                    meshlets > 10 && drawn == meshlets,
+                    "{what}: {drawn} of {meshlets}"
+                );
+                assert_matches_cpu_raster(&what, &image, volume, texel, &camera(1.9));
+                // direct computes its vertices with other rounding; silhouettes may move a
+                // pixel, the shading a step.
+                assert_images_match(&format!("{what} vs direct"), &image, &direct_image, 2, 0.99);
+            }
+        }
+    }
+    assert_clean(&gpu);
+}
+
+#[test]
+fn frustum_culling_drops_meshlets_but_no_pixels() {
+    let gpu = gpu();
+    let data = load("procedural:head:48");
+    // Culling is the draw's, whoever made the meshlets: the offline ones on one path.
+    let cases = paths(&gpu)
+        .into_iter()
+        .map(|p| (p, Technique::Meshlets))
+        .chain([(PathChoice::Compute, Technique::Offline)]);
+    for (path, technique) in cases {
+        {
+            let what = format!("{} {path:?}", technique.name());
+            let mut culled = renderer_for(&gpu, technique, path, true, &data, 0.37);
+            let mut all = renderer_for(&gpu, technique, path, false, &data, 0.37);
+            // Close up, much of the head is outside the view.
+            let (image, meshlets, drawn) = render(&gpu, culled.as_mut(), 0.5);
+            let (reference, _, drawn_all) = render(&gpu, all.as_mut(), 0.5);
+            assert_eq!(
+                drawn_all, meshlets,
+                "{what}: no culling draws every meshlet"
+            );
+            assert!(
+                drawn < meshlets * 3 / 4 && drawn > 0,
+                "{what}: {drawn} of {meshlets} drawn"
+            );
+            assert_images_match(&format!("{what} culled"), &image, &reference, 0, 0.999);
+        }
+    }
+    assert_clean(&gpu);
+}
+
+#[test]
+fn implicit_and_explicit_boxes_cull_alike_and_draw_the_same_image() {
+    use tessera::iso::direct::compute::ComputeTarget;
+    use tessera::iso::meshlet_draw::{MeshletBounds, MeshletDraw, MeshletDrawParams};
+    use tessera::iso::meshlets::{ExtractionPath, MeshletExtractor};
+    use tessera::iso::minmax::MinMaxBuilder;
+    use tessera::iso::PreparedVolume;
+    let gpu = gpu();
+    if !gpu.caps().buffer_int64_atomics {
+        skip("", "no 64-bit buffer atomics");
+        return;
+    }
+    let Dataset::Volume(volume) = load("procedural:head:48") else {
+        unreachable!()
+    };
+    let compiler = tessera::shaders::compiler();
+    let scalar = volume.scalar_type();
+    let builder = MinMaxBuilder::new(&gpu, &compiler, scalar).unwrap();
+    let prepared = PreparedVolume::new(&gpu, &builder, &volume).unwrap();
+    let rule = Default::default();
+    let extractor =
+        MeshletExtractor::new(&gpu, &compiler, scalar, rule, ExtractionPath::Compute).unwrap();
+    let iso = volume.iso_to_texel(IsoValue::Normalized(0.37));
+    let mut meshlets = extractor
+        .buffers(&gpu, &prepared, Default::default())
+        .unwrap();
+    extractor
+        .extract_into(&gpu, &prepared, iso, &mut meshlets)
+        .unwrap();
+    let draw = MeshletDraw::new(&gpu, &compiler, Path::Compute).unwrap();
+    let target = ComputeTarget::new(&gpu, SIZE.0, SIZE.1, 1 << 16).unwrap();
+    let pixels = tessera::target::Target::new(&gpu, SIZE.0, SIZE.1).unwrap();
+    let view = tessera_data::View::of_unit_box(&camera(0.5), SIZE);
+    let mut results = Vec::new();
+    for bounds in MeshletBounds::ALL {
+        let params =
+            MeshletDrawParams::new(&view, volume.dims(), volume.spacing(), bounds, 1 << 16);
+        gpu.submit("meshlet draw", |rec| {
+            draw.record_compute(rec, &meshlets, &target, &pixels, &params)
+                .unwrap()
+        })
+        .unwrap();
+        let counters = draw.read_counters(&gpu).unwrap();
+        results.push((bounds, counters, pixels.read(&gpu).unwrap()));
+    }
+    let (_, none, reference) = &results[2];
+    assert_eq!(none.meshlets, meshlets.totals.meshlets);
+    for (bounds, counters, image) in &results[..2] {
+        assert!(
+            counters.meshlets < none.meshlets,
+            "{bounds:?}: {} of {}",
+            counters.meshlets,
+            none.meshlets
+        );
+        assert_images_match(&format!("{bounds:?} box"), image, reference, 0, 0.999);
+    }
+    // The subblock box holds the explicit one, so it culls no more.
+    assert!(results[1].1.meshlets >= results[0].1.meshlets);
+    assert_clean(&gpu);
+}
+
+#[test]
+fn a_new_isovalue_extracts_again_without_a_new_upload() {
+    let gpu = gpu();
+    let data = load("procedural:marschner-lobb:40:f32");
+    for path in paths(&gpu) {
+        let mut r = renderer_for(&gpu, Technique::Meshlets, path, true, &data, 0.43);
+        let (first, meshlets, _) = render(&gpu, r.as_mut(), 1.9);
+        r.set_appearance(&gpu, &look(0.6)).unwrap();
+        let (second, other_meshlets, _) = render(&gpu, r.as_mut(), 1.9);
+        let counters = r.counters();
+        assert_eq!(counters.data_uploads, 1, "{path:?}");
+        assert_ne!(meshlets, other_meshlets, "{path:?}: the same surface");
+        assert_ne!(first.pixels, second.pixels, "{path:?}: the same image");
+        let Dataset::Volume(volume) = &data else {
+            unreachable!()
+        };
+        let texel = volume.iso_to_texel(IsoValue::Normalized(0.6));
+        assert_matches_cpu_raster(
+            &format!("{path:?} iso 0.6"),
+            &second,
+            volume,
+            texel,
+            &camera(1.9),
+        );
+    }
+    assert_clean(&gpu);
+}
