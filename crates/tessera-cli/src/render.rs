@@ -21,10 +21,13 @@ pub struct RenderArgs {
     /// param:sh-glyphs:WxH:orderN (= procedural:sh-glyphs:…), glyphs of an SH coefficient NIfTI
     /// sh:FILE[:zN], or a GLSL file defining `vec3 f(float u, float v)`.
     pub(crate) data: String,
-    /// Technique: raymarch or direct for volumes, interval or shell for tetrahedral meshes,
-    /// param-points, param-tess or sh-raytrace for parametric objects (the default follows the
-    /// data).
-    #[arg(long, value_parser = ["raymarch", "direct", "interval", "shell", "param-points", "param-tess", "sh-raytrace"])]
+    /// Technique: raymarch, direct, meshlets (extracted on the GPU, then drawn) or offline
+    /// (meshoptimizer meshlets of the CPU mesh) for volumes, interval or shell for tetrahedral
+    /// meshes, param-points, param-tess or sh-raytrace for parametric objects (the default
+    /// follows the data).
+    #[arg(long, value_parser = clap::builder::PossibleValuesParser::new(
+        tessera::renderer::Technique::ALL.map(|t| t.name())
+    ))]
     pub(crate) technique: Option<String>,
     #[command(flatten)]
     iso: IsoArgs,
