@@ -235,3 +235,37 @@ fn a_new_isovalue_extracts_again_without_a_new_upload() {
     }
     assert_clean(&gpu);
 }
+
+#[test]
+fn a_surface_larger_than_the_first_buffers_grows_them_within_the_frame() {
+    let gpu = gpu();
+    // Every edge crossed: 8000 meshlets of 2×2×2 cells, twice the first buffers' 4096.
+    let volume = common::checkerboard([41, 41, 41]);
+    let cells = 40u64 * 40 * 40;
+    let data = Dataset::Volume(volume);
+    for path in paths(&gpu) {
+        let options = RendererOptions {
+            path,
+            culling: false,
+            ..RendererOptions::default()
+        };
+        let mut r = renderer::create(&gpu, Technique::Meshlets, &options).unwrap();
+        r.set_appearance(&gpu, &look(0.5)).unwrap();
+        r.set_data(&gpu, &data).unwrap();
+        let out = renderer::render_image(&gpu, r.as_mut(), &camera(1.9), SIZE).unwrap();
+        assert_eq!(out.stats.triangles, Some(4 * cells), "{path:?}");
+        assert_eq!(out.stats.details["meshlets"], cells / 8, "{path:?}");
+        let background = tessera_data::shading::pack_rgba8(tessera_data::shading::BACKGROUND);
+        let covered = out
+            .image
+            .pixels
+            .iter()
+            .filter(|&&p| p != background)
+            .count();
+        assert!(
+            covered > (SIZE.0 * SIZE.1 / 4) as usize,
+            "{path:?}: {covered} pixels"
+        );
+    }
+    assert_clean(&gpu);
+}

@@ -12,7 +12,10 @@ use crate::error::{Error, Result};
 use crate::iso::direct::compute::{ComputeTarget, TriangleLists};
 use crate::iso::direct::RasterTarget;
 use crate::iso::meshlet_draw::{MeshletBounds, MeshletDraw, MeshletDrawParams};
-use crate::iso::meshlets::{ExtractionPath, GpuMeshlets, MeshletExtractor};
+use crate::iso::meshlets::{
+    ExtractionPath, GpuMeshlets, MeshletCounters, MeshletExtractor, OVERFLOW_CAPACITY,
+    OVERFLOW_MISMATCH,
+};
 use crate::iso::minmax::MinMaxBuilder;
 use crate::iso::PreparedVolume;
 use crate::path::Path;
@@ -42,6 +45,13 @@ enum Producer {
     Offline,
 }
 
+/// The meshlets on the GPU and the isovalue (texel units) they hold the surface of; NaN
+/// until an extraction into them succeeded.
+struct StoredSurface {
+    meshlets: GpuMeshlets,
+    made_at: f32,
+}
+
 pub(super) struct MeshletRenderer {
     technique: Technique,
     path: Path,
@@ -50,15 +60,16 @@ pub(super) struct MeshletRenderer {
     draw: Option<MeshletDraw>,
     volume: Option<Volume>,
     producer: Option<Producer>,
-    /// The stored surface and the isovalue (texel units) it was made at.
-    surface: Option<(GpuMeshlets, f32)>,
+    surface: Option<StoredSurface>,
+    /// Whether the frame being recorded extracts the surface anew.
+    extracting: bool,
     look: Appearance,
     iso: f32,
     value_range: (f32, f32),
     frame: FrameBuffers,
     /// Compute path: triangles a frame's list holds (grown on overflow).
     capacity: u32,
-    /// What the last surface cost: GPU (or CPU, offline) milliseconds and bytes stored.
+    /// What the offline surface cost on the CPU, in milliseconds.
     extraction_ms: f64,
     stats: FrameStats,
     counters: WorkCounters,
@@ -84,6 +95,7 @@ impl MeshletRenderer {
             volume: None,
             producer: None,
             surface: None,
+            extracting: false,
             look: Appearance::default(),
             iso: 0.0,
             value_range: (0.0, 1.0),
@@ -95,38 +107,42 @@ impl MeshletRenderer {
         })
     }
 
-    /// Makes the stored surface for the current isovalue unless it exists.
-    fn ensure_surface(&mut self, gpu: &Gpu) -> Result<()> {
-        if self.surface.as_ref().is_some_and(|s| s.1 == self.iso) {
+    /// Makes the offline surface for the current isovalue unless it exists (GPU extraction
+    /// is recorded into the frame instead, see `record`).
+    fn ensure_offline_surface(&mut self, gpu: &Gpu) -> Result<()> {
+        let (Some(Producer::Offline), Some(volume)) = (&self.producer, &self.volume) else {
+            return Ok(());
+        };
+        if self.surface.as_ref().is_some_and(|s| s.made_at == self.iso) {
             return Ok(());
         }
-        let (Some(producer), Some(volume)) = (&self.producer, &self.volume) else {
-            return Err(no_data(self.technique));
-        };
-        let iso = self.iso;
-        let surface = match producer {
-            Producer::Extraction {
+        self.surface = None;
+        let start = Instant::now();
+        let mesh = marching_cubes_with(volume, self.iso, self.ambiguity);
+        let meshlets = offline_meshlets(&mesh)?;
+        self.extraction_ms = start.elapsed().as_secs_f64() * 1e3;
+        self.surface = Some(StoredSurface {
+            meshlets: GpuMeshlets::upload(gpu, &meshlets)?,
+            made_at: self.iso,
+        });
+        Ok(())
+    }
+
+    /// Buffers for the GPU extraction, made once per volume (they grow on overflow).
+    fn ensure_extraction_buffers(&mut self, gpu: &Gpu) -> Result<()> {
+        if let (
+            Some(Producer::Extraction {
                 extractor,
                 prepared,
-            } => {
-                let mut out = match self.surface.take() {
-                    Some((out, _)) => out,
-                    None => extractor.buffers(gpu, prepared, Default::default())?,
-                };
-                let extraction = extractor.extract_into(gpu, prepared, iso, &mut out)?;
-                self.extraction_ms = extraction.gpu_ms;
-                out
-            }
-            Producer::Offline => {
-                self.surface = None;
-                let start = Instant::now();
-                let mesh = marching_cubes_with(volume, iso, self.ambiguity);
-                let meshlets = offline_meshlets(&mesh)?;
-                self.extraction_ms = start.elapsed().as_secs_f64() * 1e3;
-                GpuMeshlets::upload(gpu, &meshlets)?
-            }
-        };
-        self.surface = Some((surface, iso));
+            }),
+            None,
+        ) = (&self.producer, &self.surface)
+        {
+            self.surface = Some(StoredSurface {
+                meshlets: extractor.buffers(gpu, prepared, Default::default())?,
+                made_at: f32::NAN,
+            });
+        }
         Ok(())
     }
 }
@@ -188,7 +204,11 @@ impl Renderer for MeshletRenderer {
     }
 
     fn prepare_frame(&mut self, gpu: &Gpu, view: &View) -> Result<()> {
-        self.ensure_surface(gpu)?;
+        if self.producer.is_none() {
+            return Err(no_data(self.technique));
+        }
+        self.ensure_offline_surface(gpu)?;
+        self.ensure_extraction_buffers(gpu)?;
         let (w, h) = view.size;
         match self.path {
             Path::Graphics => {
@@ -226,17 +246,33 @@ impl Renderer for MeshletRenderer {
         target: &Target,
         timer: &mut Timer,
     ) -> Result<()> {
-        let (Some(draw), Some((surface, _)), Some(volume)) =
-            (&self.draw, &self.surface, &self.volume)
+        let (Some(draw), Some(surface), Some(volume)) = (&self.draw, &self.surface, &self.volume)
         else {
             return Err(no_data(self.technique));
         };
+        // A new isovalue is extracted in the frame that draws it, and drawn without a
+        // readback: the draw reads the meshlet count on the GPU.
+        self.extracting = surface.made_at != self.iso;
+        if let (
+            true,
+            Some(Producer::Extraction {
+                extractor,
+                prepared,
+            }),
+        ) = (self.extracting, &self.producer)
+        {
+            timer.scope(rec, "meshlet extraction", |rec| {
+                extractor.record(rec, prepared, self.iso, &surface.meshlets)
+            })?;
+            rec.barrier();
+        }
+        let meshlets = &surface.meshlets;
         let (dims, spacing) = (volume.dims(), volume.spacing());
         match &self.frame {
             FrameBuffers::Graphics(raster) => {
                 let params = MeshletDrawParams::new(view, dims, spacing, self.bounds, 0);
                 let drawn = timer.scope(rec, "meshlet draw", |rec| {
-                    draw.record_graphics(rec, surface, raster, &params)
+                    draw.record_graphics(rec, meshlets, raster, &params)
                 });
                 raster.record_copy_to(rec, target);
                 drawn
@@ -245,7 +281,7 @@ impl Renderer for MeshletRenderer {
                 let params =
                     MeshletDrawParams::new(view, dims, spacing, self.bounds, frame.lists.capacity);
                 timer.scope(rec, "meshlet draw", |rec| {
-                    draw.record_compute(rec, surface, frame, target, &params)
+                    draw.record_compute(rec, meshlets, frame, target, &params)
                 })
             }
             FrameBuffers::None => Err(Error::Invalid(format!(
@@ -256,25 +292,55 @@ impl Renderer for MeshletRenderer {
     }
 
     fn finish_frame(&mut self, gpu: &Gpu) -> Result<FrameOutcome> {
-        let (Some(draw), Some((surface, _))) = (&self.draw, &self.surface) else {
+        let (Some(draw), Some(surface)) = (&self.draw, &mut self.surface) else {
             return Err(no_data(self.technique));
         };
+        let mut retry = false;
+        if self.extracting {
+            let totals: MeshletCounters =
+                bytemuck::pod_read_unaligned(&gpu.read_buffer(&surface.meshlets.counters)?);
+            if totals.overflow & OVERFLOW_MISMATCH != 0 {
+                return Err(Error::Invalid(
+                    "meshlet extraction: a subblock's extraction counted other vertices or \
+                     triangles than its region analysis"
+                        .into(),
+                ));
+            }
+            let grew = surface.meshlets.grow_for(gpu, &totals)?;
+            if totals.overflow & OVERFLOW_CAPACITY != 0 || grew {
+                // The grown buffers are empty: extract into them in the frame again.
+                surface.made_at = f32::NAN;
+                retry = true;
+            } else {
+                surface.meshlets.totals = totals;
+                surface.made_at = self.iso;
+            }
+        }
         let drawn = draw.read_counters(gpu)?;
         if self.path == Path::Compute && drawn.triangles > self.capacity {
             self.capacity = drawn.triangles.saturating_add(drawn.triangles / 4);
+            retry = true;
+        }
+        if retry {
             return Ok(FrameOutcome::Retry);
         }
-        let totals = surface.totals;
+        let totals = surface.meshlets.totals;
+        let mut details: std::collections::BTreeMap<&'static str, u64> = [
+            ("meshlets", u64::from(totals.meshlets)),
+            ("meshlets_drawn", u64::from(drawn.meshlets)),
+            ("surface_vertices", u64::from(totals.vertices)),
+            ("surface_bytes", totals.stored_bytes()),
+        ]
+        .into();
+        if matches!(self.producer, Some(Producer::Offline)) {
+            details.insert(
+                "cpu_extraction_us",
+                (self.extraction_ms * 1e3).round() as u64,
+            );
+        }
         self.stats = FrameStats {
             triangles: Some(u64::from(drawn.triangles)),
-            details: [
-                ("meshlets", u64::from(totals.meshlets)),
-                ("meshlets_drawn", u64::from(drawn.meshlets)),
-                ("surface_vertices", u64::from(totals.vertices)),
-                ("surface_bytes", totals.stored_bytes()),
-                ("extraction_us", (self.extraction_ms * 1e3).round() as u64),
-            ]
-            .into(),
+            details,
             ..FrameStats::default()
         };
         Ok(FrameOutcome::Done)

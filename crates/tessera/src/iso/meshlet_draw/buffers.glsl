@@ -11,6 +11,12 @@ layout(binding = 4) readonly buffer LocalIndices { uint local_index_words[]; };
 // compute list could not take).
 layout(binding = 5) buffer DrawCounters { uint meshlets_drawn; uint triangles_drawn; };
 
+// Meshlets to draw: none after an extraction that overflowed its buffers (some reserved
+// meshlets were never written; the host grows the buffers and extracts again).
+uint meshlets_to_draw() {
+    return counters.overflow != 0u ? 0u : counters.meshlets;
+}
+
 vec3 meshlet_position(uint v) {
     return vec3(positions[3u * v], positions[3u * v + 1u], positions[3u * v + 2u]);
 }

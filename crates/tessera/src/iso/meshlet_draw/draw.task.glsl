@@ -16,7 +16,7 @@ void main() {
     }
     barrier();
     uint id = meshlet_group() * MESHLET_DRAW_TASK_SIZE + gl_LocalInvocationIndex;
-    if (id < counters.meshlets && meshlet_in_frustum(meshlets[id])) {
+    if (id < meshlets_to_draw() && meshlet_in_frustum(meshlets[id])) {
         payload.meshlet_ids[atomicAdd(visible, 1u)] = id;
     }
     barrier();

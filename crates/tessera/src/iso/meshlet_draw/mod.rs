@@ -202,7 +202,10 @@ impl MeshletDraw {
         ]
     }
 
-    /// Records the graphics path's draw of `meshlets` (its totals say how many) into `target`.
+    /// Records the graphics path's draw of `meshlets` into `target`. The meshlet count is
+    /// read on the GPU from their counters, so an extraction recorded just before (and
+    /// separated by a barrier) is drawn without a readback; workgroups are launched for the
+    /// buffers' capacity.
     pub fn record_graphics(
         &self,
         rec: &Recorder,
@@ -220,24 +223,21 @@ impl MeshletDraw {
         rec.discard_to_general(&target.color);
         rec.discard_to_general(&target.depth);
         rec.begin_rendering_with_depth(&target.color, Some(&target.depth), BACKGROUND);
-        let groups = meshlets.totals.meshlets.div_ceil(TASK_SIZE);
-        let drawn = if groups > 0 {
-            rec.draw_mesh_tasks(
-                pipeline,
-                &self.read_bindings(meshlets),
-                bytemuck::bytes_of(params),
-                spread_groups(groups, self.max_groups_x),
-            )
-        } else {
-            Ok(())
-        };
+        let groups = meshlets.capacity.meshlets.div_ceil(TASK_SIZE);
+        let drawn = rec.draw_mesh_tasks(
+            pipeline,
+            &self.read_bindings(meshlets),
+            bytemuck::bytes_of(params),
+            spread_groups(groups, self.max_groups_x),
+        );
         rec.end_rendering();
         rec.barrier();
         Ok(drawn?)
     }
 
     /// Records the compute path's draw of `meshlets` through `target`'s list and frame,
-    /// shaded into `pixels`; `params.triangle_capacity` must be the list's capacity.
+    /// shaded into `pixels`; `params.triangle_capacity` must be the list's capacity. As on
+    /// the graphics path, the count is read on the GPU.
     pub fn record_compute(
         &self,
         rec: &Recorder,
@@ -275,15 +275,12 @@ impl MeshletDraw {
                 Binding::Buffer(&target.lists.counts),
             ])
             .collect();
-        let groups = meshlets.totals.meshlets;
-        if groups > 0 {
-            rec.dispatch_groups(
-                triangles,
-                &bindings,
-                bytemuck::bytes_of(params),
-                spread_groups(groups, self.max_groups_x),
-            );
-        }
+        rec.dispatch_groups(
+            triangles,
+            &bindings,
+            bytemuck::bytes_of(params),
+            spread_groups(meshlets.capacity.meshlets, self.max_groups_x),
+        );
         rec.barrier();
         rasterizer.record(rec, &target.lists.triangles, &target.lists.counts, frame);
         let e = params.eye_world;

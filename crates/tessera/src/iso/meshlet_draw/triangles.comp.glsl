@@ -21,7 +21,7 @@ shared uint kept;
 void main() {
     uint id = meshlet_group();
     // Both tests are the same for the whole workgroup, so it leaves together.
-    if (id >= counters.meshlets) {
+    if (id >= meshlets_to_draw()) {
         return;
     }
     Meshlet m = meshlets[id];

@@ -171,7 +171,7 @@ impl GpuMeshlets {
     }
 
     /// Replaces the output buffers by larger ones when `counters` did not fit; whether it did.
-    pub(super) fn grow_for(&mut self, gpu: &Gpu, counters: &MeshletCounters) -> Result<bool> {
+    pub(crate) fn grow_for(&mut self, gpu: &Gpu, counters: &MeshletCounters) -> Result<bool> {
         if self.capacity.holds(counters) {
             return Ok(false);
         }

@@ -20,14 +20,15 @@
 
 pub mod buffers;
 
-pub use buffers::{GpuMeshlets, MeshletCapacity, MeshletCounters};
+pub use buffers::{
+    GpuMeshlets, MeshletCapacity, MeshletCounters, OVERFLOW_CAPACITY, OVERFLOW_MISMATCH,
+};
 
 use crate::builtin_shader;
 use crate::config::meshlet_defines;
 use crate::error::{Error, Result};
 use crate::iso::direct::block_list::{self, BlockListHeader};
 use crate::iso::PreparedVolume;
-use buffers::{OVERFLOW_CAPACITY, OVERFLOW_MISMATCH};
 use bytemuck::{Pod, Zeroable};
 use tessera_data::mc_ambiguity::AmbiguityRule;
 use tessera_data::meshlets::MeshletMesh;
