@@ -80,6 +80,42 @@ pub(super) fn iso_techniques(gpu: &Gpu, sink: &mut dyn RecordSink) -> Vec<IsoTec
     out
 }
 
+/// Paper C's persistent meshlets, extracted on the GPU per isovalue (`meshlets`) or built
+/// offline by meshoptimizer from the CPU mesh (`offline`, drawn only), on each path the
+/// device has; frustum-culled by their explicit boxes.
+pub(super) fn meshlet_techniques(gpu: &Gpu) -> Vec<IsoTechnique> {
+    let caps = gpu.caps();
+    let paths = [
+        (
+            PathChoice::Graphics,
+            "mesh",
+            caps.mesh_shader && caps.task_shader,
+        ),
+        (PathChoice::Compute, "compute", caps.buffer_int64_atomics),
+    ];
+    let mut out = Vec::new();
+    for (path, path_name, available) in paths {
+        if !available {
+            continue;
+        }
+        for (technique, name) in [
+            (Technique::Meshlets, "meshlets"),
+            (Technique::Offline, "offline"),
+        ] {
+            out.push(IsoTechnique {
+                technique,
+                options: RendererOptions {
+                    path,
+                    ..RendererOptions::default()
+                },
+                name,
+                path: path_name,
+            });
+        }
+    }
+    out
+}
+
 /// The look of frame `k`: the scenario's isovalue, or the sweep's.
 fn look_of(config: &BenchConfig, sweep: Sweep, k: u32) -> Appearance {
     let fraction = sweep.map_or(config.iso_fraction, |f| f(k));
@@ -128,13 +164,18 @@ fn run_scenario(
     sweep: Sweep,
 ) -> Result<()> {
     let camera = OrbitCamera::default();
-    let techniques = iso_techniques(gpu, sink);
+    let mut techniques = iso_techniques(gpu, sink);
+    techniques.extend(meshlet_techniques(gpu));
     for spec in bench_volumes(config) {
         let data = Dataset::Volume(make_volume(gpu, &spec, config)?);
         let volume_name = data.name().to_string();
         // Ray marching's median per image size, for the speed-ups.
         let mut raymarch_ms: BTreeMap<(u32, u32), f64> = BTreeMap::new();
         for t in &techniques {
+            // Offline meshlets are built on the CPU per isovalue: not a per-frame technique.
+            if sweep.is_some() && t.technique == Technique::Offline {
+                continue;
+            }
             let mut r = iso_renderer(gpu, t, &data, &look_of(config, sweep, 0), config)?;
             let each_frame =
                 |k: u32, r: &mut dyn Renderer| r.set_appearance(gpu, &look_of(config, sweep, k));
