@@ -6,7 +6,7 @@
     r = tessera.Renderer(device, "direct")
     r.set_data(volume)
     image = r.render(camera=(30, 20), size=(800, 600), iso=300)   # (600, 800, 4) uint8
-    verts, faces, normals, values = tessera.marching_cubes(volume, 300)
+    verts, faces, normals, values = tessera.marching_cubes(volume, 300, device=device)
 
 Arrays are indexed ``[x, y, z]`` as nibabel and scikit-image index them. Errors are
 ``tessera.DataError`` (input) and ``tessera.GpuError`` (device), both ``TesseraError``.
