@@ -108,6 +108,30 @@ impl Volume {
         self.volume().name().to_string()
     }
 
+    /// The samples as a numpy array indexed `[x, y, z]` in the kept `dtype` (a copy; x runs
+    /// fastest in memory, so the array is Fortran-ordered), e.g. to hand a loaded file to
+    /// scikit-image or DIPY.
+    fn to_numpy<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        use numpy::ndarray::Array3;
+        use numpy::IntoPyArray;
+        use tessera_data::Samples;
+        let [x, y, z] = self.volume().dims().map(|d| d as usize);
+        fn grid<'py, T: numpy::Element + Copy>(
+            py: Python<'py>,
+            samples: &[T],
+            (x, y, z): (usize, usize, usize),
+        ) -> PyResult<Bound<'py, PyAny>> {
+            let zyx = Array3::from_shape_vec((z, y, x), samples.to_vec())
+                .map_err(|e| DataError::new_err(format!("volume samples: {e}")))?;
+            Ok(zyx.reversed_axes().into_pyarray(py).into_any())
+        }
+        match self.volume().samples() {
+            Samples::U8(v) => grid(py, v, (x, y, z)),
+            Samples::U16(v) => grid(py, v, (x, y, z)),
+            Samples::F32(v) => grid(py, v, (x, y, z)),
+        }
+    }
+
     fn __repr__(&self) -> String {
         let (x, y, z) = self.shape();
         format!(
