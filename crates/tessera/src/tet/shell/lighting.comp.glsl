@@ -1,6 +1,6 @@
 #version 460
 // The effects' passes (tessera_data::tet::shell::lighting), LIGHTING_PASS picking one: per
-// tet, its scalar gradient (PASS_GRADIENTS), its transmittance from the centroid towards the
+// tet, its scalar gradient (PASS_GRADIENTS), its transmittance from the centre towards the
 // light (PASS_SHADOWS) and its mean transmittance over the AO hemisphere (PASS_OCCLUSION);
 // per pixel, the ground plane lit through the volume (PASS_GROUND). Secondary rays march by
 // the same traversal as pixel rays and stop at the same opacity.
@@ -70,7 +70,7 @@ void main() {
     }
     uvec4 ids = tet_vertices[tet];
     vec3 corner[4] = vec3[4](vertices[ids.x].xyz, vertices[ids.y].xyz, vertices[ids.z].xyz, vertices[ids.w].xyz);
-    vec3 centroid = (corner[0] + corner[1] + corner[2] + corner[3]) * 0.25;
+    vec3 centre = (corner[0] + corner[1] + corner[2] + corner[3]) * 0.25;
 #if LIGHTING_PASS == PASS_GRADIENTS
     // s(p) = s0 + rise · B (p − corner 0), B the barycentric map: ∇s = Bᵀ rise.
     vec4 s = vec4(normalized_scalar(vertices[ids.x].w), normalized_scalar(vertices[ids.y].w),
@@ -83,7 +83,7 @@ void main() {
     bool finite = !any(isinf(gradient)) && !any(isnan(gradient));
     gradients[tet] = vec4(finite ? gradient : vec3(0.0), 0.0);
 #elif LIGHTING_PASS == PASS_SHADOWS
-    tet_light[tet] = vec4(towards_light_from(centroid), 0.0);
+    tet_light[tet] = vec4(towards_light_from(centre), 0.0);
     add_secondary_counts(STAT_SHADOW_RAYS, secondary_rays, secondary_counts);
 #elif LIGHTING_PASS == PASS_OCCLUSION
     vec3 n = ao_normal(gradients[tet].xyz);
@@ -94,7 +94,7 @@ void main() {
     vec3 total = vec3(0.0);
     for (uint i = 0u; i < uint(SHELL_AO_SAMPLES); ++i) {
         vec3 dir = u * pattern[i].x + v * pattern[i].y + n * pattern[i].z;
-        total += secondary(centroid, dir, effect.ao_radius);
+        total += secondary(centre, dir, effect.ao_radius);
     }
     occlusion[tet] = vec4(total / float(SHELL_AO_SAMPLES), 0.0);
     add_secondary_counts(STAT_AO_RAYS, secondary_rays, secondary_counts);
