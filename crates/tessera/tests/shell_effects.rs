@@ -23,8 +23,8 @@ use tessera_data::tet::emission_absorption::EmissionAbsorption;
 use tessera_data::tet::procedural::{box_mesh, exploded, sphere_mesh};
 use tessera_data::tet::scalar_integral::normalized_scalars;
 use tessera_data::tet::shell::{
-    render_shell_effects_reference, render_shell_reference, GroundPlane, LayoutKind, ShellEffects, ShellMesh, ShellScene,
-    TetLighting, GROUND_ALBEDO, VOLUME_AMBIENT,
+    render_shell_effects_reference, render_shell_reference, GroundPlane, LayoutKind, ShellEffects,
+    ShellMesh, ShellScene, TetLighting, GROUND_ALBEDO, VOLUME_AMBIENT,
 };
 use tessera_data::tet::TetMesh;
 use tessera_data::transfer::TransferFunction;
@@ -262,7 +262,10 @@ fn images_with_each_effect_equal_the_cpu_reference() {
                 assert_eq!(got.stats.rays, pixels, "{label}");
                 assert_eq!(got.stats.guard_hits(), 0, "{label}");
             }
-            assert!(changed > 20, "{name} {what}: the effect changes {changed} pixels");
+            assert!(
+                changed > 20,
+                "{name} {what}: the effect changes {changed} pixels"
+            );
         }
     }
     assert_clean(&gpu);
