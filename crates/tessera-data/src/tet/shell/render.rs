@@ -1,7 +1,9 @@
 //! Emission–absorption images and shadow transmittance by shell traversal: the CPU reference
 //! the GPU shell renderer will be compared with. Each tet stretch is integrated by the exact
 //! integrator's per-stretch rule ([`FrontToBack::add_stretch`] over the tet's linear scalar),
-//! so the only difference from [`ExactRayIntegrator`] is how the tets are found.
+//! so the only difference from [`ExactRayIntegrator`] is how the tets are found. With
+//! [`ShellEffects`] each stretch's emission is scaled by its tet's lighting
+//! ([`super::effects`], [`super::lighting`]) and the ground plane ends pixel rays.
 //!
 //! [`ExactRayIntegrator`]: crate::tet::emission_absorption::ExactRayIntegrator
 
