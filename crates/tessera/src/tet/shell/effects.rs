@@ -288,7 +288,7 @@ impl EffectBuffers {
     }
 }
 
-/// The secondary-ray counters of `words` (the stats buffer).
+/// The secondary-ray counters, `word` reading the stats buffer by `STAT_…` name.
 pub(crate) fn secondary_stats(word: impl Fn(&str) -> u64) -> SecondaryStats {
     SecondaryStats {
         shadow_rays: word("STAT_SHADOW_RAYS"),
