@@ -287,3 +287,25 @@ def test_shell_traversal_layouts_draw_the_same_image(device):
     assert np.any(images[0] != images[0][0, 0], axis=2).mean() > 0.1
     with pytest.raises(tessera.DataError, match="tet64"):
         tessera.Renderer(device, "shell", layout="tet64")
+
+
+def test_shell_effects_are_renderer_options(device):
+    points, tets, values = cube_tets()
+    mesh = tessera.TetMesh(points, tets, point_data=values)
+    plain = tessera.Renderer(device, "shell")
+    plain.set_data(mesh)
+    before = plain.render(camera=(30, 20), size=SIZE)
+    for options in (
+        {"shadows": True},
+        {"shadows": True, "light_dir": (1, 2, 0)},
+        {"ao": 4, "ao_radius": 0.2},
+        {"gradient": True},
+    ):
+        r = tessera.Renderer(device, "shell", **options)
+        r.set_data(mesh)
+        image = r.render(camera=(30, 20), size=SIZE)
+        assert not np.array_equal(image, before), options
+    with pytest.raises(tessera.DataError, match="shadows=True"):
+        tessera.Renderer(device, "shell", light=(1, 2, 3))
+    with pytest.raises(tessera.DataError, match="1 to 64"):
+        tessera.Renderer(device, "shell", ao=0)

@@ -4,13 +4,15 @@ use crate::data::{IsoArgs, VolumeArgs};
 use anyhow::Result;
 use clap::Args;
 use tessera::path::PathChoice;
-use tessera::renderer::RendererOptions;
+use tessera::renderer::{AmbientOcclusion, Light, RendererOptions, Technique};
 use tessera_data::scene::parse::{
     parse_basis, parse_colour, parse_glyph_radius, parse_integrand, parse_param_range, parse_range,
+    parse_triple,
 };
 use tessera_data::scene::{Appearance, IntegrandChoice, LoadOptions};
-use tessera_data::tet::shell::LayoutKind;
+use tessera_data::tet::shell::{LayoutKind, DEFAULT_AO_RADIUS};
 use tessera_data::transfer::TransferFunction;
+use tessera_data::ViewUp;
 
 /// How tet meshes are shown (interval shading, shell traversal).
 #[derive(Args)]
@@ -42,6 +44,67 @@ pub struct TetArgs {
 impl TetArgs {
     pub fn layout(&self) -> LayoutKind {
         self.layout
+    }
+
+    /// The interval-shading flags given away from their defaults (shell traversal always
+    /// composites emission and absorption of the vertex scalars, so it reads neither).
+    fn interval_flags(&self) -> Vec<&'static str> {
+        let mut given = Vec::new();
+        if self.integrate != IntegrandChoice::Auto {
+            given.push("integrate");
+        }
+        if self.absorption.is_some() {
+            given.push("absorption");
+        }
+        given
+    }
+}
+
+/// Shell traversal's secondary-ray effects.
+#[derive(Args)]
+pub struct ShellArgs {
+    /// Shell traversal: volumetric shadows, and a ground plane below the mesh that they fall
+    /// on (default light: a sun above, along the view's up axis, tilted aside).
+    #[arg(long)]
+    shadows: bool,
+    /// Point light X,Y,Z for --shadows, in world space (the mesh is centred at the origin, its
+    /// longest side 1).
+    #[arg(long, value_parser = parse_triple::<f64>, allow_hyphen_values = true,
+          requires = "shadows", conflicts_with = "light_dir")]
+    light: Option<[f64; 3]>,
+    /// Directional light for --shadows: the direction X,Y,Z towards the light.
+    #[arg(long, value_parser = parse_triple::<f64>, allow_hyphen_values = true,
+          requires = "shadows")]
+    light_dir: Option<[f64; 3]>,
+    /// Shell traversal: ambient occlusion with N hemisphere rays per tet (1 to 64).
+    #[arg(long, value_name = "N")]
+    ao: Option<u32>,
+    /// Length of the ambient occlusion rays (world units).
+    #[arg(long, value_name = "R", requires = "ao", allow_hyphen_values = true)]
+    ao_radius: Option<f32>,
+    /// Shell traversal: diffuse and specular shading with each tet's scalar gradient as the
+    /// normal, in dense regions.
+    #[arg(long)]
+    gradient: bool,
+}
+
+impl ShellArgs {
+    /// `options` with the effects set; `up` is the view's up axis (the default sun's).
+    pub fn apply(&self, options: RendererOptions, up: ViewUp) -> Result<RendererOptions> {
+        let shadows = self
+            .shadows
+            .then(|| Light::chosen(self.light, self.light_dir, up.vector().as_dvec3()))
+            .transpose()?;
+        let ao = self
+            .ao
+            .map(|n| AmbientOcclusion::new(n, self.ao_radius.unwrap_or(DEFAULT_AO_RADIUS)))
+            .transpose()?;
+        Ok(RendererOptions {
+            shadows,
+            ao,
+            gradient: self.gradient,
+            ..options
+        })
     }
 }
 
@@ -114,14 +177,23 @@ pub fn load_options(volume: &VolumeArgs, param: &ParamArgs) -> LoadOptions {
     }
 }
 
-/// Warns about the options `technique` does not read that were set away from their defaults.
-pub fn warn_ignored(options: &RendererOptions, technique: tessera::renderer::Technique) {
+/// Warns about the options `technique` does not read that were set away from their defaults,
+/// and about interval shading's look flags given to shell traversal.
+pub fn warn_ignored(options: &RendererOptions, tets: &TetArgs, technique: Technique) {
     for name in options.ignored_by(technique) {
         eprintln!(
             "warning: {} ignores --{}",
             technique.name(),
             name.replace('_', "-")
         );
+    }
+    if technique == Technique::Shell {
+        for name in tets.interval_flags() {
+            eprintln!(
+                "warning: shell ignores --{name} (interval shading's; shell traversal always \
+                 composites emission and absorption of the vertex scalars through --tf)"
+            );
+        }
     }
 }
 

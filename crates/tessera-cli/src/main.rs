@@ -40,7 +40,8 @@ enum Command {
     Info(info::InfoArgs),
     /// Render a data set to a PNG.
     #[command(allow_negative_numbers = true)]
-    Render(render::RenderArgs),
+    // Boxed: it has far more flags than the other commands.
+    Render(Box<render::RenderArgs>),
     /// GPU-timed runs of techniques side by side, as JSON lines.
     #[command(allow_negative_numbers = true)]
     Bench(bench::BenchArgs),

@@ -1,7 +1,7 @@
 //! `tessera render`: one image of a data set, through the library's front door.
 
 use crate::data::{self, IsoArgs, VolumeArgs};
-use crate::look::{self, ParamArgs, PathArgs, TetArgs};
+use crate::look::{self, ParamArgs, PathArgs, ShellArgs, TetArgs};
 use anyhow::{Context, Result};
 use clap::Args;
 use std::path::PathBuf;
@@ -35,6 +35,8 @@ pub struct RenderArgs {
     volume: VolumeArgs,
     #[command(flatten)]
     tet: TetArgs,
+    #[command(flatten)]
+    shell: ShellArgs,
     #[command(flatten)]
     param: ParamArgs,
     #[command(flatten)]
@@ -83,10 +85,13 @@ pub fn run(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
         }
         None => ViewUp::default(),
     });
-    let renderer_options = renderer::RendererOptions {
-        layout: args.tet.layout(),
-        ..look::renderer_options(&args.paths, &args.param, &args.iso)
-    };
+    let renderer_options = args.shell.apply(
+        renderer::RendererOptions {
+            layout: args.tet.layout(),
+            ..look::renderer_options(&args.paths, &args.param, &args.iso)
+        },
+        camera.up,
+    )?;
     let started = Instant::now();
     let bar = data::spinner("compiling shaders, uploading, building auxiliary structures".into());
     let built = (|| -> tessera::Result<_> {
@@ -100,17 +105,16 @@ pub fn run(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
     let mut renderer =
         built.with_context(|| format!("preparing {} for {}", args.data, technique.name()))?;
     let rendering = || format!("rendering {} with {}", args.data, technique.name());
-    look::warn_ignored(&renderer_options, technique);
+    look::warn_ignored(&renderer_options, &args.tet, technique);
     let prepare_s = started.elapsed().as_secs_f64();
     let view = renderer.view(&camera, args.size)?;
     let mut frame = Frame::new(&gpu, args.size)?;
-    let (image, gpu_ms) = match args.stereo {
+    let (image, times) = match args.stereo {
         None => {
-            let ms = frame
+            let times = frame
                 .render(&gpu, renderer.as_mut(), &view)
-                .with_context(rendering)?
-                .total_ms();
-            (frame.target.read(&gpu)?, ms)
+                .with_context(rendering)?;
+            (frame.target.read(&gpu)?, times)
         }
         Some(separation) => {
             let eyes = view.stereo_pair(separation);
@@ -119,9 +123,10 @@ pub fn run(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
                 renderer::render_stereo(&gpu, renderer.as_mut(), &eyes, &mut frame, &mut right)
                     .with_context(rendering)?;
             let image = side_by_side(&frame.target.read(&gpu)?, &right.target.read(&gpu)?);
-            (image, times.total_ms())
+            (image, times)
         }
     };
+    let gpu_ms = times.total_ms();
     crate::output::write_png(&args.output, &image)?;
     let stats = renderer.stats();
     let triangles = stats
@@ -137,6 +142,9 @@ pub fn run(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
         describe(&dataset, &look, technique, &renderer_options),
         args.output.display()
     );
+    if technique == Technique::Shell && renderer_options.shell_effects().any() {
+        report_effects(&times, &stats);
+    }
     drop(renderer);
     drop(frame);
     crate::gpu::check_validation(&gpu)
@@ -152,8 +160,9 @@ fn describe(
     match dataset {
         // Shell traversal always composites emission and absorption of the vertex scalars.
         Dataset::Tets(tets) if technique == Technique::Shell => format!(
-            ", emission-absorption in {}, {} tets",
+            ", emission-absorption in {}{}, {} tets",
             options.layout.name(),
+            describe_effects(options),
             tets.mesh.tets.len()
         ),
         Dataset::Volume(volume) => look
@@ -168,6 +177,42 @@ fn describe(
             format!(", {what}, {} tets", tets.mesh.tets.len())
         }
         Dataset::Param(param) => format!(", {} objects", param.scene.objects.len()),
+    }
+}
+
+/// The GPU time of each of shell traversal's passes and the secondary rays they cast.
+fn report_effects(times: &renderer::FrameTimes, stats: &renderer::FrameStats) {
+    let passes: Vec<String> = times
+        .scopes
+        .iter()
+        .map(|(name, ms)| format!("{name} {ms:.3} ms"))
+        .collect();
+    let count = |name: &str| stats.details.get(name).copied().unwrap_or(0);
+    println!(
+        "  passes: {}; secondary rays: {} shadow, {} AO ({} tet steps)",
+        passes.join(", "),
+        count("shadow_rays"),
+        count("ao_rays"),
+        count("secondary_steps")
+    );
+}
+
+/// Shell traversal's effects as the report line names them.
+fn describe_effects(options: &renderer::RendererOptions) -> String {
+    let mut on = Vec::new();
+    if options.shadows.is_some() {
+        on.push("shadows".to_string());
+    }
+    if let Some(ao) = options.ao {
+        on.push(format!("AO {}x{}", ao.samples, ao.radius));
+    }
+    if options.gradient {
+        on.push("gradient shading".to_string());
+    }
+    if on.is_empty() {
+        String::new()
+    } else {
+        format!(" with {}", on.join(", "))
     }
 }
 

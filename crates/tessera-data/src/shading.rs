@@ -16,14 +16,28 @@ pub const BACKGROUND: [f32; 4] = [20.0 / 255.0, 20.0 / 255.0, 26.0 / 255.0, 1.0]
 /// Shades a surface with unit normal `n` (any orientation: it is turned to face the viewer),
 /// unit `light` direction and unit `view` direction (from the surface towards the eye).
 pub fn gooch(n: Vec3, light: Vec3, view: Vec3) -> Vec3 {
-    let n = if n.dot(view) < 0.0 { -n } else { n };
+    let n = facing(n, view);
     let t = (1.0 + n.dot(light)) * 0.5;
     let cool = Vec3::from(GOOCH_COOL);
     let warm = Vec3::from(GOOCH_WARM);
     let base = cool + (warm - cool) * t;
+    base + Vec3::splat(specular(n, light, view))
+}
+
+/// `n` turned towards the viewer: surfaces and volume gradients are shaded two-sided.
+pub fn facing(n: Vec3, view: Vec3) -> Vec3 {
+    if n.dot(view) < 0.0 {
+        -n
+    } else {
+        n
+    }
+}
+
+/// The Phong highlight of every shaded thing (surfaces and gradient-shaded volumes): unit
+/// normal `n` facing the viewer, unit `light` and `view` directions.
+pub fn specular(n: Vec3, light: Vec3, view: Vec3) -> f32 {
     let r = 2.0 * n.dot(light) * n - light;
-    let spec = r.dot(view).max(0.0).powf(SPECULAR_EXPONENT) * SPECULAR_STRENGTH;
-    base + Vec3::splat(spec)
+    r.dot(view).max(0.0).powf(SPECULAR_EXPONENT) * SPECULAR_STRENGTH
 }
 
 /// Packs a colour the way GLSL's `packUnorm4x8` does: clamp, scale by 255, round.

@@ -10,10 +10,12 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use tessera::path::PathChoice;
 use tessera::renderer::{
-    self, AmbiguityRule, Frame, FrameStats, FrameTimes, LayoutKind, RendererOptions, Technique,
+    self, AmbientOcclusion, AmbiguityRule, Frame, FrameStats, FrameTimes, LayoutKind, Light,
+    RendererOptions, Technique,
 };
 use tessera_data::scene::parse::parse_colour;
 use tessera_data::scene::{Appearance, Dataset, IntegrandChoice};
+use tessera_data::tet::shell::DEFAULT_AO_RADIUS;
 use tessera_data::transfer::TransferFunction;
 use tessera_data::{IsoValue, OrbitCamera, RgbaImage, ViewUp};
 use tessera_gpu::Gpu;
@@ -50,7 +52,9 @@ struct State {
 /// and `render(...)` as often as wanted. `technique=None` draws each kind of data with its
 /// default (raymarch, interval, param-points). Options as the CLI's flags: `culling`
 /// (direct), `supersample`, `msaa`, `pre_split` (parametric), `ambiguity` (direct's
-/// marching cubes), `layout` (shell: tet32, tet20 or tet16).
+/// marching cubes), `layout` (shell: tet32, tet20 or tet16), and shell traversal's effects:
+/// `shadows` (with `light=(x, y, z)` or `light_dir=(x, y, z)`; default a sun above +y),
+/// `ao` (rays per tet, with `ao_radius`) and `gradient`.
 #[pyclass(module = "tessera", frozen)]
 pub struct Renderer {
     state: Mutex<State>,
@@ -168,7 +172,7 @@ fn camera_of(camera: Option<Vec<f32>>, up: Option<ViewUp>) -> PyResult<OrbitCame
 #[pymethods]
 impl Renderer {
     #[new]
-    #[pyo3(signature = (device, technique=None, path="auto", culling=true, supersample=1, msaa=1, pre_split=None, ambiguity="decider", layout="tet20"))]
+    #[pyo3(signature = (device, technique=None, path="auto", culling=true, supersample=1, msaa=1, pre_split=None, ambiguity="decider", layout="tet20", shadows=false, light=None, light_dir=None, ao=None, ao_radius=None, gradient=false))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         device: &Bound<'_, Device>,
@@ -180,10 +184,28 @@ impl Renderer {
         pre_split: Option<u32>,
         ambiguity: &str,
         layout: &str,
+        shadows: bool,
+        light: Option<[f64; 3]>,
+        light_dir: Option<[f64; 3]>,
+        ao: Option<u32>,
+        ao_radius: Option<f32>,
+        gradient: bool,
     ) -> PyResult<Self> {
         if let Some(name) = &technique {
             Technique::parse(name).map_err(from_tessera)?;
         }
+        if !shadows && (light.is_some() || light_dir.is_some()) {
+            return Err(invalid("light and light_dir take shadows=True".into()));
+        }
+        let up = ViewUp::default().vector().as_dvec3();
+        let shadows = shadows
+            .then(|| Light::chosen(light, light_dir, up))
+            .transpose()
+            .map_err(from_data)?;
+        let ao = ao
+            .map(|n| AmbientOcclusion::new(n, ao_radius.unwrap_or(DEFAULT_AO_RADIUS)))
+            .transpose()
+            .map_err(from_data)?;
         let options = RendererOptions {
             path: PathChoice::parse(path).map_err(from_tessera)?,
             culling,
@@ -192,6 +214,9 @@ impl Renderer {
             pre_split,
             ambiguity: AmbiguityRule::parse(ambiguity).map_err(from_data)?,
             layout: LayoutKind::parse(layout).map_err(from_data)?,
+            shadows,
+            ao,
+            gradient,
             ..RendererOptions::default()
         };
         Ok(Renderer {

@@ -9,11 +9,11 @@ use tessera_data::raycast::{REFINEMENTS, STEP};
 use tessera_data::shading;
 use tessera_data::ScalarType;
 
-fn float(v: f32) -> String {
+pub(crate) fn float(v: f32) -> String {
     format!("{v:?}")
 }
 
-fn vec3(v: [f32; 3]) -> String {
+pub(crate) fn vec3(v: [f32; 3]) -> String {
     format!("vec3({}, {}, {})", float(v[0]), float(v[1]), float(v[2]))
 }
 

@@ -160,6 +160,14 @@ const COMMON: &[(&str, &str)] = &[
         include_str!("tet/shell/traverse.glsl"),
     ),
     ("tet/shell/stats.glsl", include_str!("tet/shell/stats.glsl")),
+    (
+        "tet/shell/pixel_ray.glsl",
+        include_str!("tet/shell/pixel_ray.glsl"),
+    ),
+    (
+        "tet/shell/effects.glsl",
+        include_str!("tet/shell/effects.glsl"),
+    ),
     ("param/scene.glsl", include_str!("param/scene.glsl")),
     ("param/sh.glsl", include_str!("param/sh.glsl")),
     ("param/functions.glsl", include_str!("param/functions.glsl")),

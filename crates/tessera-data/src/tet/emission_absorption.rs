@@ -28,6 +28,16 @@ pub struct EmissionAbsorption {
 }
 
 impl EmissionAbsorption {
+    /// The largest absorption coefficient of any channel at any scalar: what "dense" is
+    /// measured against (gradient shading's threshold).
+    pub fn max_absorption(&self) -> f64 {
+        self.absorption
+            .values
+            .iter()
+            .flatten()
+            .fold(0.0, |m, &v| m.max(f64::from(v)))
+    }
+
     /// The tables of `tf` at `density` (world units: the mesh's longest side is 1).
     pub fn new(tf: &TransferFunction, density: f32) -> EmissionAbsorption {
         EmissionAbsorption {
@@ -57,11 +67,25 @@ impl FrontToBack {
     /// Adds a stretch of `length` along which the scalar runs from `s_in` to `s_out`. A
     /// stretch without length adds nothing, whatever its scalars: a flat tet's are not finite.
     pub fn add_stretch(&mut self, optics: &EmissionAbsorption, s_in: f64, s_out: f64, length: f64) {
+        self.add_lit_stretch(optics, s_in, s_out, length, DVec3::ONE);
+    }
+
+    /// [`FrontToBack::add_stretch`] with the stretch's emission scaled by `light` per channel
+    /// (shadows, ambient occlusion, shading); absorption is untouched. A factor of one adds
+    /// exactly what `add_stretch` adds.
+    pub fn add_lit_stretch(
+        &mut self,
+        optics: &EmissionAbsorption,
+        s_in: f64,
+        s_out: f64,
+        length: f64,
+        light: DVec3,
+    ) {
         if !(length > 0.0 && s_in.is_finite() && s_out.is_finite()) {
             return;
         }
         let tau = optics.absorption.average(s_in, s_out) * length;
-        let emitted = optics.emission.average(s_in, s_out) * length;
+        let emitted = optics.emission.average(s_in, s_out) * length * light;
         let attenuated = DVec3::from_array(std::array::from_fn(|c| {
             let t = tau[c];
             // (1 - e^-τ)/τ without cancellation for thin stretches.

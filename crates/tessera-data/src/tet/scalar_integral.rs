@@ -95,6 +95,19 @@ impl TetLinear {
         )
     }
 
+    /// The scalar's gradient, exact for the linear scalar; zero for a flat tet.
+    pub(crate) fn gradient(&self) -> DVec3 {
+        let v = self.values;
+        let rise = DVec3::new(v[1] - v[0], v[2] - v[0], v[3] - v[0]);
+        // s(p) = v0 + rise · B (p − origin), B the barycentric map: ∇s = Bᵀ rise.
+        let gradient = self.to_barycentric.transpose() * rise;
+        if gradient.is_finite() {
+            gradient
+        } else {
+            DVec3::ZERO
+        }
+    }
+
     fn at(&self, p: DVec3) -> f64 {
         let w = self.to_barycentric * (p - self.origin);
         let w0 = 1.0 - w.x - w.y - w.z;

@@ -33,7 +33,8 @@ pub use crate::tet::interval::IntervalTuning;
 use std::collections::BTreeMap;
 pub use tessera_data::mc_ambiguity::AmbiguityRule;
 use tessera_data::scene::{Appearance, DataKind, Dataset};
-pub use tessera_data::tet::shell::LayoutKind;
+use tessera_data::tet::shell::ShellEffects;
+pub use tessera_data::tet::shell::{AmbientOcclusion, LayoutKind, Light};
 use tessera_data::{DepthFit, OrbitCamera, RgbaImage, View};
 use tessera_gpu::{Capabilities, Gpu, Recorder, Timer};
 
@@ -171,6 +172,24 @@ pub struct RendererOptions {
     pub ambiguity: AmbiguityRule,
     /// The compact tet layout shell traversal marches through.
     pub layout: LayoutKind,
+    /// Shell traversal's volumetric shadows, and the ground plane they fall on, from this
+    /// light (world space; [`Light::above`] is the usual sun).
+    pub shadows: Option<Light>,
+    /// Shell traversal's ambient occlusion.
+    pub ao: Option<AmbientOcclusion>,
+    /// Shell traversal's gradient shading.
+    pub gradient: bool,
+}
+
+impl RendererOptions {
+    /// Shell traversal's effects as these options set them.
+    pub fn shell_effects(&self) -> ShellEffects {
+        ShellEffects {
+            shadows: self.shadows,
+            ambient_occlusion: self.ao,
+            gradient: self.gradient,
+        }
+    }
 }
 
 impl Default for RendererOptions {
@@ -184,12 +203,15 @@ impl Default for RendererOptions {
             interval: IntervalTuning::default(),
             ambiguity: AmbiguityRule::default(),
             layout: LayoutKind::Tet20,
+            shadows: None,
+            ao: None,
+            gradient: false,
         }
     }
 }
 
 /// The settings of [`RendererOptions`] by name (as the CLI's flags spell them, `_` for `-`).
-pub const OPTION_NAMES: [&str; 8] = [
+pub const OPTION_NAMES: [&str; 11] = [
     "path",
     "culling",
     "supersample",
@@ -198,6 +220,9 @@ pub const OPTION_NAMES: [&str; 8] = [
     "interval",
     "ambiguity",
     "layout",
+    "shadows",
+    "ao",
+    "gradient",
 ];
 
 impl Technique {
@@ -210,7 +235,7 @@ impl Technique {
                 &["path", "culling", "ambiguity"]
             }
             Technique::Interval => &["path", "interval"],
-            Technique::Shell => &["layout"],
+            Technique::Shell => &["layout", "shadows", "ao", "gradient"],
             Technique::ParamPoints => &["supersample", "pre_split"],
             Technique::ParamTess => &["supersample", "msaa", "pre_split"],
             Technique::ShRaytrace => &["supersample"],
@@ -232,6 +257,9 @@ impl RendererOptions {
             self.interval != d.interval,
             self.ambiguity != d.ambiguity,
             self.layout != d.layout,
+            self.shadows != d.shadows,
+            self.ao != d.ao,
+            self.gradient != d.gradient,
         ];
         OPTION_NAMES
             .into_iter()
@@ -575,6 +603,17 @@ mod option_tests {
             ["supersample", "msaa"]
         );
         assert!(msaa.ignored_by(Technique::ParamTess).is_empty());
+        let effects = RendererOptions {
+            shadows: Some(Light::Directional(glam::DVec3::Y)),
+            ao: Some(AmbientOcclusion::new(4, 0.1).unwrap()),
+            gradient: true,
+            ..defaults
+        };
+        assert!(effects.ignored_by(Technique::Shell).is_empty());
+        assert_eq!(
+            effects.ignored_by(Technique::Interval),
+            ["shadows", "ao", "gradient"]
+        );
     }
 
     #[test]

@@ -1,7 +1,8 @@
 //! Tet meshes behind the front door by shell traversal (paper B): emission–absorption of the
-//! vertex scalars through the look's transfer function. The layout is compiled into the
-//! pipeline; a new transfer function, density or scalar range is a table write and a push
-//! constant.
+//! vertex scalars through the look's transfer function, with the options' secondary-ray
+//! effects (shadows and a ground plane, ambient occlusion, gradient shading). The layout and
+//! the effects are compiled into the pipelines; a new transfer function, density or scalar
+//! range is a table write and a push constant.
 
 use super::{
     no_data, wrong_data, FrameOutcome, FrameStats, Renderer, RendererOptions, Target, Technique,
@@ -9,23 +10,30 @@ use super::{
 };
 use crate::error::{Error, Result};
 use crate::path::Path;
-use crate::tet::shell::{GpuShellMesh, Shell, ShellOptions};
+use crate::tet::shell::{EffectBuffers, EffectParams, GpuShellMesh, Shell, ShellOptions};
+use glam::DVec3;
 use tessera_data::scene::{Appearance, DataKind, Dataset, TetData};
 use tessera_data::tet::emission_absorption::EmissionAbsorption;
 use tessera_data::tet::scalar_integral::mapping_range;
-use tessera_data::tet::shell::{LayoutKind, ShellMesh};
+use tessera_data::tet::shell::{LayoutKind, ShellEffects, ShellMesh};
 use tessera_data::View;
 use tessera_gpu::{Gpu, Recorder, Timer};
 
 struct MeshOnGpu {
     data: TetData,
     mesh: GpuShellMesh,
+    /// World-space bounds, which place the ground plane.
+    bounds: (DVec3, DVec3),
+    /// The effects' buffers (with effects only).
+    effects: Option<EffectBuffers>,
 }
 
 pub(super) struct ShellRenderer {
     layout: LayoutKind,
+    effects: ShellEffects,
     data: Option<MeshOnGpu>,
     look: Appearance,
+    optics: Option<EmissionAbsorption>,
     pass: Option<Shell>,
     background: [f32; 3],
     stats: FrameStats,
@@ -36,8 +44,10 @@ impl ShellRenderer {
     pub(super) fn new(options: &RendererOptions) -> ShellRenderer {
         ShellRenderer {
             layout: options.layout,
+            effects: options.shell_effects(),
             data: None,
             look: Appearance::default(),
+            optics: None,
             pass: None,
             background: [0.0; 3],
             stats: FrameStats::default(),
@@ -63,11 +73,13 @@ impl ShellRenderer {
             Some(pass) => pass.set_optics(gpu, &optics)?,
             None => {
                 let options = ShellOptions::new(self.layout);
-                let pass = Shell::new(gpu, &crate::shaders::compiler(), &options, &optics)?;
+                let compiler = crate::shaders::compiler();
+                let pass = Shell::with_effects(gpu, &compiler, &options, &optics, &self.effects)?;
                 self.pass = Some(pass);
                 self.counters.pipeline_builds += 1;
             }
         }
+        self.optics = Some(optics);
         self.background = self.look.background(DataKind::Tets, None);
         Ok(())
     }
@@ -98,9 +110,16 @@ impl Renderer for ShellRenderer {
         self.counters.data_uploads += 1;
         self.counters.data_bytes += mesh.bytes();
         // The mesh as loaded names the scalars' range; the reordered copy is on the GPU.
+        let effects = if self.effects.any() {
+            Some(EffectBuffers::new(gpu, &shell, &self.effects, 0)?)
+        } else {
+            None
+        };
         self.data = Some(MeshOnGpu {
             data: tets.clone(),
             mesh,
+            bounds: shell.world_bounds(),
+            effects,
         });
         self.apply_look(gpu)
     }
@@ -110,9 +129,14 @@ impl Renderer for ShellRenderer {
         self.apply_look(gpu)
     }
 
-    fn prepare_frame(&mut self, _gpu: &Gpu, _view: &View) -> Result<()> {
-        match (&self.pass, &self.data) {
-            (Some(_), Some(_)) => Ok(()),
+    fn prepare_frame(&mut self, gpu: &Gpu, view: &View) -> Result<()> {
+        match (&self.pass, &mut self.data) {
+            (Some(_), Some(data)) => match &mut data.effects {
+                Some(buffers) => {
+                    buffers.resize(gpu, u64::from(view.size.0) * u64::from(view.size.1))
+                }
+                None => Ok(()),
+            },
             _ => Err(no_data(Technique::Shell)),
         }
     }
@@ -128,9 +152,15 @@ impl Renderer for ShellRenderer {
             return Err(no_data(Technique::Shell));
         };
         let params = pass.params(&data.mesh, view, self.background);
-        timer.scope(rec, "shell traversal", |rec| {
-            pass.record(rec, &data.mesh, target, &params)
-        })
+        match (&data.effects, &self.optics) {
+            (Some(buffers), Some(optics)) => {
+                let effect = EffectParams::new(&self.effects, view, data.bounds, optics);
+                pass.record_effects(rec, &data.mesh, buffers, target, &params, &effect, timer)
+            }
+            _ => timer.scope(rec, "shell traversal", |rec| {
+                pass.record(rec, &data.mesh, target, &params)
+            }),
+        }
     }
 
     fn finish_frame(&mut self, gpu: &Gpu) -> Result<FrameOutcome> {
@@ -139,15 +169,25 @@ impl Renderer for ShellRenderer {
             .as_ref()
             .ok_or_else(|| no_data(Technique::Shell))?;
         let s = pass.read_stats(gpu)?;
+        let mut details: std::collections::BTreeMap<&'static str, u64> = [
+            ("segments", s.segments),
+            ("tet_steps", s.steps),
+            ("guard_dead_ends", s.dead_ends),
+            ("guard_step_limits", s.step_limits),
+            ("unmatched_exits", s.unmatched_exits),
+        ]
+        .into();
+        if self.effects.any() {
+            let secondary = pass.read_secondary(gpu)?;
+            details.extend([
+                ("shadow_rays", secondary.shadow_rays),
+                ("ao_rays", secondary.ao_rays),
+                ("secondary_steps", secondary.steps),
+                ("secondary_guard_hits", secondary.guard_hits),
+            ]);
+        }
         self.stats = FrameStats {
-            details: [
-                ("segments", s.segments),
-                ("tet_steps", s.steps),
-                ("guard_dead_ends", s.dead_ends),
-                ("guard_step_limits", s.step_limits),
-                ("unmatched_exits", s.unmatched_exits),
-            ]
-            .into(),
+            details,
             ..FrameStats::default()
         };
         Ok(FrameOutcome::Done)

@@ -36,8 +36,10 @@ use super::TetMesh;
 use crate::error::{DataError, Result};
 
 mod bvh;
+mod effects;
 mod faces;
 mod layouts;
+mod lighting;
 mod march;
 mod morton;
 mod projection;
@@ -49,11 +51,19 @@ mod tet32;
 mod traverse;
 
 pub use bvh::{build_bvh, BvhNode, ShellBvh, BVH_LEAF_FACES, BVH_MAX_DEPTH};
+pub use effects::{
+    ao_directions, ao_normal, ao_pattern, gradient_weight, hemisphere_frame, AmbientOcclusion,
+    GroundPlane, SecondaryStats, ShellEffects, StretchLighting, AO_FALLBACK_NORMAL,
+    DEFAULT_AO_RADIUS, GRADIENT_RAMP, GRADIENT_THRESHOLD, GROUND_ALBEDO, GROUND_GAP,
+    GROUND_HALF_EXTENT, MAX_AO_SAMPLES, VOLUME_AMBIENT,
+};
 pub use faces::{shell_faces, ShellFace};
 pub use layouts::{build_layout, DecodedTet, LayoutKind, TetLayout};
+pub use lighting::TetLighting;
 pub use morton::{morton_order, MortonOrder};
 pub use render::{
-    render_shell_reference, shadow_transmittance, Light, ShellIntegrator, ShellRender,
+    render_shell_effects_reference, render_shell_reference, shadow_transmittance, Light,
+    LitStretch, ShellIntegrator, ShellRender, ShellScene,
 };
 pub use tet16::{Tet16, Tet16Mesh};
 pub use tet20::{Tet20, Tet20Mesh};
@@ -111,6 +121,14 @@ impl ShellMesh {
     /// Vertex positions in world space (each an `f32` point widened to `f64`).
     pub fn world(&self) -> &[DVec3] {
         &self.world
+    }
+
+    /// The world-space bounding box of the vertices.
+    pub fn world_bounds(&self) -> (DVec3, DVec3) {
+        self.world.iter().fold(
+            (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+        )
     }
 
     /// The compact layout `kind` of this mesh's tets.
@@ -196,3 +214,7 @@ mod bvh_tests;
 #[cfg(test)]
 #[path = "render_tests.rs"]
 mod render_tests;
+
+#[cfg(test)]
+#[path = "effects_tests.rs"]
+mod effects_tests;

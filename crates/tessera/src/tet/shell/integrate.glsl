@@ -16,14 +16,20 @@ vec3 attenuation(vec3 tau) {
     return mix(series, closed, greaterThan(tau, vec3(1e-3)));
 }
 
-void add_stretch(inout FrontToBack sum, float s_in, float s_out, float len) {
+// add_stretch with the stretch's emission scaled by `light` per channel (the effects);
+// absorption is untouched.
+void add_lit_stretch(inout FrontToBack sum, float s_in, float s_out, float len, vec3 light) {
     if (!(len > 0.0) || isnan(s_in) || isnan(s_out) || isinf(s_in) || isinf(s_out)) {
         return;
     }
     vec3 tau = table_mean_at(ABSORPTION_TABLE, s_in, s_out) * len;
-    vec3 emitted = table_mean_at(EMISSION_TABLE, s_in, s_out) * len;
+    vec3 emitted = table_mean_at(EMISSION_TABLE, s_in, s_out) * len * light;
     sum.colour += sum.transmittance * emitted * attenuation(tau);
     sum.transmittance *= exp(-tau);
+}
+
+void add_stretch(inout FrontToBack sum, float s_in, float s_out, float len) {
+    add_lit_stretch(sum, s_in, s_out, len, vec3(1.0));
 }
 
 // Opacity of the most transparent channel reached the early-termination threshold.

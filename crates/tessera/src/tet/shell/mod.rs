@@ -9,11 +9,14 @@
 //! step limit and counts it.
 //!
 //! [`ShellRays`] runs the same traversal for given rays (shadow rays; per-ray checks against
-//! the CPU traversal).
+//! the CPU traversal). [`Shell::with_effects`] adds the secondary-ray effects ([`effects`]):
+//! volumetric shadows with a ground plane, ambient occlusion and gradient shading.
 
+pub mod effects;
 pub mod mesh;
 pub mod rays;
 
+pub use effects::{EffectBuffers, EffectParams};
 pub use mesh::GpuShellMesh;
 pub use rays::{shadow_ray, GpuRay, RayResult, ShellRays, TracedRay, VisitedTet, RECORDED_STEPS};
 
@@ -21,9 +24,11 @@ use crate::builtin_shader;
 use crate::error::{Error, Result};
 use crate::target::Target;
 use bytemuck::{Pod, Zeroable};
+use effects::LightingPass;
 use tessera_data::tet::emission_absorption::{EmissionAbsorption, EARLY_TERMINATION_OPACITY};
 use tessera_data::tet::shell::{
-    LayoutKind, Tet16, Tet20, Tet32, TraversalOptions, TraversalStats, BVH_MAX_DEPTH,
+    LayoutKind, SecondaryStats, ShellEffects, ShellMesh, Tet16, Tet20, Tet32, TraversalOptions,
+    TraversalStats, BVH_MAX_DEPTH,
 };
 use tessera_data::{OrbitCamera, RgbaImage, View};
 use tessera_gpu::{vk, Binding, Buffer, Gpu, Pipeline, Recorder, ShaderCompiler, Slot, Timer};
@@ -31,8 +36,9 @@ use tessera_gpu::{vk, Binding, Buffer, Gpu, Pipeline, Recorder, ShaderCompiler, 
 /// Bindings every shell pass shares (`buffers.glsl`).
 const COMMON_BINDINGS: usize = 6;
 
-/// The counters of `stats.glsl`, in buffer order (each a `STAT_…` define).
-const STATS: [&str; 8] = [
+/// The counters of `stats.glsl`, in buffer order (each a `STAT_…` define; 64-bit counts take
+/// two, low word first).
+const STATS: [&str; 13] = [
     "STAT_RAYS",
     "STAT_SEGMENTS",
     "STAT_STEPS_LOW",
@@ -41,6 +47,11 @@ const STATS: [&str; 8] = [
     "STAT_STEP_LIMITS",
     "STAT_BACKWARD_STEPS",
     "STAT_UNMATCHED_EXITS",
+    "STAT_SHADOW_RAYS",
+    "STAT_AO_RAYS",
+    "STAT_SECONDARY_STEPS_LOW",
+    "STAT_SECONDARY_STEPS_HIGH",
+    "STAT_SECONDARY_GUARD_HITS",
 ];
 
 /// Push constants (`params.glsl`).
@@ -181,13 +192,14 @@ impl ShellTables {
         ]
     }
 
-    fn read_stats(&self, gpu: &Gpu) -> Result<TraversalStats> {
+    /// The pixel rays' counts and the secondary rays'.
+    fn read_all_stats(&self, gpu: &Gpu) -> Result<(TraversalStats, SecondaryStats)> {
         let w = tessera_gpu::timing::read_words(gpu, &self.stats)?;
         let word = |name: &str| {
             let i = STATS.iter().position(|s| *s == name).unwrap_or(0);
             u64::from(w.get(i).copied().unwrap_or(0))
         };
-        Ok(TraversalStats {
+        let traversal = TraversalStats {
             rays: word("STAT_RAYS"),
             segments: word("STAT_SEGMENTS"),
             steps: word("STAT_STEPS_LOW") | word("STAT_STEPS_HIGH") << 32,
@@ -195,7 +207,12 @@ impl ShellTables {
             step_limits: word("STAT_STEP_LIMITS"),
             backward_steps: word("STAT_BACKWARD_STEPS"),
             unmatched_exits: word("STAT_UNMATCHED_EXITS"),
-        })
+        };
+        Ok((traversal, effects::secondary_stats(word)))
+    }
+
+    fn read_stats(&self, gpu: &Gpu) -> Result<TraversalStats> {
+        Ok(self.read_all_stats(gpu)?.0)
     }
 }
 
@@ -225,11 +242,24 @@ fn base_params(mesh: &GpuShellMesh, options: &ShellOptions) -> ShellParams {
     }
 }
 
-/// The pixel pass: one image of emission–absorption by shell traversal.
+/// The pixel pass: one image of emission–absorption by shell traversal, with the passes of
+/// its effects before it.
 pub struct Shell {
     pipeline: Pipeline,
+    /// The effects' passes in the order they run.
+    lighting: Vec<(LightingPass, Pipeline)>,
     tables: ShellTables,
     options: ShellOptions,
+    effects: ShellEffects,
+}
+
+/// A frame's image, counters and GPU times.
+pub struct ShellImage {
+    pub image: RgbaImage,
+    pub stats: TraversalStats,
+    pub secondary: SecondaryStats,
+    /// Milliseconds per timer scope, in recording order.
+    pub times: Vec<(String, f64)>,
 }
 
 impl Shell {
@@ -241,25 +271,52 @@ impl Shell {
         options: &ShellOptions,
         optics: &EmissionAbsorption,
     ) -> Result<Shell> {
+        Shell::with_effects(gpu, compiler, options, optics, &ShellEffects::default())
+    }
+
+    /// [`Shell::new`] shading with `effects`; with none, exactly [`Shell::new`]'s pipeline.
+    pub fn with_effects(
+        gpu: &Gpu,
+        compiler: &ShaderCompiler,
+        options: &ShellOptions,
+        optics: &EmissionAbsorption,
+        effects: &ShellEffects,
+    ) -> Result<Shell> {
         let tables = ShellTables::new(gpu, optics)?;
-        let spirv = compiler.compile(
-            &builtin_shader!("shell.comp.glsl"),
-            &defines(options.layout, tables.knots),
-        )?;
-        let pipeline = gpu.compute_pipeline(
-            "shell traversal",
-            &spirv,
-            &[Slot::StorageBuffer; COMMON_BINDINGS + 1],
-        )?;
+        let mut base = defines(options.layout, tables.knots);
+        base.extend(effects::effect_defines(effects));
+        let slots = if effects.any() {
+            COMMON_BINDINGS + 1 + effects::EFFECT_BINDINGS
+        } else {
+            COMMON_BINDINGS + 1
+        };
+        let spirv = compiler.compile(&builtin_shader!("shell.comp.glsl"), &base)?;
+        let pipeline =
+            gpu.compute_pipeline("shell traversal", &spirv, &vec![Slot::StorageBuffer; slots])?;
+        let mut lighting = Vec::new();
+        for pass in LightingPass::ALL.into_iter().filter(|p| p.needed(effects)) {
+            let mut defines = defines(options.layout, tables.knots);
+            defines.extend(effects::pass_defines(effects, pass));
+            let spirv = compiler.compile(&builtin_shader!("lighting.comp.glsl"), &defines)?;
+            let pipeline =
+                gpu.compute_pipeline(pass.scope(), &spirv, &vec![Slot::StorageBuffer; slots])?;
+            lighting.push((pass, pipeline));
+        }
         Ok(Shell {
             pipeline,
+            lighting,
             tables,
             options: *options,
+            effects: *effects,
         })
     }
 
     pub fn options(&self) -> &ShellOptions {
         &self.options
+    }
+
+    pub fn effects(&self) -> &ShellEffects {
+        &self.effects
     }
 
     pub fn set_optics(&self, gpu: &Gpu, optics: &EmissionAbsorption) -> Result<()> {
@@ -283,7 +340,16 @@ impl Shell {
         }
     }
 
-    /// Records one frame into `target`, counters cleared first.
+    fn check_target(target: &Target, params: &ShellParams) -> Result<()> {
+        if params.size != [target.width, target.height] {
+            return Err(Error::Invalid(
+                "shell traversal: target of another size".into(),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Records one frame into `target`, counters cleared first (a pass without effects).
     pub fn record(
         &self,
         rec: &Recorder,
@@ -292,9 +358,10 @@ impl Shell {
         params: &ShellParams,
     ) -> Result<()> {
         check_layout(mesh, &self.options)?;
-        if params.size != [target.width, target.height] {
+        Self::check_target(target, params)?;
+        if self.effects.any() {
             return Err(Error::Invalid(
-                "shell traversal: target of another size".into(),
+                "shell traversal: a pass with effects records through record_effects".into(),
             ));
         }
         rec.fill_buffer(&self.tables.stats, 0);
@@ -311,9 +378,69 @@ impl Shell {
         Ok(())
     }
 
+    /// Records one frame with the effects into `target`: counters cleared and `effect` written
+    /// first, then each effect's pass and the pixel pass, each in a scope of `timer` (the
+    /// pixel pass's is "shell traversal").
+    #[allow(clippy::too_many_arguments)]
+    pub fn record_effects(
+        &self,
+        rec: &Recorder,
+        mesh: &GpuShellMesh,
+        buffers: &EffectBuffers,
+        target: &Target,
+        params: &ShellParams,
+        effect: &EffectParams,
+        timer: &mut Timer,
+    ) -> Result<()> {
+        check_layout(mesh, &self.options)?;
+        Self::check_target(target, params)?;
+        if buffers.effects() != &self.effects
+            || buffers.pixels() != u64::from(target.width) * u64::from(target.height)
+        {
+            return Err(Error::Invalid(
+                "shell traversal: effect buffers made for other effects or another size".into(),
+            ));
+        }
+        rec.fill_buffer(&self.tables.stats, 0);
+        rec.update_buffer(&buffers.params, bytemuck::bytes_of(effect));
+        rec.barrier();
+        let mut bindings = self.tables.bindings(mesh).to_vec();
+        bindings.push(Binding::Buffer(&target.pixels));
+        if self.effects.any() {
+            bindings.extend(buffers.bindings());
+        }
+        let push = bytemuck::bytes_of(params);
+        for (pass, pipeline) in &self.lighting {
+            let threads = if pass.per_pixel() {
+                [target.width, target.height, 1]
+            } else {
+                [mesh.tet_count, 1, 1]
+            };
+            timer.scope(rec, pass.scope(), |rec| {
+                rec.dispatch(pipeline, &bindings, push, threads);
+                rec.barrier();
+            });
+        }
+        timer.scope(rec, "shell traversal", |rec| {
+            rec.dispatch(
+                &self.pipeline,
+                &bindings,
+                push,
+                [target.width, target.height, 1],
+            );
+            rec.barrier();
+        });
+        Ok(())
+    }
+
     /// The counters of the last frame.
     pub fn read_stats(&self, gpu: &Gpu) -> Result<TraversalStats> {
         self.tables.read_stats(gpu)
+    }
+
+    /// The secondary-ray counters of the last frame.
+    pub fn read_secondary(&self, gpu: &Gpu) -> Result<SecondaryStats> {
+        Ok(self.tables.read_all_stats(gpu)?.1)
     }
 
     /// Renders `mesh` seen by `camera` at `size` over `background`: the image, what the
@@ -338,5 +465,41 @@ impl Shell {
         recorded?;
         let ms = timer.read_ms(gpu)?.first().map(|s| s.1).unwrap_or(0.0);
         Ok((target.read(gpu)?, self.read_stats(gpu)?, ms))
+    }
+
+    /// Renders `mesh` (`shell` on the GPU) with the effects, lit as the CPU reference lights
+    /// it: the view of `camera` at `size` over `background`, through `optics` (the tables
+    /// this pass holds). `buffers` must be made for this pass's effects and `size`.
+    #[allow(clippy::too_many_arguments)]
+    pub fn render_effects_image(
+        &self,
+        gpu: &Gpu,
+        mesh: &GpuShellMesh,
+        buffers: &EffectBuffers,
+        shell: &ShellMesh,
+        optics: &EmissionAbsorption,
+        camera: &OrbitCamera,
+        size: (u32, u32),
+        background: [f32; 3],
+    ) -> Result<ShellImage> {
+        let view = View::of_unit_box(camera, size);
+        let target = Target::new(gpu, size.0, size.1)?;
+        let params = self.params(mesh, &view, background);
+        let effect = EffectParams::new(&self.effects, &view, shell.world_bounds(), optics);
+        let mut timer = Timer::new(gpu, 1 + self.lighting.len() as u32)?;
+        timer.reset(gpu);
+        let mut recorded = Ok(());
+        gpu.submit("shell traversal image with effects", |rec| {
+            recorded =
+                self.record_effects(rec, mesh, buffers, &target, &params, &effect, &mut timer);
+        })?;
+        recorded?;
+        let (stats, secondary) = self.tables.read_all_stats(gpu)?;
+        Ok(ShellImage {
+            image: target.read(gpu)?,
+            stats,
+            secondary,
+            times: timer.read_ms(gpu)?,
+        })
     }
 }
