@@ -3,6 +3,7 @@
 pub mod direct;
 pub mod meshlets;
 pub mod minmax;
+pub mod pmb;
 pub mod raymarch;
 
 use crate::error::{Error, Result};
