@@ -21,6 +21,7 @@ pub mod nifti;
 pub mod nrrd;
 pub mod orientation;
 pub mod param;
+pub mod pmb;
 pub mod procedural;
 pub mod rasterize;
 pub mod raw;

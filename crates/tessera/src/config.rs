@@ -128,6 +128,27 @@ pub fn meshlet_draw_defines() -> Vec<(String, String)> {
     d
 }
 
+/// Defines for the PMB extraction (`iso/pmb`): marching cubes' (see
+/// [`marching_cubes_defines`]) plus the block size the pipelines are built for and the
+/// extraction's workgroup size.
+pub fn pmb_defines(
+    scalar: ScalarType,
+    rule: AmbiguityRule,
+    block_size: crate::iso::pmb::PmbBlockSize,
+) -> Vec<(String, String)> {
+    let mut d = marching_cubes_defines(scalar, rule);
+    let [x, y, z] = block_size.cells();
+    for (name, value) in [
+        ("PMB_BLOCK_X", x),
+        ("PMB_BLOCK_Y", y),
+        ("PMB_BLOCK_Z", z),
+        ("PMB_WORKGROUP", crate::iso::pmb::WORKGROUP_SIZE),
+    ] {
+        d.push((name.into(), format!("{value}u")));
+    }
+    d
+}
+
 /// The asteroid field's constants (`tet/interval/sdf.glsl`), from its CPU reference.
 pub fn asteroid_defines() -> Vec<(String, String)> {
     use tessera_data::tet::asteroids as a;

@@ -27,6 +27,10 @@ const COMMON: &[(&str, &str)] = &[
         include_str!("shaders/common/mc_vertex.glsl"),
     ),
     (
+        "common/mc_edges.glsl",
+        include_str!("shaders/common/mc_edges.glsl"),
+    ),
+    (
         "iso/meshlets/params.glsl",
         include_str!("iso/meshlets/params.glsl"),
     ),
@@ -70,6 +74,7 @@ const COMMON: &[(&str, &str)] = &[
         "iso/meshlets/extraction.glsl",
         include_str!("iso/meshlets/extraction.glsl"),
     ),
+    ("iso/pmb/params.glsl", include_str!("iso/pmb/params.glsl")),
     (
         "iso/direct/payload.glsl",
         include_str!("iso/direct/payload.glsl"),

@@ -5,63 +5,20 @@
 
 mod common;
 
-use common::{assert_clean, checkerboard, field, gpu, Need, TestGpu};
-use glam::Vec3;
+use common::volumes::{extraction_volumes, prepare};
+use common::{assert_clean, checkerboard, gpu, Need, TestGpu};
 use tessera::iso::meshlets::{
     Extraction, ExtractionPath, GpuMeshlets, MeshletCapacity, MeshletCounters, MeshletExtractor,
 };
-use tessera::iso::minmax::MinMaxBuilder;
 use tessera::iso::PreparedVolume;
 use tessera::shaders;
 use tessera_data::marching_cubes::AmbiguityRule;
 use tessera_data::meshlets::{extract_meshlets, MeshletMesh};
 use tessera_data::minmax::{MinMaxOctree, BLOCK_CELLS};
-use tessera_data::procedural::{generate, ProceduralKind};
 use tessera_data::{ScalarType, Volume};
 use tessera_gpu::Gpu;
 
 const RULES: [AmbiguityRule; 2] = [AmbiguityRule::AsymptoticDecider, AmbiguityRule::Vtk];
-
-/// Reproducible values in [0, 1) from a multiplicative hash of the sample position.
-fn noise(name: &str, dims: [u32; 3]) -> Volume {
-    field(name, dims, |p| {
-        let [x, y, z] = p.to_array().map(|c| c as u32);
-        let h =
-            (x.wrapping_mul(73_856_093) ^ y.wrapping_mul(19_349_663) ^ z.wrapping_mul(83_492_791))
-                .wrapping_mul(2_654_435_761);
-        (h >> 8) as f32 / (1u32 << 24) as f32
-    })
-}
-
-/// `(volume, iso)` pairs of several characters; no isovalue equals a sample. Only the sphere
-/// has dims that are whole blocks plus one sample (33 = 4·8 + 1 along x and y, 8·4 + 1 along
-/// z); the others end in partial blocks along some axes.
-fn volumes() -> Vec<(Volume, f32)> {
-    let sphere = generate(ProceduralKind::Sphere, 33, ScalarType::F32).unwrap();
-    let spheres = field("three spheres", [30, 26, 19], |p| {
-        let centres = [
-            Vec3::new(8.0, 9.0, 7.0),
-            Vec3::new(20.0, 15.0, 10.0),
-            Vec3::new(13.0, 18.0, 12.0),
-        ];
-        centres
-            .iter()
-            .map(|c| 6.5 - p.distance(*c))
-            .fold(f32::MIN, f32::max)
-    });
-    let gyroid = field("gyroid", [23, 17, 14], |p| {
-        let q = p * 0.55;
-        q.x.sin() * q.y.cos() + q.y.sin() * q.z.cos() + q.z.sin() * q.x.cos()
-    });
-    let turbulence = generate(ProceduralKind::Turbulence, 26, ScalarType::U8).unwrap();
-    vec![
-        (sphere, 0.6123),
-        (spheres, 0.0513),
-        (gyroid, 0.1037),
-        (noise("noise", [13, 21, 7]), 0.5),
-        (turbulence, 127.5),
-    ]
-}
 
 /// The pipelines for one volume's sample type and `rule`.
 fn extractor(
@@ -71,11 +28,6 @@ fn extractor(
     path: ExtractionPath,
 ) -> MeshletExtractor {
     MeshletExtractor::new(gpu, &shaders::compiler(), scalar, rule, path).unwrap()
-}
-
-fn prepare(gpu: &Gpu, volume: &Volume) -> PreparedVolume {
-    let builder = MinMaxBuilder::new(gpu, &shaders::compiler(), volume.scalar_type()).unwrap();
-    PreparedVolume::new(gpu, &builder, volume).unwrap()
 }
 
 /// Every output buffer filled with `u32::MAX` (NaN bits for floats), so anything the
@@ -239,7 +191,7 @@ fn extractors(
 fn compute_meshlets_equal_cpu_on_procedural_volumes() {
     let gpu = gpu();
     for rule in RULES {
-        for (volume, iso) in volumes() {
+        for (volume, iso) in extraction_volumes() {
             let ex = extractors(&gpu, volume.scalar_type(), rule, &[ExtractionPath::Compute]);
             check_volume(&gpu, &ex, &volume, iso, rule);
         }
@@ -264,7 +216,7 @@ fn compute_meshlets_split_fully_occupied_blocks() {
 #[test]
 fn compute_meshlets_of_no_surface_are_none() {
     let gpu = gpu();
-    let (volume, _) = volumes().swap_remove(0);
+    let (volume, _) = extraction_volumes().swap_remove(0);
     let ex = extractor(
         &gpu,
         ScalarType::F32,
@@ -293,7 +245,7 @@ fn compute_meshlets_of_no_surface_are_none() {
 #[test]
 fn overflowing_buffers_grow_and_give_the_same_meshlets() {
     let gpu = gpu();
-    let (volume, iso) = volumes().swap_remove(1);
+    let (volume, iso) = extraction_volumes().swap_remove(1);
     let rule = AmbiguityRule::default();
     let cpu_mesh = extract_meshlets(&volume, iso, rule).unwrap();
     let ex = extractor(&gpu, ScalarType::F32, rule, ExtractionPath::Compute);
@@ -319,7 +271,7 @@ fn pipelines_refuse_a_volume_of_another_sample_type() {
         AmbiguityRule::default(),
         ExtractionPath::Compute,
     );
-    let (volume, iso) = volumes().swap_remove(0);
+    let (volume, iso) = extraction_volumes().swap_remove(0);
     let prepared = prepare(&gpu, &volume);
     let error = ex.extract(&gpu, &prepared, iso).unwrap_err().to_string();
     assert!(
@@ -338,7 +290,7 @@ fn mesh_shader_meshlets_equal_compute_and_cpu() {
     // to compile, and the analysis and extraction code is the compute path's, which the
     // tests above run under both rules and on integer samples.
     let rule = AmbiguityRule::default();
-    let mut cases: Vec<(Volume, f32)> = volumes()
+    let mut cases: Vec<(Volume, f32)> = extraction_volumes()
         .into_iter()
         .filter(|(v, _)| v.scalar_type() == ScalarType::F32)
         .collect();

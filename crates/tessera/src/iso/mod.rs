@@ -4,6 +4,7 @@ pub mod direct;
 pub mod meshlet_draw;
 pub mod meshlets;
 pub mod minmax;
+pub mod pmb;
 pub mod raymarch;
 pub mod surface;
 

@@ -5,6 +5,7 @@
 pub mod interval;
 pub mod param;
 pub mod raster;
+pub mod volumes;
 
 use glam::Vec3;
 use std::collections::HashMap;

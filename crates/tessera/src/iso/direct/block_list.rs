@@ -1,11 +1,16 @@
 //! Lists of block or region ids on the GPU (`block_list.glsl`): a header with the entry count
 //! and the indirect arguments of one workgroup per entry, then the ids. The culling passes of
-//! both paths share this one layout.
+//! both paths share this one layout, and so do the extractions that run one workgroup per
+//! occupied block (`iso::meshlets`, `iso::pmb`), which also share the pass that turns the
+//! count into the arguments (`block_args.comp.glsl`).
 
+use crate::builtin_shader;
 use crate::error::Result;
 use bytemuck::{Pod, Zeroable};
 use std::mem::{offset_of, size_of};
-use tessera_gpu::{vk, Buffer, Gpu, MemoryLocation};
+use tessera_gpu::{
+    vk, Binding, Buffer, Gpu, MemoryLocation, Pipeline, Recorder, ShaderCompiler, Slot,
+};
 
 /// The header of a list, as `block_list.glsl` declares it.
 #[repr(C)]
@@ -42,4 +47,16 @@ pub fn count(bytes: &[u8]) -> u32 {
 /// Bytes of a list of `entries` ids.
 pub fn bytes(entries: u64) -> u64 {
     size_of::<BlockListHeader>() as u64 + 4 * entries
+}
+
+/// The pass that turns a list's count into the indirect arguments of one workgroup per entry
+/// (`block_args.comp.glsl`).
+pub fn args_pipeline(gpu: &Gpu, compiler: &ShaderCompiler, name: &str) -> Result<Pipeline> {
+    let shader = compiler.compile(&builtin_shader!("block_args.comp.glsl"), &[])?;
+    Ok(gpu.compute_pipeline(name, &shader, &[Slot::StorageBuffer])?)
+}
+
+/// Records [`args_pipeline`]'s pass over `list`, once its count is final.
+pub fn record_args(rec: &Recorder, pipeline: &Pipeline, list: &Buffer) {
+    rec.dispatch_groups(pipeline, &[Binding::Buffer(list)], &[], [1, 1, 1]);
 }

@@ -4,7 +4,7 @@
 // buffers. Writes `payload` (declared by the includer: task payload or shared memory).
 // Sums are shared-memory reductions over consecutive invocations, so no subgroup size is
 // assumed. Needs iso/meshlets/{params,buffers,payload,subblock}.glsl and the marching-cubes
-// headers.
+// headers (common/mc_edges.glsl among them).
 
 // Per eighth (invocation): occupied cells, their triangles, the crossed edges they own.
 shared uint s_eighth_cells[MESHLET_WORKGROUP];
@@ -32,7 +32,7 @@ uint meshlet_padding_share(uvec3 block_origin, uint first_code, uint count, uint
                            float iso) {
     uvec3 lo = block_origin + meshlet_cell_of_code(first_code);
     uvec3 size = meshlet_cell_of_code(first_code + count - 1u) - meshlet_cell_of_code(first_code) + 1u;
-    uvec3 hi = meshlet_box_end(lo, size);
+    uvec3 hi = mc_box_end(lo, size, params.volume_dims);
     uint points = meshlet_box_points(lo, hi);
     uint share = (points + parts - 1u) / parts;
     uint first = min(part * share, points);
@@ -74,10 +74,7 @@ void meshlet_analyse(uint listed) {
         cells += 1u;
         occupied_mask |= 1u << k;
         triangles += mc_tri_count(mc_cell_row(volume_tex, cell, case_index, iso));
-        // The cell owns the edges from corner 0 to corners 1, 2 and 4 (x, y, z).
-        for (uint axis = 0u; axis < 3u; ++axis) {
-            core += ((case_index ^ (case_index >> (1u << axis))) & 1u);
-        }
+        core += mc_case_owned_crossings(case_index);
     }
     s_eighth_cells[me] = cells;
     s_eighth_triangles[me] = triangles;

@@ -8,6 +8,7 @@
 #include "common/mc_tables.glsl"
 #include "common/mc_cell.glsl"
 #include "common/mc_vertex.glsl"
+#include "common/mc_edges.glsl"
 #include "iso/direct/block_list.glsl"
 #include "iso/meshlets/params.glsl"
 #include "iso/meshlets/buffers.glsl"

@@ -4,7 +4,8 @@
 // cells, then of those owned by padding points; triangles by cell, each cell's in table order.
 // Vertex numbers are kept per edge of the subblock's closed box in shared memory, so
 // triangles find theirs without search. Needs the marching-cubes headers,
-// common/mc_vertex.glsl and iso/meshlets/{params,buffers,payload,subblock}.glsl.
+// common/mc_vertex.glsl, common/mc_edges.glsl and iso/meshlets/{params,buffers,payload,
+// subblock}.glsl.
 
 const uint MESHLET_CELLS_PER_EXTRACTOR = MESHLET_MAX_OCCUPIED_CELLS / MESHLET_WORKGROUP;
 // Samples of the largest box: a block's cells plus one on each axis.
@@ -55,7 +56,7 @@ void meshlet_extract(uint s) {
     uvec3 block_origin = meshlet_block_origin(occupied_blocks[payload.block]);
     uvec3 lo = block_origin + meshlet_cell_of_code(first_code);
     uvec3 size = meshlet_cell_of_code(first_code + code_count - 1u) - meshlet_cell_of_code(first_code) + 1u;
-    uvec3 hi = meshlet_box_end(lo, size);
+    uvec3 hi = mc_box_end(lo, size, dims);
     uvec3 points = hi - lo + 1u;
     uint box_points = meshlet_box_points(lo, hi);
     uint padding_share = (box_points + MESHLET_WORKGROUP - 1u) / MESHLET_WORKGROUP;
@@ -73,9 +74,7 @@ void meshlet_extract(uint s) {
         uint row = mc_cell_row(volume_tex, cell, case_index, iso);
         s_cell_rows[c] = row;
         triangles += mc_tri_count(row);
-        for (uint axis = 0u; axis < 3u; ++axis) {
-            core += ((case_index ^ (case_index >> (1u << axis))) & 1u);
-        }
+        core += mc_case_owned_crossings(case_index);
     }
     s_core_count[me] = core;
     s_triangle_count[me] = triangles;
@@ -115,7 +114,7 @@ void meshlet_extract(uint s) {
             p = block_origin + meshlet_cell_of_code(meshlet_cell_code(first_cell + cell_first + i));
         } else {
             uint j = padding_first + i - cell_items;
-            p = lo + uvec3(j % points.x, (j / points.x) % points.y, j / (points.x * points.y));
+            p = mc_box_point(lo, points, j);
             if (i == cell_items) {
                 local = s_totals[0] + s_padding_count[me];
             }
@@ -123,8 +122,9 @@ void meshlet_extract(uint s) {
                 continue;
             }
         }
+        uint owned = mc_box_owned_crossings(volume_tex, p, hi, iso);
         for (uint axis = 0u; axis < 3u; ++axis) {
-            if (p[axis] >= hi[axis] || !meshlet_edge_crosses(p, axis, iso)) {
+            if ((owned & (1u << axis)) == 0u) {
                 continue;
             }
             s_edge_vertex[meshlet_edge_slot(p, axis, lo, points)] = local;
@@ -153,10 +153,9 @@ void meshlet_extract(uint s) {
         uvec3 cell = block_origin + meshlet_cell_of_code(meshlet_cell_code(first_cell + c));
         uint row = s_cell_rows[c];
         for (uint i = 0u; i < 3u * mc_tri_count(row); ++i, ++t) {
-            uint corners = MC_EDGE_CORNERS[mc_tri_edge(row, i)];
-            uint start = corners & 15u;
-            uint axis = findLSB(start ^ (corners >> 4));
-            uvec3 p = cell + mc_corner_offset(start);
+            uvec3 p;
+            uint axis;
+            mc_edge_owner(cell, mc_tri_edge(row, i), p, axis);
             uint index = s_edge_vertex[meshlet_edge_slot(p, axis, lo, points)];
             if (t < 3u * triangle_count) {
                 atomicOr(s_index_words[t >> 2], (index & 255u) << ((t & 3u) * 8u));

@@ -126,7 +126,6 @@ impl MeshletExtractor {
         }
         let defines = meshlet_defines(scalar, rule);
         let occupied = compiler.compile(&builtin_shader!("occupied.comp.glsl"), &defines)?;
-        let block_args = compiler.compile(&builtin_shader!("block_args.comp.glsl"), &defines)?;
         let producer = match path {
             ExtractionPath::Compute => {
                 let extract = compiler.compile(&builtin_shader!("extract.comp.glsl"), &defines)?;
@@ -169,11 +168,7 @@ impl MeshletExtractor {
                 &occupied,
                 &[Slot::StorageBuffer; 2],
             )?,
-            block_args: gpu.compute_pipeline(
-                "meshlet block arguments",
-                &block_args,
-                &[Slot::StorageBuffer],
-            )?,
+            block_args: block_list::args_pipeline(gpu, compiler, "meshlet block arguments")?,
             producer,
             scalar,
             max_groups_x: gpu.caps().max_compute_workgroup_count[0],
@@ -240,12 +235,7 @@ impl MeshletExtractor {
             spread_groups(groups, self.max_groups_x),
         );
         rec.barrier();
-        rec.dispatch_groups(
-            &self.block_args,
-            &[Binding::Buffer(&out.blocks)],
-            &[],
-            [1, 1, 1],
-        );
+        block_list::record_args(rec, &self.block_args, &out.blocks);
         rec.barrier();
         let bindings = [
             Binding::Texture {
