@@ -217,8 +217,10 @@ def test_marching_cubes_area_agrees_with_scikit_image():
     assert abs(area(verts, faces) / area(sk_verts, sk_faces) - 1) < 0.005
 
 
-@pytest.mark.parametrize("path", ["compute", "mesh"])
-def test_gpu_meshlets_give_the_cpu_surface(device, path):
+@pytest.mark.parametrize(
+    "method,path", [("meshlets", "compute"), ("meshlets", "mesh"), ("pmb", "auto"), ("pmb:4x4x4", "auto")]
+)
+def test_gpu_extraction_gives_the_cpu_surface(device, method, path):
     caps = tessera.info(device)["capabilities"]
     if path == "mesh" and not caps.get("mesh_shader"):
         pytest.skip("task/mesh extraction: the device has no VK_EXT_mesh_shader")
@@ -227,7 +229,7 @@ def test_gpu_meshlets_give_the_cpu_surface(device, path):
     gyroid += np.sin(0.55 * z) * np.cos(0.55 * x)
     for dtype in (np.float32, np.float64):
         field = gyroid.astype(dtype)
-        gpu = tessera.marching_cubes(field, 0.1037, spacing=(1, 1.5, 0.75), method="meshlets",
+        gpu = tessera.marching_cubes(field, 0.1037, spacing=(1, 1.5, 0.75), method=method,
                                      path=path, device=device)
         cpu = tessera.marching_cubes(field, 0.1037, spacing=(1, 1.5, 0.75), method="cpu")
         # Welded: one vertex per crossed edge, as the CPU's.

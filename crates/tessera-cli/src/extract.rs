@@ -22,8 +22,9 @@ pub struct ExtractArgs {
     /// an extension.
     #[arg(short, long, default_value = "surface.ply")]
     output: PathBuf,
-    /// Extractor: meshlets (paper C's meshlet extraction on the GPU) or cpu (single-threaded
-    /// marching cubes). Both give the same triangles.
+    /// Extractor: meshlets (paper C's meshlet extraction on the GPU), pmb or pmb:XxYxZ
+    /// (Parallel Marching Blocks on the GPU; blocks of 4x4x4, 8x4x4, 8x8x4 (pmb) or 8x8x8
+    /// cells) or cpu (single-threaded marching cubes). All give the same triangles.
     #[arg(long, default_value = "meshlets")]
     method: String,
     /// Pipeline of the meshlet extraction: compute, mesh (the paper's task and mesh shaders)
@@ -99,28 +100,30 @@ fn summary(name: &str, iso: f32, method: SurfaceMethod, s: &Surface, args: &Extr
         mesh.vertex_count(),
         mesh.surface_area(),
     );
-    match &s.meshlets {
-        Some(m) => {
-            text += &format!(
-                "; {} meshlets ({} vertices before welding), {:.2} MB stored; {}: extracted in \
-             {:.3} ms GPU time ({} attempt{}), upload and min-max octree {:.1} ms",
-                m.meshlets.len(),
-                m.vertex_count(),
-                cost.stored_bytes as f64 / 1e6,
-                method.describe(),
-                cost.extract_ms,
-                cost.attempts,
-                if cost.attempts == 1 { "" } else { "s" },
-                cost.prepare_ms,
-            )
-        }
-        None => {
-            text += &format!(
-                "; {}: extracted in {:.1} ms",
-                method.describe(),
-                cost.extract_ms
-            )
-        }
+    if let Some(m) = &s.meshlets {
+        text += &format!(
+            "; {} meshlets ({} vertices before welding)",
+            m.meshlets.len(),
+            m.vertex_count()
+        );
+    }
+    if method.needs_gpu() {
+        text += &format!(
+            "; {}: extracted in {:.3} ms GPU time ({} attempt{}), {:.2} MB stored, upload and \
+             min-max octree {:.1} ms",
+            method.describe(),
+            cost.extract_ms,
+            cost.attempts,
+            if cost.attempts == 1 { "" } else { "s" },
+            cost.stored_bytes as f64 / 1e6,
+            cost.prepare_ms,
+        );
+    } else {
+        text += &format!(
+            "; {}: extracted in {:.1} ms",
+            method.describe(),
+            cost.extract_ms
+        );
     }
     text += &format!(" -> {}", args.output.display());
     if let Some(path) = &args.meshlets {

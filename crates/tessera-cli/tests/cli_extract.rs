@@ -92,6 +92,22 @@ fn gpu_extraction_writes_the_cpu_surface_as_ply_obj_and_meshlets() {
     file.mesh.validate().unwrap();
     same_surface(&file.mesh.welded(), &reference, "meshlet file vs cpu");
 
+    // PMB of every block size writes the same welded surface.
+    for size in ["4x4x4", "8x4x4", "8x8x4", "8x8x8"] {
+        let ply = dir.join(format!("pmb-{size}.ply"));
+        let o = extract(&ply, &["--method", &format!("pmb:{size}")]);
+        same_surface(
+            &read_mesh_file(&ply).unwrap(),
+            &reference,
+            &format!("pmb {size}"),
+        );
+        assert!(
+            String::from_utf8_lossy(&o.stdout).contains(&format!("GPU PMB ({size} blocks)")),
+            "{}",
+            String::from_utf8_lossy(&o.stdout)
+        );
+    }
+
     // The paper's task/mesh pipeline, where the device has it, writes the same surface.
     let mesh_ply = dir.join("mesh.ply");
     let mut args = vec!["extract"];
@@ -129,8 +145,16 @@ fn extract_refuses_what_it_cannot_do_and_says_why() {
         }
         tessera(&args)
     };
-    let cases: [(&[&str], &[&str]); 5] = [
-        (&["--method", "pmbx"], &["method 'pmbx'", "meshlets or cpu"]),
+    let cases: [(&[&str], &[&str]); 7] = [
+        (
+            &["--method", "pmbx"],
+            &["method 'pmbx'", "meshlets, pmb[:XxYxZ] or cpu"],
+        ),
+        (&["--method", "pmb:4x4x2"], &["block size '4x4x2'", "8x8x8"]),
+        (
+            &["--method", "pmb", "--path", "mesh"],
+            &["pmb method has no 'mesh' path"],
+        ),
         (
             &["--method", "cpu", "--meshlets", "m.tsm"],
             &["--meshlets needs --method meshlets"],

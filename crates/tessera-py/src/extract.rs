@@ -54,10 +54,11 @@ fn rows<T: Copy, const N: usize>(items: &[[T; N]]) -> Array2<T> {
 /// table).
 ///
 /// `method="meshlets"` extracts on the GPU (paper C's meshlets, welded; `path="mesh"` for
-/// the task/mesh pipeline, else compute) on `device`, or on a device opened for this call
-/// when none is given; `method="cpu"` runs marching cubes on the CPU. Both give the same
-/// vertices and triangles; the GPU's come in the order its blocks finished, which may
-/// change from run to run.
+/// the task/mesh pipeline, else compute), `method="pmb"` (or `"pmb:4x4x4"`, `"pmb:8x4x4"`,
+/// `"pmb:8x8x4"`, `"pmb:8x8x8"` for the block size) by Parallel Marching Blocks, on
+/// `device`, or on a device opened for this call when none is given; `method="cpu"` runs
+/// marching cubes on the CPU. All give the same vertices and triangles; the GPU's come in the
+/// order its blocks finished, which may change from run to run.
 #[pyfunction]
 #[pyo3(signature = (volume, level, spacing=None, method="meshlets", ambiguity="decider", device=None, path="auto"))]
 #[allow(clippy::too_many_arguments)]

@@ -178,7 +178,10 @@ fn meshlets_of_real_scans_equal_the_cpu_reference() {
         let iso = (lo + 0.4 * (hi - lo)).floor() + 0.5;
         volumes.push((ch2, iso));
     } else {
-        skip("ch2", &format!("{T1_TEMPLATE} not found (Debian package mricron-data)"));
+        skip(
+            "ch2",
+            &format!("{T1_TEMPLATE} not found (Debian package mricron-data)"),
+        );
     }
     let gpu = gpu();
     let rule = AmbiguityRule::default();
@@ -195,7 +198,12 @@ fn meshlets_of_real_scans_equal_the_cpu_reference() {
             volume.name()
         );
         let mc = marching_cubes_with(volume, texel, rule);
-        assert_eq!(surface.mesh.vertex_count(), mc.vertex_count(), "{}", volume.name());
+        assert_eq!(
+            surface.mesh.vertex_count(),
+            mc.vertex_count(),
+            "{}",
+            volume.name()
+        );
         assert_eq!(
             surface.mesh.canonical_triangle_multiset(1e-4),
             mc.canonical_triangle_multiset(1e-4),

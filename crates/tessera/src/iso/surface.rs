@@ -8,12 +8,14 @@ use std::time::Instant;
 use crate::error::{Error, Result};
 use crate::iso::meshlets::{ExtractionPath, MeshletExtractor};
 use crate::iso::minmax::MinMaxBuilder;
+use crate::iso::pmb::PmbExtractor;
 use crate::iso::PreparedVolume;
 use crate::shaders;
 use tessera_data::marching_cubes::marching_cubes_with;
 use tessera_data::mc_ambiguity::AmbiguityRule;
 use tessera_data::mesh::TriangleMesh;
 use tessera_data::meshlets::MeshletMesh;
+use tessera_data::pmb::PmbBlockSize;
 use tessera_data::Volume;
 use tessera_gpu::Gpu;
 
@@ -24,13 +26,16 @@ pub enum SurfaceMethod {
     Cpu,
     /// Paper C's meshlet extraction on the GPU, on the given pipeline.
     Meshlets(ExtractionPath),
+    /// Parallel Marching Blocks on the GPU (compute), blocks of the given size.
+    Pmb(PmbBlockSize),
 }
 
 impl SurfaceMethod {
-    /// The method `name` (`meshlets` or `cpu`) on `path` (`compute`, `mesh` or `auto`; only
-    /// meshlets have paths). `auto` takes the compute path: it gives the same meshlets bit
-    /// for bit and runs on every device, where task and mesh stages run on few units of
-    /// some GPUs (the H200's among them).
+    /// The method `name` (`meshlets`, `pmb`, `pmb:XxYxZ` for a block size of
+    /// [`PmbBlockSize::ALL`], or `cpu`) on `path` (`compute`, `mesh` or `auto`; only meshlets
+    /// have two paths). `auto` takes the compute path: it gives the same meshlets bit for bit
+    /// and runs on every device, where task and mesh stages run on few units of some GPUs
+    /// (the H200's among them). Plain `pmb` takes 8×8×4 blocks.
     pub fn parse(name: &str, path: &str) -> Result<SurfaceMethod> {
         let extraction_path = match path {
             "compute" | "auto" => ExtractionPath::Compute,
@@ -41,14 +46,28 @@ impl SurfaceMethod {
                 )))
             }
         };
-        match name {
-            "meshlets" => Ok(SurfaceMethod::Meshlets(extraction_path)),
-            "cpu" if path == "auto" => Ok(SurfaceMethod::Cpu),
-            "cpu" => Err(Error::Invalid(format!(
-                "the cpu method has no '{path}' path: leave the path at auto"
-            ))),
+        let only_auto = |method: SurfaceMethod| {
+            if path == "auto" {
+                Ok(method)
+            } else {
+                Err(Error::Invalid(format!(
+                    "the {name} method has no '{path}' path: leave the path at auto"
+                )))
+            }
+        };
+        match name.split_once(':') {
+            None if name == "meshlets" => Ok(SurfaceMethod::Meshlets(extraction_path)),
+            None if name == "cpu" => only_auto(SurfaceMethod::Cpu),
+            None if name == "pmb" => only_auto(SurfaceMethod::Pmb(PmbBlockSize::B884)),
+            Some(("pmb", size)) => match PmbBlockSize::ALL.into_iter().find(|s| s.name() == size) {
+                Some(size) => only_auto(SurfaceMethod::Pmb(size)),
+                None => Err(Error::Invalid(format!(
+                    "PMB block size '{size}': choose {}",
+                    PmbBlockSize::ALL.map(|s| s.name()).join(", ")
+                ))),
+            },
             _ => Err(Error::Invalid(format!(
-                "extraction method '{name}': choose meshlets or cpu"
+                "extraction method '{name}': choose meshlets, pmb[:XxYxZ] or cpu"
             ))),
         }
     }
@@ -58,11 +77,16 @@ impl SurfaceMethod {
     }
 
     /// How the method names itself in output.
-    pub fn describe(self) -> &'static str {
+    pub fn describe(self) -> String {
         match self {
-            SurfaceMethod::Cpu => "CPU marching cubes",
-            SurfaceMethod::Meshlets(ExtractionPath::Compute) => "GPU meshlets (compute path)",
-            SurfaceMethod::Meshlets(ExtractionPath::MeshShaders) => "GPU meshlets (task/mesh path)",
+            SurfaceMethod::Cpu => "CPU marching cubes".into(),
+            SurfaceMethod::Meshlets(ExtractionPath::Compute) => {
+                "GPU meshlets (compute path)".into()
+            }
+            SurfaceMethod::Meshlets(ExtractionPath::MeshShaders) => {
+                "GPU meshlets (task/mesh path)".into()
+            }
+            SurfaceMethod::Pmb(size) => format!("GPU PMB ({} blocks)", size.name()),
         }
     }
 }
@@ -142,6 +166,33 @@ pub fn extract_surface(
                     extract_ms,
                     stored_bytes,
                     ..Default::default()
+                },
+            })
+        }
+        SurfaceMethod::Pmb(size) => {
+            let gpu = gpu.ok_or_else(|| {
+                Error::Invalid(format!("{} needs a GPU device", method.describe()))
+            })?;
+            let compiler = shaders::compiler();
+            let scalar = volume.scalar_type();
+            let builder = MinMaxBuilder::new(gpu, &compiler, scalar)?;
+            let extractor = PmbExtractor::new(gpu, &compiler, scalar, rule, size)?;
+            let start = Instant::now();
+            let prepared = PreparedVolume::new(gpu, &builder, volume)?;
+            let prepare_ms = elapsed_ms(start);
+            let mut out = extractor.buffers(gpu, &prepared, Default::default())?;
+            let extraction = extractor.extract_into(gpu, &prepared, iso_texel, &mut out)?;
+            let start = Instant::now();
+            let mesh = out.read(gpu)?.welded();
+            Ok(Surface {
+                mesh,
+                meshlets: None,
+                cost: ExtractionCost {
+                    prepare_ms,
+                    extract_ms: extraction.gpu_ms,
+                    attempts: extraction.attempts,
+                    readback_ms: elapsed_ms(start),
+                    stored_bytes: extraction.totals.stored_bytes(),
                 },
             })
         }

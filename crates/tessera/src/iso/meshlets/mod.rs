@@ -20,6 +20,9 @@
 
 pub mod buffers;
 
+/// A finished meshlet extraction.
+pub type Extraction = crate::iso::attempts::Extraction<MeshletCounters>;
+
 pub use buffers::{
     GpuMeshlets, MeshletCapacity, MeshletCounters, OVERFLOW_CAPACITY, OVERFLOW_MISMATCH,
 };
@@ -27,6 +30,7 @@ pub use buffers::{
 use crate::builtin_shader;
 use crate::config::meshlet_defines;
 use crate::error::{Error, Result};
+use crate::iso::attempts::extract_with_retries;
 use crate::iso::direct::block_list::{self, BlockListHeader};
 use crate::iso::PreparedVolume;
 use bytemuck::{Pod, Zeroable};
@@ -35,7 +39,7 @@ use tessera_data::meshlets::MeshletMesh;
 use tessera_data::ScalarType;
 use tessera_gpu::{
     spread_groups, vk, Binding, Gpu, GpuError, Image, Pipeline, Recorder, RenderTargets,
-    ShaderCompiler, Slot, Timer,
+    ShaderCompiler, Slot,
 };
 
 /// Push constants of every meshlet extraction pass (`params.glsl`).
@@ -59,21 +63,6 @@ pub enum ExtractionPath {
     /// `VK_EXT_mesh_shader`.
     MeshShaders,
 }
-
-/// One finished extraction.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Extraction {
-    /// What it reserved (also kept in the output's `totals`).
-    pub totals: MeshletCounters,
-    /// GPU time of the attempt that fit, from timestamps around its passes.
-    pub gpu_ms: f64,
-    /// Attempts made, the last the one that fit.
-    pub attempts: u32,
-}
-
-/// Extraction attempts before giving up: the first may overflow, the second is sized by the
-/// first's exact totals.
-const ATTEMPTS: usize = 3;
 
 /// The slots of the extraction pipelines, as `buffers.glsl` binds them.
 const EXTRACT_SLOTS: [Slot; 8] = [
@@ -292,39 +281,30 @@ impl MeshletExtractor {
         if blocks > out.block_capacity {
             *out = GpuMeshlets::new(gpu, blocks, out.capacity)?;
         }
-        let mut timer = Timer::new(gpu, 1)?;
-        for attempt in 1..=ATTEMPTS as u32 {
-            timer.reset(gpu);
-            let mut recorded = Ok(());
-            gpu.submit("meshlet extraction", |rec| {
-                recorded = timer.scope(rec, "extraction", |rec| {
-                    self.record(rec, prepared, iso, out)
-                });
-            })?;
-            recorded?;
-            let counters: MeshletCounters =
-                bytemuck::pod_read_unaligned(&gpu.read_buffer(&out.counters)?);
-            if counters.overflow & OVERFLOW_MISMATCH != 0 {
-                return Err(Error::Invalid(
-                    "meshlet extraction: a subblock's extraction counted other vertices or \
-                     triangles than its region analysis"
-                        .into(),
-                ));
-            }
-            let grew = out.grow_for(gpu, &counters)?;
-            if counters.overflow & OVERFLOW_CAPACITY == 0 && !grew {
-                out.totals = counters;
-                let gpu_ms = timer.read_ms(gpu)?.iter().map(|(_, ms)| ms).sum();
-                return Ok(Extraction {
-                    totals: counters,
-                    gpu_ms,
-                    attempts: attempt,
-                });
-            }
-        }
-        Err(Error::Invalid(format!(
-            "meshlet extraction still overflowed its buffers after {ATTEMPTS} attempts"
-        )))
+        let out = std::cell::RefCell::new(out);
+        extract_with_retries(
+            gpu,
+            "meshlet extraction",
+            |rec| self.record(rec, prepared, iso, &out.borrow()),
+            || {
+                let mut out = out.borrow_mut();
+                let counters: MeshletCounters =
+                    bytemuck::pod_read_unaligned(&gpu.read_buffer(&out.counters)?);
+                if counters.overflow & OVERFLOW_MISMATCH != 0 {
+                    return Err(Error::Invalid(
+                        "meshlet extraction: a subblock's extraction counted other vertices \
+                         or triangles than its region analysis"
+                            .into(),
+                    ));
+                }
+                let grew = out.grow_for(gpu, &counters)?;
+                let fit = counters.overflow & OVERFLOW_CAPACITY == 0 && !grew;
+                if fit {
+                    out.totals = counters;
+                }
+                Ok(fit.then_some(counters))
+            },
+        )
     }
 
     /// Extracts the `iso` level set of `prepared` and reads it back (blocks in the GPU's

@@ -21,6 +21,16 @@ pub struct PmbCounters {
     pub overflow: u32,
 }
 
+impl PmbCounters {
+    /// Bytes of the surface these totals describe: block descriptors, f32 positions and
+    /// normals, 16-bit indices (paper C's memory footprint of PMB).
+    pub fn stored_bytes(&self) -> u64 {
+        u64::from(self.blocks) * std::mem::size_of::<tessera_data::pmb::PmbBlock>() as u64
+            + u64::from(self.vertices) * 24
+            + u64::from(self.triangles) * 6
+    }
+}
+
 /// How many vertices and triangles the output buffers hold. Descriptors need no capacity:
 /// there is room for one per block of the volume.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -18,6 +18,7 @@ pub use tessera_data::pmb::{PmbBlock, PmbBlockSize, PmbMesh};
 use crate::builtin_shader;
 use crate::config::pmb_defines;
 use crate::error::{Error, Result};
+use crate::iso::attempts::{extract_with_retries, Extraction};
 use crate::iso::direct::block_list::{self, BlockListHeader};
 use crate::iso::PreparedVolume;
 use bytemuck::{Pod, Zeroable};
@@ -39,10 +40,6 @@ pub struct PmbParams {
     pub node_dims: [u32; 3],
     pub triangle_capacity: u32,
 }
-
-/// Extraction attempts before giving up: the first may overflow, the second is sized by the
-/// first's exact totals.
-const ATTEMPTS: usize = 3;
 
 /// The slots of the extraction pipeline, as `extract.comp.glsl` binds them.
 const EXTRACT_SLOTS: [Slot; 7] = [
@@ -179,25 +176,32 @@ impl PmbExtractor {
         prepared: &PreparedVolume,
         iso: f32,
         out: &mut GpuPmb,
-    ) -> Result<PmbCounters> {
+    ) -> Result<Extraction<PmbCounters>> {
         self.check(prepared)?;
         let blocks = self.block_count(prepared)?;
         if blocks > out.block_capacity || out.block_size != self.block_size.cells() {
             *out = GpuPmb::new(gpu, self.block_size.cells(), blocks, out.capacity)?;
         }
-        for _ in 0..ATTEMPTS {
-            gpu.submit("PMB extraction", |rec| self.record(rec, prepared, iso, out))?;
-            let counters: PmbCounters =
-                bytemuck::pod_read_unaligned(&gpu.read_buffer(&out.counters)?);
-            let grew = out.grow_for(gpu, &counters)?;
-            if counters.overflow == 0 && !grew {
-                out.totals = counters;
-                return Ok(counters);
-            }
-        }
-        Err(Error::Invalid(format!(
-            "PMB extraction still overflowed its buffers after {ATTEMPTS} attempts"
-        )))
+        let out = std::cell::RefCell::new(out);
+        extract_with_retries(
+            gpu,
+            "PMB extraction",
+            |rec| {
+                self.record(rec, prepared, iso, &out.borrow());
+                Ok(())
+            },
+            || {
+                let mut out = out.borrow_mut();
+                let counters: PmbCounters =
+                    bytemuck::pod_read_unaligned(&gpu.read_buffer(&out.counters)?);
+                let grew = out.grow_for(gpu, &counters)?;
+                let fit = counters.overflow == 0 && !grew;
+                if fit {
+                    out.totals = counters;
+                }
+                Ok(fit.then_some(counters))
+            },
+        )
     }
 
     /// Extracts the `iso` level set of `prepared` and reads it back (blocks in the GPU's
