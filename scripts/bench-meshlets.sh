@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Paper C's measurements on a GPU machine: the iso-sweep scenario (a new isovalue every
+# Paper C's measurements on a GPU machine: the extraction scenario (meshlets against PMB at
+# every block size), the iso-sweep scenario (a new isovalue every
 # frame: extraction + draw for meshlets, against direct and ray marching) and the isosurface
 # scenario (fixed isovalue, offline meshlets drawn beside them) at 3840x2160; then GPU meshlet
 # extraction (`tessera extract`, GPU timestamps) against scikit-image's marching_cubes on the
@@ -20,6 +21,11 @@ for volume in procedural:head:256:u8 procedural:turbulence:512:f32 procedural:he
   echo "== iso-sweep $volume"
   timeout 240 "$bin" bench iso-sweep --data "$volume" "${common[@]}" --json "$out/iso-sweep.jsonl" \
     > "$out/iso-sweep-${volume//[:\/]/_}.txt" 2>&1 || echo "iso-sweep $volume failed: $?"
+done
+for volume in procedural:head:256:u8 procedural:turbulence:512:f32 procedural:head:512:u16 procedural:head:1024:u16; do
+  echo "== extraction $volume"
+  timeout 200 "$bin" bench extraction --data "$volume" --frames 30 --warmup 10 --iso-fraction 0.3 \
+    --json "$out/extraction.jsonl" > "$out/extraction-${volume//[:\/]/_}.txt" 2>&1 || echo "extraction $volume failed: $?"
 done
 echo "== isosurface procedural:head:256:u8"
 timeout 180 "$bin" bench isosurface --data procedural:head:256:u8 "${common[@]}" \
@@ -58,7 +64,7 @@ echo "== summary"
 python3 - "$out" <<'PY'
 import json, sys
 out = sys.argv[1]
-for name in ("iso-sweep", "isosurface"):
+for name in ("extraction", "iso-sweep", "isosurface"):
     try:
         lines = [json.loads(l) for l in open(f"{out}/{name}.jsonl")]
     except OSError:
@@ -67,5 +73,6 @@ for name in ("iso-sweep", "isosurface"):
         stages = " ".join(f'{s["stage"]}={s["median_ms"]:.3f}' for s in r["stages"])
         counts = r.get("counts", {})
         extra = " ".join(f"{k}={counts[k]:.0f}" for k in ("surface_bytes", "triangles_last_frame") if k in counts)
-        print(f'{name:10} {r["dataset"]:28} {r["technique"]:10} {r["path"]:8} {stages} {extra}')
+        extra += " " + " ".join(f"{k}={counts[k]:.3f}" for k in ("stored_bytes", "speedup_over_best_pmb", "bytes_over_smallest_pmb") if k in counts)
+        print(f'{name:10} {r["dataset"]:28} {r["technique"]:10} {r.get("variant", ""):6} {r["path"]:8} {stages} {extra}')
 PY

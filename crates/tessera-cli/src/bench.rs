@@ -11,7 +11,9 @@ use tessera_gpu::GpuOptions;
 #[derive(Args)]
 pub struct BenchArgs {
     /// pipeline-throughput, raymarch, minmax-build, isosurface (raymarch against direct),
-    /// iso-sweep (isovalue changes every frame), time-varying (a new volume every frame),
+    /// iso-sweep (isovalue changes every frame; meshlets extract and draw), extraction
+    /// (meshlets against PMB at every block size: GPU time and stored bytes), time-varying (a
+    /// new volume every frame),
     /// stereo (two eyes against one), interval (tet meshes), param (parametric objects: SH
     /// glyphs) or all.
     scenario: String,

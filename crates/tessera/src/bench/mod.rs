@@ -3,6 +3,7 @@
 //! scenarios.
 
 mod basic;
+mod extraction;
 mod frames;
 mod interval;
 mod iso;
@@ -25,6 +26,7 @@ pub const SCENARIOS: &[&str] = &[
     "minmax-build",
     "isosurface",
     "iso-sweep",
+    "extraction",
     "time-varying",
     "stereo",
     "interval",
@@ -83,6 +85,7 @@ pub fn run(gpu: &Gpu, name: &str, config: &BenchConfig, sink: &mut dyn RecordSin
         "minmax-build" => basic::minmax_build(gpu, config, plan, sink),
         "isosurface" => iso::isosurface(gpu, config, plan, sink),
         "iso-sweep" => iso::iso_sweep(gpu, config, plan, sink),
+        "extraction" => extraction::extraction(gpu, config, plan, sink),
         "time-varying" => iso::time_varying(gpu, config, plan, sink),
         "stereo" => stereo::stereo(gpu, config, plan, sink),
         "interval" => interval::interval(gpu, config, plan, sink),

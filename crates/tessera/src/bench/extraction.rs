@@ -1,0 +1,95 @@
+//! Paper C's extraction comparison: on the same volume and isovalue, GPU time of one
+//! extraction and the bytes of the stored surface, for the meshlet extraction (each path the
+//! device has) and Parallel Marching Blocks at every block size. Buffers are sized by a first
+//! extraction, so the timed ones never overflow.
+
+use super::basic::{bench_volumes, make_volume};
+use super::{time_frames, BenchConfig, BenchRecord, FramePlan, RecordSink};
+use crate::error::Result;
+use crate::iso::meshlets::{ExtractionPath, MeshletExtractor};
+use crate::iso::minmax::MinMaxBuilder;
+use crate::iso::pmb::PmbExtractor;
+use crate::iso::PreparedVolume;
+use tessera_data::mc_ambiguity::AmbiguityRule;
+use tessera_data::pmb::PmbBlockSize;
+use tessera_data::IsoValue;
+use tessera_gpu::Gpu;
+
+pub(super) fn extraction(
+    gpu: &Gpu,
+    config: &BenchConfig,
+    plan: FramePlan,
+    sink: &mut dyn RecordSink,
+) -> Result<()> {
+    let compiler = crate::shaders::compiler();
+    let rule = AmbiguityRule::default();
+    let caps = gpu.caps();
+    let mut paths = vec![(ExtractionPath::Compute, "compute")];
+    if caps.mesh_shader && caps.task_shader {
+        paths.push((ExtractionPath::MeshShaders, "mesh"));
+    }
+    for spec in bench_volumes(config) {
+        let volume = make_volume(gpu, &spec, config)?;
+        let (scalar, name) = (volume.scalar_type(), volume.name().to_string());
+        let iso = volume.iso_to_texel(IsoValue::Normalized(config.iso_fraction));
+        let builder = MinMaxBuilder::new(gpu, &compiler, scalar)?;
+        let prepared = PreparedVolume::new(gpu, &builder, &volume)?;
+        drop(volume);
+        let mut best_pmb: Option<(f64, u64)> = None;
+        for size in PmbBlockSize::ALL {
+            let pmb = PmbExtractor::new(gpu, &compiler, scalar, rule, size)?;
+            let mut out = pmb.buffers(gpu, &prepared, Default::default())?;
+            let first = pmb.extract_into(gpu, &prepared, iso, &mut out)?;
+            let stages = time_frames(gpu, plan, 1, |rec, timer| {
+                timer.scope(rec, "extraction", |rec| {
+                    pmb.record(rec, &prepared, iso, &out)
+                });
+            })?;
+            let mut r = BenchRecord::new(gpu, "extraction", "pmb", "compute", &name);
+            r.variant = size.name();
+            (r.warmup, r.frames, r.stages) = (plan.warmup, plan.frames, stages);
+            let bytes = first.totals.stored_bytes();
+            r.counts.insert("stored_bytes".into(), bytes as f64);
+            r.counts
+                .insert("triangles".into(), f64::from(first.totals.triangles));
+            r.counts
+                .insert("vertices".into(), f64::from(first.totals.vertices));
+            if let Some(ms) = r.median_ms("extraction") {
+                let (best_ms, best_bytes) = best_pmb.unwrap_or((f64::INFINITY, u64::MAX));
+                best_pmb = Some((best_ms.min(ms), best_bytes.min(bytes)));
+            }
+            sink.emit(&r)?;
+        }
+        for &(path, path_name) in &paths {
+            let ex = MeshletExtractor::new(gpu, &compiler, scalar, rule, path)?;
+            let mut out = ex.buffers(gpu, &prepared, Default::default())?;
+            let first = ex.extract_into(gpu, &prepared, iso, &mut out)?;
+            let mut recorded = Ok(());
+            let stages = time_frames(gpu, plan, 1, |rec, timer| {
+                let result = timer.scope(rec, "extraction", |rec| {
+                    ex.record(rec, &prepared, iso, &out)
+                });
+                recorded = recorded.clone().and(result.map_err(|e| e.to_string()));
+            })?;
+            recorded.map_err(crate::error::Error::Invalid)?;
+            let mut r = BenchRecord::new(gpu, "extraction", "meshlets", path_name, &name);
+            (r.warmup, r.frames, r.stages) = (plan.warmup, plan.frames, stages);
+            let bytes = first.totals.stored_bytes();
+            r.counts.insert("stored_bytes".into(), bytes as f64);
+            r.counts
+                .insert("meshlets".into(), f64::from(first.totals.meshlets));
+            r.counts
+                .insert("vertices".into(), f64::from(first.totals.vertices));
+            if let (Some(ms), Some((best_ms, best_bytes))) = (r.median_ms("extraction"), best_pmb) {
+                r.counts
+                    .insert("speedup_over_best_pmb".into(), best_ms / ms);
+                r.counts.insert(
+                    "bytes_over_smallest_pmb".into(),
+                    bytes as f64 / best_bytes as f64,
+                );
+            }
+            sink.emit(&r)?;
+        }
+    }
+    Ok(())
+}
