@@ -112,11 +112,13 @@ pub struct DrawCounters {
 
 enum Passes {
     Graphics(Pipeline),
-    Compute {
-        triangles: Pipeline,
-        rasterizer: ComputeRasterizer,
-        resolve: Pipeline,
-    },
+    Compute(Box<ComputePasses>),
+}
+
+struct ComputePasses {
+    triangles: Pipeline,
+    rasterizer: ComputeRasterizer,
+    resolve: Pipeline,
 }
 
 /// The draw pipelines of one path.
@@ -154,7 +156,7 @@ impl MeshletDraw {
                     compiler.compile(&builtin_shader!("triangles.comp.glsl"), &defines)?;
                 let resolve =
                     compiler.compile(&builtin_shader!("../direct/resolve.comp.glsl"), &defines)?;
-                Passes::Compute {
+                Passes::Compute(Box::new(ComputePasses {
                     triangles: gpu.compute_pipeline(
                         "meshlet triangles",
                         &triangles,
@@ -166,7 +168,7 @@ impl MeshletDraw {
                         &resolve,
                         &[Slot::StorageBuffer; 4],
                     )?,
-                }
+                }))
             }
         };
         let counters = gpu.create_buffer(
@@ -187,7 +189,7 @@ impl MeshletDraw {
     pub fn path(&self) -> Path {
         match self.passes {
             Passes::Graphics(_) => Path::Graphics,
-            Passes::Compute { .. } => Path::Compute,
+            Passes::Compute(_) => Path::Compute,
         }
     }
 
@@ -246,12 +248,7 @@ impl MeshletDraw {
         pixels: &Target,
         params: &MeshletDrawParams,
     ) -> Result<()> {
-        let Passes::Compute {
-            triangles,
-            rasterizer,
-            resolve,
-        } = &self.passes
-        else {
+        let Passes::Compute(passes) = &self.passes else {
             return Err(Error::Invalid(
                 "meshlet draw: built for the graphics path".into(),
             ));
@@ -263,6 +260,11 @@ impl MeshletDraw {
                 pixels.width, pixels.height, frame.width, frame.height
             )));
         }
+        let ComputePasses {
+            triangles,
+            rasterizer,
+            resolve,
+        } = passes.as_ref();
         rec.fill_buffer(&self.counters, 0);
         rec.fill_buffer(&target.lists.counts, 0);
         rec.barrier();
