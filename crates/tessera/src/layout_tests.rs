@@ -211,6 +211,43 @@ fn meshlet_structs(t: &mut Table) {
     );
 }
 
+fn meshlet_draw_structs(t: &mut Table) {
+    use crate::iso::meshlet_draw::{DrawCounters, MeshletDrawParams};
+    let defines = crate::config::meshlet_draw_defines();
+    let triangles = compile(
+        &builtin_shader!("iso/meshlet_draw/triangles.comp.glsl"),
+        &defines,
+    );
+    #[rustfmt::skip]
+    t.push_constants::<MeshletDrawParams>(&triangles, "MeshletDrawParams", host!(
+        MeshletDrawParams, grid_to_clip, eye_world, bounds, grid_to_world, light, dims,
+        triangle_capacity));
+    t.buffer(
+        &triangles,
+        "DrawCounters",
+        host!(DrawCounters, meshlets_drawn, triangles_drawn),
+    );
+}
+
+fn pmb_structs(t: &mut Table) {
+    use crate::iso::pmb::{PmbCounters, PmbParams};
+    use tessera_data::pmb::{PmbBlock, PmbBlockSize};
+    let defines =
+        crate::config::pmb_defines(ScalarType::U8, Default::default(), PmbBlockSize::B884);
+    let extract = compile(&builtin_shader!("iso/pmb/extract.comp.glsl"), &defines);
+    #[rustfmt::skip]
+    t.push_constants::<PmbParams>(&extract, "PmbParams", host!(PmbParams, volume_dims,
+        isovalue, block_dims, vertex_capacity, node_dims, triangle_capacity));
+    t.buffer(
+        &extract,
+        "PmbCounters",
+        host!(PmbCounters, blocks, vertices, triangles, overflow),
+    );
+    #[rustfmt::skip]
+    t.buffer(&extract, "PmbBlock", host!(PmbBlock, block, first_vertex, vertex_count,
+        first_index, triangle_count));
+}
+
 fn raster_structs(t: &mut Table) {
     use crate::raster::indirect::PrepareParams;
     use crate::raster::{raster_defines, RasterCounts, RasterParams, RasterTriangle};
@@ -275,6 +312,22 @@ fn shell_structs(t: &mut Table) {
     #[rustfmt::skip]
     t.buffer(&rays, "RayResult", host!(RayResult, colour, steps, transmittance, segments));
     t.buffer(&rays, "VisitedTet", host!(VisitedTet, tet, segment));
+    use crate::tet::shell::effects::{effect_defines, pass_defines, EffectParams, LightingPass};
+    let effects = tessera_data::tet::shell::ShellEffects {
+        gradient: true,
+        ..Default::default()
+    };
+    let mut lighting_defines = crate::tet::shell::defines(LayoutKind::Tet20, 256);
+    lighting_defines.extend(effect_defines(&effects));
+    lighting_defines.extend(pass_defines(&effects, LightingPass::Gradients));
+    let lighting = compile(
+        &builtin_shader!("tet/shell/lighting.comp.glsl"),
+        &lighting_defines,
+    );
+    // The host's trailing padding has no shader member.
+    #[rustfmt::skip]
+    t.buffer(&lighting, "EffectParams", host!(EffectParams, light, ground, ao_radius,
+        max_absorption));
 }
 
 fn parametric_structs(t: &mut Table) {
@@ -385,6 +438,8 @@ fn table() -> Table {
     let mut t = Table(Vec::new());
     isosurface_structs(&mut t);
     meshlet_structs(&mut t);
+    meshlet_draw_structs(&mut t);
+    pmb_structs(&mut t);
     raster_structs(&mut t);
     interval_structs(&mut t);
     shell_structs(&mut t);

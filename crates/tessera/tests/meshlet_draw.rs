@@ -193,18 +193,18 @@ fn implicit_and_explicit_boxes_cull_alike_and_draw_the_same_image() {
         results.push((bounds, counters, pixels.read(&gpu).unwrap()));
     }
     let (_, none, reference) = &results[2];
-    assert_eq!(none.meshlets, meshlets.totals.meshlets);
+    assert_eq!(none.meshlets_drawn, meshlets.totals.meshlets);
     for (bounds, counters, image) in &results[..2] {
         assert!(
-            counters.meshlets < none.meshlets,
+            counters.meshlets_drawn < none.meshlets_drawn,
             "{bounds:?}: {} of {}",
-            counters.meshlets,
-            none.meshlets
+            counters.meshlets_drawn,
+            none.meshlets_drawn
         );
         assert_images_match(&format!("{bounds:?} box"), image, reference, 0, 0.999);
     }
     // The subblock box holds the explicit one, so it culls no more.
-    assert!(results[1].1.meshlets >= results[0].1.meshlets);
+    assert!(results[1].1.meshlets_drawn >= results[0].1.meshlets_drawn);
     assert_clean(&gpu);
 }
 

@@ -169,60 +169,73 @@ pub fn extract_surface(
                 },
             })
         }
-        SurfaceMethod::Pmb(size) => {
+        SurfaceMethod::Pmb(_) | SurfaceMethod::Meshlets(_) => {
             let gpu = gpu.ok_or_else(|| {
                 Error::Invalid(format!("{} needs a GPU device", method.describe()))
             })?;
-            let compiler = shaders::compiler();
-            let scalar = volume.scalar_type();
-            let builder = MinMaxBuilder::new(gpu, &compiler, scalar)?;
-            let extractor = PmbExtractor::new(gpu, &compiler, scalar, rule, size)?;
-            let start = Instant::now();
-            let prepared = PreparedVolume::new(gpu, &builder, volume)?;
-            let prepare_ms = elapsed_ms(start);
-            let mut out = extractor.buffers(gpu, &prepared, Default::default())?;
-            let extraction = extractor.extract_into(gpu, &prepared, iso_texel, &mut out)?;
-            let start = Instant::now();
-            let mesh = out.read(gpu)?.welded();
-            Ok(Surface {
-                mesh,
-                meshlets: None,
-                cost: ExtractionCost {
-                    prepare_ms,
-                    extract_ms: extraction.gpu_ms,
-                    attempts: extraction.attempts,
-                    readback_ms: elapsed_ms(start),
-                    stored_bytes: extraction.totals.stored_bytes(),
-                },
-            })
+            extract_on_gpu(gpu, volume, iso_texel, rule, method)
         }
+    }
+}
+
+/// The GPU methods: pipelines, then the volume and its octree (timed apart), then one
+/// extraction grown until it fits, read back and welded.
+fn extract_on_gpu(
+    gpu: &Gpu,
+    volume: &Volume,
+    iso_texel: f32,
+    rule: AmbiguityRule,
+    method: SurfaceMethod,
+) -> Result<Surface> {
+    let compiler = shaders::compiler();
+    let scalar = volume.scalar_type();
+    let builder = MinMaxBuilder::new(gpu, &compiler, scalar)?;
+    enum Extractor {
+        Meshlets(MeshletExtractor),
+        Pmb(PmbExtractor),
+    }
+    let extractor = match method {
         SurfaceMethod::Meshlets(path) => {
-            let gpu = gpu.ok_or_else(|| {
-                Error::Invalid(format!("{} needs a GPU device", method.describe()))
-            })?;
-            let compiler = shaders::compiler();
-            let scalar = volume.scalar_type();
-            let builder = MinMaxBuilder::new(gpu, &compiler, scalar)?;
-            let extractor = MeshletExtractor::new(gpu, &compiler, scalar, rule, path)?;
-            let start = Instant::now();
-            let prepared = PreparedVolume::new(gpu, &builder, volume)?;
-            let prepare_ms = elapsed_ms(start);
-            let mut out = extractor.buffers(gpu, &prepared, Default::default())?;
-            let extraction = extractor.extract_into(gpu, &prepared, iso_texel, &mut out)?;
+            Extractor::Meshlets(MeshletExtractor::new(gpu, &compiler, scalar, rule, path)?)
+        }
+        SurfaceMethod::Pmb(size) => {
+            Extractor::Pmb(PmbExtractor::new(gpu, &compiler, scalar, rule, size)?)
+        }
+        SurfaceMethod::Cpu => {
+            return Err(Error::Invalid("CPU marching cubes is no GPU method".into()))
+        }
+    };
+    let start = Instant::now();
+    let prepared = PreparedVolume::new(gpu, &builder, volume)?;
+    let prepare_ms = elapsed_ms(start);
+    let (gpu_ms, attempts, stored_bytes, start, meshlets, mesh) = match extractor {
+        Extractor::Meshlets(ex) => {
+            let mut out = ex.buffers(gpu, &prepared, Default::default())?;
+            let e = ex.extract_into(gpu, &prepared, iso_texel, &mut out)?;
             let start = Instant::now();
             let meshlets = out.read(gpu)?;
             let mesh = meshlets.welded();
-            Ok(Surface {
-                mesh,
-                meshlets: Some(meshlets),
-                cost: ExtractionCost {
-                    prepare_ms,
-                    extract_ms: extraction.gpu_ms,
-                    attempts: extraction.attempts,
-                    readback_ms: elapsed_ms(start),
-                    stored_bytes: extraction.totals.stored_bytes(),
-                },
-            })
+            let bytes = e.totals.stored_bytes();
+            (e.gpu_ms, e.attempts, bytes, start, Some(meshlets), mesh)
         }
-    }
+        Extractor::Pmb(ex) => {
+            let mut out = ex.buffers(gpu, &prepared, Default::default())?;
+            let e = ex.extract_into(gpu, &prepared, iso_texel, &mut out)?;
+            let start = Instant::now();
+            let mesh = out.read(gpu)?.welded();
+            let bytes = e.totals.stored_bytes();
+            (e.gpu_ms, e.attempts, bytes, start, None, mesh)
+        }
+    };
+    Ok(Surface {
+        mesh,
+        meshlets,
+        cost: ExtractionCost {
+            prepare_ms,
+            extract_ms: gpu_ms,
+            attempts,
+            readback_ms: elapsed_ms(start),
+            stored_bytes,
+        },
+    })
 }

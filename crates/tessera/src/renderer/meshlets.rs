@@ -317,8 +317,10 @@ impl Renderer for MeshletRenderer {
             }
         }
         let drawn = draw.read_counters(gpu)?;
-        if self.path == Path::Compute && drawn.triangles > self.capacity {
-            self.capacity = drawn.triangles.saturating_add(drawn.triangles / 4);
+        if self.path == Path::Compute && drawn.triangles_drawn > self.capacity {
+            self.capacity = drawn
+                .triangles_drawn
+                .saturating_add(drawn.triangles_drawn / 4);
             retry = true;
         }
         if retry {
@@ -327,7 +329,7 @@ impl Renderer for MeshletRenderer {
         let totals = surface.meshlets.totals;
         let mut details: std::collections::BTreeMap<&'static str, u64> = [
             ("meshlets", u64::from(totals.meshlets)),
-            ("meshlets_drawn", u64::from(drawn.meshlets)),
+            ("meshlets_drawn", u64::from(drawn.meshlets_drawn)),
             ("surface_vertices", u64::from(totals.vertices)),
             ("surface_bytes", totals.stored_bytes()),
         ]
@@ -339,7 +341,7 @@ impl Renderer for MeshletRenderer {
             );
         }
         self.stats = FrameStats {
-            triangles: Some(u64::from(drawn.triangles)),
+            triangles: Some(u64::from(drawn.triangles_drawn)),
             details,
             ..FrameStats::default()
         };

@@ -105,9 +105,9 @@ impl MeshletDrawParams {
 #[repr(C)]
 pub struct DrawCounters {
     /// Meshlets that passed culling.
-    pub meshlets: u32,
+    pub meshlets_drawn: u32,
     /// Their triangles.
-    pub triangles: u32,
+    pub triangles_drawn: u32,
 }
 
 enum Passes {
