@@ -21,7 +21,6 @@ use tessera_data::minmax::{MinMaxOctree, BLOCK_CELLS};
 use tessera_data::{ScalarType, Volume};
 use tessera_gpu::Gpu;
 
-const RULES: [AmbiguityRule; 2] = [AmbiguityRule::AsymptoticDecider, AmbiguityRule::Vtk];
 /// Positions are compared in grid units.
 const TOLERANCE: f32 = 1e-5;
 
@@ -228,8 +227,14 @@ fn pmb_triangles_equal_marching_cubes_for_every_block_size() {
         .collect();
     let full = cases.len();
     cases.push((checkerboard([18, 11, 10]), 0.5));
-    for rule in RULES {
-        for size in PmbBlockSize::ALL {
+    // The rule picks table rows the same way for every block size, so VTK's is held to the
+    // reference at one size: each pipeline variant costs llvmpipe a minute or more to compile.
+    let runs = [
+        (AmbiguityRule::AsymptoticDecider, &PmbBlockSize::ALL[..]),
+        (AmbiguityRule::Vtk, &[PmbBlockSize::B884][..]),
+    ];
+    for (rule, sizes) in runs {
+        for &size in sizes {
             let ex = extractor(&gpu, ScalarType::F32, rule, size);
             for (k, (volume, iso)) in cases.iter().enumerate() {
                 let mesh = check_volume(&gpu, &ex, volume, *iso, rule);
