@@ -12,7 +12,7 @@ pub mod surface;
 use crate::error::{Error, Result};
 use crate::gpu_volume::GpuVolume;
 use minmax::{MinMaxBuilder, MinMaxOctreeGpu};
-use tessera_data::Volume;
+use tessera_data::{ScalarType, Volume};
 use tessera_gpu::Gpu;
 
 /// A volume uploaded with its min-max octree, ready to render at any isovalue by any
@@ -24,6 +24,19 @@ pub struct PreparedVolume {
 }
 
 impl PreparedVolume {
+    /// Refuses a volume of another sample type than `pipelines` (named in the message) were
+    /// built for.
+    pub fn require_scalar(&self, scalar: ScalarType, pipelines: &str) -> Result<()> {
+        if self.volume.scalar != scalar {
+            return Err(Error::Invalid(format!(
+                "the {pipelines} pipelines were built for {} samples, the volume has {}",
+                scalar.name(),
+                self.volume.scalar.name()
+            )));
+        }
+        Ok(())
+    }
+
     /// Uploads `volume` and builds its octree on the GPU.
     pub fn new(gpu: &Gpu, builder: &MinMaxBuilder, volume: &Volume) -> Result<PreparedVolume> {
         if volume.scalar_type() != builder.scalar() {

@@ -316,14 +316,7 @@ impl MeshletExtractor {
     }
 
     fn check(&self, prepared: &PreparedVolume) -> Result<()> {
-        if prepared.volume.scalar != self.scalar {
-            return Err(Error::Invalid(format!(
-                "the meshlet pipelines were built for {} samples, the volume has {}",
-                self.scalar.name(),
-                prepared.volume.scalar.name()
-            )));
-        }
-        Ok(())
+        prepared.require_scalar(self.scalar, "meshlet")
     }
 }
 

@@ -213,14 +213,7 @@ impl PmbExtractor {
     }
 
     fn check(&self, prepared: &PreparedVolume) -> Result<()> {
-        if prepared.volume.scalar != self.scalar {
-            return Err(Error::Invalid(format!(
-                "the PMB pipelines were built for {} samples, the volume has {}",
-                self.scalar.name(),
-                prepared.volume.scalar.name()
-            )));
-        }
-        Ok(())
+        prepared.require_scalar(self.scalar, "PMB")
     }
 
     /// PMB blocks covering `prepared`'s cells.
