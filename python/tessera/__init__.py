@@ -24,6 +24,7 @@ from ._tessera import (
     TesseraError,
     TetMesh,
     Volume,
+    _bench,
     devices,
     load,
     marching_cubes,
@@ -40,6 +41,7 @@ __all__ = [
     "TesseraError",
     "TetMesh",
     "Volume",
+    "bench",
     "devices",
     "from_meshio",
     "from_pyvista",
@@ -60,3 +62,18 @@ def info(device=None):
         "device": device.name,
         "capabilities": _json.loads(device._capabilities_json()),
     }
+
+
+def bench(scenario, device=None, **options):
+    """Runs one of ``tessera bench``'s scenarios (``"isosurface"``, ``"iso-sweep"``,
+    ``"extraction"``, ``"interval"``, ...) and returns its records as dicts: technique, path,
+    dataset, image size, GPU-timestamp medians per stage (``stages``) and counters
+    (``counts``). Options: ``quick`` (small data, for CPU drivers), ``frames``, ``warmup``,
+    ``iso_fraction``, ``data`` (a volume file or spec instead of the built-in phantoms),
+    ``sizes`` (a list of ``(width, height)``). Notes the scenario makes are printed."""
+    if device is None:
+        device = Device()
+    records, notes = _bench(device, scenario, **options)
+    for note in notes:
+        print(f"note: {note}")
+    return [_json.loads(line) for line in records]

@@ -128,3 +128,19 @@ def test_repeated_renders_do_not_grow_memory(device):
     after = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
     # ru_maxrss is in KiB on Linux; 100 images of 30 KB each would be 3 MB if kept.
     assert after - before < 2048, (before, after)
+
+
+def test_bench_returns_the_scenario_records(device):
+    records = tessera.bench(
+        "raymarch", device=device, frames=3, warmup=1, data="procedural:sphere:24",
+        sizes=[(48, 32), (64, 40)],
+    )
+    assert [(r["width"], r["height"]) for r in records] == [(48, 32), (64, 40)]
+    for r in records:
+        assert (r["scenario"], r["technique"], r["frames"]) == ("raymarch", "raymarch", 3)
+        assert r["dataset"].startswith("sphere_24")
+        assert r["stages"][0]["median_ms"] > 0 and r["counts"]["mrays_per_s"] > 0
+    with pytest.raises(tessera.DataError, match="unknown scenario"):
+        tessera.bench("nothing", device=device)
+    with pytest.raises(tessera.DataError, match="frames"):
+        tessera.bench("raymarch", device=device, frames=0)

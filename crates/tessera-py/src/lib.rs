@@ -10,8 +10,10 @@
 //! | `data` | `Volume`, `TetMesh`, `GlyphField`, `Scene`, `load()` |
 //! | `render` | `Renderer`: one technique, reused across looks, views and sizes |
 //! | `extract` | `marching_cubes` in scikit-image's shapes |
+//! | `bench` | the benchmark scenarios, records as JSON lines |
 
 mod arrays;
+mod bench;
 mod data;
 mod device;
 mod errors;
@@ -27,5 +29,6 @@ fn _tessera(m: &Bound<'_, PyModule>) -> PyResult<()> {
     data::register(m)?;
     render::register(m)?;
     extract::register(m)?;
+    bench::register(m)?;
     Ok(())
 }

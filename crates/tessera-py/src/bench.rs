@@ -1,0 +1,82 @@
+//! `bench`: the library's benchmark scenarios (as `tessera bench` runs them), their records
+//! handed to Python as JSON lines for the pure-Python wrapper to parse into dicts.
+
+use pyo3::prelude::*;
+use tessera::bench::{self, BenchConfig, BenchRecord, FramePlan, RecordSink};
+
+use crate::device::Device;
+use crate::errors::{from_tessera, guarded, DataError};
+
+/// Keeps every record as a JSON line, and the notes.
+#[derive(Default)]
+struct Collected {
+    records: Vec<String>,
+    notes: Vec<String>,
+}
+
+impl RecordSink for Collected {
+    fn emit(&mut self, record: &BenchRecord) -> tessera::Result<()> {
+        let line = serde_json::to_string(record)
+            .map_err(|e| tessera::Error::Invalid(format!("a benchmark record: {e}")))?;
+        self.records.push(line);
+        Ok(())
+    }
+
+    fn note(&mut self, text: &str) {
+        self.notes.push(text.to_string());
+    }
+}
+
+/// Runs benchmark `scenario` (one of `tessera bench`'s) on `device`; returns its records as
+/// JSON lines and its notes. GPU timestamps, medians of `frames` after `warmup`.
+#[pyfunction]
+#[pyo3(signature = (device, scenario, quick=false, frames=100, warmup=10, iso_fraction=0.3, data=None, sizes=None))]
+#[allow(clippy::too_many_arguments)]
+fn _bench(
+    py: Python<'_>,
+    device: &Device,
+    scenario: &str,
+    quick: bool,
+    frames: u32,
+    warmup: u32,
+    iso_fraction: f32,
+    data: Option<String>,
+    sizes: Option<Vec<(u32, u32)>>,
+) -> PyResult<(Vec<String>, Vec<String>)> {
+    if !bench::SCENARIOS.contains(&scenario) {
+        return Err(DataError::new_err(format!(
+            "unknown scenario '{scenario}'; choose one of {}",
+            bench::SCENARIOS.join(", ")
+        )));
+    }
+    if frames == 0 {
+        return Err(DataError::new_err("frames must be at least 1"));
+    }
+    if !(0.0..=1.0).contains(&iso_fraction) {
+        return Err(DataError::new_err(format!(
+            "iso_fraction {iso_fraction}: a fraction of the value range, 0 to 1"
+        )));
+    }
+    let config = BenchConfig {
+        plan: FramePlan { warmup, frames },
+        quick,
+        iso_fraction,
+        data,
+        sizes: sizes.unwrap_or_default(),
+        ..BenchConfig::default()
+    };
+    let gpu = device.gpu.clone();
+    py.detach(|| {
+        guarded("benchmarking", || {
+            let gpu = Device::lock(&gpu);
+            let mut sink = Collected::default();
+            bench::run(&gpu, scenario, &config, &mut sink).map_err(from_tessera)?;
+            Ok((sink.records, sink.notes))
+        })
+    })
+}
+
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(_bench, m)?)?;
+    Ok(())
+}
