@@ -55,9 +55,14 @@ for n, dtype in sizes:
     text = subprocess.run(cmd, capture_output=True, text=True).stdout
     ms = float(re.search(r"extracted in ([0-9.]+) ms GPU", text).group(1))
     tris = int(re.search(r"iso [^:]+: (\d+) triangles", text).group(1))
+    cpu_text = subprocess.run(cmd[:-2] + ["-o", f"/tmp/c{n}.ply", "--method", "cpu"],
+                              capture_output=True, text=True).stdout
+    cpu_ms = float(re.search(r"extracted in ([0-9.]+) ms", cpu_text).group(1))
     rows.append(dict(volume=f"{n}^3 {name}", triangles=tris, skimage_triangles=len(f),
-                     gpu_extract_ms=ms, skimage_ms=sk * 1e3, speedup=sk * 1e3 / ms, line=text.strip()))
-    print(f"{n}^3 {name}: {tris} tris, GPU meshlets {ms:.3f} ms, scikit-image {sk*1e3:.0f} ms ({len(f)} tris): {sk*1e3/ms:.0f}x")
+                     gpu_extract_ms=ms, skimage_ms=sk * 1e3, speedup=sk * 1e3 / ms,
+                     cpu_marching_cubes_ms=cpu_ms, line=text.strip()))
+    print(f"{n}^3 {name}: {tris} tris, GPU meshlets {ms:.3f} ms, scikit-image {sk*1e3:.0f} ms "
+          f"({len(f)} tris): {sk*1e3/ms:.0f}x; our CPU marching cubes {cpu_ms:.0f} ms: {cpu_ms/ms:.0f}x")
 json.dump(rows, open(f"{out}/extract.json", "w"), indent=1)
 PY
 echo "== summary"
