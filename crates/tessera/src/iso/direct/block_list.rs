@@ -60,3 +60,36 @@ pub fn args_pipeline(gpu: &Gpu, compiler: &ShaderCompiler, name: &str) -> Result
 pub fn record_args(rec: &Recorder, pipeline: &Pipeline, list: &Buffer) {
     rec.dispatch_groups(pipeline, &[Binding::Buffer(list)], &[], [1, 1, 1]);
 }
+
+/// The passes that fill `list` with the occupied blocks of an extraction: the list emptied,
+/// `occupied` run over `block_count` blocks (bound to the octree `nodes` and the list, with
+/// the extraction's `push` constants, so it tests the same isovalue), then [`record_args`].
+/// Ends with a barrier, so the extraction may dispatch indirectly from the list.
+#[allow(clippy::too_many_arguments)]
+pub fn record_occupied(
+    rec: &Recorder,
+    occupied: &Pipeline,
+    args: &Pipeline,
+    nodes: &Buffer,
+    list: &Buffer,
+    push: &[u8],
+    block_count: u32,
+    max_groups_x: u32,
+) {
+    let empty = BlockListHeader {
+        count: 0,
+        args: [0, 1, 1],
+    };
+    rec.update_buffer(list, bytemuck::bytes_of(&empty));
+    rec.barrier();
+    let groups = block_count.div_ceil(occupied.local_size[0]);
+    rec.dispatch_groups(
+        occupied,
+        &[Binding::Buffer(nodes), Binding::Buffer(list)],
+        push,
+        tessera_gpu::spread_groups(groups, max_groups_x),
+    );
+    rec.barrier();
+    record_args(rec, args, list);
+    rec.barrier();
+}

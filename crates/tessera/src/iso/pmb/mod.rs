@@ -19,12 +19,12 @@ use crate::builtin_shader;
 use crate::config::pmb_defines;
 use crate::error::{Error, Result};
 use crate::iso::attempts::{extract_with_retries, Extraction};
-use crate::iso::direct::block_list::{self, BlockListHeader};
+use crate::iso::direct::block_list;
 use crate::iso::PreparedVolume;
 use bytemuck::{Pod, Zeroable};
 use tessera_data::mc_ambiguity::AmbiguityRule;
 use tessera_data::ScalarType;
-use tessera_gpu::{spread_groups, Binding, Gpu, Pipeline, Recorder, ShaderCompiler, Slot};
+use tessera_gpu::{Binding, Gpu, Pipeline, Recorder, ShaderCompiler, Slot};
 
 /// Invocations of an extraction workgroup (`PMB_WORKGROUP`): what every Vulkan device accepts.
 pub const WORKGROUP_SIZE: u32 = 128;
@@ -126,27 +126,18 @@ impl PmbExtractor {
     pub fn record(&self, rec: &Recorder, prepared: &PreparedVolume, iso: f32, out: &GpuPmb) {
         let params = self.params(prepared, iso, out);
         let push = bytemuck::bytes_of(&params);
-        let empty_list = BlockListHeader {
-            count: 0,
-            args: [0, 1, 1],
-        };
-        rec.update_buffer(&out.blocks, bytemuck::bytes_of(&empty_list));
         rec.fill_buffer(&out.counters, 0);
-        rec.barrier();
         let [bx, by, bz] = params.block_dims;
-        let groups = (bx * by * bz).div_ceil(self.occupied.local_size[0]);
-        rec.dispatch_groups(
+        block_list::record_occupied(
+            rec,
             &self.occupied,
-            &[
-                Binding::Buffer(&prepared.octree.nodes),
-                Binding::Buffer(&out.blocks),
-            ],
+            &self.block_args,
+            &prepared.octree.nodes,
+            &out.blocks,
             push,
-            spread_groups(groups, self.max_groups_x),
+            bx * by * bz,
+            self.max_groups_x,
         );
-        rec.barrier();
-        block_list::record_args(rec, &self.block_args, &out.blocks);
-        rec.barrier();
         rec.dispatch_indirect(
             &self.extract,
             &[
