@@ -63,6 +63,10 @@ const COMMON: &[(&str, &str)] = &[
         include_str!("iso/meshlets/payload.glsl"),
     ),
     (
+        "iso/meshlets/samples.glsl",
+        include_str!("iso/meshlets/samples.glsl"),
+    ),
+    (
         "iso/meshlets/subblock.glsl",
         include_str!("iso/meshlets/subblock.glsl"),
     ),

@@ -3,7 +3,7 @@
 // as tessera_data::meshlets::partition makes it, and the block's reservation in the output
 // buffers. Writes `payload` (declared by the includer: task payload or shared memory).
 // Sums are shared-memory reductions over consecutive invocations, so no subgroup size is
-// assumed. Needs iso/meshlets/{params,buffers,payload,subblock}.glsl and the marching-cubes
+// assumed. Needs iso/meshlets/{params,buffers,payload,samples,subblock}.glsl and the marching-cubes
 // headers (common/mc_edges.glsl among them).
 
 // Per eighth (invocation): occupied cells, their triangles, the crossed edges they own.
@@ -57,6 +57,8 @@ void meshlet_analyse(uint listed) {
     float iso = params.isovalue;
     uvec3 block_origin = meshlet_block_origin(occupied_blocks[listed]);
     uvec3 last_cell = params.volume_dims - 1u;
+    meshlet_load_samples(block_origin,
+                         mc_box_end(block_origin, uvec3(BLOCK_X, BLOCK_Y, BLOCK_Z), params.volume_dims));
 
     uint cells = 0u;
     uint triangles = 0u;
@@ -67,13 +69,15 @@ void meshlet_analyse(uint listed) {
         if (any(greaterThanEqual(cell, last_cell))) {
             continue;
         }
-        uint case_index = mc_cell_case(volume_tex, cell, iso);
+        float corners[8];
+        meshlet_cell_corners(cell, corners);
+        uint case_index = mc_case_of_corners(corners, iso);
         if (MC_EDGE_MASK[case_index] == 0u) {
             continue;
         }
         cells += 1u;
         occupied_mask |= 1u << k;
-        triangles += mc_tri_count(mc_cell_row(volume_tex, cell, case_index, iso));
+        triangles += mc_tri_count(mc_row_of_corners(corners, case_index, iso));
         core += mc_case_owned_crossings(case_index);
     }
     s_eighth_cells[me] = cells;

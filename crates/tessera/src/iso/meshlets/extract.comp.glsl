@@ -12,6 +12,7 @@
 #include "iso/meshlets/params.glsl"
 #include "iso/meshlets/buffers.glsl"
 #include "iso/meshlets/payload.glsl"
+#include "iso/meshlets/samples.glsl"
 #include "iso/meshlets/subblock.glsl"
 
 layout(local_size_x = MESHLET_WORKGROUP) in;
@@ -27,7 +28,7 @@ void main() {
     }
     meshlet_analyse(listed);
     for (uint s = 0u; s < payload.subblock_count; ++s) {
-        meshlet_extract(s);
+        meshlet_extract(s, true);
         barrier();
     }
 }

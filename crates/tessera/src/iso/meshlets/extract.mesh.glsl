@@ -13,6 +13,7 @@
 #include "iso/meshlets/params.glsl"
 #include "iso/meshlets/buffers.glsl"
 #include "iso/meshlets/payload.glsl"
+#include "iso/meshlets/samples.glsl"
 #include "iso/meshlets/subblock.glsl"
 
 layout(local_size_x = MESHLET_WORKGROUP) in;
@@ -23,5 +24,5 @@ taskPayloadSharedEXT MeshletPayload payload;
 
 void main() {
     SetMeshOutputsEXT(0u, 0u);
-    meshlet_extract(gl_WorkGroupID.x);
+    meshlet_extract(gl_WorkGroupID.x, false);
 }

@@ -3,13 +3,16 @@
 // analysis of one occupied block, one mesh workgroup per subblock of its partition.
 #extension GL_EXT_mesh_shader : require
 #include "common/volume.glsl"
+#include "common/exact.glsl"
 #include "common/mc_tables.glsl"
 #include "common/mc_cell.glsl"
+#include "common/mc_vertex.glsl"
 #include "common/mc_edges.glsl"
 #include "iso/direct/block_list.glsl"
 #include "iso/meshlets/params.glsl"
 #include "iso/meshlets/buffers.glsl"
 #include "iso/meshlets/payload.glsl"
+#include "iso/meshlets/samples.glsl"
 #include "iso/meshlets/subblock.glsl"
 
 layout(local_size_x = MESHLET_WORKGROUP) in;

@@ -2,18 +2,19 @@
 // MESHLET_WORKGROUP invocations, PMB-style, in the CPU reference's order
 // (tessera_data::meshlets::subblock): vertices of the crossed edges owned by the occupied
 // cells, then of those owned by padding points; triangles by cell, each cell's in table order.
-// Vertex numbers are kept per edge of the subblock's closed box in shared memory, so
-// triangles find theirs without search. Needs the marching-cubes headers,
+// Each sample of the subblock's closed box keeps, in shared memory, the crossed edges it owns
+// and the local number of the first one's vertex, so triangles find theirs without search. Needs the marching-cubes headers,
 // common/mc_vertex.glsl, common/mc_edges.glsl and iso/meshlets/{params,buffers,payload,
-// subblock}.glsl.
+// samples,subblock}.glsl.
 
 const uint MESHLET_CELLS_PER_EXTRACTOR = MESHLET_MAX_OCCUPIED_CELLS / MESHLET_WORKGROUP;
 // Samples of the largest box: a block's cells plus one on each axis.
 const uint MESHLET_BOX_POINTS = (BLOCK_X + 1u) * (BLOCK_Y + 1u) * (BLOCK_Z + 1u);
 const uint MESHLET_INDEX_WORDS = (MESHLET_MAX_TRIANGLES + 3u) / 4u * 3u;
 
-// Local vertex of each edge of the box: three per sample (x, y, z edge), x fastest.
-shared uint s_edge_vertex[MESHLET_BOX_POINTS * 3u];
+// Per sample of the box (x fastest) that owns a crossed edge: the local vertex of its first
+// one (bits 0-15) and its owned crossings (bits 16-18: x, y, z edge).
+shared uint s_point_vertices[MESHLET_BOX_POINTS];
 shared uint s_index_words[MESHLET_INDEX_WORDS];
 shared uint s_cell_rows[MESHLET_MAX_OCCUPIED_CELLS];
 // Per invocation: core vertices, padding vertices, triangles; then their exclusive prefixes.
@@ -28,9 +29,9 @@ uint meshlet_cell_code(uint i) {
     return (payload.cells[i >> 2] >> ((i & 3u) * 8u)) & 255u;
 }
 
-uint meshlet_edge_slot(uvec3 p, uint axis, uvec3 lo, uvec3 points) {
+uint meshlet_point_slot(uvec3 p, uvec3 lo, uvec3 points) {
     uvec3 d = p - lo;
-    return ((d.z * points.y + d.y) * points.x + d.x) * 3u + axis;
+    return (d.z * points.y + d.y) * points.x + d.x;
 }
 
 // Exclusive prefix of `counts` in place; returns the total. One invocation runs it.
@@ -44,7 +45,10 @@ uint meshlet_scan(inout uint counts[MESHLET_WORKGROUP]) {
     return total;
 }
 
-void meshlet_extract(uint s) {
+// `block_samples_held`: the workgroup already holds the samples of the block's box (the
+// compute path, after the analysis); otherwise it loads its subblock's. Uniform across the
+// workgroup.
+void meshlet_extract(uint s, bool block_samples_held) {
     uint me = gl_LocalInvocationIndex;
     float iso = params.isovalue;
     uvec3 dims = params.volume_dims;
@@ -57,6 +61,9 @@ void meshlet_extract(uint s) {
     uvec3 lo = block_origin + meshlet_cell_of_code(first_code);
     uvec3 size = meshlet_cell_of_code(first_code + code_count - 1u) - meshlet_cell_of_code(first_code) + 1u;
     uvec3 hi = mc_box_end(lo, size, dims);
+    if (!block_samples_held) {
+        meshlet_load_samples(lo, hi);
+    }
     uvec3 points = hi - lo + 1u;
     uint box_points = meshlet_box_points(lo, hi);
     uint padding_share = (box_points + MESHLET_WORKGROUP - 1u) / MESHLET_WORKGROUP;
@@ -70,8 +77,10 @@ void meshlet_extract(uint s) {
     uint cell_end = clamp(cell_count, cell_first, cell_first + MESHLET_CELLS_PER_EXTRACTOR);
     for (uint c = cell_first; c < cell_end; ++c) {
         uvec3 cell = block_origin + meshlet_cell_of_code(meshlet_cell_code(first_cell + c));
-        uint case_index = mc_cell_case(volume_tex, cell, iso);
-        uint row = mc_cell_row(volume_tex, cell, case_index, iso);
+        float corners[8];
+        meshlet_cell_corners(cell, corners);
+        uint case_index = mc_case_of_corners(corners, iso);
+        uint row = mc_row_of_corners(corners, case_index, iso);
         s_cell_rows[c] = row;
         triangles += mc_tri_count(row);
         core += mc_case_owned_crossings(case_index);
@@ -122,16 +131,18 @@ void meshlet_extract(uint s) {
                 continue;
             }
         }
-        uint owned = mc_box_owned_crossings(volume_tex, p, hi, iso);
+        uint owned = meshlet_owned_crossings(p, hi, iso);
+        if (owned != 0u) {
+            s_point_vertices[meshlet_point_slot(p, lo, points)] = local | owned << 16;
+        }
         for (uint axis = 0u; axis < 3u; ++axis) {
             if ((owned & (1u << axis)) == 0u) {
                 continue;
             }
-            s_edge_vertex[meshlet_edge_slot(p, axis, lo, points)] = local;
             if (local < vertex_count) {
                 vec3 position;
                 vec3 normal;
-                mc_exact_edge_vertex(volume_tex, p, axis, iso, dims, position, normal);
+                meshlet_edge_vertex(p, axis, iso, position, normal);
                 uint v = first_vertex + local;
                 for (uint a = 0u; a < 3u; ++a) {
                     positions[3u * v + a] = position[a];
@@ -156,7 +167,8 @@ void meshlet_extract(uint s) {
             uvec3 p;
             uint axis;
             mc_edge_owner(cell, mc_tri_edge(row, i), p, axis);
-            uint index = s_edge_vertex[meshlet_edge_slot(p, axis, lo, points)];
+            uint vertices = s_point_vertices[meshlet_point_slot(p, lo, points)];
+            uint index = (vertices & 0xffffu) + bitCount((vertices >> 16) & ((1u << axis) - 1u));
             if (t < 3u * triangle_count) {
                 atomicOr(s_index_words[t >> 2], (index & 255u) << ((t & 3u) * 8u));
             }

@@ -1,6 +1,5 @@
 // Subblock geometry shared by the region analysis and the extraction. Needs
-// common/volume.glsl, common/mc_edges.glsl, iso/meshlets/params.glsl and
-// iso/meshlets/buffers.glsl.
+// common/volume.glsl, common/mc_edges.glsl and iso/meshlets/{params,buffers,samples}.glsl.
 
 // Cell of Morton code `code` inside its block (tessera_data::meshlets::morton: bits
 // x0 y0 z0 x1 y1 z1 x2 y2).
@@ -24,7 +23,7 @@ uint meshlet_padding_crossings(uvec3 lo, uvec3 hi, uint first, uint end, float i
     for (uint j = first; j < end; ++j) {
         uvec3 p = mc_box_point(lo, points, j);
         if (any(equal(p, hi))) {
-            count += bitCount(mc_box_owned_crossings(volume_tex, p, hi, iso));
+            count += bitCount(meshlet_owned_crossings(p, hi, iso));
         }
     }
     return count;

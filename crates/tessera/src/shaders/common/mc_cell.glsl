@@ -1,7 +1,17 @@
 // Marching-cubes work on single cells, shared by every extraction path. Needs
 // common/volume.glsl and common/mc_tables.glsl; conventions are tessera_data::mc_tables'.
 
-// Case index of the cell whose minimum corner is `cell`: bit c set when corner c is below iso.
+// Case index of a cell whose corners hold `corners` (in corner order): bit c set when corner
+// c is below iso.
+uint mc_case_of_corners(float corners[8], float iso) {
+    uint case_index = 0u;
+    for (uint c = 0u; c < 8u; ++c) {
+        case_index |= uint(corners[c] < iso) << c;
+    }
+    return case_index;
+}
+
+// Case index of the cell whose minimum corner is `cell`.
 uint mc_cell_case(VOLUME_SAMPLER vol, uvec3 cell, float iso) {
     uint case_index = 0u;
     for (uint c = 0u; c < 8u; ++c) {
@@ -15,12 +25,13 @@ uint mc_cell_case(VOLUME_SAMPLER vol, uvec3 cell, float iso) {
 #error "MC_ASYMPTOTIC_DECIDER (the ambiguity rule) comes from tessera::config::marching_cubes_defines"
 #endif
 
-// The table row of `cell` (of case `case_index`): its ambiguous faces cut by the asymptotic
-// decider, or with MC_ASYMPTOTIC_DECIDER 0 by VTK's rule (above corners always separated,
-// the case's first row). Repeats tessera_data::mc_ambiguity::saddle_is_above exactly: the
-// face's corners in the face's order, so both cells sharing a face decide alike, and the
-// same rounded differences and products.
-uint mc_cell_row(VOLUME_SAMPLER vol, uvec3 cell, uint case_index, float iso) {
+// The table row of a cell of case `case_index` whose corners hold `corners`: its ambiguous
+// faces cut by the asymptotic decider, or with MC_ASYMPTOTIC_DECIDER 0 by VTK's rule (above
+// corners always separated, the case's first row). Repeats
+// tessera_data::mc_ambiguity::saddle_is_above exactly: the face's corners in the face's
+// order, so both cells sharing a face decide alike, and the same rounded differences and
+// products.
+uint mc_row_of_corners(float corners[8], uint case_index, float iso) {
     uint choice = 0u;
 #if MC_ASYMPTOTIC_DECIDER
     uint ambiguous = mc_ambiguous_faces(case_index);
@@ -29,15 +40,14 @@ uint mc_cell_row(VOLUME_SAMPLER vol, uvec3 cell, uint case_index, float iso) {
         if ((ambiguous & (1u << f)) == 0u) {
             continue;
         }
-        uint corners = MC_FACE_CORNERS[f];
+        uint face = MC_FACE_CORNERS[f];
         precise float d[4];
         for (uint j = 0u; j < 4u; ++j) {
-            uint c = (corners >> (4u * j)) & 15u;
-            d[j] = volume_texel(vol, ivec3(cell + mc_corner_offset(c))) - iso;
+            d[j] = corners[(face >> (4u * j)) & 15u] - iso;
         }
         precise float main_product = d[0] * d[3];
         precise float anti_product = d[1] * d[2];
-        bool main_below = ((case_index >> (corners & 15u)) & 1u) == 1u;
+        bool main_below = ((case_index >> (face & 15u)) & 1u) == 1u;
         bool joined = main_below ? anti_product >= main_product : main_product >= anti_product;
         choice |= uint(joined) << k;
         k += 1u;
@@ -46,17 +56,40 @@ uint mc_cell_row(VOLUME_SAMPLER vol, uvec3 cell, uint case_index, float iso) {
     return mc_first_row(case_index) + choice;
 }
 
-// Gradient at grid point p: central differences inside, one-sided on the border. The span is
-// 1 or 2 samples, so multiplying by its exact reciprocal rounds as the CPU's division does,
-// where Vulkan lets `/` be inexact.
+// The table row of `cell` (of case `case_index`); reads the corners only where a face is
+// ambiguous.
+uint mc_cell_row(VOLUME_SAMPLER vol, uvec3 cell, uint case_index, float iso) {
+#if MC_ASYMPTOTIC_DECIDER
+    if (mc_ambiguous_faces(case_index) != 0u) {
+        float corners[8];
+        for (uint c = 0u; c < 8u; ++c) {
+            corners[c] = volume_texel(vol, ivec3(cell + mc_corner_offset(c)));
+        }
+        return mc_row_of_corners(corners, case_index, iso);
+    }
+#endif
+    return mc_first_row(case_index);
+}
+
+// The samples the gradient at grid point p differences along `axis`: its neighbours inside,
+// itself and one neighbour on the border. Returns the reciprocal of their distance (1 or 2
+// samples), exact, so multiplying by it rounds as the CPU's division does, where Vulkan lets
+// `/` be inexact.
+float mc_gradient_ends(uvec3 p, uint axis, uvec3 dims, out uvec3 lo, out uvec3 hi) {
+    lo = p;
+    hi = p;
+    lo[axis] = p[axis] > 0u ? p[axis] - 1u : 0u;
+    hi[axis] = min(p[axis] + 1u, dims[axis] - 1u);
+    return hi[axis] - lo[axis] == 2u ? 0.5 : 1.0;
+}
+
+// Gradient at grid point p: central differences inside, one-sided on the border.
 vec3 mc_grid_gradient(VOLUME_SAMPLER vol, uvec3 p, uvec3 dims) {
     vec3 g;
-    for (int axis = 0; axis < 3; ++axis) {
-        uvec3 lo = p;
-        uvec3 hi = p;
-        lo[axis] = p[axis] > 0u ? p[axis] - 1u : 0u;
-        hi[axis] = min(p[axis] + 1u, dims[axis] - 1u);
-        float inverse_span = hi[axis] - lo[axis] == 2u ? 0.5 : 1.0;
+    for (uint axis = 0u; axis < 3u; ++axis) {
+        uvec3 lo;
+        uvec3 hi;
+        float inverse_span = mc_gradient_ends(p, axis, dims, lo, hi);
         g[axis] = (volume_texel(vol, ivec3(hi)) - volume_texel(vol, ivec3(lo))) * inverse_span;
     }
     return g;

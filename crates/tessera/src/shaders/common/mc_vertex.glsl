@@ -5,13 +5,10 @@
 
 // The vertex where the edge from sample `start` one step along `axis` crosses iso, in grid
 // coordinates, and its normal (the negated gradient blended along the edge, normalized; where
-// it vanishes, the edge direction from its above end to its below end).
-void mc_exact_edge_vertex(VOLUME_SAMPLER vol, uvec3 start, uint axis, float iso, uvec3 dims,
-                          out vec3 position, out vec3 normal) {
-    uvec3 end = start;
-    end[axis] += 1u;
-    float a = volume_texel(vol, ivec3(start));
-    float b = volume_texel(vol, ivec3(end));
+// it vanishes, the edge direction from its above end to its below end), from the values `a`
+// at the start and `b` at the end and the gradients there.
+void mc_exact_vertex(uvec3 start, uint axis, float a, float b, vec3 ga, vec3 gb, float iso,
+                     out vec3 position, out vec3 normal) {
     precise float rise = iso - a;
     precise float run = b - a;
     float t = rounded_divide(rise, run);
@@ -20,8 +17,6 @@ void mc_exact_edge_vertex(VOLUME_SAMPLER vol, uvec3 start, uint axis, float iso,
     precise float along = position[axis] + t;
     position[axis] = along;
 
-    vec3 ga = mc_grid_gradient(vol, start, dims);
-    vec3 gb = mc_grid_gradient(vol, end, dims);
     precise float keep = 1.0 - t;
     precise vec3 g = ga * keep + gb * t;
     precise vec3 n = -g;
@@ -32,4 +27,14 @@ void mc_exact_edge_vertex(VOLUME_SAMPLER vol, uvec3 start, uint axis, float iso,
     bool usable = !isinf(inverse_length) && !isnan(inverse_length) && inverse_length > 0.0;
     precise vec3 unit = n * inverse_length;
     normal = usable ? unit : (a < iso ? -dir : dir);
+}
+
+// mc_exact_vertex with the values read from the volume.
+void mc_exact_edge_vertex(VOLUME_SAMPLER vol, uvec3 start, uint axis, float iso, uvec3 dims,
+                          out vec3 position, out vec3 normal) {
+    uvec3 end = start;
+    end[axis] += 1u;
+    mc_exact_vertex(start, axis, volume_texel(vol, ivec3(start)), volume_texel(vol, ivec3(end)),
+                    mc_grid_gradient(vol, start, dims), mc_grid_gradient(vol, end, dims), iso,
+                    position, normal);
 }
