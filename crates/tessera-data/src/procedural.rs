@@ -82,12 +82,12 @@ impl FromStr for ProceduralKind {
 
 /// Parses `NAME:SIZE` or `NAME:SIZE:TYPE` (the part after `procedural:`); TYPE defaults to
 /// uint8.
-pub fn parse_spec(spec: &str) -> Result<(ProceduralKind, u32, ScalarType)> {
+pub fn parse_spec(spec: &str) -> Result<(ProceduralKind, [u32; 3], ScalarType)> {
     let parts: Vec<&str> = spec.split(':').collect();
     let usage = || {
         DataError::Invalid(format!(
-            "bad procedural spec '{spec}': expected NAME:SIZE or NAME:SIZE:TYPE, \
-             e.g. head:256 or sphere:128:uint16"
+            "bad procedural spec '{spec}': expected NAME:SIZE or NAME:SIZE:TYPE with SIZE one \
+             number or XxYxZ, e.g. head:256, sphere:128:uint16 or head:1024x1024x1080:uint16"
         ))
     };
     let (name, size, scalar) = match parts.as_slice() {
@@ -96,7 +96,16 @@ pub fn parse_spec(spec: &str) -> Result<(ProceduralKind, u32, ScalarType)> {
         _ => return Err(usage()),
     };
     let kind = name.parse()?;
-    let size = size.trim().parse().map_err(|_| usage())?;
+    let numbers: Vec<&str> = size.trim().split('x').collect();
+    let size = match numbers.as_slice() {
+        [n] => [n.parse().map_err(|_| usage())?; 3],
+        [x, y, z] => [
+            x.parse().map_err(|_| usage())?,
+            y.parse().map_err(|_| usage())?,
+            z.parse().map_err(|_| usage())?,
+        ],
+        _ => return Err(usage()),
+    };
     let scalar = match scalar {
         None => ScalarType::U8,
         Some(s) => ScalarType::from_name(s).ok_or_else(|| {
@@ -108,46 +117,54 @@ pub fn parse_spec(spec: &str) -> Result<(ProceduralKind, u32, ScalarType)> {
     Ok((kind, size, scalar))
 }
 
-/// Samples `kind` on a `size`^3 grid, one z-slice per parallel task. The volume is named in
-/// the Open SciVis style, e.g. `head_256x256x256_uint8`, and has unit spacing.
+/// Samples `kind` on a `size`^3 grid; see [`generate_grid`].
 pub fn generate(kind: ProceduralKind, size: u32, scalar: ScalarType) -> Result<Volume> {
+    generate_grid(kind, [size; 3], scalar)
+}
+
+/// Samples `kind` on a grid of `dims` samples spanning its [-1, 1]^3 domain on every axis (so
+/// a grid longer on one axis stretches the object along it, as scanners with anisotropic
+/// extents do), one z-slice per parallel task. The volume is named in the Open SciVis style,
+/// e.g. `head_1024x1024x1080_uint16`, and has unit spacing.
+pub fn generate_grid(kind: ProceduralKind, dims: [u32; 3], scalar: ScalarType) -> Result<Volume> {
     let what = format!("procedural {}", kind.name());
-    if size < 2 {
+    if dims.iter().any(|&n| n < 2) {
         return Err(DataError::InvalidDims {
             what,
-            dims: [size as u64; 3],
+            dims: dims.map(u64::from),
         });
     }
-    if size > MAX_SIZE {
+    if let Some(&n) = dims.iter().find(|&&n| n > MAX_SIZE) {
         return Err(DataError::Invalid(format!(
-            "{what}: size {size} exceeds the maximum of {MAX_SIZE}"
+            "{what}: size {n} exceeds the maximum of {MAX_SIZE}"
         )));
     }
     let field = kind.field();
     let samples = match scalar {
-        ScalarType::U8 => Samples::U8(sample_grid(size, field, |f| (f * 255.0).round() as u8)),
-        ScalarType::U16 => Samples::U16(sample_grid(size, field, |f| (f * 65535.0).round() as u16)),
-        ScalarType::F32 => Samples::F32(sample_grid(size, field, |f| f)),
+        ScalarType::U8 => Samples::U8(sample_grid(dims, field, |f| (f * 255.0).round() as u8)),
+        ScalarType::U16 => Samples::U16(sample_grid(dims, field, |f| (f * 65535.0).round() as u16)),
+        ScalarType::F32 => Samples::F32(sample_grid(dims, field, |f| f)),
     };
-    let name = format!("{}_{size}x{size}x{size}_{}", kind.name(), scalar.name());
-    Volume::new(name, [size; 3], [1.0; 3], samples)
+    let [x, y, z] = dims;
+    let name = format!("{}_{x}x{y}x{z}_{}", kind.name(), scalar.name());
+    Volume::new(name, dims, [1.0; 3], samples)
 }
 
-fn sample_grid<T, Q>(size: u32, field: fn(Vec3) -> f32, quantize: Q) -> Vec<T>
+fn sample_grid<T, Q>(dims: [u32; 3], field: fn(Vec3) -> f32, quantize: Q) -> Vec<T>
 where
     T: Copy + Default + Send,
     Q: Fn(f32) -> T + Sync,
 {
-    let n = size as usize;
-    let step = 2.0 / (size - 1) as f32;
-    let coord = |i: usize| -1.0 + i as f32 * step;
-    let mut out = vec![T::default(); n * n * n];
-    out.par_chunks_mut(n * n)
+    let [nx, ny, nz] = dims.map(|n| n as usize);
+    let steps = dims.map(|n| 2.0 / (n - 1) as f32);
+    let coord = |i: usize, axis: usize| -1.0 + i as f32 * steps[axis];
+    let mut out = vec![T::default(); nx * ny * nz];
+    out.par_chunks_mut(nx * ny)
         .enumerate()
         .for_each(|(z, slice)| {
-            for (y, row) in slice.chunks_mut(n).enumerate() {
+            for (y, row) in slice.chunks_mut(nx).enumerate() {
                 for (x, v) in row.iter_mut().enumerate() {
-                    let f = field(Vec3::new(coord(x), coord(y), coord(z)));
+                    let f = field(Vec3::new(coord(x, 0), coord(y, 1), coord(z, 2)));
                     // NaN-safe clamp: a NaN would become 0 rather than poison the volume.
                     *v = quantize(if f >= 0.0 { f.min(1.0) } else { 0.0 });
                 }
@@ -302,12 +319,17 @@ mod tests {
         );
 
         let spec = parse_spec("head:64").expect("spec");
-        assert_eq!(spec, (ProceduralKind::HeadPhantom, 64, ScalarType::U8));
+        assert_eq!(spec, (ProceduralKind::HeadPhantom, [64; 3], ScalarType::U8));
         let spec = parse_spec("sphere:32:uint16").expect("spec");
-        assert_eq!(spec, (ProceduralKind::Sphere, 32, ScalarType::U16));
+        assert_eq!(spec, (ProceduralKind::Sphere, [32; 3], ScalarType::U16));
+        let spec = parse_spec("head:16x12x20:uint16").expect("spec");
+        assert_eq!(spec, (ProceduralKind::HeadPhantom, [16, 12, 20], ScalarType::U16));
         for bad in [
             "head",
             "head:x",
+            "head:16x12",
+            "head:16x12x",
+            "head:16x12x20x3",
             "head:64:int8",
             "cube:64",
             "head:64:u8:extra",
@@ -340,6 +362,15 @@ mod tests {
                 .name(),
             "sphere_5x5x5_uint8"
         );
+        let stretched = generate_grid(ProceduralKind::Sphere, [9, 5, 17], ScalarType::F32)
+            .expect("a grid of three sizes");
+        assert_eq!(stretched.dims(), [9, 5, 17]);
+        assert_eq!(stretched.name(), "sphere_9x5x17_float32");
+        // The domain spans every axis: the centre sample is the sphere's maximum and the
+        // corners its minimum, whatever the axis lengths.
+        let cube = generate(ProceduralKind::Sphere, 9, ScalarType::F32).expect("cube");
+        assert_eq!(stretched.texel_range(), cube.texel_range());
+        assert!(generate_grid(ProceduralKind::Sphere, [9, 1, 9], ScalarType::U8).is_err());
         for size in [0, 1] {
             let err = generate(ProceduralKind::Sphere, size, ScalarType::U8).expect_err("small");
             assert!(matches!(err, DataError::InvalidDims { .. }), "{err}");

@@ -69,7 +69,7 @@ fn holds_mesh(spec: &str) -> bool {
 pub fn load_volume_spec(spec: &str, raw: &RawOptions) -> Result<Volume> {
     match spec.strip_prefix("procedural:") {
         Some(rest) => procedural::parse_spec(rest)
-            .and_then(|(kind, size, scalar)| procedural::generate(kind, size, scalar))
+            .and_then(|(kind, dims, scalar)| procedural::generate_grid(kind, dims, scalar))
             .and_then(|volume| match raw.spacing {
                 Some(spacing) => volume.with_spacing(spacing),
                 None => Ok(volume),
@@ -87,8 +87,8 @@ pub fn expected_volume_bytes(spec: &str, raw: &RawOptions) -> Option<u64> {
         return None;
     }
     if let Some(rest) = spec.strip_prefix("procedural:") {
-        let (_, size, scalar) = procedural::parse_spec(rest).ok()?;
-        return Some(grid_bytes([size; 3], scalar.size_bytes() as u64));
+        let (_, dims, scalar) = procedural::parse_spec(rest).ok()?;
+        return Some(grid_bytes(dims, scalar.size_bytes() as u64));
     }
     let path = Path::new(spec);
     let name = path.file_name()?.to_str()?;

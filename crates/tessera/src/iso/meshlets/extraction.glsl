@@ -22,8 +22,10 @@ shared uint s_core_count[MESHLET_WORKGROUP];
 shared uint s_padding_count[MESHLET_WORKGROUP];
 shared uint s_triangle_count[MESHLET_WORKGROUP];
 shared uint s_totals[3];
-shared vec3 s_lo[MESHLET_WORKGROUP];
-shared vec3 s_hi[MESHLET_WORKGROUP];
+// The meshlet's AABB as float bits: positions are grid coordinates, never negative, so their
+// bits order as their values and integer atomics find the extremes.
+shared uint s_aabb_min[3];
+shared uint s_aabb_max[3];
 
 uint meshlet_cell_code(uint i) {
     return (payload.cells[i >> 2] >> ((i & 3u) * 8u)) & 255u;
@@ -91,6 +93,10 @@ void meshlet_extract(uint s, bool block_samples_held) {
     for (uint w = me; w < MESHLET_INDEX_WORDS; w += MESHLET_WORKGROUP) {
         s_index_words[w] = 0u;
     }
+    if (me < 3u) {
+        s_aabb_min[me] = 0x7f800000u;  // +inf
+        s_aabb_max[me] = 0u;
+    }
     barrier();
     if (me == 0u) {
         uint core_total = meshlet_scan(s_core_count);
@@ -112,7 +118,7 @@ void meshlet_extract(uint s, bool block_samples_held) {
     // Vertices, numbered in the reference's order: this invocation's cells, then its run of
     // box points (one loop, so the vertex arithmetic is compiled once).
     vec3 lo_bound = vec3(uintBitsToFloat(0x7f800000u));
-    vec3 hi_bound = -lo_bound;
+    vec3 hi_bound = vec3(0.0);
     uint cell_items = cell_end - cell_first;
     uint items = cell_items + (padding_end - padding_first);
     uint local = s_core_count[me];
@@ -154,8 +160,10 @@ void meshlet_extract(uint s, bool block_samples_held) {
             local += 1u;
         }
     }
-    s_lo[me] = lo_bound;
-    s_hi[me] = hi_bound;
+    for (uint a = 0u; a < 3u; ++a) {
+        atomicMin(s_aabb_min[a], floatBitsToUint(lo_bound[a]));
+        atomicMax(s_aabb_max[a], floatBitsToUint(hi_bound[a]));
+    }
     barrier();
 
     // Triangles: local indices packed into shared words, then copied out whole.
@@ -180,12 +188,8 @@ void meshlet_extract(uint s, bool block_samples_held) {
         local_index_words[first_triangle / 4u * 3u + w] = s_index_words[w];
     }
     if (me == 0u) {
-        vec3 lo_all = s_lo[0];
-        vec3 hi_all = s_hi[0];
-        for (uint i = 1u; i < MESHLET_WORKGROUP; ++i) {
-            lo_all = min(lo_all, s_lo[i]);
-            hi_all = max(hi_all, s_hi[i]);
-        }
+        vec3 lo_all = uintBitsToFloat(uvec3(s_aabb_min[0], s_aabb_min[1], s_aabb_min[2]));
+        vec3 hi_all = uintBitsToFloat(uvec3(s_aabb_max[0], s_aabb_max[1], s_aabb_max[2]));
         meshlets[payload.base_meshlet + s] = Meshlet(first_vertex, vertex_count, first_triangle,
             triangle_count, float[3](lo_all.x, lo_all.y, lo_all.z),
             float[3](hi_all.x, hi_all.y, hi_all.z), uint[3](block_origin.x, block_origin.y,
