@@ -6,7 +6,12 @@
 # extraction (`tessera extract`, GPU timestamps) against scikit-image's marching_cubes on the
 # same arrays. JSON lines and a summary go to OUT_DIR.
 # Usage: scripts/bench-meshlets.sh OUT_DIR [TESSERA_BINARY]
+# PARTS (default "iso-sweep extraction isosurface skimage") picks the parts to run;
+# EXTRACTION_VOLUMES and SWEEP_VOLUMES override the volume lists.
 set -uo pipefail
+parts=" ${PARTS:-iso-sweep extraction isosurface skimage} "
+sweep_volumes=${SWEEP_VOLUMES:-procedural:head:256:u8 procedural:turbulence:512:f32 procedural:head:512:u16}
+extraction_volumes=${EXTRACTION_VOLUMES:-procedural:head:256:u8 procedural:turbulence:512:f32 procedural:head:512:u16 procedural:head:1024:u16 procedural:head:1024x1024x1080:u16 procedural:head:1024x1024x1546:u16}
 out=${1:?output folder}
 bin=${2:-target/release/tessera}
 mkdir -p "$out"
@@ -17,21 +22,24 @@ fi
 nvidia-smi --query-gpu=name,driver_version --format=csv > "$out/nvidia-smi.csv" 2>&1
 date -u +%Y-%m-%dT%H:%M:%SZ > "$out/date.txt"
 common=(--sizes 3840x2160 --frames 30 --warmup 20 --iso-fraction 0.3)
-for volume in procedural:head:256:u8 procedural:turbulence:512:f32 procedural:head:512:u16; do
+for volume in $sweep_volumes; do
+  [[ $parts == *" iso-sweep "* ]] || break
   echo "== iso-sweep $volume"
   timeout 240 "$bin" bench iso-sweep --data "$volume" "${common[@]}" --json "$out/iso-sweep.jsonl" \
     > "$out/iso-sweep-${volume//[:\/]/_}.txt" 2>&1 || echo "iso-sweep $volume failed: $?"
 done
-for volume in procedural:head:256:u8 procedural:turbulence:512:f32 procedural:head:512:u16 procedural:head:1024:u16; do
+for volume in $extraction_volumes; do
+  [[ $parts == *" extraction "* ]] || break
   echo "== extraction $volume"
-  timeout 200 "$bin" bench extraction --data "$volume" --frames 30 --warmup 10 --iso-fraction 0.3 \
+  timeout 300 "$bin" bench extraction --data "$volume" --frames 30 --warmup 10 --iso-fraction 0.3 \
     --json "$out/extraction.jsonl" > "$out/extraction-${volume//[:\/]/_}.txt" 2>&1 || echo "extraction $volume failed: $?"
 done
-echo "== isosurface procedural:head:256:u8"
-timeout 180 "$bin" bench isosurface --data procedural:head:256:u8 "${common[@]}" \
-  --json "$out/isosurface.jsonl" > "$out/isosurface.txt" 2>&1 || echo "isosurface failed: $?"
-echo "== extraction against scikit-image"
-python3 - "$bin" "$out" "${EXTRACT_SIZES:-256:uint8 512:float32}" <<'PY'
+if [[ $parts == *" isosurface "* ]]; then
+  echo "== isosurface procedural:head:256:u8"
+  timeout 180 "$bin" bench isosurface --data procedural:head:256:u8 "${common[@]}" \
+    --json "$out/isosurface.jsonl" > "$out/isosurface.txt" 2>&1 || echo "isosurface failed: $?"
+fi
+[[ $parts == *" skimage "* ]] && echo "== extraction against scikit-image" && python3 - "$bin" "$out" "${EXTRACT_SIZES:-256:uint8 512:float32}" <<'PY'
 import json, re, subprocess, sys, time
 import numpy as np
 from skimage.measure import marching_cubes

@@ -323,7 +323,10 @@ mod tests {
         let spec = parse_spec("sphere:32:uint16").expect("spec");
         assert_eq!(spec, (ProceduralKind::Sphere, [32; 3], ScalarType::U16));
         let spec = parse_spec("head:16x12x20:uint16").expect("spec");
-        assert_eq!(spec, (ProceduralKind::HeadPhantom, [16, 12, 20], ScalarType::U16));
+        assert_eq!(
+            spec,
+            (ProceduralKind::HeadPhantom, [16, 12, 20], ScalarType::U16)
+        );
         for bad in [
             "head",
             "head:x",

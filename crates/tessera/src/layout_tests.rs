@@ -220,8 +220,8 @@ fn meshlet_draw_structs(t: &mut Table) {
     );
     #[rustfmt::skip]
     t.push_constants::<MeshletDrawParams>(&triangles, "MeshletDrawParams", host!(
-        MeshletDrawParams, grid_to_clip, eye_world, bounds, grid_to_world, light, dims,
-        triangle_capacity));
+        MeshletDrawParams, grid_to_clip, eye_world, bounds, grid_to_world, frame_width, light,
+        frame_height, dims, triangle_capacity));
     t.buffer(
         &triangles,
         "DrawCounters",

@@ -125,7 +125,8 @@ const COMMON: &[(&str, &str)] = &[
         "tet/interval/sdf.glsl",
         include_str!("tet/interval/sdf.glsl"),
     ),
-    ("iso/direct/hzb.glsl", include_str!("iso/direct/hzb.glsl")),
+    ("raster/hzb.glsl", include_str!("raster/hzb.glsl")),
+    ("raster/hzb_test.glsl", include_str!("raster/hzb_test.glsl")),
     (
         "iso/direct/block_list.glsl",
         include_str!("iso/direct/block_list.glsl"),

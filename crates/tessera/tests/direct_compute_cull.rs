@@ -5,7 +5,8 @@ mod common;
 
 use common::{assert_clean, assert_matches_cpu_raster, Need, TestGpu};
 use tessera::iso::direct::compute::{ComputeTarget, DirectCompute};
-use tessera::iso::direct::compute_cull::{hzb_levels, ComputeCullState, ComputeCullStats};
+use tessera::iso::direct::compute_cull::{ComputeCullState, ComputeCullStats};
+use tessera::raster::hzb::hzb_levels;
 use tessera::shaders;
 use tessera::target::Target;
 use tessera_data::marching_cubes::marching_cubes;

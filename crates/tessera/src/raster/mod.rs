@@ -47,6 +47,7 @@
 //! [`ComputeRasterizer::record_raster`]; or all three with [`ComputeRasterizer::record`]. Each
 //! `record_*` ends with a barrier, so the next pass sees its writes.
 
+pub mod hzb;
 pub(crate) mod indirect;
 
 pub use indirect::IndirectArgs;

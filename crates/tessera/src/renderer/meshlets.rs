@@ -2,7 +2,8 @@
 //! the GPU when the isovalue changes and draws the stored meshlets from every view; `offline`
 //! draws meshoptimizer meshlets of the CPU marching-cubes mesh, the paper's best-case draw
 //! reference. Both draw on the task/mesh path or the compute path
-//! ([`crate::iso::meshlet_draw`]).
+//! ([`crate::iso::meshlet_draw`]); with culling on, meshlets are frustum-culled on both and
+//! occlusion-culled on the compute path.
 
 use super::{
     no_data, wrong_data, FrameOutcome, FrameStats, Renderer, RendererOptions, Target, Technique,
@@ -11,7 +12,10 @@ use super::{
 use crate::error::{Error, Result};
 use crate::iso::direct::compute::{ComputeTarget, TriangleLists};
 use crate::iso::direct::RasterTarget;
-use crate::iso::meshlet_draw::{MeshletBounds, MeshletDraw, MeshletDrawParams};
+use crate::iso::meshlet_draw::{
+    DrawCounters, MeshletBounds, MeshletDraw, MeshletDrawParams, MeshletOcclusion,
+    OcclusionCounters,
+};
 use crate::iso::meshlets::{
     ExtractionPath, GpuMeshlets, MeshletCounters, MeshletExtractor, OVERFLOW_CAPACITY,
     OVERFLOW_MISMATCH,
@@ -56,6 +60,9 @@ pub(super) struct MeshletRenderer {
     technique: Technique,
     path: Path,
     bounds: MeshletBounds,
+    /// Occlusion culling (compute path, with culling on): its state, made by `prepare_frame`.
+    occlusion: Option<MeshletOcclusion>,
+    occlusion_culling: bool,
     ambiguity: AmbiguityRule,
     draw: Option<MeshletDraw>,
     volume: Option<Volume>,
@@ -90,6 +97,8 @@ impl MeshletRenderer {
             } else {
                 MeshletBounds::None
             },
+            occlusion: None,
+            occlusion_culling: options.culling && path == Path::Compute,
             ambiguity: options.ambiguity,
             draw: None,
             volume: None,
@@ -125,6 +134,8 @@ impl MeshletRenderer {
             meshlets: GpuMeshlets::upload(gpu, &meshlets)?,
             made_at: self.iso,
         });
+        // Other meshlets under the same indices: what the flags say is void.
+        self.occlusion = None;
         Ok(())
     }
 
@@ -164,9 +175,14 @@ impl Renderer for MeshletRenderer {
         self.producer = None;
         let compiler = crate::shaders::compiler();
         if self.draw.is_none() {
-            self.draw = Some(MeshletDraw::new(gpu, &compiler, self.path)?);
+            self.draw = Some(if self.occlusion_culling {
+                MeshletDraw::with_occlusion(gpu, &compiler)?
+            } else {
+                MeshletDraw::new(gpu, &compiler, self.path)?
+            });
             self.counters.pipeline_builds += 1;
         }
+        self.occlusion = None;
         let producer = match self.technique {
             Technique::Offline => Producer::Offline,
             _ => {
@@ -234,6 +250,22 @@ impl Renderer for MeshletRenderer {
                         self.capacity,
                     )?));
                 }
+                if let (true, FrameBuffers::Compute(target), Some(surface)) =
+                    (self.occlusion_culling, &self.frame, &self.surface)
+                {
+                    let fits = self
+                        .occlusion
+                        .as_ref()
+                        .is_some_and(|o| o.fits(&surface.meshlets, target));
+                    if !fits {
+                        self.occlusion = None;
+                        self.occlusion = Some(MeshletOcclusion::new(
+                            gpu,
+                            surface.meshlets.capacity.meshlets,
+                            target,
+                        )?);
+                    }
+                }
             }
         }
         Ok(())
@@ -265,6 +297,9 @@ impl Renderer for MeshletRenderer {
                 extractor.record(rec, prepared, self.iso, &surface.meshlets)
             })?;
             rec.barrier();
+            if let Some(occlusion) = &self.occlusion {
+                occlusion.forget();
+            }
         }
         let meshlets = &surface.meshlets;
         let (dims, spacing) = (volume.dims(), volume.spacing());
@@ -280,8 +315,11 @@ impl Renderer for MeshletRenderer {
             FrameBuffers::Compute(frame) => {
                 let params =
                     MeshletDrawParams::new(view, dims, spacing, self.bounds, frame.lists.capacity);
-                timer.scope(rec, "meshlet draw", |rec| {
-                    draw.record_compute(rec, meshlets, frame, target, &params)
+                timer.scope(rec, "meshlet draw", |rec| match &self.occlusion {
+                    Some(occlusion) => {
+                        draw.record_compute_culled(rec, meshlets, frame, target, &params, occlusion)
+                    }
+                    None => draw.record_compute(rec, meshlets, frame, target, &params),
                 })
             }
             FrameBuffers::None => Err(Error::Invalid(format!(
@@ -316,11 +354,20 @@ impl Renderer for MeshletRenderer {
                 surface.made_at = self.iso;
             }
         }
-        let drawn = draw.read_counters(gpu)?;
-        if self.path == Path::Compute && drawn.triangles_drawn > self.capacity {
-            self.capacity = drawn
-                .triangles_drawn
-                .saturating_add(drawn.triangles_drawn / 4);
+        let passes = match &self.occlusion {
+            Some(occlusion) => occlusion.read_counters(draw, gpu)?,
+            None => OcclusionCounters {
+                second: draw.read_counters(gpu)?,
+                ..Default::default()
+            },
+        };
+        let drawn = passes.total();
+        let most = passes
+            .first
+            .triangles_drawn
+            .max(passes.second.triangles_drawn);
+        if self.path == Path::Compute && most > self.capacity {
+            self.capacity = most.saturating_add(most / 4);
             retry = true;
         }
         if retry {
@@ -334,6 +381,14 @@ impl Renderer for MeshletRenderer {
             ("surface_bytes", totals.stored_bytes()),
         ]
         .into();
+        if self.occlusion.is_some() {
+            let DrawCounters { meshlets_drawn, .. } = passes.first;
+            details.insert("meshlets_drawn_first", u64::from(meshlets_drawn));
+            details.insert(
+                "meshlets_drawn_second",
+                u64::from(passes.second.meshlets_drawn),
+            );
+        }
         if matches!(self.producer, Some(Producer::Offline)) {
             details.insert(
                 "cpu_extraction_us",

@@ -5,7 +5,7 @@
 //! A culled frame:
 //! 1. **Pass A** extracts the blocks that owned a pixel last frame (a block list, one workgroup
 //!    per listed block) and rasterizes them into the frame.
-//! 2. A **max-depth pyramid** is built from the frame (`hzb.glsl`): level 0 at half resolution,
+//! 2. A **max-depth pyramid** is built from the frame ([`crate::raster::hzb`]): level 0 at half resolution,
 //!    one dispatch per level.
 //! 3. The **occlusion test** visits every block: those whose (min, max) holds the isovalue are
 //!    counted; of those not drawn in pass A, a block is listed for pass B when its cell box
@@ -37,6 +37,7 @@ use crate::error::Result;
 use crate::iso::direct::block_list;
 use crate::iso::direct::compute::{ComputeTarget, TriangleLists};
 use crate::iso::PreparedVolume;
+use crate::raster::hzb::{hzb_bytes, HzbBuilder};
 use bytemuck::{Pod, Zeroable};
 use std::cell::Cell;
 use tessera_data::mc_ambiguity::AmbiguityRule;
@@ -56,18 +57,6 @@ pub struct HzbTestParams {
     pub iso: [f32; 4],
 }
 
-/// The levels of the max-depth pyramid of a `width`×`height` frame: texels per axis, level 0
-/// (half resolution) first, down to 1×1 (`hzb.glsl`).
-pub fn hzb_levels(width: u32, height: u32) -> Vec<[u32; 2]> {
-    let mut d = [width.div_ceil(2), height.div_ceil(2)];
-    let mut levels = vec![d];
-    while d[0] > 1 || d[1] > 1 {
-        d = d.map(|n| n.div_ceil(2));
-        levels.push(d);
-    }
-    levels
-}
-
 /// Workgroups for `threads` invocations of a 1-D pass as a 2-D grid within the x limit.
 pub(super) fn groups_2d(threads: u32, local: u32, max_x: u32) -> [u32; 3] {
     tessera_gpu::spread_groups(threads.div_ceil(local.max(1)), max_x)
@@ -77,7 +66,7 @@ pub(super) fn groups_2d(threads: u32, local: u32, max_x: u32) -> [u32; 3] {
 pub(crate) struct ComputeCullPipelines {
     pub(super) extract_list: Pipeline,
     pub(super) setup: Pipeline,
-    pub(super) hzb: Pipeline,
+    pub(super) hzb: HzbBuilder,
     pub(super) test: Pipeline,
     pub(super) resolve: Pipeline,
     pub(super) compact: Pipeline,
@@ -103,14 +92,13 @@ impl ComputeCullPipelines {
         let resolve =
             compiler.compile(&builtin_shader!("resolve.comp.glsl"), &with("TWO_LISTS"))?;
         let setup = compiler.compile(&builtin_shader!("hzb_setup.comp.glsl"), &defines)?;
-        let hzb = compiler.compile(&builtin_shader!("hzb_build.comp.glsl"), &defines)?;
         let test = compiler.compile(&builtin_shader!("hzb_test.comp.glsl"), &defines)?;
         let compact = compiler.compile(&builtin_shader!("hzb_compact.comp.glsl"), &defines)?;
         let extract_slots = [Slot::Texture, sb, sb, sb, sb, sb, sb];
         let extract_list =
             gpu.compute_pipeline("direct extract (block list)", &extract, &extract_slots)?;
         let setup = gpu.compute_pipeline("hzb cull setup", &setup, &[sb; 4])?;
-        let hzb = gpu.compute_pipeline("hzb build", &hzb, &[sb; 2])?;
+        let hzb = HzbBuilder::new(gpu, compiler)?;
         let test = gpu.compute_pipeline("hzb test", &test, &[sb; 5])?;
         let resolve = gpu.compute_pipeline("direct resolve (two lists)", &resolve, &[sb; 7])?;
         let compact = gpu.compute_pipeline("hzb compact", &compact, &[sb; 3])?;
@@ -184,10 +172,6 @@ impl ComputeCullState {
         let b = prepared.octree.level_dims[0];
         let blocks = b[0] * b[1] * b[2];
         let (w, h) = (target.frame.width, target.frame.height);
-        let texels: u64 = hzb_levels(w, h)
-            .iter()
-            .map(|d| d[0] as u64 * d[1] as u64)
-            .sum();
         let list = block_list::bytes(blocks as u64);
         let specs = [
             ("hzb cull block flags", 4 * blocks as u64),
@@ -197,7 +181,7 @@ impl ComputeCullState {
             ("hzb cull stats", 16),
             ("hzb cull extract stats A", 8),
             ("hzb cull extract stats B", 8),
-            ("hzb", 4 * texels),
+            ("hzb", hzb_bytes(w, h)),
         ];
         let usage = vk::BufferUsageFlags::STORAGE_BUFFER
             | vk::BufferUsageFlags::INDIRECT_BUFFER

@@ -3,10 +3,11 @@
 use crate::error::{Error, Result};
 use crate::iso::direct::compute::{ComputeTarget, DirectCompute, ResolveParams, TriangleLists};
 use crate::iso::direct::compute_cull::{
-    groups_2d, hzb_levels, ComputeCullState, ComputeCullStats, HzbTestParams,
+    groups_2d, ComputeCullState, ComputeCullStats, HzbTestParams,
 };
 use crate::iso::direct::{block_list, Direct, DirectParams};
 use crate::iso::PreparedVolume;
+use crate::raster::hzb::hzb_levels;
 use crate::target::Target;
 use tessera_data::{OrbitCamera, RgbaImage};
 use tessera_gpu::{Binding, Buffer, Gpu, Pipeline, Recorder, Timer};
@@ -107,26 +108,14 @@ impl DirectCompute {
         });
         // The pyramid and the occlusion test.
         stage("cull-test", &|rec| {
-            let levels = hzb_levels(w, h);
-            for (level, d) in levels.iter().enumerate() {
-                rec.dispatch(
-                    &c.hzb,
-                    &[
-                        Binding::Buffer(&target.frame.depth_payload),
-                        Binding::Buffer(&state.hzb),
-                    ],
-                    bytemuck::bytes_of(&[w, h, level as u32, 0]),
-                    [d[0], d[1], 1],
-                );
-                rec.barrier();
-            }
+            c.hzb.record(rec, &target.frame, &state.hzb);
             let test = HzbTestParams {
                 grid_to_clip: params.grid_to_clip,
                 dims: [
                     params.dims[0],
                     params.dims[1],
                     params.dims[2],
-                    levels.len() as u32,
+                    hzb_levels(w, h).len() as u32,
                 ],
                 size: [w, h, 0, 0],
                 iso: [params.isovalue, 0.0, 0.0, 0.0],

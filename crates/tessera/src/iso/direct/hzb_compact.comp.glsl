@@ -2,7 +2,7 @@
 // End of a culled compute-path frame, one invocation per block: the blocks that own a pixel
 // (bit 0 of their flags, set by the resolve) become next frame's first-pass list, and their
 // flags become "drawn first" (bit 1) for next frame's occlusion test.
-#include "iso/direct/hzb.glsl"
+#include "raster/hzb.glsl"
 #include "iso/direct/block_list.glsl"
 
 layout(local_size_x = 256) in;

@@ -4,7 +4,7 @@
 // the ones that may be visible for the second pass. A block may be visible when its cell box
 // reaches the near plane, or when over the pixels its box could cover (a pixel's margin) the
 // max-depth pyramid of the first pass holds a depth at or behind the box's nearest point.
-#include "iso/direct/hzb.glsl"
+#include "raster/hzb.glsl"
 #include "iso/direct/block_list.glsl"
 
 layout(local_size_x = 256) in;
@@ -23,64 +23,13 @@ layout(push_constant) uniform HzbTestParams {
     vec4 iso;     // x the isovalue
 } params;
 
-// Slack for rounding: the rasterizer's depths come from the same matrix but other points
-// (vertices on cell edges) and are interpolated in screen space.
-const float DEPTH_SLACK = 1e-5;
-// Texels per axis read at most: the level is the finest where the rectangle spans this many
-// (8 instead of 4 culled ~9 % more of pass B's blocks at 4K on the 1024³ head, but cost as much
-// time in this pass as it saved).
-const int FOOTPRINT = 4;
-// Pixels whose centres lie within this many pixels of the box's projected rectangle are tested.
-// The rasterizer moves corners by at most 1/512 pixel when it snaps them, so a quarter pixel
-// would do (on the 1024³ head it cut pass B by 4-11 %, the frame by 1-2.5 %); a whole pixel keeps
-// a wide margin.
-const float RECT_SLACK = 1.0;
+#include "raster/hzb_test.glsl"
 
 bool may_be_visible(uvec3 block) {
-    uvec3 dims = params.dims.xyz;
     uvec3 lo = block * uvec3(BLOCK_X, BLOCK_Y, BLOCK_Z);
-    uvec3 hi = min(lo + uvec3(BLOCK_X, BLOCK_Y, BLOCK_Z), dims - 1u);
-    vec2 lo_ndc = vec2(1e30);
-    vec2 hi_ndc = vec2(-1e30);
-    float near_depth = 1e30;
-    for (uint c = 0u; c < 8u; ++c) {
-        vec3 p = mix(vec3(lo), vec3(hi), vec3(c & 1u, (c >> 1) & 1u, c >> 2));
-        vec4 clip = params.grid_to_clip * vec4(p, 1.0);
-        if (clip.w <= 1e-6 || clip.z < 0.0) {
-            return true;  // reaches the near plane or behind the eye
-        }
-        vec3 ndc = clip.xyz / clip.w;
-        lo_ndc = min(lo_ndc, ndc.xy);
-        hi_ndc = max(hi_ndc, ndc.xy);
-        near_depth = min(near_depth, ndc.z);
-    }
-    // Pixels whose centres (x + 1/2) the box's projection could reach, with slack.
-    vec2 size = vec2(params.size.xy);
-    vec2 first_f = clamp(ceil((lo_ndc * 0.5 + 0.5) * size - 0.5 - RECT_SLACK), vec2(-1.0), size);
-    vec2 last_f = clamp(floor((hi_ndc * 0.5 + 0.5) * size - 0.5 + RECT_SLACK), vec2(-1.0), size);
-    if (any(lessThan(last_f, vec2(0.0))) || any(greaterThanEqual(first_f, size))) {
-        return false;  // off screen
-    }
-    ivec2 first = ivec2(max(first_f, vec2(0.0)));
-    ivec2 last = ivec2(min(last_f, size - 1.0));
-    uint levels = params.dims.w;
-    uint level = 0u;
-    ivec2 t0 = first >> 1;
-    ivec2 t1 = last >> 1;
-    while (any(greaterThanEqual(t1 - t0, ivec2(FOOTPRINT))) && level + 1u < levels) {
-        level += 1u;
-        t0 = first >> int(level + 1u);
-        t1 = last >> int(level + 1u);
-    }
-    uvec2 dims2 = hzb_level_dims(params.size.xy, level);
-    uint offset = hzb_level_offset(params.size.xy, level);
-    float far_depth = 0.0;
-    for (int y = t0.y; y <= t1.y; ++y) {
-        for (int x = t0.x; x <= t1.x; ++x) {
-            far_depth = max(far_depth, hzb[offset + uint(y) * dims2.x + uint(x)]);
-        }
-    }
-    return far_depth >= near_depth - DEPTH_SLACK;
+    uvec3 hi = min(lo + uvec3(BLOCK_X, BLOCK_Y, BLOCK_Z), params.dims.xyz - 1u);
+    return hzb_box_may_be_visible(params.grid_to_clip, vec3(lo), vec3(hi), params.size.xy,
+                                  params.dims.w);
 }
 
 shared uint group_occupied;

@@ -35,19 +35,27 @@ uint meshlet_group() {
     return gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
 }
 
-// Whether meshlet `m` may reach the view: false only when the eight corners of its box (grid
-// units) all lie beyond one clip plane, so no triangle inside the box is culled that the
-// rasterizer would draw. The implicit box is its subblock's cells; a meshlet without one (the
-// offline reference's) falls back to its explicit AABB.
-bool meshlet_in_frustum(Meshlet m) {
-    if (params.bounds == MESHLET_BOUNDS_NONE) {
-        return true;
-    }
-    vec3 lo = vec3(m.aabb_min[0], m.aabb_min[1], m.aabb_min[2]);
-    vec3 hi = vec3(m.aabb_max[0], m.aabb_max[1], m.aabb_max[2]);
+// The box meshlet `m` is culled by (grid units), as params.bounds picks; false for none. The
+// implicit box is its subblock's cells; a meshlet without one (the offline reference's) falls
+// back to its explicit AABB.
+bool meshlet_box(Meshlet m, out vec3 lo, out vec3 hi) {
+    lo = vec3(m.aabb_min[0], m.aabb_min[1], m.aabb_min[2]);
+    hi = vec3(m.aabb_max[0], m.aabb_max[1], m.aabb_max[2]);
     if (params.bounds == MESHLET_BOUNDS_IMPLICIT && m.subblock_size[0] != 0u) {
         lo = vec3(m.subblock_origin[0], m.subblock_origin[1], m.subblock_origin[2]);
         hi = lo + vec3(m.subblock_size[0], m.subblock_size[1], m.subblock_size[2]);
+    }
+    return params.bounds != MESHLET_BOUNDS_NONE;
+}
+
+// Whether meshlet `m` may reach the view: false only when the eight corners of its box (grid
+// units) all lie beyond one clip plane, so no triangle inside the box is culled that the
+// rasterizer would draw.
+bool meshlet_in_frustum(Meshlet m) {
+    vec3 lo;
+    vec3 hi;
+    if (!meshlet_box(m, lo, hi)) {
+        return true;
     }
     uint outside_all = 63u;
     for (uint c = 0u; c < 8u; ++c) {

@@ -8,5 +8,5 @@ layout(location = 1) in vec3 position_world;
 layout(location = 0) out vec4 colour;
 
 void main() {
-    colour = vec4(shade_surface(normal_world, position_world, params.eye_world, params.light.xyz), 1.0);
+    colour = vec4(shade_surface(normal_world, position_world, params.eye_world, params.light), 1.0);
 }

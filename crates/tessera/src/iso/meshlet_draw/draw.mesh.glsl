@@ -16,7 +16,7 @@ void main() {
     Meshlet m = meshlets[payload.meshlet_ids[gl_WorkGroupID.x]];
     SetMeshOutputsEXT(m.vertex_count, m.triangle_count);
     uint me = gl_LocalInvocationIndex;
-    vec3 grid_to_world = params.grid_to_world.xyz;
+    vec3 grid_to_world = params.grid_to_world;
     for (uint v = me; v < m.vertex_count; v += 32u) {
         vec3 p = meshlet_position(m.vertex_offset + v);
         gl_MeshVerticesEXT[v].gl_Position = params.grid_to_clip * vec4(p, 1.0);

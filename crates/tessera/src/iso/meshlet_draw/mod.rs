@@ -11,8 +11,14 @@
 //!   shade alike.
 //!
 //! The box is the explicit AABB of the meshlet's vertices, or the implicit one of the
-//! subblock it was extracted from (no bounds stored; the paper's cheaper choice); culling
-//! only drops meshlets wholly beyond one clip plane, so it never changes the image.
+//! subblock it was extracted from (no bounds stored; the paper's cheaper choice); frustum
+//! culling only drops meshlets wholly beyond one clip plane, so it never changes the image.
+//! The compute path can also cull occluded meshlets against a max-depth pyramid of what the
+//! meshlets visible last frame drew ([`occlusion`]).
+
+mod occlusion;
+
+pub use occlusion::{MeshletOcclusion, OcclusionCounters};
 
 use crate::builtin_shader;
 use crate::config::meshlet_draw_defines;
@@ -21,7 +27,7 @@ use crate::iso::direct::compute::{ComputeTarget, ResolveParams};
 use crate::iso::direct::{RasterTarget, COLOR_FORMAT, DEPTH_FORMAT};
 use crate::iso::meshlets::GpuMeshlets;
 use crate::path::Path;
-use crate::raster::ComputeRasterizer;
+use crate::raster::{ComputeRasterizer, RasterFrame};
 use crate::target::Target;
 use bytemuck::{Pod, Zeroable};
 use tessera_data::shading::BACKGROUND;
@@ -71,8 +77,11 @@ pub struct MeshletDrawParams {
     pub eye_world: [f32; 3],
     /// [`MeshletBounds::code`].
     pub bounds: u32,
-    pub grid_to_world: [f32; 4],
-    pub light: [f32; 4],
+    pub grid_to_world: [f32; 3],
+    /// Compute path: the frame's size in pixels (occlusion culling reads its pyramid).
+    pub frame_width: u32,
+    pub light: [f32; 3],
+    pub frame_height: u32,
     pub dims: [u32; 3],
     /// Compute path: triangles the frame's list holds.
     pub triangle_capacity: u32,
@@ -92,8 +101,10 @@ impl MeshletDrawParams {
             grid_to_clip: view.grid_to_clip(&frame).to_cols_array_2d(),
             eye_world: view.eye.to_array(),
             bounds: bounds.code(),
-            grid_to_world: frame.grid_to_world.extend(0.0).to_array(),
-            light: view.light.extend(0.0).to_array(),
+            grid_to_world: frame.grid_to_world.to_array(),
+            frame_width: view.size.0,
+            light: view.light.to_array(),
+            frame_height: view.size.1,
             dims,
             triangle_capacity,
         }
@@ -119,6 +130,7 @@ struct ComputePasses {
     triangles: Pipeline,
     rasterizer: ComputeRasterizer,
     resolve: Pipeline,
+    occlusion: Option<occlusion::OcclusionPasses>,
 }
 
 /// The draw pipelines of one path.
@@ -132,6 +144,20 @@ const READ_SLOTS: usize = 6;
 
 impl MeshletDraw {
     pub fn new(gpu: &Gpu, compiler: &ShaderCompiler, path: Path) -> Result<MeshletDraw> {
+        Self::build(gpu, compiler, path, false)
+    }
+
+    /// The compute path with occlusion culling ([`MeshletDraw::record_compute_culled`]).
+    pub fn with_occlusion(gpu: &Gpu, compiler: &ShaderCompiler) -> Result<MeshletDraw> {
+        Self::build(gpu, compiler, Path::Compute, true)
+    }
+
+    fn build(
+        gpu: &Gpu,
+        compiler: &ShaderCompiler,
+        path: Path,
+        occlusion: bool,
+    ) -> Result<MeshletDraw> {
         let defines = meshlet_draw_defines();
         let passes = match path {
             Path::Graphics => {
@@ -168,6 +194,11 @@ impl MeshletDraw {
                         &resolve,
                         &[Slot::StorageBuffer; 4],
                     )?,
+                    occlusion: if occlusion {
+                        Some(occlusion::OcclusionPasses::new(gpu, compiler)?)
+                    } else {
+                        None
+                    },
                 }))
             }
         };
@@ -248,11 +279,7 @@ impl MeshletDraw {
         pixels: &Target,
         params: &MeshletDrawParams,
     ) -> Result<()> {
-        let Passes::Compute(passes) = &self.passes else {
-            return Err(Error::Invalid(
-                "meshlet draw: built for the graphics path".into(),
-            ));
-        };
+        let passes = self.compute_passes()?;
         let frame = &target.frame;
         if (frame.width, frame.height) != (pixels.width, pixels.height) {
             return Err(Error::Invalid(format!(
@@ -264,7 +291,8 @@ impl MeshletDraw {
             triangles,
             rasterizer,
             resolve,
-        } = passes.as_ref();
+            ..
+        } = passes;
         rec.fill_buffer(&self.counters, 0);
         rec.fill_buffer(&target.lists.counts, 0);
         rec.barrier();
@@ -285,12 +313,7 @@ impl MeshletDraw {
         );
         rec.barrier();
         rasterizer.record(rec, &target.lists.triangles, &target.lists.counts, frame);
-        let e = params.eye_world;
-        let shading = ResolveParams {
-            eye_world: [e[0], e[1], e[2], 0.0],
-            light: params.light,
-            size: [frame.width, frame.height, 0, 0],
-        };
+        let shading = resolve_params(params, frame, 0);
         rec.dispatch(
             resolve,
             &[
@@ -306,10 +329,34 @@ impl MeshletDraw {
         Ok(())
     }
 
+    fn compute_passes(&self) -> Result<&ComputePasses> {
+        match &self.passes {
+            Passes::Compute(passes) => Ok(passes),
+            Passes::Graphics(_) => Err(Error::Invalid(
+                "meshlet draw: built for the graphics path".into(),
+            )),
+        }
+    }
+
     /// What the last recorded frame drew (read after it was submitted).
     pub fn read_counters(&self, gpu: &Gpu) -> Result<DrawCounters> {
         Ok(bytemuck::pod_read_unaligned(
             &gpu.read_buffer(&self.counters)?,
         ))
+    }
+}
+
+/// The shading of `direct`'s resolve for a draw with `params` into `frame`; `second_list` is
+/// the index base of the second triangle list (occlusion culling), 0 without one.
+fn resolve_params(
+    params: &MeshletDrawParams,
+    frame: &RasterFrame,
+    second_list: u32,
+) -> ResolveParams {
+    let (e, l) = (params.eye_world, params.light);
+    ResolveParams {
+        eye_world: [e[0], e[1], e[2], 0.0],
+        light: [l[0], l[1], l[2], 0.0],
+        size: [frame.width, frame.height, second_list, 0],
     }
 }

@@ -3,8 +3,10 @@ layout(push_constant) uniform MeshletDrawParams {
     mat4 grid_to_clip;
     vec3 eye_world;
     uint bounds;             // MESHLET_BOUNDS_*: the box frustum culling tests
-    vec4 grid_to_world;      // xyz world units per grid unit
-    vec4 light;              // xyz towards the light, world space
+    vec3 grid_to_world;      // world units per grid unit
+    uint frame_width;        // compute path: pixels of the frame (occlusion culling)
+    vec3 light;              // towards the light, world space
+    uint frame_height;
     uvec3 dims;              // samples per axis
     uint triangle_capacity;  // compute path: triangles the frame's list holds
 } params;

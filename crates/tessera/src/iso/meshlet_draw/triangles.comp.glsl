@@ -3,6 +3,11 @@
 // frustum and, when it passes, writes its triangles in clip space with their shading
 // attributes into the frame's list for the shared compute rasterizer. Slots past the list's
 // capacity are dropped; the drawn-triangle counter stays exact, so the host sees the overflow.
+//
+// With OCCLUSION_PASS defined it is one pass of occlusion culling (iso/meshlet_draw/occlusion.rs):
+// 1 draws the meshlets that owned a pixel last frame, 2 those it did not draw whose box the
+// max-depth pyramid of pass 1's frame does not hide. Each triangle carries its meshlet's id
+// for the resolve, which flags the meshlets owning pixels.
 #include "raster/raster.glsl"
 #include "common/grid_world.glsl"
 #include "iso/direct/attributes.glsl"
@@ -14,6 +19,39 @@ layout(binding = 6) writeonly buffer Triangles { RasterTriangle triangles[]; };
 layout(binding = 7) writeonly buffer Attributes { TriangleAttributes attributes[]; };
 // raster::RasterCounts: triangles in the list, then the rasterizer's dispatch arguments.
 layout(binding = 8) buffer Counts { uint triangle_count; uint dispatch[3]; };
+#ifdef OCCLUSION_PASS
+// Per meshlet: bit 0 owned a pixel in the last frame, bit 1 drawn in this frame's pass 1.
+layout(binding = 9) buffer MeshletFlags { uint meshlet_flags[]; };
+#if OCCLUSION_PASS == 2
+layout(binding = 10) readonly buffer Hzb { float hzb[]; };
+#include "raster/hzb.glsl"
+#include "raster/hzb_test.glsl"
+#endif
+#endif
+
+// Whether this pass draws meshlet `id`.
+bool meshlet_drawn_here(uint id, Meshlet m) {
+#if !defined(OCCLUSION_PASS)
+    return meshlet_in_frustum(m);
+#elif OCCLUSION_PASS == 1
+    bool seen = (meshlet_flags[id] & 1u) != 0u;
+    barrier();  // every invocation has read the flags before the first one rewrites them
+    bool drawn = seen && meshlet_in_frustum(m);
+    if (gl_LocalInvocationIndex == 0u) {
+        meshlet_flags[id] = drawn ? 2u : 0u;
+    }
+    return drawn;
+#else
+    vec3 lo;
+    vec3 hi;
+    if ((meshlet_flags[id] & 2u) != 0u || !meshlet_in_frustum(m)) {
+        return false;
+    }
+    uvec2 size = uvec2(params.frame_width, params.frame_height);
+    return !meshlet_box(m, lo, hi)
+        || hzb_box_may_be_visible(params.grid_to_clip, lo, hi, size, hzb_level_count(size));
+#endif
+}
 
 shared uint base;
 shared uint kept;
@@ -25,7 +63,7 @@ void main() {
         return;
     }
     Meshlet m = meshlets[id];
-    if (!meshlet_in_frustum(m)) {
+    if (!meshlet_drawn_here(id, m)) {
         return;
     }
     uint me = gl_LocalInvocationIndex;
@@ -39,14 +77,15 @@ void main() {
         kept = fit;
     }
     barrier();
-    vec3 grid_to_world = params.grid_to_world.xyz;
+    vec3 grid_to_world = params.grid_to_world;
     for (uint t = me; t < kept; t += 32u) {
         uint slot = base + t;
         for (uint j = 0u; j < 3u; ++j) {
             uint v = m.vertex_offset + meshlet_local_index(3u * (m.triangle_offset + t) + j);
             vec3 p = meshlet_position(v);
             triangles[slot].clip[j] = params.grid_to_clip * vec4(p, 1.0);
-            attributes[slot].normal_world[j] = vec4(grid_normal_to_world(meshlet_normal(v), grid_to_world), 0.0);
+            float tag = j == 0u ? uintBitsToFloat(id) : 0.0;  // iso/direct/attributes.glsl
+            attributes[slot].normal_world[j] = vec4(grid_normal_to_world(meshlet_normal(v), grid_to_world), tag);
             attributes[slot].position_world[j] = vec4(grid_point_to_world(p, params.dims, grid_to_world), 1.0);
         }
     }

@@ -1,13 +1,12 @@
-// Shared by the compute path's occlusion culling passes (iso/direct/compute_cull.rs).
-//
 // Max-depth pyramid (HZB) of a width×height frame, all levels in one float buffer: level 0 has
 // ceil(width / 2) × ceil(height / 2) texels, each the largest depth of its 2×2 pixels (an empty
 // pixel counts as 1.0); level k + 1 is the 2×2 max of level k, rounding up, down to 1×1. Texel t
 // of level k covers pixels [t << (k + 1), (t + 1) << (k + 1)). Levels follow each other
-// row-major, level 0 first.
+// row-major, level 0 first (host side: raster::hzb). Built from the shared compute rasterizer's
+// frame by hzb_build.comp.glsl; occlusion tests read it through hzb_test.glsl.
 
-#ifndef ISO_DIRECT_HZB_GLSL
-#define ISO_DIRECT_HZB_GLSL
+#ifndef RASTER_HZB_GLSL
+#define RASTER_HZB_GLSL
 
 uvec2 hzb_level_dims(uvec2 size, uint level) {
     uvec2 d = (size + 1u) / 2u;
@@ -15,6 +14,15 @@ uvec2 hzb_level_dims(uvec2 size, uint level) {
         d = (d + 1u) / 2u;
     }
     return d;
+}
+
+// Levels of the pyramid of a frame of `size` pixels.
+uint hzb_level_count(uvec2 size) {
+    uint levels = 1u;
+    for (uvec2 d = (size + 1u) / 2u; any(greaterThan(d, uvec2(1u))); d = (d + 1u) / 2u) {
+        levels += 1u;
+    }
+    return levels;
 }
 
 uint hzb_level_offset(uvec2 size, uint level) {

@@ -2,7 +2,7 @@
 // One level of the max-depth pyramid (iso/direct/hzb.glsl): level 0 from the rasterizer's
 // frame, every other level from the one below.
 #include "raster/raster.glsl"
-#include "iso/direct/hzb.glsl"
+#include "raster/hzb.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(binding = 0) readonly buffer Frame { uvec2 depth_payload[]; };
