@@ -14,15 +14,17 @@
 //! subblock it was extracted from (no bounds stored; the paper's cheaper choice); culling
 //! only drops meshlets wholly beyond one clip plane, so it never changes the image.
 
+pub mod list;
+
 use crate::builtin_shader;
 use crate::config::meshlet_draw_defines;
 use crate::error::{Error, Result};
-use crate::iso::direct::compute::{ComputeTarget, ResolveParams};
+use crate::iso::direct::compute::ComputeTarget;
 use crate::iso::direct::{RasterTarget, COLOR_FORMAT, DEPTH_FORMAT};
 use crate::iso::meshlets::GpuMeshlets;
 use crate::path::Path;
-use crate::raster::ComputeRasterizer;
 use crate::target::Target;
+use list::ListResolve;
 use bytemuck::{Pod, Zeroable};
 use tessera_data::shading::BACKGROUND;
 use tessera_data::{GridFrame, View};
@@ -117,8 +119,7 @@ enum Passes {
 
 struct ComputePasses {
     triangles: Pipeline,
-    rasterizer: ComputeRasterizer,
-    resolve: Pipeline,
+    list: ListResolve,
 }
 
 /// The draw pipelines of one path.
@@ -154,20 +155,13 @@ impl MeshletDraw {
             Path::Compute => {
                 let triangles =
                     compiler.compile(&builtin_shader!("triangles.comp.glsl"), &defines)?;
-                let resolve =
-                    compiler.compile(&builtin_shader!("../direct/resolve.comp.glsl"), &defines)?;
                 Passes::Compute(Box::new(ComputePasses {
                     triangles: gpu.compute_pipeline(
                         "meshlet triangles",
                         &triangles,
                         &[Slot::StorageBuffer; READ_SLOTS + 3],
                     )?,
-                    rasterizer: ComputeRasterizer::new(gpu, compiler)?,
-                    resolve: gpu.compute_pipeline(
-                        "meshlet resolve",
-                        &resolve,
-                        &[Slot::StorageBuffer; 4],
-                    )?,
+                    list: ListResolve::new(gpu, compiler, "meshlet")?,
                 }))
             }
         };
@@ -253,18 +247,8 @@ impl MeshletDraw {
                 "meshlet draw: built for the graphics path".into(),
             ));
         };
-        let frame = &target.frame;
-        if (frame.width, frame.height) != (pixels.width, pixels.height) {
-            return Err(Error::Invalid(format!(
-                "meshlet draw: a {}x{} image for a {}x{} frame",
-                pixels.width, pixels.height, frame.width, frame.height
-            )));
-        }
-        let ComputePasses {
-            triangles,
-            rasterizer,
-            resolve,
-        } = passes.as_ref();
+        ListResolve::check_sizes("meshlet draw", target, pixels)?;
+        let ComputePasses { triangles, list } = passes.as_ref();
         rec.fill_buffer(&self.counters, 0);
         rec.fill_buffer(&target.lists.counts, 0);
         rec.barrier();
@@ -284,25 +268,7 @@ impl MeshletDraw {
             spread_groups(meshlets.capacity.meshlets, self.max_groups_x),
         );
         rec.barrier();
-        rasterizer.record(rec, &target.lists.triangles, &target.lists.counts, frame);
-        let e = params.eye_world;
-        let shading = ResolveParams {
-            eye_world: [e[0], e[1], e[2], 0.0],
-            light: params.light,
-            size: [frame.width, frame.height, 0, 0],
-        };
-        rec.dispatch(
-            resolve,
-            &[
-                Binding::Buffer(&frame.depth_payload),
-                Binding::Buffer(&target.lists.triangles),
-                Binding::Buffer(&target.lists.attributes),
-                Binding::Buffer(&pixels.pixels),
-            ],
-            bytemuck::bytes_of(&shading),
-            [frame.width, frame.height, 1],
-        );
-        rec.barrier();
+        list.record(rec, target, pixels, params);
         Ok(())
     }
 
