@@ -36,14 +36,7 @@ fn pmb_renders_the_sphere_as_direct_does_on_each_path() {
         let out = dir.join(format!("pmb-{path}-{block}.png"));
         let o = render(
             &out,
-            &[
-                "--technique",
-                "pmb",
-                "--path",
-                path,
-                "--pmb-block",
-                block,
-            ],
+            &["--technique", "pmb", "--path", path, "--pmb-block", block],
         );
         let err = stderr(&o);
         if !o.status.success() && err.contains("path needs features") {
@@ -67,7 +60,10 @@ fn pmb_renders_the_sphere_as_direct_does_on_each_path() {
             .zip(&expected)
             .filter(|(a, b)| a.iter().zip(b.iter()).any(|(x, y)| x.abs_diff(*y) > 2))
             .count();
-        assert!(off * 100 < pixels.len(), "{path}: {off} pixels differ from direct");
+        assert!(
+            off * 100 < pixels.len(),
+            "{path}: {off} pixels differ from direct"
+        );
     }
 }
 

@@ -76,13 +76,12 @@ fn pmb_images_are_the_marching_cubes_surface_for_every_block_size_on_both_paths(
             assert_eq!(r.path(), expected_path, "{what}");
             let (image, stats) = render_counting(&gpu, r.as_mut(), 1.9);
             let (blocks, drawn) = (detail(&stats, "blocks"), detail(&stats, "blocks_drawn"));
-            assert!(blocks > 10 && drawn == blocks, "{what}: {drawn} of {blocks}");
-            assert_eq!(stats.triangles, Some(cpu_triangles), "{what}: triangles");
-            assert_eq!(
-                detail(&stats, "surface_triangles"),
-                cpu_triangles,
-                "{what}"
+            assert!(
+                blocks > 10 && drawn == blocks,
+                "{what}: {drawn} of {blocks}"
             );
+            assert_eq!(stats.triangles, Some(cpu_triangles), "{what}: triangles");
+            assert_eq!(detail(&stats, "surface_triangles"), cpu_triangles, "{what}");
             assert_matches_cpu_raster(&what, &image, volume, texel, &camera(1.9));
             // direct computes its vertices with other rounding; silhouettes may move a
             // pixel, the shading a step.
@@ -144,8 +143,7 @@ fn graphics_draw_commands_are_the_block_descriptors() {
     assert_eq!(expected.len(), mesh.blocks.len());
     let mut drawn = Vec::new();
     for bounds in [MeshletBounds::None, MeshletBounds::Implicit] {
-        let params =
-            MeshletDrawParams::new(&view, volume.dims(), volume.spacing(), bounds, 0);
+        let params = MeshletDrawParams::new(&view, volume.dims(), volume.spacing(), bounds, 0);
         gpu.submit("PMB draw", |rec| {
             draw.record_graphics(rec, &pmb, &target, &params).unwrap()
         })
@@ -156,7 +154,10 @@ fn graphics_draw_commands_are_the_block_descriptors() {
         let mut seen = std::collections::BTreeSet::new();
         for c in &commands {
             assert_eq!(expected.get(&c.first_index), Some(c), "{bounds:?}");
-            assert!(seen.insert(c.first_index), "{bounds:?}: a block drawn twice");
+            assert!(
+                seen.insert(c.first_index),
+                "{bounds:?}: a block drawn twice"
+            );
         }
         let triangles: u32 = commands.iter().map(|c| c.index_count / 3).sum();
         assert_eq!(counters.triangles_drawn, triangles, "{bounds:?}");
@@ -179,8 +180,20 @@ fn frustum_culling_drops_blocks_but_no_pixels() {
     let data = load("procedural:head:48");
     for path in paths(&gpu) {
         let block = PmbBlockSize::default();
-        let mut culled = renderer_with(&gpu, Technique::Pmb, &options(path, true, block), &data, 0.37);
-        let mut all = renderer_with(&gpu, Technique::Pmb, &options(path, false, block), &data, 0.37);
+        let mut culled = renderer_with(
+            &gpu,
+            Technique::Pmb,
+            &options(path, true, block),
+            &data,
+            0.37,
+        );
+        let mut all = renderer_with(
+            &gpu,
+            Technique::Pmb,
+            &options(path, false, block),
+            &data,
+            0.37,
+        );
         let (image, stats) = render_counting(&gpu, culled.as_mut(), 0.5);
         let (reference, all_stats) = render_counting(&gpu, all.as_mut(), 0.5);
         let blocks = detail(&stats, "blocks");
@@ -195,7 +208,13 @@ fn frustum_culling_drops_blocks_but_no_pixels() {
             "{path:?}: {drawn} of {blocks} drawn"
         );
         assert!(stats.triangles < all_stats.triangles, "{path:?}");
-        assert_images_match(&format!("pmb {path:?} culled"), &image, &reference, 0, 0.999);
+        assert_images_match(
+            &format!("pmb {path:?} culled"),
+            &image,
+            &reference,
+            0,
+            0.999,
+        );
     }
     assert_clean(&gpu);
 }
@@ -215,7 +234,10 @@ fn a_new_isovalue_extracts_again_without_a_new_upload() {
         let (second, other_stats) = render_counting(&gpu, r.as_mut(), 1.9);
         let counters = r.counters();
         assert_eq!(counters.data_uploads, 1, "{path:?}");
-        assert_eq!(counters.pipeline_builds, builds, "{path:?}: pipelines rebuilt");
+        assert_eq!(
+            counters.pipeline_builds, builds,
+            "{path:?}: pipelines rebuilt"
+        );
         assert_ne!(
             stats.triangles, other_stats.triangles,
             "{path:?}: the same surface"
@@ -239,7 +261,13 @@ fn a_new_isovalue_extracts_again_without_a_new_upload() {
         r.set_appearance(&gpu, &look(0.43)).unwrap();
         let (again, again_stats) = render_counting(&gpu, r.as_mut(), 1.9);
         assert_eq!(again_stats.triangles, stats.triangles, "{path:?}");
-        assert_images_match(&format!("pmb {path:?} iso 0.43 again"), &again, &first, 0, 1.0);
+        assert_images_match(
+            &format!("pmb {path:?} iso 0.43 again"),
+            &again,
+            &first,
+            0,
+            1.0,
+        );
     }
     assert_clean(&gpu);
 }
@@ -263,7 +291,11 @@ fn a_surface_larger_than_the_first_buffers_grows_them_within_the_frame() {
         let (image, stats) = render_counting(&gpu, r.as_mut(), 1.9);
         assert_eq!(stats.triangles, Some(4 * cells), "{path:?}");
         assert_eq!(detail(&stats, "blocks"), cells / 64, "{path:?}");
-        assert_eq!(detail(&stats, "surface_vertices"), 300 * cells / 64, "{path:?}");
+        assert_eq!(
+            detail(&stats, "surface_vertices"),
+            300 * cells / 64,
+            "{path:?}"
+        );
         let background = tessera_data::shading::pack_rgba8(tessera_data::shading::BACKGROUND);
         let covered = image.pixels.iter().filter(|&&p| p != background).count();
         assert!(
@@ -278,8 +310,7 @@ fn a_surface_larger_than_the_first_buffers_grows_them_within_the_frame() {
 fn auto_takes_a_path_the_device_has() {
     let gpu = gpu();
     let support = path_support(gpu.caps());
-    let chosen =
-        tessera::renderer::path_for(gpu.caps(), Technique::Pmb, PathChoice::Auto);
+    let chosen = tessera::renderer::path_for(gpu.caps(), Technique::Pmb, PathChoice::Auto);
     match chosen {
         Ok(Path::Graphics) => assert!(support.graphics),
         Ok(Path::Compute) => assert!(support.compute),
@@ -290,7 +321,11 @@ fn auto_takes_a_path_the_device_has() {
         (PathChoice::Graphics, support.graphics),
         (PathChoice::Compute, support.compute),
     ] {
-        let made = tessera::renderer::create(&gpu, Technique::Pmb, &options(path, true, PmbBlockSize::default()));
+        let made = tessera::renderer::create(
+            &gpu,
+            Technique::Pmb,
+            &options(path, true, PmbBlockSize::default()),
+        );
         assert_eq!(made.is_ok(), has, "{path:?}");
     }
     assert_clean(&gpu);

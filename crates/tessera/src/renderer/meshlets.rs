@@ -4,11 +4,11 @@
 //! reference. Both draw on the task/mesh path or the compute path
 //! ([`crate::iso::meshlet_draw`]).
 
+use super::surface_frame::{FrameBuffers, SurfaceFrame};
 use super::{
     no_data, wrong_data, FrameOutcome, FrameStats, Renderer, RendererOptions, Target, Technique,
     WorkCounters,
 };
-use super::surface_frame::{FrameBuffers, SurfaceFrame};
 use crate::error::{Error, Result};
 use crate::iso::meshlet_draw::{MeshletBounds, MeshletDraw, MeshletDrawParams};
 use crate::iso::meshlets::{

@@ -363,5 +363,16 @@ mod option_tests {
             path_for(&caps, Technique::ParamTess, auto).unwrap(),
             Path::Graphics
         );
+        // PMB's graphics path draws with indirect counts, not mesh shaders.
+        assert!(path_for(&caps, Technique::Pmb, PathChoice::Graphics).is_err());
+        let counts = Capabilities {
+            draw_indirect_count: true,
+            ..Capabilities::default()
+        };
+        assert_eq!(
+            path_for(&counts, Technique::Pmb, auto).unwrap(),
+            Path::Graphics
+        );
+        assert!(path_for(&counts, Technique::Meshlets, auto).is_err());
     }
 }

@@ -24,8 +24,8 @@ use crate::iso::direct::{RasterTarget, COLOR_FORMAT, DEPTH_FORMAT};
 use crate::iso::meshlets::GpuMeshlets;
 use crate::path::Path;
 use crate::target::Target;
-use list::ListResolve;
 use bytemuck::{Pod, Zeroable};
+use list::ListResolve;
 use tessera_data::shading::BACKGROUND;
 use tessera_data::{GridFrame, View};
 use tessera_gpu::{

@@ -131,12 +131,11 @@ impl PmbDraw {
         }
         let passes = match path {
             Path::Graphics => {
-                let commands = compiler.compile(&builtin_shader!("commands.comp.glsl"), &defines)?;
+                let commands =
+                    compiler.compile(&builtin_shader!("commands.comp.glsl"), &defines)?;
                 let vert = compiler.compile(&builtin_shader!("draw.vert.glsl"), &defines)?;
-                let frag = compiler.compile(
-                    &builtin_shader!("../meshlet_draw/draw.frag.glsl"),
-                    &defines,
-                )?;
+                let frag = compiler
+                    .compile(&builtin_shader!("../meshlet_draw/draw.frag.glsl"), &defines)?;
                 Passes::Graphics(Box::new(GraphicsPasses {
                     commands: gpu.compute_pipeline(
                         "PMB draw commands",
@@ -252,7 +251,9 @@ impl PmbDraw {
         params: &MeshletDrawParams,
     ) -> Result<()> {
         let Passes::Graphics(passes) = &self.passes else {
-            return Err(Error::Invalid("PMB draw: built for the compute path".into()));
+            return Err(Error::Invalid(
+                "PMB draw: built for the compute path".into(),
+            ));
         };
         self.check(pmb)?;
         let commands = match &passes.command_buffer {
@@ -279,7 +280,10 @@ impl PmbDraw {
         rec.begin_rendering_with_depth(&target.color, Some(&target.depth), BACKGROUND);
         let drawn = rec.draw_indexed_indirect_count(
             &passes.draw,
-            &[Binding::Buffer(&pmb.positions), Binding::Buffer(&pmb.normals)],
+            &[
+                Binding::Buffer(&pmb.positions),
+                Binding::Buffer(&pmb.normals),
+            ],
             push,
             &IndexedDraws {
                 indices: &pmb.indices,
@@ -307,7 +311,9 @@ impl PmbDraw {
         params: &MeshletDrawParams,
     ) -> Result<()> {
         let Passes::Compute(passes) = &self.passes else {
-            return Err(Error::Invalid("PMB draw: built for the graphics path".into()));
+            return Err(Error::Invalid(
+                "PMB draw: built for the graphics path".into(),
+            ));
         };
         self.check(pmb)?;
         ListResolve::check_sizes("PMB draw", target, pixels)?;
