@@ -11,7 +11,7 @@ use tessera_gpu::GpuOptions;
 #[derive(Args)]
 pub struct BenchArgs {
     /// pipeline-throughput, raymarch, minmax-build, isosurface (raymarch against direct),
-    /// iso-sweep (isovalue changes every frame; meshlets extract and draw), extraction
+    /// iso-sweep (isovalue changes every frame; meshlets and pmb extract and draw), extraction
     /// (meshlets against PMB at every block size: GPU time and stored bytes), time-varying (a
     /// new volume every frame),
     /// stereo (two eyes against one), interval (tet meshes), param (parametric objects: SH

@@ -4,7 +4,7 @@ use crate::data::{IsoArgs, VolumeArgs};
 use anyhow::Result;
 use clap::Args;
 use tessera::path::PathChoice;
-use tessera::renderer::{AmbientOcclusion, Light, RendererOptions, Technique};
+use tessera::renderer::{AmbientOcclusion, Light, PmbBlockSize, RendererOptions, Technique};
 use tessera_data::scene::parse::{
     parse_basis, parse_colour, parse_glyph_radius, parse_integrand, parse_param_range, parse_range,
     parse_triple,
@@ -148,9 +148,17 @@ pub struct PathArgs {
     /// (from capabilities and `tessera bench pipeline-throughput` if it ran on this device).
     #[arg(long, default_value = "auto", value_parser = PathChoice::parse)]
     path: PathChoice,
-    /// Raster occlusion culling for rasterizing techniques (direct).
+    /// Raster occlusion culling for rasterizing techniques (direct), frustum culling of
+    /// meshlets and PMB blocks.
     #[arg(long, default_value = "on", value_parser = ["on", "off"])]
     culling: String,
+    /// Block size of pmb's extraction: 4x4x4, 8x4x4, 8x8x4 or 8x8x8.
+    #[arg(long, default_value = "8x8x4", value_parser = parse_pmb_block)]
+    pmb_block: PmbBlockSize,
+}
+
+fn parse_pmb_block(text: &str) -> std::result::Result<PmbBlockSize, String> {
+    PmbBlockSize::parse(text).map_err(|e| e.to_string())
 }
 
 /// The look the flags give; a volume's isovalue, when none is given, is settled once the
@@ -205,6 +213,7 @@ pub fn renderer_options(paths: &PathArgs, param: &ParamArgs, iso: &IsoArgs) -> R
         supersample: param.supersample,
         msaa: param.msaa,
         pre_split: param.pre_split,
+        pmb_block: paths.pmb_block,
         ..RendererOptions::default()
     }
 }

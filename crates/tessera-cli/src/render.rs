@@ -21,8 +21,9 @@ pub struct RenderArgs {
     /// param:sh-glyphs:WxH:orderN (= procedural:sh-glyphs:…), glyphs of an SH coefficient NIfTI
     /// sh:FILE[:zN], or a GLSL file defining `vec3 f(float u, float v)`.
     pub(crate) data: String,
-    /// Technique: raymarch, direct, meshlets (extracted on the GPU, then drawn) or offline
-    /// (meshoptimizer meshlets of the CPU mesh) for volumes, interval or shell for tetrahedral
+    /// Technique: raymarch, direct, meshlets (extracted on the GPU, then drawn), offline
+    /// (meshoptimizer meshlets of the CPU mesh) or pmb (Parallel Marching Blocks extracted on
+    /// the GPU, then drawn; see --pmb-block) for volumes, interval or shell for tetrahedral
     /// meshes, param-points, param-tess or sh-raytrace for parametric objects (the default
     /// follows the data).
     #[arg(long, value_parser = clap::builder::PossibleValuesParser::new(
@@ -165,10 +166,17 @@ fn describe(
             describe_effects(options),
             tets.mesh.tets.len()
         ),
-        Dataset::Volume(volume) => look
-            .iso_texel(volume)
-            .map(|iso| format!(", iso {iso}"))
-            .unwrap_or_default(),
+        Dataset::Volume(volume) => {
+            let iso = look
+                .iso_texel(volume)
+                .map(|iso| format!(", iso {iso}"))
+                .unwrap_or_default();
+            if technique == Technique::Pmb {
+                format!("{iso}, {} blocks", options.pmb_block.name())
+            } else {
+                iso
+            }
+        }
         Dataset::Tets(tets) => {
             let what = look
                 .resolve_integrand(tets)

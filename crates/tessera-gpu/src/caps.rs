@@ -46,6 +46,11 @@ pub struct Capabilities {
     pub max_compute_workgroup_invocations: u32,
     /// Most workgroups one dispatch may launch along x, y and z.
     pub max_compute_workgroup_count: [u32; 3],
+    /// Indirect draws whose count a buffer holds, many per call (`drawIndirectCount` and
+    /// `multiDrawIndirect`).
+    pub draw_indirect_count: bool,
+    /// Most draws one indirect draw call may make.
+    pub max_draw_indirect_count: u32,
 }
 
 impl Capabilities {
@@ -195,5 +200,7 @@ pub(crate) fn query(
         max_storage_buffer_range: p.limits.max_storage_buffer_range as u64,
         max_compute_workgroup_invocations: p.limits.max_compute_work_group_invocations,
         max_compute_workgroup_count: p.limits.max_compute_work_group_count,
+        draw_indirect_count: v12_f.draw_indirect_count != 0 && base_f.multi_draw_indirect != 0,
+        max_draw_indirect_count: p.limits.max_draw_indirect_count,
     }
 }

@@ -19,6 +19,24 @@ pub enum Binding<'a> {
     StorageImage(&'a Image),
 }
 
+/// Bytes of one `VkDrawIndexedIndirectCommand`, the stride of packed commands.
+pub const INDEXED_COMMAND_BYTES: u32 = 20;
+
+/// The buffers of [`Recorder::draw_indexed_indirect_count`].
+#[derive(Clone, Copy)]
+pub struct IndexedDraws<'a> {
+    /// 16-bit indices (made with `INDEX_BUFFER` usage).
+    pub indices: &'a Buffer,
+    /// Packed draw commands (made with `INDIRECT_BUFFER` usage).
+    pub commands: &'a Buffer,
+    pub commands_offset: u64,
+    /// Holds the number of draws (made with `INDIRECT_BUFFER` usage).
+    pub count: &'a Buffer,
+    pub count_offset: u64,
+    /// Draws made at most, whatever the count says.
+    pub max_draws: u32,
+}
+
 /// Records into one command buffer; created by [`Gpu::submit`].
 pub struct Recorder<'a> {
     pub(crate) gpu: &'a Gpu,
@@ -448,6 +466,48 @@ impl Recorder<'_> {
                 .device
                 .cmd_draw_indirect(self.cmd, args.handle, offset, 1, 16)
         };
+    }
+
+    /// Indexed draws with 16-bit indices from `draws.indices`: `VkDrawIndexedIndirectCommand`s
+    /// (index count, instance count, first index, vertex offset, first instance: five `u32`s)
+    /// packed from `draws.commands_offset`, as many as the `u32` at `draws.count_offset` says
+    /// (at most `draws.max_draws`), all written by earlier passes. The device must have
+    /// [`crate::Capabilities::draw_indirect_count`].
+    pub fn draw_indexed_indirect_count(
+        &self,
+        pipeline: &Pipeline,
+        bindings: &[Binding],
+        push: &[u8],
+        draws: &IndexedDraws,
+    ) -> Result<()> {
+        let caps = self.gpu.caps();
+        if !caps.draw_indirect_count || draws.max_draws > caps.max_draw_indirect_count {
+            return Err(GpuError::Unsupported {
+                device: caps.device_name.clone(),
+                what: format!(
+                    "{} indexed draws counted on the GPU (drawIndirectCount, multiDrawIndirect)",
+                    draws.max_draws
+                ),
+            });
+        }
+        self.bind(pipeline, bindings, push);
+        // SAFETY: `self.cmd` is recording inside rendering with a graphics pipeline bound
+        // above; the index, command and count buffers are live buffers of this device, and
+        // the device has the features this draw needs (checked above).
+        unsafe {
+            let d = &self.gpu.device;
+            d.cmd_bind_index_buffer(self.cmd, draws.indices.handle, 0, vk::IndexType::UINT16);
+            d.cmd_draw_indexed_indirect_count(
+                self.cmd,
+                draws.commands.handle,
+                draws.commands_offset,
+                draws.count.handle,
+                draws.count_offset,
+                draws.max_draws,
+                INDEXED_COMMAND_BYTES,
+            );
+        }
+        Ok(())
     }
 
     /// Launches mesh-shader workgroups; the device must have `VK_EXT_mesh_shader`.

@@ -396,7 +396,8 @@ impl Gpu {
             .shader_storage_image_write_without_format(
                 supported.shader_storage_image_write_without_format != 0,
             )
-            .pipeline_statistics_query(supported.pipeline_statistics_query != 0);
+            .pipeline_statistics_query(supported.pipeline_statistics_query != 0)
+            .multi_draw_indirect(caps.draw_indirect_count);
         let mut v11 = vk::PhysicalDeviceVulkan11Features::default()
             .storage_buffer16_bit_access(true)
             .multiview(caps.multiview);
@@ -408,7 +409,8 @@ impl Gpu {
             .scalar_block_layout(true)
             .host_query_reset(true)
             .descriptor_indexing(true)
-            .runtime_descriptor_array(true);
+            .runtime_descriptor_array(true)
+            .draw_indirect_count(caps.draw_indirect_count);
         // Demotion is what `discard` compiles to for Vulkan 1.3 (a feature 1.3 requires).
         let mut v13 = vk::PhysicalDeviceVulkan13Features::default()
             .shader_demote_to_helper_invocation(true)

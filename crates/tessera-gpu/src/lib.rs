@@ -23,7 +23,7 @@ pub mod validation;
 
 pub use ash::vk;
 pub use caps::Capabilities;
-pub use commands::{Binding, Recorder};
+pub use commands::{Binding, IndexedDraws, Recorder, INDEXED_COMMAND_BYTES};
 pub use context::{list_devices, DeviceListing, Gpu, GpuOptions};
 pub use error::{GpuError, Result};
 pub use memory::{Buffer, Image, MemoryLocation};

@@ -149,6 +149,23 @@ pub fn pmb_defines(
     d
 }
 
+/// Defines for the PMB draw (`iso/pmb_draw`): the meshlet draw's (whose push constants,
+/// culling codes and fragment shader it shares), the block size its boxes have and the
+/// command pass's workgroup size.
+pub fn pmb_draw_defines(block_size: crate::iso::pmb::PmbBlockSize) -> Vec<(String, String)> {
+    let mut d = meshlet_draw_defines();
+    let [x, y, z] = block_size.cells();
+    for (name, value) in [
+        ("PMB_BLOCK_X", x),
+        ("PMB_BLOCK_Y", y),
+        ("PMB_BLOCK_Z", z),
+        ("PMB_DRAW_GROUP", crate::iso::pmb_draw::COMMAND_GROUP),
+    ] {
+        d.push((name.into(), format!("{value}u")));
+    }
+    d
+}
+
 /// The asteroid field's constants (`tet/interval/sdf.glsl`), from its CPU reference.
 pub fn asteroid_defines() -> Vec<(String, String)> {
     use tessera_data::tet::asteroids as a;

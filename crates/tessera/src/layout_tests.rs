@@ -248,6 +248,35 @@ fn pmb_structs(t: &mut Table) {
         first_index, triangle_count));
 }
 
+fn pmb_draw_structs(t: &mut Table) {
+    use crate::iso::meshlet_draw::MeshletDrawParams;
+    use crate::iso::pmb_draw::{DrawIndexedIndirectCommand, PmbDrawCounters};
+    use tessera_data::pmb::PmbBlockSize;
+    let defines = crate::config::pmb_draw_defines(PmbBlockSize::B844);
+    let triangles = compile(
+        &builtin_shader!("iso/pmb_draw/triangles.comp.glsl"),
+        &defines,
+    );
+    let commands = compile(
+        &builtin_shader!("iso/pmb_draw/commands.comp.glsl"),
+        &defines,
+    );
+    for spirv in [&triangles, &commands] {
+        #[rustfmt::skip]
+        t.push_constants::<MeshletDrawParams>(spirv, "MeshletDrawParams", host!(
+            MeshletDrawParams, grid_to_clip, eye_world, bounds, grid_to_world, frame_width,
+            light, frame_height, dims, triangle_capacity));
+        t.buffer(
+            spirv,
+            "PmbDrawCounters",
+            host!(PmbDrawCounters, blocks_drawn, triangles_drawn),
+        );
+    }
+    #[rustfmt::skip]
+    t.buffer(&commands, "DrawIndexedIndirectCommand", host!(DrawIndexedIndirectCommand,
+        index_count, instance_count, first_index, vertex_offset, first_instance));
+}
+
 fn raster_structs(t: &mut Table) {
     use crate::raster::indirect::PrepareParams;
     use crate::raster::{raster_defines, RasterCounts, RasterParams, RasterTriangle};
@@ -440,6 +469,7 @@ fn table() -> Table {
     meshlet_structs(&mut t);
     meshlet_draw_structs(&mut t);
     pmb_structs(&mut t);
+    pmb_draw_structs(&mut t);
     raster_structs(&mut t);
     interval_structs(&mut t);
     shell_structs(&mut t);

@@ -39,6 +39,10 @@ const COMMON: &[(&str, &str)] = &[
         include_str!("shaders/common/grid_world.glsl"),
     ),
     (
+        "common/frustum.glsl",
+        include_str!("shaders/common/frustum.glsl"),
+    ),
+    (
         "iso/meshlets/format.glsl",
         include_str!("iso/meshlets/format.glsl"),
     ),
@@ -53,6 +57,14 @@ const COMMON: &[(&str, &str)] = &[
     (
         "iso/meshlet_draw/payload.glsl",
         include_str!("iso/meshlet_draw/payload.glsl"),
+    ),
+    (
+        "iso/meshlet_draw/corner.glsl",
+        include_str!("iso/meshlet_draw/corner.glsl"),
+    ),
+    (
+        "iso/meshlet_draw/list.glsl",
+        include_str!("iso/meshlet_draw/list.glsl"),
     ),
     (
         "iso/meshlets/buffers.glsl",
@@ -79,6 +91,11 @@ const COMMON: &[(&str, &str)] = &[
         include_str!("iso/meshlets/extraction.glsl"),
     ),
     ("iso/pmb/params.glsl", include_str!("iso/pmb/params.glsl")),
+    ("iso/pmb/format.glsl", include_str!("iso/pmb/format.glsl")),
+    (
+        "iso/pmb_draw/blocks.glsl",
+        include_str!("iso/pmb_draw/blocks.glsl"),
+    ),
     (
         "iso/direct/payload.glsl",
         include_str!("iso/direct/payload.glsl"),

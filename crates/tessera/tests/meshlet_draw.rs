@@ -5,76 +5,23 @@
 
 mod common;
 
+use common::surface::{
+    camera, detail, load, look, meshlet_paths as paths, render_counting, renderer_for, SIZE,
+};
 use common::{assert_clean, assert_images_match, assert_matches_cpu_raster, gpu, skip};
 use tessera::path::{Path, PathChoice};
 use tessera::renderer::{self, Renderer, RendererOptions, Technique};
-use tessera_data::scene::{Appearance, Dataset, LoadOptions};
+use tessera_data::scene::Dataset;
 use tessera_data::{IsoValue, OrbitCamera, RgbaImage};
 use tessera_gpu::Gpu;
 
-const SIZE: (u32, u32) = (96, 72);
-
-fn load(spec: &str) -> Dataset {
-    Dataset::load(spec, &LoadOptions::default()).unwrap_or_else(|e| panic!("{spec}: {e}"))
-}
-
-fn camera(distance: f32) -> OrbitCamera {
-    OrbitCamera {
-        azimuth_deg: 35.0,
-        elevation_deg: 25.0,
-        distance,
-        ..OrbitCamera::default()
-    }
-}
-
-/// The paths this device can draw meshlets on, the others reported as skipped.
-fn paths(gpu: &Gpu) -> Vec<PathChoice> {
-    let caps = gpu.caps();
-    let mut out = Vec::new();
-    if caps.buffer_int64_atomics {
-        out.push(PathChoice::Compute);
-    } else {
-        skip("compute path", "no 64-bit buffer atomics");
-    }
-    if caps.mesh_shader && caps.task_shader {
-        out.push(PathChoice::Graphics);
-    } else {
-        skip("graphics path", "no task/mesh shaders");
-    }
-    out
-}
-
-fn renderer_for(
-    gpu: &Gpu,
-    technique: Technique,
-    path: PathChoice,
-    culling: bool,
-    data: &Dataset,
-    iso: f32,
-) -> Box<dyn Renderer> {
-    let options = RendererOptions {
-        path,
-        culling,
-        ..RendererOptions::default()
-    };
-    let mut r = renderer::create(gpu, technique, &options).unwrap();
-    r.set_appearance(gpu, &look(iso)).unwrap();
-    r.set_data(gpu, data).unwrap();
-    r
-}
-
-fn look(iso: f32) -> Appearance {
-    Appearance {
-        iso: IsoValue::Normalized(iso),
-        ..Appearance::default()
-    }
-}
-
 fn render(gpu: &Gpu, r: &mut dyn Renderer, distance: f32) -> (RgbaImage, u64, u64) {
-    let out = renderer::render_image(gpu, r, &camera(distance), SIZE).unwrap();
-    let detail = |name| out.stats.details.get(name).copied().unwrap_or(0);
-    assert!(!out.image.pixels.contains(&u32::MAX), "unwritten pixels");
-    (out.image, detail("meshlets"), detail("meshlets_drawn"))
+    let (image, stats) = render_counting(gpu, r, distance);
+    (
+        image,
+        detail(&stats, "meshlets"),
+        detail(&stats, "meshlets_drawn"),
+    )
 }
 
 #[test]

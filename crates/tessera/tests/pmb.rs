@@ -7,7 +7,7 @@
 
 mod common;
 
-use common::volumes::{extraction_volumes, prepare};
+use common::volumes::{extraction_volumes, poison_pmb as poison, prepare};
 use common::{assert_clean, assert_same_triangles, checkerboard, gpu};
 use glam::Vec3;
 use std::collections::BTreeMap;
@@ -31,17 +31,6 @@ fn extractor(
     size: PmbBlockSize,
 ) -> PmbExtractor {
     PmbExtractor::new(gpu, &shaders::compiler(), scalar, rule, size).unwrap()
-}
-
-/// Every output buffer filled with `u32::MAX` (NaN bits for floats, index 0xffff), so
-/// anything the extraction leaves unwritten shows.
-fn poison(gpu: &Gpu, out: &GpuPmb) {
-    gpu.submit("poison PMB outputs", |rec| {
-        for buffer in [&out.descriptors, &out.positions, &out.normals, &out.indices] {
-            rec.fill_buffer(buffer, u32::MAX);
-        }
-    })
-    .unwrap();
 }
 
 /// Extracts into poisoned buffers of `capacity`, growing them if needed.

@@ -2,10 +2,12 @@
 //! best 8×4×4) and the most vertices one block can hold.
 
 /// Cells per block along x, y and z, fixed when the extraction's pipelines are built.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+/// 8×8×4 is the default where a size is not named.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 pub enum PmbBlockSize {
     B444,
     B844,
+    #[default]
     B884,
     B888,
 }
@@ -45,6 +47,19 @@ impl PmbBlockSize {
     pub fn grid(self, dims: [u32; 3]) -> [u32; 3] {
         let cells = self.cells();
         std::array::from_fn(|a| dims[a].saturating_sub(1).div_ceil(cells[a]))
+    }
+
+    /// The size named `text` (a [`PmbBlockSize::name`], e.g. `"8x8x4"`).
+    pub fn parse(text: &str) -> crate::error::Result<PmbBlockSize> {
+        PmbBlockSize::ALL
+            .into_iter()
+            .find(|s| s.name() == text)
+            .ok_or_else(|| {
+                crate::error::DataError::Invalid(format!(
+                    "PMB block size '{text}': choose {}",
+                    PmbBlockSize::ALL.map(|s| s.name()).join(", ")
+                ))
+            })
     }
 
     /// A short name, e.g. `"8x4x4"`.

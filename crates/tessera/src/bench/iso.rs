@@ -81,36 +81,45 @@ pub(super) fn iso_techniques(gpu: &Gpu, sink: &mut dyn RecordSink) -> Vec<IsoTec
 }
 
 /// Paper C's persistent meshlets, extracted on the GPU per isovalue (`meshlets`) or built
-/// offline by meshoptimizer from the CPU mesh (`offline`, drawn only), on each path the
-/// device has; frustum-culled by their explicit boxes.
+/// offline by meshoptimizer from the CPU mesh (`offline`, drawn only), and its real-time
+/// reference PMB (8×8×4 blocks, extracted per isovalue), on each path the device has;
+/// frustum-culled by their boxes.
 pub(super) fn meshlet_techniques(gpu: &Gpu) -> Vec<IsoTechnique> {
     let caps = gpu.caps();
-    let paths = [
-        (
-            PathChoice::Graphics,
-            "mesh",
-            caps.mesh_shader && caps.task_shader,
-        ),
-        (PathChoice::Compute, "compute", caps.buffer_int64_atomics),
+    let pmb = crate::iso::pmb_draw::path_support(caps);
+    let techniques = [
+        (Technique::Meshlets, "meshlets"),
+        (Technique::Offline, "offline"),
+        (Technique::Pmb, "pmb"),
     ];
     let mut out = Vec::new();
-    for (path, path_name, available) in paths {
-        if !available {
-            continue;
-        }
-        for (technique, name) in [
-            (Technique::Meshlets, "meshlets"),
-            (Technique::Offline, "offline"),
-        ] {
-            out.push(IsoTechnique {
-                technique,
-                options: RendererOptions {
-                    path,
-                    ..RendererOptions::default()
-                },
-                name,
-                path: path_name,
-            });
+    for (technique, name) in techniques {
+        let paths = match technique {
+            Technique::Pmb => [
+                (PathChoice::Graphics, "graphics", pmb.graphics),
+                (PathChoice::Compute, "compute", pmb.compute),
+            ],
+            _ => [
+                (
+                    PathChoice::Graphics,
+                    "mesh",
+                    caps.mesh_shader && caps.task_shader,
+                ),
+                (PathChoice::Compute, "compute", caps.buffer_int64_atomics),
+            ],
+        };
+        for (path, path_name, available) in paths {
+            if available {
+                out.push(IsoTechnique {
+                    technique,
+                    options: RendererOptions {
+                        path,
+                        ..RendererOptions::default()
+                    },
+                    name,
+                    path: path_name,
+                });
+            }
         }
     }
     out

@@ -6,6 +6,7 @@ pub mod meshlet_draw;
 pub mod meshlets;
 pub mod minmax;
 pub mod pmb;
+pub mod pmb_draw;
 pub mod raymarch;
 pub mod surface;
 

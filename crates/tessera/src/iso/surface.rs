@@ -58,14 +58,8 @@ impl SurfaceMethod {
         match name.split_once(':') {
             None if name == "meshlets" => Ok(SurfaceMethod::Meshlets(extraction_path)),
             None if name == "cpu" => only_auto(SurfaceMethod::Cpu),
-            None if name == "pmb" => only_auto(SurfaceMethod::Pmb(PmbBlockSize::B884)),
-            Some(("pmb", size)) => match PmbBlockSize::ALL.into_iter().find(|s| s.name() == size) {
-                Some(size) => only_auto(SurfaceMethod::Pmb(size)),
-                None => Err(Error::Invalid(format!(
-                    "PMB block size '{size}': choose {}",
-                    PmbBlockSize::ALL.map(|s| s.name()).join(", ")
-                ))),
-            },
+            None if name == "pmb" => only_auto(SurfaceMethod::Pmb(PmbBlockSize::default())),
+            Some(("pmb", size)) => only_auto(SurfaceMethod::Pmb(PmbBlockSize::parse(size)?)),
             _ => Err(Error::Invalid(format!(
                 "extraction method '{name}': choose meshlets, pmb[:XxYxZ] or cpu"
             ))),

@@ -5,13 +5,12 @@
 //! ([`crate::iso::meshlet_draw`]); with culling on, meshlets are frustum-culled on both and
 //! occlusion-culled on the compute path.
 
+use super::surface_frame::{FrameBuffers, SurfaceFrame};
 use super::{
     no_data, wrong_data, FrameOutcome, FrameStats, Renderer, RendererOptions, Target, Technique,
     WorkCounters,
 };
 use crate::error::{Error, Result};
-use crate::iso::direct::compute::{ComputeTarget, TriangleLists};
-use crate::iso::direct::RasterTarget;
 use crate::iso::meshlet_draw::{
     DrawCounters, MeshletBounds, MeshletDraw, MeshletDrawParams, MeshletOcclusion,
     OcclusionCounters,
@@ -30,13 +29,6 @@ use tessera_data::meshlets::offline_meshlets;
 use tessera_data::scene::{Appearance, Dataset};
 use tessera_data::{View, Volume};
 use tessera_gpu::{Gpu, Recorder, Timer};
-
-/// The frame's buffers for the drawing path, made by `prepare_frame`.
-enum FrameBuffers {
-    None,
-    Graphics(Box<RasterTarget>),
-    Compute(Box<ComputeTarget>),
-}
 
 /// How the stored surface was made.
 enum Producer {
@@ -73,9 +65,7 @@ pub(super) struct MeshletRenderer {
     look: Appearance,
     iso: f32,
     value_range: (f32, f32),
-    frame: FrameBuffers,
-    /// Compute path: triangles a frame's list holds (grown on overflow).
-    capacity: u32,
+    frame: SurfaceFrame,
     /// What the offline surface cost on the CPU, in milliseconds.
     extraction_ms: f64,
     stats: FrameStats,
@@ -108,8 +98,7 @@ impl MeshletRenderer {
             look: Appearance::default(),
             iso: 0.0,
             value_range: (0.0, 1.0),
-            frame: FrameBuffers::None,
-            capacity: 0,
+            frame: SurfaceFrame::new(),
             extraction_ms: 0.0,
             stats: FrameStats::default(),
             counters: WorkCounters::default(),
@@ -225,47 +214,21 @@ impl Renderer for MeshletRenderer {
         }
         self.ensure_offline_surface(gpu)?;
         self.ensure_extraction_buffers(gpu)?;
-        let (w, h) = view.size;
-        match self.path {
-            Path::Graphics => {
-                let fits = matches!(&self.frame, FrameBuffers::Graphics(t) if (t.width, t.height) == (w, h));
-                if !fits {
-                    self.frame = FrameBuffers::None;
-                    self.frame = FrameBuffers::Graphics(Box::new(RasterTarget::new(gpu, w, h)?));
-                }
-            }
-            Path::Compute => {
-                if self.capacity == 0 {
-                    self.capacity = TriangleLists::default_capacity(gpu).min(1 << 20);
-                }
-                let fits = matches!(&self.frame, FrameBuffers::Compute(t)
-                    if (t.frame.width, t.frame.height) == (w, h)
-                        && t.lists.capacity == self.capacity);
-                if !fits {
-                    self.frame = FrameBuffers::None;
-                    self.frame = FrameBuffers::Compute(Box::new(ComputeTarget::new(
-                        gpu,
-                        w,
-                        h,
-                        self.capacity,
-                    )?));
-                }
-                if let (true, FrameBuffers::Compute(target), Some(surface)) =
-                    (self.occlusion_culling, &self.frame, &self.surface)
-                {
-                    let fits = self
-                        .occlusion
-                        .as_ref()
-                        .is_some_and(|o| o.fits(&surface.meshlets, target));
-                    if !fits {
-                        self.occlusion = None;
-                        self.occlusion = Some(MeshletOcclusion::new(
-                            gpu,
-                            surface.meshlets.capacity.meshlets,
-                            target,
-                        )?);
-                    }
-                }
+        self.frame.prepare(gpu, self.path, view)?;
+        if let (true, FrameBuffers::Compute(target), Some(surface)) =
+            (self.occlusion_culling, &self.frame.buffers, &self.surface)
+        {
+            let fits = self
+                .occlusion
+                .as_ref()
+                .is_some_and(|o| o.fits(&surface.meshlets, target));
+            if !fits {
+                self.occlusion = None;
+                self.occlusion = Some(MeshletOcclusion::new(
+                    gpu,
+                    surface.meshlets.capacity.meshlets,
+                    target,
+                )?);
             }
         }
         Ok(())
@@ -303,7 +266,7 @@ impl Renderer for MeshletRenderer {
         }
         let meshlets = &surface.meshlets;
         let (dims, spacing) = (volume.dims(), volume.spacing());
-        match &self.frame {
+        match &self.frame.buffers {
             FrameBuffers::Graphics(raster) => {
                 let params = MeshletDrawParams::new(view, dims, spacing, self.bounds, 0);
                 let drawn = timer.scope(rec, "meshlet draw", |rec| {
@@ -366,8 +329,7 @@ impl Renderer for MeshletRenderer {
             .first
             .triangles_drawn
             .max(passes.second.triangles_drawn);
-        if self.path == Path::Compute && most > self.capacity {
-            self.capacity = most.saturating_add(most / 4);
+        if self.frame.grow_for(self.path, most) {
             retry = true;
         }
         if retry {

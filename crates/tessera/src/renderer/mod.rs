@@ -24,7 +24,9 @@ mod interval;
 mod iso;
 mod meshlets;
 mod param;
+mod pmb;
 mod shell;
+mod surface_frame;
 mod technique;
 
 use crate::error::{Error, Result};
@@ -34,6 +36,7 @@ pub use crate::tet::interval::IntervalTuning;
 use std::collections::BTreeMap;
 pub use technique::{path_for, RendererOptions, Technique, OPTION_NAMES};
 pub use tessera_data::mc_ambiguity::AmbiguityRule;
+pub use tessera_data::pmb::PmbBlockSize;
 use tessera_data::scene::{Appearance, Dataset};
 pub use tessera_data::tet::shell::{AmbientOcclusion, LayoutKind, Light};
 use tessera_data::{DepthFit, OrbitCamera, RgbaImage, View};
@@ -156,6 +159,7 @@ pub fn create(
         Technique::Meshlets | Technique::Offline => {
             Box::new(meshlets::MeshletRenderer::new(gpu, technique, options)?)
         }
+        Technique::Pmb => Box::new(pmb::PmbRenderer::new(gpu, options)?),
         Technique::Interval => Box::new(interval::IntervalRenderer::new(gpu, options)?),
         Technique::Shell => Box::new(shell::ShellRenderer::new(options)),
         Technique::ParamPoints | Technique::ParamTess | Technique::ShRaytrace => {

@@ -6,6 +6,7 @@ use crate::error::{Error, Result};
 use crate::path::{Path, PathChoice};
 use crate::tet::interval::IntervalTuning;
 use tessera_data::mc_ambiguity::AmbiguityRule;
+use tessera_data::pmb::PmbBlockSize;
 use tessera_data::scene::DataKind;
 use tessera_data::tet::shell::{AmbientOcclusion, LayoutKind, Light, ShellEffects};
 use tessera_gpu::Capabilities;
@@ -23,6 +24,9 @@ pub enum Technique {
     /// meshoptimizer meshlets of the CPU marching-cubes mesh, drawn like `meshlets` (paper
     /// C's offline reference).
     Offline,
+    /// Parallel Marching Blocks extracted on the GPU when the isovalue changes, then drawn
+    /// (paper C's real-time reference): indexed indirect draws or compute.
+    Pmb,
     /// Interval shading of tet meshes (paper A): mesh shaders or compute.
     Interval,
     /// Ray-traced shell traversal of tet meshes (paper B): compute.
@@ -36,11 +40,12 @@ pub enum Technique {
 }
 
 impl Technique {
-    pub const ALL: [Technique; 9] = [
+    pub const ALL: [Technique; 10] = [
         Technique::Raymarch,
         Technique::Direct,
         Technique::Meshlets,
         Technique::Offline,
+        Technique::Pmb,
         Technique::Interval,
         Technique::Shell,
         Technique::ParamPoints,
@@ -54,6 +59,7 @@ impl Technique {
             Technique::Direct => "direct",
             Technique::Meshlets => "meshlets",
             Technique::Offline => "offline",
+            Technique::Pmb => "pmb",
             Technique::Interval => "interval",
             Technique::Shell => "shell",
             Technique::ParamPoints => "param-points",
@@ -75,9 +81,11 @@ impl Technique {
     /// The kind of data the technique draws.
     pub fn draws(self) -> DataKind {
         match self {
-            Technique::Raymarch | Technique::Direct | Technique::Meshlets | Technique::Offline => {
-                DataKind::Volume
-            }
+            Technique::Raymarch
+            | Technique::Direct
+            | Technique::Meshlets
+            | Technique::Offline
+            | Technique::Pmb => DataKind::Volume,
             Technique::Interval | Technique::Shell => DataKind::Tets,
             Technique::ParamPoints | Technique::ParamTess | Technique::ShRaytrace => {
                 DataKind::Param
@@ -146,6 +154,8 @@ pub struct RendererOptions {
     pub ao: Option<AmbientOcclusion>,
     /// Shell traversal's gradient shading.
     pub gradient: bool,
+    /// The block size of `pmb`'s extraction.
+    pub pmb_block: PmbBlockSize,
 }
 
 impl RendererOptions {
@@ -173,12 +183,13 @@ impl Default for RendererOptions {
             shadows: None,
             ao: None,
             gradient: false,
+            pmb_block: PmbBlockSize::default(),
         }
     }
 }
 
 /// The settings of [`RendererOptions`] by name (as the CLI's flags spell them, `_` for `-`).
-pub const OPTION_NAMES: [&str; 11] = [
+pub const OPTION_NAMES: [&str; 12] = [
     "path",
     "culling",
     "supersample",
@@ -190,6 +201,7 @@ pub const OPTION_NAMES: [&str; 11] = [
     "shadows",
     "ao",
     "gradient",
+    "pmb_block",
 ];
 
 impl Technique {
@@ -201,6 +213,7 @@ impl Technique {
             Technique::Direct | Technique::Meshlets | Technique::Offline => {
                 &["path", "culling", "ambiguity"]
             }
+            Technique::Pmb => &["path", "culling", "ambiguity", "pmb_block"],
             Technique::Interval => &["path", "interval"],
             Technique::Shell => &["layout", "shadows", "ao", "gradient"],
             Technique::ParamPoints => &["supersample", "pre_split"],
@@ -227,6 +240,7 @@ impl RendererOptions {
             self.shadows != d.shadows,
             self.ao != d.ao,
             self.gradient != d.gradient,
+            self.pmb_block != d.pmb_block,
         ];
         OPTION_NAMES
             .into_iter()
@@ -253,6 +267,12 @@ pub fn path_for(caps: &Capabilities, technique: Technique, choice: PathChoice) -
         Technique::Direct | Technique::Meshlets | Technique::Offline => {
             crate::path::choose(caps, choice, measured.as_ref())
         }
+        Technique::Pmb => crate::path::choose_for(
+            caps,
+            &crate::iso::pmb_draw::path_support(caps),
+            choice,
+            measured.as_ref(),
+        ),
         Technique::Interval => crate::path::choose_for(
             caps,
             &crate::tet::interval::path_support(caps),
@@ -343,5 +363,16 @@ mod option_tests {
             path_for(&caps, Technique::ParamTess, auto).unwrap(),
             Path::Graphics
         );
+        // PMB's graphics path draws with indirect counts, not mesh shaders.
+        assert!(path_for(&caps, Technique::Pmb, PathChoice::Graphics).is_err());
+        let counts = Capabilities {
+            draw_indirect_count: true,
+            ..Capabilities::default()
+        };
+        assert_eq!(
+            path_for(&counts, Technique::Pmb, auto).unwrap(),
+            Path::Graphics
+        );
+        assert!(path_for(&counts, Technique::Meshlets, auto).is_err());
     }
 }

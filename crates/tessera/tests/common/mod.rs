@@ -5,6 +5,7 @@
 pub mod interval;
 pub mod param;
 pub mod raster;
+pub mod surface;
 pub mod volumes;
 
 use glam::Vec3;

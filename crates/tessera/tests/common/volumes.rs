@@ -56,3 +56,14 @@ pub fn prepare(gpu: &Gpu, volume: &Volume) -> PreparedVolume {
     let builder = MinMaxBuilder::new(gpu, &shaders::compiler(), volume.scalar_type()).unwrap();
     PreparedVolume::new(gpu, &builder, volume).unwrap()
 }
+
+/// Every output buffer of a PMB extraction filled with `u32::MAX` (NaN bits for floats, index
+/// 0xffff), so anything the extraction leaves unwritten shows.
+pub fn poison_pmb(gpu: &Gpu, out: &tessera::iso::pmb::GpuPmb) {
+    gpu.submit("poison PMB outputs", |rec| {
+        for buffer in [&out.descriptors, &out.positions, &out.normals, &out.indices] {
+            rec.fill_buffer(buffer, u32::MAX);
+        }
+    })
+    .unwrap();
+}

@@ -1,6 +1,7 @@
 // What every meshlet draw pass reads: the meshlet buffers an extraction (or an upload) left,
 // and the frame's draw counters. Needs iso/meshlet_draw/params.glsl.
 #include "iso/meshlets/format.glsl"
+#include "common/frustum.glsl"
 
 layout(binding = 0) readonly buffer Counters { MeshletCounters counters; };
 layout(binding = 1) readonly buffer Meshlets { Meshlet meshlets[]; };
@@ -48,23 +49,9 @@ bool meshlet_box(Meshlet m, out vec3 lo, out vec3 hi) {
     return params.bounds != MESHLET_BOUNDS_NONE;
 }
 
-// Whether meshlet `m` may reach the view: false only when the eight corners of its box (grid
-// units) all lie beyond one clip plane, so no triangle inside the box is culled that the
-// rasterizer would draw.
+// Whether meshlet `m` may reach the view (common/frustum.glsl).
 bool meshlet_in_frustum(Meshlet m) {
     vec3 lo;
     vec3 hi;
-    if (!meshlet_box(m, lo, hi)) {
-        return true;
-    }
-    uint outside_all = 63u;
-    for (uint c = 0u; c < 8u; ++c) {
-        vec3 corner = mix(lo, hi, vec3(uvec3(c, c >> 1u, c >> 2u) & 1u));
-        vec4 clip = params.grid_to_clip * vec4(corner, 1.0);
-        uint outside = (clip.x < -clip.w ? 1u : 0u) | (clip.x > clip.w ? 2u : 0u)
-                     | (clip.y < -clip.w ? 4u : 0u) | (clip.y > clip.w ? 8u : 0u)
-                     | (clip.z < 0.0 ? 16u : 0u) | (clip.z > clip.w ? 32u : 0u);
-        outside_all &= outside;
-    }
-    return outside_all == 0u;
+    return !meshlet_box(m, lo, hi) || box_in_frustum(params.grid_to_clip, lo, hi);
 }

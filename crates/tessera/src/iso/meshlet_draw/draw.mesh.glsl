@@ -6,6 +6,7 @@
 #include "iso/meshlet_draw/params.glsl"
 #include "iso/meshlet_draw/buffers.glsl"
 #include "iso/meshlet_draw/payload.glsl"
+#include "iso/meshlet_draw/corner.glsl"
 
 layout(local_size_x = 32) in;
 layout(triangles, max_vertices = MESHLET_MAX_VERTICES, max_primitives = MESHLET_MAX_TRIANGLES) out;
@@ -16,12 +17,12 @@ void main() {
     Meshlet m = meshlets[payload.meshlet_ids[gl_WorkGroupID.x]];
     SetMeshOutputsEXT(m.vertex_count, m.triangle_count);
     uint me = gl_LocalInvocationIndex;
-    vec3 grid_to_world = params.grid_to_world;
     for (uint v = me; v < m.vertex_count; v += 32u) {
-        vec3 p = meshlet_position(m.vertex_offset + v);
-        gl_MeshVerticesEXT[v].gl_Position = params.grid_to_clip * vec4(p, 1.0);
-        normal_world[v] = grid_normal_to_world(meshlet_normal(m.vertex_offset + v), grid_to_world);
-        position_world[v] = grid_point_to_world(p, params.dims, grid_to_world);
+        SurfaceCorner c = surface_corner(meshlet_position(m.vertex_offset + v),
+                                         meshlet_normal(m.vertex_offset + v));
+        gl_MeshVerticesEXT[v].gl_Position = c.clip;
+        normal_world[v] = c.normal_world;
+        position_world[v] = c.position_world;
     }
     for (uint t = me; t < m.triangle_count; t += 32u) {
         uint first = 3u * (m.triangle_offset + t);

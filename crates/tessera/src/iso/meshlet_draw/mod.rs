@@ -20,16 +20,18 @@ mod occlusion;
 
 pub use occlusion::{MeshletOcclusion, OcclusionCounters};
 
+pub mod list;
+
 use crate::builtin_shader;
 use crate::config::meshlet_draw_defines;
 use crate::error::{Error, Result};
-use crate::iso::direct::compute::{ComputeTarget, ResolveParams};
+use crate::iso::direct::compute::ComputeTarget;
 use crate::iso::direct::{RasterTarget, COLOR_FORMAT, DEPTH_FORMAT};
 use crate::iso::meshlets::GpuMeshlets;
 use crate::path::Path;
-use crate::raster::{ComputeRasterizer, RasterFrame};
 use crate::target::Target;
 use bytemuck::{Pod, Zeroable};
+use list::ListResolve;
 use tessera_data::shading::BACKGROUND;
 use tessera_data::{GridFrame, View};
 use tessera_gpu::{
@@ -128,8 +130,7 @@ enum Passes {
 
 struct ComputePasses {
     triangles: Pipeline,
-    rasterizer: ComputeRasterizer,
-    resolve: Pipeline,
+    list: ListResolve,
     occlusion: Option<occlusion::OcclusionPasses>,
 }
 
@@ -180,20 +181,13 @@ impl MeshletDraw {
             Path::Compute => {
                 let triangles =
                     compiler.compile(&builtin_shader!("triangles.comp.glsl"), &defines)?;
-                let resolve =
-                    compiler.compile(&builtin_shader!("../direct/resolve.comp.glsl"), &defines)?;
                 Passes::Compute(Box::new(ComputePasses {
                     triangles: gpu.compute_pipeline(
                         "meshlet triangles",
                         &triangles,
                         &[Slot::StorageBuffer; READ_SLOTS + 3],
                     )?,
-                    rasterizer: ComputeRasterizer::new(gpu, compiler)?,
-                    resolve: gpu.compute_pipeline(
-                        "meshlet resolve",
-                        &resolve,
-                        &[Slot::StorageBuffer; 4],
-                    )?,
+                    list: ListResolve::new(gpu, compiler, "meshlet")?,
                     occlusion: if occlusion {
                         Some(occlusion::OcclusionPasses::new(gpu, compiler)?)
                     } else {
@@ -280,18 +274,9 @@ impl MeshletDraw {
         params: &MeshletDrawParams,
     ) -> Result<()> {
         let passes = self.compute_passes()?;
-        let frame = &target.frame;
-        if (frame.width, frame.height) != (pixels.width, pixels.height) {
-            return Err(Error::Invalid(format!(
-                "meshlet draw: a {}x{} image for a {}x{} frame",
-                pixels.width, pixels.height, frame.width, frame.height
-            )));
-        }
+        ListResolve::check_sizes("meshlet draw", target, pixels)?;
         let ComputePasses {
-            triangles,
-            rasterizer,
-            resolve,
-            ..
+            triangles, list, ..
         } = passes;
         rec.fill_buffer(&self.counters, 0);
         rec.fill_buffer(&target.lists.counts, 0);
@@ -312,20 +297,7 @@ impl MeshletDraw {
             spread_groups(meshlets.capacity.meshlets, self.max_groups_x),
         );
         rec.barrier();
-        rasterizer.record(rec, &target.lists.triangles, &target.lists.counts, frame);
-        let shading = resolve_params(params, frame, 0);
-        rec.dispatch(
-            resolve,
-            &[
-                Binding::Buffer(&frame.depth_payload),
-                Binding::Buffer(&target.lists.triangles),
-                Binding::Buffer(&target.lists.attributes),
-                Binding::Buffer(&pixels.pixels),
-            ],
-            bytemuck::bytes_of(&shading),
-            [frame.width, frame.height, 1],
-        );
-        rec.barrier();
+        list.record(rec, target, pixels, params);
         Ok(())
     }
 
@@ -343,20 +315,5 @@ impl MeshletDraw {
         Ok(bytemuck::pod_read_unaligned(
             &gpu.read_buffer(&self.counters)?,
         ))
-    }
-}
-
-/// The shading of `direct`'s resolve for a draw with `params` into `frame`; `second_list` is
-/// the index base of the second triangle list (occlusion culling), 0 without one.
-fn resolve_params(
-    params: &MeshletDrawParams,
-    frame: &RasterFrame,
-    second_list: u32,
-) -> ResolveParams {
-    let (e, l) = (params.eye_world, params.light);
-    ResolveParams {
-        eye_world: [e[0], e[1], e[2], 0.0],
-        light: [l[0], l[1], l[2], 0.0],
-        size: [frame.width, frame.height, second_list, 0],
     }
 }

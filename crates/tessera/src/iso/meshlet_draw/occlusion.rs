@@ -15,7 +15,8 @@
 //! everything in view in pass 2. The flags are indexed by meshlet, so they mean nothing once
 //! the meshlets are extracted or uploaded anew: forget then.
 
-use super::{resolve_params, DrawCounters, MeshletDraw, MeshletDrawParams, READ_SLOTS};
+use super::list::resolve_params;
+use super::{DrawCounters, MeshletDraw, MeshletDrawParams, READ_SLOTS};
 use crate::builtin_shader;
 use crate::config::meshlet_draw_defines;
 use crate::error::{Error, Result};
@@ -230,7 +231,7 @@ impl MeshletDraw {
             rec.dispatch_groups(pipeline, &bindings, bytemuck::bytes_of(params), groups);
             rec.barrier();
         };
-        let rasterizer = &passes.rasterizer;
+        let rasterizer = passes.list.rasterizer();
         rasterizer.record_clear(rec, frame);
         pass(&culling.first, first, &self.counters, false);
         rasterizer.record_prepare_dispatch(rec, &first.counts);

@@ -13,12 +13,12 @@
 #include "iso/direct/attributes.glsl"
 #include "iso/meshlet_draw/params.glsl"
 #include "iso/meshlet_draw/buffers.glsl"
+#include "iso/meshlet_draw/corner.glsl"
+
+#define SURFACE_LIST_BINDING 6
+#include "iso/meshlet_draw/list.glsl"
 
 layout(local_size_x = 32) in;
-layout(binding = 6) writeonly buffer Triangles { RasterTriangle triangles[]; };
-layout(binding = 7) writeonly buffer Attributes { TriangleAttributes attributes[]; };
-// raster::RasterCounts: triangles in the list, then the rasterizer's dispatch arguments.
-layout(binding = 8) buffer Counts { uint triangle_count; uint dispatch[3]; };
 #ifdef OCCLUSION_PASS
 // Per meshlet: bit 0 owned a pixel in the last frame, bit 1 drawn in this frame's pass 1.
 layout(binding = 9) buffer MeshletFlags { uint meshlet_flags[]; };
@@ -70,23 +70,15 @@ void main() {
     if (me == 0u) {
         uint first = atomicAdd(triangles_drawn, m.triangle_count);
         atomicAdd(meshlets_drawn, 1u);
-        uint capacity = params.triangle_capacity;
-        uint fit = first >= capacity ? 0u : min(m.triangle_count, capacity - first);
-        atomicAdd(triangle_count, fit);
         base = first;
-        kept = fit;
+        kept = reserve_list_slots(first, m.triangle_count);
     }
     barrier();
-    vec3 grid_to_world = params.grid_to_world;
     for (uint t = me; t < kept; t += 32u) {
         uint slot = base + t;
         for (uint j = 0u; j < 3u; ++j) {
             uint v = m.vertex_offset + meshlet_local_index(3u * (m.triangle_offset + t) + j);
-            vec3 p = meshlet_position(v);
-            triangles[slot].clip[j] = params.grid_to_clip * vec4(p, 1.0);
-            float tag = j == 0u ? uintBitsToFloat(id) : 0.0;  // iso/direct/attributes.glsl
-            attributes[slot].normal_world[j] = vec4(grid_normal_to_world(meshlet_normal(v), grid_to_world), tag);
-            attributes[slot].position_world[j] = vec4(grid_point_to_world(p, params.dims, grid_to_world), 1.0);
+            write_list_corner(slot, j, surface_corner(meshlet_position(v), meshlet_normal(v)), id);
         }
     }
 }

@@ -128,7 +128,13 @@ impl GpuPmb {
             )?,
             positions: output("PMB positions", v * 12)?,
             normals: output("PMB normals", v * 12)?,
-            indices: output("PMB indices", index_bytes)?,
+            // Also the graphics draw's index buffer.
+            indices: gpu.create_buffer(
+                "PMB indices",
+                index_bytes,
+                OUTPUT_USAGE | vk::BufferUsageFlags::INDEX_BUFFER,
+                MemoryLocation::GpuOnly,
+            )?,
             capacity,
             block_capacity,
             block_size,
@@ -137,7 +143,7 @@ impl GpuPmb {
     }
 
     /// Replaces the output buffers by larger ones when `counters` did not fit; whether it did.
-    pub(super) fn grow_for(&mut self, gpu: &Gpu, counters: &PmbCounters) -> Result<bool> {
+    pub(crate) fn grow_for(&mut self, gpu: &Gpu, counters: &PmbCounters) -> Result<bool> {
         if self.capacity.holds(counters) {
             return Ok(false);
         }

@@ -21,24 +21,7 @@
 #include "common/mc_edges.glsl"
 #include "iso/direct/block_list.glsl"
 #include "iso/pmb/params.glsl"
-
-// tessera_data::pmb::PmbBlock, scalar arrays so std430 packs it in 7 words.
-struct PmbBlock {
-    uint block[3];
-    uint first_vertex;
-    uint vertex_count;
-    uint first_index;
-    uint triangle_count;
-};
-
-// Blocks with triangles, vertices and triangles reserved so far (they keep counting past the
-// capacities), and whether a reservation did not fit.
-struct PmbCounters {
-    uint blocks;
-    uint vertices;
-    uint triangles;
-    uint overflow;
-};
+#include "iso/pmb/format.glsl"
 
 layout(local_size_x = PMB_WORKGROUP) in;
 layout(binding = 0) uniform VOLUME_SAMPLER volume_tex;

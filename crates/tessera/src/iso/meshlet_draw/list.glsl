@@ -1,0 +1,28 @@
+// The frame's triangle list a compute-path draw of a stored surface (meshlets, PMB blocks)
+// writes for the shared compute rasterizer, in three bindings from SURFACE_LIST_BINDING (the
+// including shader defines it past its own): clip-space triangles, their shading attributes
+// (iso/direct/attributes.glsl, shaded by direct's resolve) and raster::RasterCounts. Needs
+// raster/raster.glsl, iso/direct/attributes.glsl and iso/meshlet_draw/corner.glsl.
+
+layout(binding = SURFACE_LIST_BINDING) writeonly buffer Triangles { RasterTriangle triangles[]; };
+layout(binding = SURFACE_LIST_BINDING + 1) writeonly buffer Attributes { TriangleAttributes attributes[]; };
+// Triangles in the list, then the rasterizer's dispatch arguments.
+layout(binding = SURFACE_LIST_BINDING + 2) buffer Counts { uint triangle_count; uint dispatch[3]; };
+
+// Corner `j` of the triangle in `slot`, made by `maker` (a meshlet or block id the resolve
+// flags as seen under occlusion culling; iso/direct/attributes.glsl).
+void write_list_corner(uint slot, uint j, SurfaceCorner c, uint maker) {
+    triangles[slot].clip[j] = c.clip;
+    float tag = j == 0u ? uintBitsToFloat(maker) : 0.0;
+    attributes[slot].normal_world[j] = vec4(c.normal_world, tag);
+    attributes[slot].position_world[j] = vec4(c.position_world, 1.0);
+}
+
+// Reserves the list's slots of `count` triangles after `first` more were drawn (counted
+// exactly by the caller, so the host sees an overflow): how many fit.
+uint reserve_list_slots(uint first, uint count) {
+    uint capacity = params.triangle_capacity;
+    uint fit = first >= capacity ? 0u : min(count, capacity - first);
+    atomicAdd(triangle_count, fit);
+    return fit;
+}

@@ -1,0 +1,74 @@
+//! The frame buffers of the techniques that draw a stored surface (meshlets, PMB): the
+//! graphics path's attachments, or the compute path's triangle list and raster frame, whose
+//! list grows when a frame drew more triangles than it holds.
+
+use crate::error::Result;
+use crate::iso::direct::compute::{ComputeTarget, TriangleLists};
+use crate::iso::direct::RasterTarget;
+use crate::path::Path;
+use tessera_data::View;
+use tessera_gpu::Gpu;
+
+/// The buffers of one path, made by [`SurfaceFrame::prepare`].
+pub(super) enum FrameBuffers {
+    None,
+    Graphics(Box<RasterTarget>),
+    Compute(Box<ComputeTarget>),
+}
+
+pub(super) struct SurfaceFrame {
+    pub(super) buffers: FrameBuffers,
+    /// Compute path: triangles a frame's list holds (grown on overflow).
+    capacity: u32,
+}
+
+impl SurfaceFrame {
+    pub(super) fn new() -> SurfaceFrame {
+        SurfaceFrame {
+            buffers: FrameBuffers::None,
+            capacity: 0,
+        }
+    }
+
+    /// Makes the buffers `view` needs on `path`; nothing when they exist.
+    pub(super) fn prepare(&mut self, gpu: &Gpu, path: Path, view: &View) -> Result<()> {
+        let (w, h) = view.size;
+        match path {
+            Path::Graphics => {
+                let fits = matches!(&self.buffers, FrameBuffers::Graphics(t) if (t.width, t.height) == (w, h));
+                if !fits {
+                    self.buffers = FrameBuffers::None;
+                    self.buffers = FrameBuffers::Graphics(Box::new(RasterTarget::new(gpu, w, h)?));
+                }
+            }
+            Path::Compute => {
+                if self.capacity == 0 {
+                    self.capacity = TriangleLists::default_capacity(gpu).min(1 << 20);
+                }
+                let fits = matches!(&self.buffers, FrameBuffers::Compute(t)
+                    if (t.frame.width, t.frame.height) == (w, h)
+                        && t.lists.capacity == self.capacity);
+                if !fits {
+                    self.buffers = FrameBuffers::None;
+                    self.buffers = FrameBuffers::Compute(Box::new(ComputeTarget::new(
+                        gpu,
+                        w,
+                        h,
+                        self.capacity,
+                    )?));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Whether a frame that drew `triangles` on `path` must be drawn again: on the compute
+    /// path when they did not fit the list, which then grows (at the next `prepare`).
+    pub(super) fn grow_for(&mut self, path: Path, triangles: u32) -> bool {
+        if path == Path::Compute && triangles > self.capacity {
+            self.capacity = triangles.saturating_add(triangles / 4);
+            return true;
+        }
+        false
+    }
+}
