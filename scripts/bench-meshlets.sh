@@ -7,7 +7,8 @@
 # same arrays. JSON lines and a summary go to OUT_DIR.
 # Usage: scripts/bench-meshlets.sh OUT_DIR [TESSERA_BINARY]
 # PARTS (default "iso-sweep extraction isosurface skimage") picks the parts to run;
-# EXTRACTION_VOLUMES and SWEEP_VOLUMES override the volume lists.
+# EXTRACTION_VOLUMES and SWEEP_VOLUMES override the volume lists; EXTRACTION_PATHS (e.g.
+# compute) limits the extraction scenario's paths.
 set -uo pipefail
 parts=" ${PARTS:-iso-sweep extraction isosurface skimage} "
 sweep_volumes=${SWEEP_VOLUMES:-procedural:head:256:u8 procedural:turbulence:512:f32 procedural:head:512:u16}
@@ -32,6 +33,7 @@ for volume in $extraction_volumes; do
   [[ $parts == *" extraction "* ]] || break
   echo "== extraction $volume"
   timeout 300 "$bin" bench extraction --data "$volume" --frames 30 --warmup 10 --iso-fraction 0.3 \
+    ${EXTRACTION_PATHS:+--paths "$EXTRACTION_PATHS"} \
     --json "$out/extraction.jsonl" > "$out/extraction-${volume//[:\/]/_}.txt" 2>&1 || echo "extraction $volume failed: $?"
 done
 if [[ $parts == *" isosurface "* ]]; then

@@ -38,7 +38,7 @@ pub struct BenchArgs {
     pub(crate) data: Option<String>,
     #[command(flatten)]
     volume: crate::data::VolumeArgs,
-    /// Paths to measure for `interval` (default: every path the device has).
+    /// Paths to measure for `interval` and `extraction` (default: every path the device has).
     #[arg(long, value_delimiter = ',', value_parser = parse_path)]
     pub(crate) paths: Vec<Path>,
     /// Image sizes to measure, in this order (default 1280x720,1920x1080,3840x2160).

@@ -90,9 +90,13 @@ pub fn marching_cubes_defines(scalar: ScalarType, rule: AmbiguityRule) -> Vec<(S
 }
 
 /// Defines for the meshlet extraction (`iso/meshlets`): marching cubes' (see
-/// [`marching_cubes_defines`]) plus the meshlet limits and the cells each region-analysis
-/// invocation classifies (a 2×2×2 subblock, the smallest of the partition).
-pub fn meshlet_defines(scalar: ScalarType, rule: AmbiguityRule) -> Vec<(String, String)> {
+/// [`marching_cubes_defines`]) plus the meshlet limits, the cells of a block's eighth (a
+/// 2×2×2 subblock, the smallest of the partition) and the workgroup size of `path`.
+pub fn meshlet_defines(
+    scalar: ScalarType,
+    rule: AmbiguityRule,
+    path: crate::iso::meshlets::ExtractionPath,
+) -> Vec<(String, String)> {
     use tessera_data::meshlets::{
         subblock::SUBBLOCK_CELL_COUNTS, MAX_OCCUPIED_CELLS, MAX_TRIANGLES, MAX_VERTICES,
     };
@@ -102,7 +106,8 @@ pub fn meshlet_defines(scalar: ScalarType, rule: AmbiguityRule) -> Vec<(String, 
         ("MESHLET_MAX_VERTICES", MAX_VERTICES),
         ("MESHLET_MAX_TRIANGLES", MAX_TRIANGLES),
         ("MESHLET_MAX_OCCUPIED_CELLS", MAX_OCCUPIED_CELLS),
-        ("MESHLET_CELLS_PER_INVOCATION", smallest_subblock),
+        ("MESHLET_EIGHTH_CELLS", smallest_subblock),
+        ("MESHLET_WORKGROUP", path.workgroup_size()),
     ] {
         d.push((name.into(), format!("{value}u")));
     }

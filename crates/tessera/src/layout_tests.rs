@@ -184,7 +184,11 @@ fn meshlet_structs(t: &mut Table) {
     use crate::iso::direct::block_list::BlockListHeader;
     use crate::iso::meshlets::{MeshletCounters, MeshletParams};
     use tessera_data::meshlets::Meshlet;
-    let defines = crate::config::meshlet_defines(ScalarType::U8, Default::default());
+    let defines = crate::config::meshlet_defines(
+        ScalarType::U8,
+        Default::default(),
+        crate::iso::meshlets::ExtractionPath::Compute,
+    );
     let extract = compile(&builtin_shader!("iso/meshlets/extract.comp.glsl"), &defines);
     let occupied = compile(
         &builtin_shader!("iso/meshlets/occupied.comp.glsl"),

@@ -10,6 +10,7 @@ use crate::iso::meshlets::{ExtractionPath, MeshletExtractor};
 use crate::iso::minmax::MinMaxBuilder;
 use crate::iso::pmb::PmbExtractor;
 use crate::iso::PreparedVolume;
+use crate::path::Path;
 use tessera_data::mc_ambiguity::AmbiguityRule;
 use tessera_data::pmb::PmbBlockSize;
 use tessera_data::IsoValue;
@@ -24,8 +25,12 @@ pub(super) fn extraction(
     let compiler = crate::shaders::compiler();
     let rule = AmbiguityRule::default();
     let caps = gpu.caps();
-    let mut paths = vec![(ExtractionPath::Compute, "compute")];
-    if caps.mesh_shader && caps.task_shader {
+    let wanted = |p: Path| config.paths.is_empty() || config.paths.contains(&p);
+    let mut paths = Vec::new();
+    if wanted(Path::Compute) {
+        paths.push((ExtractionPath::Compute, "compute"));
+    }
+    if caps.mesh_shader && caps.task_shader && wanted(Path::Graphics) {
         paths.push((ExtractionPath::MeshShaders, "mesh"));
     }
     for spec in bench_volumes(config) {

@@ -46,7 +46,8 @@ pub struct BenchConfig {
     pub data: Option<String>,
     /// How to read `data` when it is a raw volume.
     pub raw: RawOptions,
-    /// Paths `interval` measures (empty: every path the device has).
+    /// Paths `interval` and `extraction` measure (empty: every path the device has;
+    /// `extraction`'s graphics path is the task/mesh extraction).
     pub paths: Vec<Path>,
     /// Image sizes to measure, in this order (empty: each scenario's own).
     pub sizes: Vec<(u32, u32)>,

@@ -1,25 +1,31 @@
 // Region analysis (paper C §3.2.1) of one occupied block by one workgroup of
-// MESHLET_WORKGROUP invocations: the partition into subblocks that each fit a meshlet, exactly
+// MESHLET_WORKGROUP invocations (a multiple of the block's eighths, each eighth's cells split
+// evenly among its invocations): the partition into subblocks that each fit a meshlet, exactly
 // as tessera_data::meshlets::partition makes it, and the block's reservation in the output
 // buffers. Writes `payload` (declared by the includer: task payload or shared memory).
-// Sums are shared-memory reductions over consecutive invocations, so no subgroup size is
+// Sums are shared-memory atomics and one invocation's loops, so no subgroup size is
 // assumed. Needs iso/meshlets/{params,buffers,payload,samples,subblock}.glsl and the marching-cubes
 // headers (common/mc_edges.glsl among them).
 
-// Per eighth (invocation): occupied cells, their triangles, the crossed edges they own.
-shared uint s_eighth_cells[MESHLET_WORKGROUP];
-shared uint s_eighth_triangles[MESHLET_WORKGROUP];
-shared uint s_eighth_core[MESHLET_WORKGROUP];
-// Crossed padding edges of the eighth's own box, and this invocation's share of those of its
-// quarter's box and of the block's box.
-shared uint s_eighth_padding[MESHLET_WORKGROUP];
-shared uint s_quarter_padding[MESHLET_WORKGROUP];
-shared uint s_block_padding[MESHLET_WORKGROUP];
+// Per eighth: occupied cells, their triangles, the crossed edges they own, which of its cells
+// are occupied (bit k: code 8 e + k); summed over the eighth's invocations with atomics.
+shared uint s_eighth_cells[MESHLET_EIGHTHS];
+shared uint s_eighth_triangles[MESHLET_EIGHTHS];
+shared uint s_eighth_core[MESHLET_EIGHTHS];
+shared uint s_eighth_occupied[MESHLET_EIGHTHS];
+// Crossed padding edges of the eighth's own box, and its invocations' shares of those of its
+// quarter's box and of the block's box (the sum over a quarter's or the block's eighths is
+// that box's count).
+shared uint s_eighth_padding[MESHLET_EIGHTHS];
+shared uint s_quarter_padding[MESHLET_EIGHTHS];
+shared uint s_block_padding[MESHLET_EIGHTHS];
 // Exclusive prefix of s_eighth_cells: where each eighth's cells start in `payload.cells`.
-shared uint s_first_cell[MESHLET_WORKGROUP];
+shared uint s_first_cell[MESHLET_EIGHTHS];
 shared uint s_codes[BLOCK_X * BLOCK_Y * BLOCK_Z];
 
-const uint EIGHTHS_PER_QUARTER = MESHLET_WORKGROUP / 4u;
+const uint EIGHTHS_PER_QUARTER = MESHLET_EIGHTHS / 4u;
+const uint INVOCATIONS_PER_EIGHTH = MESHLET_WORKGROUP / MESHLET_EIGHTHS;
+const uint CELLS_PER_INVOCATION = MESHLET_EIGHTH_CELLS / INVOCATIONS_PER_EIGHTH;
 
 bool meshlet_fits(uint vertices, uint triangles, uint cells) {
     return vertices <= MESHLET_MAX_VERTICES && triangles <= MESHLET_MAX_TRIANGLES
@@ -57,6 +63,16 @@ void meshlet_analyse(uint listed) {
     float iso = params.isovalue;
     uvec3 block_origin = meshlet_block_origin(occupied_blocks[listed]);
     uvec3 last_cell = params.volume_dims - 1u;
+    if (me < MESHLET_EIGHTHS) {
+        s_eighth_cells[me] = 0u;
+        s_eighth_triangles[me] = 0u;
+        s_eighth_core[me] = 0u;
+        s_eighth_occupied[me] = 0u;
+        s_eighth_padding[me] = 0u;
+        s_quarter_padding[me] = 0u;
+        s_block_padding[me] = 0u;
+    }
+    // Ends with a barrier: the sums above start at zero for everyone.
     meshlet_load_samples(block_origin,
                          mc_box_end(block_origin, uvec3(BLOCK_X, BLOCK_Y, BLOCK_Z), params.volume_dims));
 
@@ -64,8 +80,13 @@ void meshlet_analyse(uint listed) {
     uint triangles = 0u;
     uint core = 0u;
     uint occupied_mask = 0u;
-    for (uint k = 0u; k < MESHLET_CELLS_PER_INVOCATION; ++k) {
-        uvec3 cell = block_origin + meshlet_cell_of_code(me * MESHLET_CELLS_PER_INVOCATION + k);
+    // This invocation's cells: a run of its eighth's.
+    uint e = me / INVOCATIONS_PER_EIGHTH;
+    uint part = me % INVOCATIONS_PER_EIGHTH;
+    uint eighth = e * MESHLET_EIGHTH_CELLS;
+    uint first_k = part * CELLS_PER_INVOCATION;
+    for (uint k = first_k; k < first_k + CELLS_PER_INVOCATION; ++k) {
+        uvec3 cell = block_origin + meshlet_cell_of_code(eighth + k);
         if (any(greaterThanEqual(cell, last_cell))) {
             continue;
         }
@@ -80,23 +101,25 @@ void meshlet_analyse(uint listed) {
         triangles += mc_tri_count(mc_row_of_corners(corners, case_index, iso));
         core += mc_case_owned_crossings(case_index);
     }
-    s_eighth_cells[me] = cells;
-    s_eighth_triangles[me] = triangles;
-    s_eighth_core[me] = core;
-    uint eighth = me * MESHLET_CELLS_PER_INVOCATION;
-    uint quarter = (me / EIGHTHS_PER_QUARTER) * EIGHTHS_PER_QUARTER * MESHLET_CELLS_PER_INVOCATION;
-    s_eighth_padding[me] = cells == 0u ? 0u
-        : meshlet_padding_share(block_origin, eighth, MESHLET_CELLS_PER_INVOCATION, 0u, 1u, iso);
-    s_quarter_padding[me] = meshlet_padding_share(block_origin, quarter,
-        EIGHTHS_PER_QUARTER * MESHLET_CELLS_PER_INVOCATION, me % EIGHTHS_PER_QUARTER,
-        EIGHTHS_PER_QUARTER, iso);
-    s_block_padding[me] = meshlet_padding_share(block_origin, 0u, BLOCK_X * BLOCK_Y * BLOCK_Z, me,
-        MESHLET_WORKGROUP, iso);
+    atomicAdd(s_eighth_cells[e], cells);
+    atomicAdd(s_eighth_triangles[e], triangles);
+    atomicAdd(s_eighth_core[e], core);
+    atomicOr(s_eighth_occupied[e], occupied_mask);
+    // Padding counts are only read for eighths with occupied cells (the partition's rule).
+    const uint QUARTER_CELLS = EIGHTHS_PER_QUARTER * MESHLET_EIGHTH_CELLS;
+    const uint QUARTER_INVOCATIONS = MESHLET_WORKGROUP / 4u;
+    atomicAdd(s_eighth_padding[e], meshlet_padding_share(block_origin, eighth,
+        MESHLET_EIGHTH_CELLS, part, INVOCATIONS_PER_EIGHTH, iso));
+    atomicAdd(s_quarter_padding[e], meshlet_padding_share(block_origin,
+        (me / QUARTER_INVOCATIONS) * QUARTER_CELLS, QUARTER_CELLS, me % QUARTER_INVOCATIONS,
+        QUARTER_INVOCATIONS, iso));
+    atomicAdd(s_block_padding[e], meshlet_padding_share(block_origin, 0u,
+        BLOCK_X * BLOCK_Y * BLOCK_Z, me, MESHLET_WORKGROUP, iso));
     barrier();
 
     if (me == 0u) {
         uint total = 0u;
-        for (uint i = 0u; i < MESHLET_WORKGROUP; ++i) {
+        for (uint i = 0u; i < MESHLET_EIGHTHS; ++i) {
             s_first_cell[i] = total;
             total += s_eighth_cells[i];
         }
@@ -105,7 +128,7 @@ void meshlet_analyse(uint listed) {
         uint triangle_cursor = 0u;
         uint block_v = 0u;
         uint block_t = 0u;
-        for (uint i = 0u; i < MESHLET_WORKGROUP; ++i) {
+        for (uint i = 0u; i < MESHLET_EIGHTHS; ++i) {
             block_v += s_eighth_core[i] + s_block_padding[i];
             block_t += s_eighth_triangles[i];
         }
@@ -115,7 +138,7 @@ void meshlet_analyse(uint listed) {
             meshlet_add_subblock(n, vertex_cursor, triangle_cursor, 0u,
                                  BLOCK_X * BLOCK_Y * BLOCK_Z, block_v, block_t, 0u, total);
         } else {
-            for (uint q = 0u; q < MESHLET_WORKGROUP; q += EIGHTHS_PER_QUARTER) {
+            for (uint q = 0u; q < MESHLET_EIGHTHS; q += EIGHTHS_PER_QUARTER) {
                 uint quarter_v = 0u;
                 uint quarter_t = 0u;
                 uint quarter_c = 0u;
@@ -129,8 +152,8 @@ void meshlet_analyse(uint listed) {
                 }
                 if (meshlet_fits(quarter_v, quarter_t, quarter_c)) {
                     meshlet_add_subblock(n, vertex_cursor, triangle_cursor,
-                                         q * MESHLET_CELLS_PER_INVOCATION,
-                                         EIGHTHS_PER_QUARTER * MESHLET_CELLS_PER_INVOCATION,
+                                         q * MESHLET_EIGHTH_CELLS,
+                                         EIGHTHS_PER_QUARTER * MESHLET_EIGHTH_CELLS,
                                          quarter_v, quarter_t, s_first_cell[q], quarter_c);
                     continue;
                 }
@@ -138,8 +161,8 @@ void meshlet_analyse(uint listed) {
                 for (uint i = q; i < q + EIGHTHS_PER_QUARTER; ++i) {
                     if (s_eighth_cells[i] != 0u) {
                         meshlet_add_subblock(n, vertex_cursor, triangle_cursor,
-                                             i * MESHLET_CELLS_PER_INVOCATION,
-                                             MESHLET_CELLS_PER_INVOCATION,
+                                             i * MESHLET_EIGHTH_CELLS,
+                                             MESHLET_EIGHTH_CELLS,
                                              s_eighth_core[i] + s_eighth_padding[i],
                                              s_eighth_triangles[i], s_first_cell[i],
                                              s_eighth_cells[i]);
@@ -170,16 +193,15 @@ void meshlet_analyse(uint listed) {
     barrier();
 
     // The occupied cells' codes in order, packed four to a word.
-    uint at = s_first_cell[me];
-    for (uint k = 0u; k < MESHLET_CELLS_PER_INVOCATION; ++k) {
+    uint at = s_first_cell[e] + bitCount(s_eighth_occupied[e] & ((1u << first_k) - 1u));
+    for (uint k = first_k; k < first_k + CELLS_PER_INVOCATION; ++k) {
         if ((occupied_mask & (1u << k)) != 0u) {
             s_codes[at] = eighth + k;
             at += 1u;
         }
     }
     barrier();
-    const uint WORDS_PER_INVOCATION = BLOCK_X * BLOCK_Y * BLOCK_Z / 4u / MESHLET_WORKGROUP;
-    for (uint w = me * WORDS_PER_INVOCATION; w < (me + 1u) * WORDS_PER_INVOCATION; ++w) {
+    for (uint w = me; w < BLOCK_X * BLOCK_Y * BLOCK_Z / 4u; w += MESHLET_WORKGROUP) {
         payload.cells[w] = (s_codes[4u * w] & 255u) | (s_codes[4u * w + 1u] & 255u) << 8
             | (s_codes[4u * w + 2u] & 255u) << 16 | (s_codes[4u * w + 3u] & 255u) << 24;
     }

@@ -21,7 +21,8 @@ shared uint s_cell_rows[MESHLET_MAX_OCCUPIED_CELLS];
 shared uint s_core_count[MESHLET_WORKGROUP];
 shared uint s_padding_count[MESHLET_WORKGROUP];
 shared uint s_triangle_count[MESHLET_WORKGROUP];
-shared uint s_totals[3];
+// Totals of the counts: core vertices, padding vertices, triangles.
+shared uint s_sums[3];
 // The meshlet's AABB as float bits: positions are grid coordinates, never negative, so their
 // bits order as their values and integer atomics find the extremes.
 shared uint s_aabb_min[3];
@@ -36,15 +37,35 @@ uint meshlet_point_slot(uvec3 p, uvec3 lo, uvec3 points) {
     return (d.z * points.y + d.y) * points.x + d.x;
 }
 
-// Exclusive prefix of `counts` in place; returns the total. One invocation runs it.
-uint meshlet_scan(inout uint counts[MESHLET_WORKGROUP]) {
+// Exclusive prefixes of the three per-invocation counts in place, one count per invocation
+// of the first three (so the three run side by side); their totals into s_sums. Ends with a
+// barrier.
+void meshlet_scan_counts() {
+    uint me = gl_LocalInvocationIndex;
     uint total = 0u;
-    for (uint i = 0u; i < MESHLET_WORKGROUP; ++i) {
-        uint c = counts[i];
-        counts[i] = total;
-        total += c;
+    if (me == 0u) {
+        for (uint i = 0u; i < MESHLET_WORKGROUP; ++i) {
+            uint c = s_core_count[i];
+            s_core_count[i] = total;
+            total += c;
+        }
+    } else if (me == 1u) {
+        for (uint i = 0u; i < MESHLET_WORKGROUP; ++i) {
+            uint c = s_padding_count[i];
+            s_padding_count[i] = total;
+            total += c;
+        }
+    } else if (me == 2u) {
+        for (uint i = 0u; i < MESHLET_WORKGROUP; ++i) {
+            uint c = s_triangle_count[i];
+            s_triangle_count[i] = total;
+            total += c;
+        }
     }
-    return total;
+    if (me < 3u) {
+        s_sums[me] = total;
+    }
+    barrier();
 }
 
 // `block_samples_held`: the workgroup already holds the samples of the block's box (the
@@ -98,20 +119,15 @@ void meshlet_extract(uint s, bool block_samples_held) {
         s_aabb_max[me] = 0u;
     }
     barrier();
-    if (me == 0u) {
-        uint core_total = meshlet_scan(s_core_count);
-        s_totals[0] = core_total;
-        s_totals[1] = core_total + meshlet_scan(s_padding_count);
-        s_totals[2] = meshlet_scan(s_triangle_count);
-        uint vertices = s_totals[1];
-        uint expected = sub.counts;
-        if (vertices != (expected & 0xffffu) || s_totals[2] != expected >> 16) {
-            atomicOr(counters.overflow, MESHLET_OVERFLOW_MISMATCH);
-        }
+    meshlet_scan_counts();
+    uint core_total = s_sums[0];
+    uint vertices = core_total + s_sums[1];
+    uint expected = sub.counts;
+    if (me == 0u && (vertices != (expected & 0xffffu) || s_sums[2] != expected >> 16)) {
+        atomicOr(counters.overflow, MESHLET_OVERFLOW_MISMATCH);
     }
-    barrier();
-    uint vertex_count = min(s_totals[1], MESHLET_MAX_VERTICES);
-    uint triangle_count = min(s_totals[2], MESHLET_MAX_TRIANGLES);
+    uint vertex_count = min(vertices, MESHLET_MAX_VERTICES);
+    uint triangle_count = min(s_sums[2], MESHLET_MAX_TRIANGLES);
     uint first_vertex = payload.base_vertex + (sub.offsets & 0xffffu);
     uint first_triangle = payload.base_triangle + (sub.offsets >> 16);
 
@@ -131,7 +147,7 @@ void meshlet_extract(uint s, bool block_samples_held) {
             uint j = padding_first + i - cell_items;
             p = mc_box_point(lo, points, j);
             if (i == cell_items) {
-                local = s_totals[0] + s_padding_count[me];
+                local = core_total + s_padding_count[me];
             }
             if (!any(equal(p, hi))) {
                 continue;

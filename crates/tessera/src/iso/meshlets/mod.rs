@@ -12,8 +12,10 @@
 //! * [`ExtractionPath::Compute`]: one compute workgroup per block analyses it and extracts
 //!   its subblocks one after the other, the payload in shared memory.
 //!
-//! Changes from the paper: workgroups of 32 sum over shared memory, not a subgroup (lavapipe's
-//! subgroup has 8 invocations); the meshlet limits and the partition are
+//! Changes from the paper: workgroups sum over shared memory, not a subgroup (lavapipe's
+//! subgroup has 8 invocations); the compute path's workgroups have 128 invocations, four per
+//! eighth of a block ([`ExtractionPath::workgroup_size`]); a block's samples are read once
+//! into shared memory (`samples.glsl`); the meshlet limits and the partition are
 //! `tessera_data::meshlets`'s, whose CPU reference the output equals bit for bit once both are
 //! sorted by block and subblock. A block whose reservation passes the buffers' capacity
 //! writes nothing; the totals keep counting, so the host grows the buffers and extracts again.
@@ -61,6 +63,19 @@ pub enum ExtractionPath {
     /// The paper's task (region analysis) and mesh (extraction) stages; needs
     /// `VK_EXT_mesh_shader`.
     MeshShaders,
+}
+
+impl ExtractionPath {
+    /// Invocations per block. The paper's task and mesh workgroups have one per eighth of a
+    /// block (32). The compute path runs both stages in one workgroup, with four per eighth:
+    /// with 32, a block held too few threads to hide the latency of its dependent steps
+    /// (docs/BENCHMARKS.md, H200 runs 41-43).
+    pub fn workgroup_size(self) -> u32 {
+        match self {
+            ExtractionPath::Compute => 128,
+            ExtractionPath::MeshShaders => 32,
+        }
+    }
 }
 
 /// The slots of the extraction pipelines, as `buffers.glsl` binds them.
@@ -112,7 +127,7 @@ impl MeshletExtractor {
                 what: "task and mesh shaders (VK_EXT_mesh_shader)".into(),
             }));
         }
-        let defines = meshlet_defines(scalar, rule);
+        let defines = meshlet_defines(scalar, rule, path);
         let occupied = compiler.compile(&builtin_shader!("occupied.comp.glsl"), &defines)?;
         let producer = match path {
             ExtractionPath::Compute => {

@@ -1,9 +1,10 @@
 // What the region analysis hands the extraction of one block's meshlets: the task payload on
 // the mesh-shader path, shared memory on the compute path (tessera_data::meshlets::gpu_layout).
 
-// Workgroup size of both stages: one analysis invocation per 2×2×2 eighth of a block
-// (MESHLET_CELLS_PER_INVOCATION cells each).
-#define MESHLET_WORKGROUP (BLOCK_X * BLOCK_Y * BLOCK_Z / MESHLET_CELLS_PER_INVOCATION)
+// The 2×2×2 eighths of a block (MESHLET_EIGHTH_CELLS cells each), the smallest subblocks. The
+// workgroup (MESHLET_WORKGROUP, from the host) has one invocation per eighth on the task/mesh
+// path, as in the paper, and several on the compute path.
+#define MESHLET_EIGHTHS (BLOCK_X * BLOCK_Y * BLOCK_Z / MESHLET_EIGHTH_CELLS)
 
 // One subblock of the partition, offsets relative to the block's reservation.
 struct MeshletSubblock {
@@ -20,7 +21,7 @@ struct MeshletPayload {
     uint base_triangle;  // a multiple of 4: no two meshlets share a word of local indices
     uint subblock_count;
     // At most one subblock per eighth.
-    MeshletSubblock subblocks[MESHLET_WORKGROUP];
+    MeshletSubblock subblocks[MESHLET_EIGHTHS];
     // Morton codes of the block's occupied cells in order, a byte each: the cells of each
     // subblock are a run of them.
     uint cells[BLOCK_X * BLOCK_Y * BLOCK_Z / 4u];
