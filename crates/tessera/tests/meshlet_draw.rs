@@ -110,14 +110,16 @@ fn occlusion_culling_draws_fewer_meshlets_and_the_same_pixels() {
     for technique in [Technique::Meshlets, Technique::Offline] {
         let mut culled = renderer_for(&gpu, technique, PathChoice::Compute, true, &data, 0.3);
         let mut all = renderer_for(&gpu, technique, PathChoice::Compute, false, &data, 0.3);
-        let mut frames = 0;
-        for (iso, azimuth) in [
+        for (frame, (iso, azimuth)) in [
             (0.3, 35.0),
             (0.3, 35.0),
             (0.3, 60.0),
             (0.3, 100.0),
             (0.25, 100.0),
-        ] {
+        ]
+        .into_iter()
+        .enumerate()
+        {
             let what = format!("{} iso {iso} azimuth {azimuth}", technique.name());
             let orbit = OrbitCamera {
                 azimuth_deg: azimuth,
@@ -135,7 +137,7 @@ fn occlusion_culling_draws_fewer_meshlets_and_the_same_pixels() {
             );
             let in_view = reference.stats.details["meshlets_drawn"];
             assert_eq!(detail("meshlets_drawn"), first + second, "{what}");
-            let new_surface = frames == 0 || iso != 0.3;
+            let new_surface = frame == 0 || iso != 0.3;
             if new_surface {
                 // Nothing seen yet: everything in view goes to pass 2, where the empty pyramid
                 // hides nothing.
@@ -155,7 +157,6 @@ fn occlusion_culling_draws_fewer_meshlets_and_the_same_pixels() {
                 "{what}: unwritten pixels"
             );
             assert_images_match(&what, &out.image, &reference.image, 0, 0.999);
-            frames += 1;
         }
     }
     assert_clean(&gpu);
