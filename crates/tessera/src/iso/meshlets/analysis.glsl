@@ -115,7 +115,7 @@ void meshlet_analyse(uint listed) {
         QUARTER_INVOCATIONS, iso));
     atomicAdd(s_block_padding[e], meshlet_padding_share(block_origin, 0u,
         BLOCK_X * BLOCK_Y * BLOCK_Z, me, MESHLET_WORKGROUP, iso));
-    meshlet_barrier();
+    barrier();
 
     if (me == 0u) {
         uint total = 0u;
@@ -190,7 +190,7 @@ void meshlet_analyse(uint listed) {
         }
         block_meshlets[listed] = uvec2(payload.base_meshlet, n);
     }
-    meshlet_barrier();
+    barrier();
 
     // The occupied cells' codes in order, packed four to a word.
     uint at = s_first_cell[e] + bitCount(s_eighth_occupied[e] & ((1u << first_k) - 1u));
@@ -200,10 +200,10 @@ void meshlet_analyse(uint listed) {
             at += 1u;
         }
     }
-    meshlet_barrier();
+    barrier();
     for (uint w = me; w < BLOCK_X * BLOCK_Y * BLOCK_Z / 4u; w += MESHLET_WORKGROUP) {
         payload.cells[w] = (s_codes[4u * w] & 255u) | (s_codes[4u * w + 1u] & 255u) << 8
             | (s_codes[4u * w + 2u] & 255u) << 16 | (s_codes[4u * w + 3u] & 255u) << 24;
     }
-    meshlet_barrier();
+    barrier();
 }

@@ -29,6 +29,6 @@ void main() {
     meshlet_analyse(listed);
     for (uint s = 0u; s < payload.subblock_count; ++s) {
         meshlet_extract(s, true);
-        meshlet_barrier();
+        barrier();
     }
 }

@@ -65,7 +65,7 @@ void meshlet_scan_counts() {
     if (me < 3u) {
         s_sums[me] = total;
     }
-    meshlet_barrier();
+    barrier();
 }
 
 // `block_samples_held`: the workgroup already holds the samples of the block's box (the
@@ -118,7 +118,7 @@ void meshlet_extract(uint s, bool block_samples_held) {
         s_aabb_min[me] = 0x7f800000u;  // +inf
         s_aabb_max[me] = 0u;
     }
-    meshlet_barrier();
+    barrier();
     meshlet_scan_counts();
     uint core_total = s_sums[0];
     uint vertices = core_total + s_sums[1];
@@ -180,7 +180,7 @@ void meshlet_extract(uint s, bool block_samples_held) {
         atomicMin(s_aabb_min[a], floatBitsToUint(lo_bound[a]));
         atomicMax(s_aabb_max[a], floatBitsToUint(hi_bound[a]));
     }
-    meshlet_barrier();
+    barrier();
 
     // Triangles: local indices packed into shared words, then copied out whole.
     uint t = 3u * s_triangle_count[me];  // the local index at hand
@@ -198,7 +198,7 @@ void meshlet_extract(uint s, bool block_samples_held) {
             }
         }
     }
-    meshlet_barrier();
+    barrier();
     uint words = (triangle_count + 3u) / 4u * 3u;
     for (uint w = me; w < words; w += MESHLET_WORKGROUP) {
         local_index_words[first_triangle / 4u * 3u + w] = s_index_words[w];

@@ -6,15 +6,6 @@
 // path, as in the paper, and several on the compute path.
 #define MESHLET_EIGHTHS (BLOCK_X * BLOCK_Y * BLOCK_Z / MESHLET_EIGHTH_CELLS)
 
-// A workgroup barrier that also makes every invocation's shared-memory writes visible to the
-// others. Task and mesh workgroups share memory as compute workgroups do, but the memory
-// ordering of a bare barrier() there is not what GLSL gives compute shaders, so it is
-// stated.
-void meshlet_barrier() {
-    memoryBarrierShared();
-    barrier();
-}
-
 // One subblock of the partition, offsets relative to the block's reservation.
 struct MeshletSubblock {
     uint codes;      // first Morton code | code count << 16

@@ -30,7 +30,7 @@ void meshlet_load_samples(uvec3 lo, uvec3 hi) {
                              i / (held_size.x * held_size.y));
         s_samples[i] = volume_texel(volume_tex, clamp(held_first + offset, ivec3(0), last));
     }
-    meshlet_barrier();
+    barrier();
 }
 
 float meshlet_sample(uvec3 p) {
