@@ -22,9 +22,13 @@ taskPayloadSharedEXT MeshletPayload payload;
 
 void main() {
     uint listed = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
-    if (listed >= block_header.count) {
-        EmitMeshTasksEXT(0u, 1u, 1u);  // the last row of a 2-D grid
+    // Past the list only in the last row of a 2-D grid; the same for the whole workgroup, so
+    // the analysis's barriers stay in uniform control flow. One EmitMeshTasksEXT, at the end:
+    // with an early one for the rows' tail, NVIDIA's driver (580) extracted some blocks twice
+    // once the list passed one row (docs/BENCHMARKS.md, run 44).
+    bool listed_block = listed < block_header.count;
+    if (listed_block) {
+        meshlet_analyse(listed);
     }
-    meshlet_analyse(listed);
-    EmitMeshTasksEXT(payload.subblock_count, 1u, 1u);
+    EmitMeshTasksEXT(listed_block ? payload.subblock_count : 0u, 1u, 1u);
 }
