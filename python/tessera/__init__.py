@@ -68,7 +68,8 @@ def bench(scenario, device=None, **options):
     """Runs one of ``tessera bench``'s scenarios (``"isosurface"``, ``"iso-sweep"``,
     ``"extraction"``, ``"interval"``, ...) and returns its records as dicts: technique, path,
     dataset, image size, GPU-timestamp medians per stage (``stages``) and counters
-    (``counts``). Options: ``quick`` (small data, for CPU drivers), ``frames``, ``warmup``,
+    (``counts``). Options: ``quick`` (small data, for CPU drivers), ``frames``, ``warmup`` (at
+    least; more until frame times settle, up to 200 in all, except with ``quick``),
     ``iso_fraction``, ``data`` (a volume file or spec instead of the built-in phantoms),
     ``sizes`` (a list of ``(width, height)``). Notes the scenario makes are printed."""
     if device is None:

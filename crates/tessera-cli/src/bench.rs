@@ -4,6 +4,7 @@ use anyhow::{bail, Context, Result};
 use clap::Args;
 use std::io::Write;
 use std::path::PathBuf;
+use tessera::bench::repeat::{spreads, Spread, REPEAT_TOLERANCE};
 use tessera::bench::{BenchConfig, BenchRecord, FramePlan, RecordSink, SCENARIOS};
 use tessera::path::{Path, PathChoice};
 use tessera_gpu::GpuOptions;
@@ -23,8 +24,18 @@ pub struct BenchArgs {
     /// Timed frames per measurement (after warm-up).
     #[arg(long, default_value_t = 100)]
     frames: u32,
+    /// Warm-up frames per measurement at least; more follow until the frame time settles
+    /// (the medians of the last two windows of 8 frames within 2 %), up to --max-warmup.
     #[arg(long, default_value_t = 10)]
     warmup: u32,
+    /// Warm-up frames per measurement at most (at or below --warmup: exactly --warmup).
+    /// Default 200, or --warmup with --quick (smoke runs on CPU drivers do not settle).
+    #[arg(long)]
+    max_warmup: Option<u32>,
+    /// Run the scenarios this many times and list the cells whose stage medians moved by more
+    /// than 3 % between runs (every run's records are written, each with its `repeat`).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=10))]
+    repeat: u32,
     /// Small volumes and images, for CPU drivers and smoke tests.
     #[arg(long)]
     pub(crate) quick: bool,
@@ -54,9 +65,13 @@ fn parse_path(text: &str) -> std::result::Result<Path, String> {
     }
 }
 
-/// Prints each record as table rows and appends it to the JSON-lines file.
+/// Prints each record as table rows and appends it to the JSON-lines file; keeps the records
+/// when the scenarios run more than once.
 struct Sink {
     file: Option<(std::fs::File, PathBuf)>,
+    /// The run being measured (`--repeat`), from 0.
+    repeat: u32,
+    kept: Option<Vec<BenchRecord>>,
 }
 
 impl RecordSink for Sink {
@@ -64,10 +79,14 @@ impl RecordSink for Sink {
         println!("note: {text}");
     }
 
-    fn emit(&mut self, r: &BenchRecord) -> tessera::Result<()> {
+    fn emit(&mut self, measured: &BenchRecord) -> tessera::Result<()> {
+        let r = &BenchRecord {
+            repeat: self.repeat,
+            ..measured.clone()
+        };
         for s in &r.stages {
             println!(
-                "{:<20} {:<10} {:<9} {:<32} {:>5}x{:<5} {:<14} {:>10.3} {:>10.3} {:>10.3}",
+                "{:<20} {:<10} {:<9} {:<32} {:>5}x{:<5} {:<14} {:>10.3} {:>10.3} {:>10.3} {:>7}",
                 r.scenario,
                 r.technique,
                 r.path,
@@ -77,7 +96,8 @@ impl RecordSink for Sink {
                 s.stage,
                 s.median_ms,
                 s.min_ms,
-                s.max_ms
+                s.max_ms,
+                s.warmup_frames
             );
         }
         if !r.variant.is_empty() {
@@ -98,6 +118,9 @@ impl RecordSink for Sink {
             writeln!(f, "{line}").map_err(|e| {
                 tessera::Error::Invalid(format!("writing a record to {}: {e}", path.display()))
             })?;
+        }
+        if let Some(kept) = &mut self.kept {
+            kept.push(r.clone());
         }
         Ok(())
     }
@@ -124,14 +147,18 @@ pub fn run(options: &GpuOptions, args: &BenchArgs) -> Result<()> {
         ),
         None => None,
     };
-    let mut sink = Sink { file };
+    let mut sink = Sink {
+        file,
+        repeat: 0,
+        kept: (args.repeat > 1).then(Vec::new),
+    };
     let caps = gpu.caps();
     println!(
         "device: {} — {} {}",
         caps.device_name, caps.driver_name, caps.driver_info
     );
     println!(
-        "{:<20} {:<10} {:<9} {:<32} {:>11} {:<14} {:>10} {:>10} {:>10}",
+        "{:<20} {:<10} {:<9} {:<32} {:>11} {:<14} {:>10} {:>10} {:>10} {:>7}",
         "scenario",
         "technique",
         "path",
@@ -140,12 +167,18 @@ pub fn run(options: &GpuOptions, args: &BenchArgs) -> Result<()> {
         "stage",
         "median ms",
         "min ms",
-        "max ms"
+        "max ms",
+        "warm-up"
     );
     let config = BenchConfig {
         plan: FramePlan {
             warmup: args.warmup,
             frames: args.frames.max(1),
+            max_warmup: args.max_warmup.unwrap_or(if args.quick {
+                0
+            } else {
+                FramePlan::default().max_warmup
+            }),
         },
         quick: args.quick,
         iso_fraction: args.iso_fraction,
@@ -154,8 +187,39 @@ pub fn run(options: &GpuOptions, args: &BenchArgs) -> Result<()> {
         paths: args.paths.clone(),
         sizes: args.sizes.clone(),
     };
-    for scenario in scenarios {
-        tessera::bench::run(&gpu, scenario, &config, &mut sink)?;
+    for repeat in 0..args.repeat {
+        if args.repeat > 1 {
+            println!("run {} of {}", repeat + 1, args.repeat);
+        }
+        sink.repeat = repeat;
+        for scenario in &scenarios {
+            tessera::bench::run(&gpu, scenario, &config, &mut sink)?;
+        }
+    }
+    if let Some(kept) = &sink.kept {
+        print_spreads(&spreads(kept));
     }
     crate::gpu::check_validation(&gpu)
+}
+
+/// The repeat check: how far each stage's median moved between runs, flagged cells first.
+fn print_spreads(spreads: &[Spread]) {
+    let flagged: Vec<&Spread> = spreads.iter().filter(|s| s.flagged()).collect();
+    println!(
+        "repeat check: {} of {} stages moved by more than {:.0} % between runs{}",
+        flagged.len(),
+        spreads.len(),
+        100.0 * REPEAT_TOLERANCE,
+        if flagged.is_empty() { "" } else { ":" }
+    );
+    for s in flagged {
+        let medians: Vec<String> = s.medians_ms.iter().map(|m| format!("{m:.3}")).collect();
+        println!(
+            "  {} / {}: {} ms ({:.1} %)",
+            s.cell,
+            s.stage,
+            medians.join(", "),
+            100.0 * s.spread
+        );
+    }
 }

@@ -11,8 +11,12 @@ use serde::Serialize;
 /// Frame counts for one measurement.
 #[derive(Debug, Clone, Copy)]
 pub struct FramePlan {
+    /// Warm-up frames at least.
     pub warmup: u32,
     pub frames: u32,
+    /// Warm-up frames at most: past `warmup`, frames keep warming up until their time settles
+    /// ([`WarmUp`]) or this many ran. At or below `warmup`: exactly `warmup` frames.
+    pub max_warmup: u32,
 }
 
 impl Default for FramePlan {
@@ -20,7 +24,69 @@ impl Default for FramePlan {
         FramePlan {
             warmup: 10,
             frames: 100,
+            max_warmup: 200,
         }
+    }
+}
+
+/// Frames in each of the two windows whose medians [`WarmUp`] compares.
+pub const SETTLE_WINDOW: usize = 8;
+/// How close (relative) the two windows' medians must be for the frame time to count as settled.
+pub const SETTLE_TOLERANCE: f64 = 0.02;
+
+/// Decides when a measurement's warm-up is over: after at least `plan.warmup` frames, once the
+/// median time of the last [`SETTLE_WINDOW`] frames is within [`SETTLE_TOLERANCE`] of the
+/// median of the window before (clocks ramped, caches and lazily built pipelines warm), or
+/// after `plan.max_warmup` frames.
+pub struct WarmUp {
+    plan: FramePlan,
+    frame_ms: Vec<f64>,
+}
+
+impl WarmUp {
+    pub fn new(plan: FramePlan) -> WarmUp {
+        WarmUp {
+            plan,
+            frame_ms: Vec::new(),
+        }
+    }
+
+    /// Whether the next frame is still a warm-up frame.
+    pub fn warming(&self) -> bool {
+        let done = self.frame_ms.len() as u32;
+        if done < self.plan.warmup {
+            return true;
+        }
+        if done >= self.plan.max_warmup {
+            return false;
+        }
+        let n = self.frame_ms.len();
+        if n < 2 * SETTLE_WINDOW {
+            return true;
+        }
+        let last = median(&self.frame_ms[n - SETTLE_WINDOW..]);
+        let before = median(&self.frame_ms[n - 2 * SETTLE_WINDOW..n - SETTLE_WINDOW]);
+        (last - before).abs() > SETTLE_TOLERANCE * before.abs().max(f64::MIN_POSITIVE)
+    }
+
+    /// Records a warm-up frame's GPU time (all its scopes).
+    pub fn add(&mut self, frame_ms: f64) {
+        self.frame_ms.push(frame_ms);
+    }
+
+    /// Warm-up frames run so far.
+    pub fn frames(&self) -> u32 {
+        self.frame_ms.len() as u32
+    }
+}
+
+fn median(samples: &[f64]) -> f64 {
+    let mut s = samples.to_vec();
+    s.sort_by(f64::total_cmp);
+    match s.len() {
+        0 => f64::NAN,
+        n if n % 2 == 1 => s[n / 2],
+        n => 0.5 * (s[n / 2 - 1] + s[n / 2]),
     }
 }
 
@@ -30,28 +96,35 @@ pub struct StageStats {
     pub median_ms: f64,
     pub min_ms: f64,
     pub max_ms: f64,
+    /// Warm-up frames the measurement ran before its timed frames ([`WarmUp`]).
+    pub warmup_frames: u32,
 }
 
 impl StageStats {
     pub fn from_samples(stage: &str, samples: &[f64]) -> StageStats {
         let mut s = samples.to_vec();
         s.sort_by(f64::total_cmp);
-        let median = match s.len() {
-            0 => f64::NAN,
-            n if n % 2 == 1 => s[n / 2],
-            n => 0.5 * (s[n / 2 - 1] + s[n / 2]),
-        };
         StageStats {
             stage: stage.to_string(),
-            median_ms: median,
+            median_ms: median(&s),
             min_ms: s.first().copied().unwrap_or(f64::NAN),
             max_ms: s.last().copied().unwrap_or(f64::NAN),
+            warmup_frames: 0,
+        }
+    }
+
+    /// The same statistics, noted as measured after `frames` warm-up frames.
+    pub fn after_warmup(self, frames: u32) -> StageStats {
+        StageStats {
+            warmup_frames: frames,
+            ..self
         }
     }
 }
 
-/// Submits `plan.warmup + plan.frames` frames recorded by `record` (which opens timer scopes)
-/// and returns per-stage statistics over the timed frames.
+/// Submits warm-up frames recorded by `record` (which opens timer scopes) until [`WarmUp`]
+/// says they settled, then `plan.frames` timed frames, and returns per-stage statistics over
+/// the timed frames.
 pub fn time_frames(
     gpu: &Gpu,
     plan: FramePlan,
@@ -60,12 +133,15 @@ pub fn time_frames(
 ) -> Result<Vec<StageStats>> {
     let mut timer = Timer::new(gpu, max_scopes)?;
     let mut samples: Vec<(String, Vec<f64>)> = Vec::new();
-    for frame in 0..plan.warmup + plan.frames {
+    let mut warm_up = WarmUp::new(plan);
+    while warm_up.warming() {
         timer.reset(gpu);
         gpu.submit("benchmark frame", |rec| record(rec, &mut timer))?;
-        if frame < plan.warmup {
-            continue;
-        }
+        warm_up.add(timer.read_ms(gpu)?.iter().map(|s| s.1).sum());
+    }
+    for _ in 0..plan.frames {
+        timer.reset(gpu);
+        gpu.submit("benchmark frame", |rec| record(rec, &mut timer))?;
         for (i, (name, ms)) in timer.read_ms(gpu)?.into_iter().enumerate() {
             if samples.len() <= i {
                 samples.push((name, Vec::new()));
@@ -75,7 +151,7 @@ pub fn time_frames(
     }
     Ok(samples
         .iter()
-        .map(|(name, s)| StageStats::from_samples(name, s))
+        .map(|(name, s)| StageStats::from_samples(name, s).after_warmup(warm_up.frames()))
         .collect())
 }
 
@@ -119,5 +195,39 @@ mod tests {
         assert_eq!((s.median_ms, s.min_ms, s.max_ms), (2.5, 1.0, 10.0));
         let s = StageStats::from_samples("x", &[5.0, 1.0, 2.0]);
         assert_eq!(s.median_ms, 2.0);
+    }
+
+    fn warm_up_frames(plan: FramePlan, frame_ms: impl Fn(u32) -> f64) -> u32 {
+        let mut w = WarmUp::new(plan);
+        while w.warming() {
+            w.add(frame_ms(w.frames()));
+        }
+        w.frames()
+    }
+
+    #[test]
+    fn warm_up_runs_until_frame_times_settle() {
+        let plan = FramePlan {
+            warmup: 3,
+            frames: 10,
+            max_warmup: 500,
+        };
+        // Steady from the start: the minimum, or two windows when that is more.
+        assert_eq!(warm_up_frames(plan, |_| 1.0), 2 * SETTLE_WINDOW as u32);
+        // Slow first frames (clocks ramping): warming lasts until two windows agree.
+        let ramp = |k: u32| if k < 40 { 5.0 - 0.1 * k as f64 } else { 1.0 };
+        let frames = warm_up_frames(plan, ramp);
+        assert!(
+            (40..40 + 2 * SETTLE_WINDOW as u32 + 1).contains(&frames),
+            "{frames}"
+        );
+        // Frame times that keep growing never settle: capped.
+        assert_eq!(warm_up_frames(plan, |k| f64::from(k * k)), 500);
+        // A fixed warm-up when the cap is not above the minimum.
+        let fixed = FramePlan {
+            max_warmup: 0,
+            ..plan
+        };
+        assert_eq!(warm_up_frames(fixed, |k| k as f64), 3);
     }
 }

@@ -58,7 +58,16 @@ fn _bench(
         )));
     }
     let config = BenchConfig {
-        plan: FramePlan { warmup, frames },
+        plan: FramePlan {
+            warmup,
+            frames,
+            // Quick runs are smoke tests on CPU drivers: a fixed warm-up.
+            max_warmup: if quick {
+                0
+            } else {
+                FramePlan::default().max_warmup
+            },
+        },
         quick,
         iso_fraction,
         data,

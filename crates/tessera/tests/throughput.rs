@@ -141,6 +141,7 @@ fn run_times_every_path() {
         plan: FramePlan {
             warmup: 1,
             frames: 2,
+            max_warmup: 0,
         },
     };
     let records = run(&gpu, &compiler, &opts).unwrap();

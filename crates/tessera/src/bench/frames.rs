@@ -10,6 +10,7 @@ use super::{FramePlan, StageStats};
 use crate::error::{Error, Result};
 use crate::renderer::{FrameOutcome, Renderer, Target, MAX_TIMER_SCOPES};
 use tessera_data::{OrbitCamera, View};
+use tessera_gpu::timing::WarmUp;
 use tessera_gpu::{Gpu, Recorder, Timer};
 
 /// Sets frame `k`'s look on the renderer before it is recorded (an isovalue sweep); `None`
@@ -22,13 +23,21 @@ trait TimedFrame {
     fn finish(&mut self, gpu: &Gpu) -> Result<()>;
 }
 
-/// Per timed frame, the GPU milliseconds of its scopes in recording order.
-type ScopeTimes = Vec<Vec<(String, f64)>>;
+/// A measurement's timed frames (per frame, the GPU milliseconds of its scopes in recording
+/// order) and the warm-up frames run before them.
+struct Timed {
+    frames: Vec<Vec<(String, f64)>>,
+    warmup_frames: u32,
+}
 
-fn time_loop(gpu: &Gpu, plan: FramePlan, timed: &mut dyn TimedFrame) -> Result<ScopeTimes> {
+/// Warm-up frames until they settle ([`WarmUp`]), then `plan.frames` timed frames: their
+/// scope times and the warm-up frames run.
+fn time_loop(gpu: &Gpu, plan: FramePlan, timed: &mut dyn TimedFrame) -> Result<Timed> {
     let mut timer = Timer::new(gpu, MAX_TIMER_SCOPES)?;
     let mut frames = Vec::with_capacity(plan.frames as usize);
-    for frame in 0..plan.warmup + plan.frames {
+    let mut warm_up = WarmUp::new(plan);
+    let mut frame = 0;
+    while frames.len() < plan.frames as usize {
         timer.reset(gpu);
         let mut recorded = Ok(());
         gpu.submit("benchmark frame", |rec| {
@@ -36,11 +45,18 @@ fn time_loop(gpu: &Gpu, plan: FramePlan, timed: &mut dyn TimedFrame) -> Result<S
         })?;
         recorded?;
         timed.finish(gpu)?;
-        if frame >= plan.warmup {
-            frames.push(timer.read_ms(gpu)?);
+        let scopes = timer.read_ms(gpu)?;
+        if warm_up.warming() {
+            warm_up.add(scopes.iter().map(|s| s.1).sum());
+        } else {
+            frames.push(scopes);
         }
+        frame += 1;
     }
-    Ok(frames)
+    Ok(Timed {
+        frames,
+        warmup_frames: warm_up.frames(),
+    })
 }
 
 /// The stage that sums a frame's stages when it has several.
@@ -48,24 +64,29 @@ pub(super) const FRAME_STAGE: &str = "frame";
 
 /// Statistics per scope (by position), then, when a frame has several scopes, of their sum
 /// as [`FRAME_STAGE`] (the stages follow each other).
-fn stage_stats(frames: &ScopeTimes) -> Vec<StageStats> {
+fn stage_stats(timed: &Timed) -> Vec<StageStats> {
+    let frames = &timed.frames;
     let scopes = frames.first().map_or(0, Vec::len);
     let mut stages: Vec<StageStats> = (0..scopes)
         .map(|i| {
             let samples: Vec<f64> = frames.iter().map(|f| f[i].1).collect();
-            StageStats::from_samples(&frames[0][i].0, &samples)
+            StageStats::from_samples(&frames[0][i].0, &samples).after_warmup(timed.warmup_frames)
         })
         .collect();
     if scopes > 1 {
-        stages.push(sum_stats(frames, FRAME_STAGE));
+        stages.push(sum_stats(timed, FRAME_STAGE));
     }
     stages
 }
 
 /// Statistics of each frame's scopes summed, as one stage `name`.
-fn sum_stats(frames: &ScopeTimes, name: &str) -> StageStats {
-    let totals: Vec<f64> = frames.iter().map(|f| f.iter().map(|s| s.1).sum()).collect();
-    StageStats::from_samples(name, &totals)
+fn sum_stats(timed: &Timed, name: &str) -> StageStats {
+    let totals: Vec<f64> = timed
+        .frames
+        .iter()
+        .map(|f| f.iter().map(|s| s.1).sum())
+        .collect();
+    StageStats::from_samples(name, &totals).after_warmup(timed.warmup_frames)
 }
 
 /// The error for a timed frame that overflowed although settling sized its buffers.
@@ -158,7 +179,7 @@ fn mono_frames(
     plan: FramePlan,
     distinct: u32,
     each_frame: EachFrame,
-) -> Result<ScopeTimes> {
+) -> Result<Timed> {
     settle_frames(gpu, renderer, view, distinct.max(1), each_frame)?;
     renderer.prepare_frame(gpu, view)?;
     let target = Target::new(gpu, view.size.0, view.size.1)?;

@@ -8,6 +8,7 @@ mod frames;
 mod interval;
 mod iso;
 mod param;
+pub mod repeat;
 mod stereo;
 
 use crate::error::{Error, Result};
@@ -56,10 +57,7 @@ pub struct BenchConfig {
 impl Default for BenchConfig {
     fn default() -> Self {
         BenchConfig {
-            plan: FramePlan {
-                warmup: 10,
-                frames: 100,
-            },
+            plan: FramePlan::default(),
             quick: false,
             iso_fraction: 0.3,
             data: None,
@@ -111,8 +109,11 @@ pub struct BenchRecord {
     pub dataset: String,
     pub width: u32,
     pub height: u32,
+    /// Warm-up frames at least (each stage says how many its measurement ran).
     pub warmup: u32,
     pub frames: u32,
+    /// Which run of the scenario measured it (`tessera bench --repeat`), from 0.
+    pub repeat: u32,
     pub stages: Vec<StageStats>,
     pub counts: BTreeMap<String, f64>,
     pub device: String,
@@ -138,6 +139,7 @@ impl BenchRecord {
             height: 0,
             warmup: 0,
             frames: 0,
+            repeat: 0,
             stages: vec![],
             counts: BTreeMap::new(),
             device: caps.device_name.clone(),
