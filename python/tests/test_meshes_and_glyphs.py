@@ -78,6 +78,69 @@ def test_point_data_must_fit():
         tessera.TetMesh(points, tets, point_data={"sum": values}, scalars="temp")
 
 
+# One value per tet of cube_tets(): the cube's six tets all share vertices 0 and 7.
+CELL_VALUES = np.array([1.0, 4.0, 2.0, 8.0, 3.0, 5.5], np.float32)
+
+
+def averaged_onto_points(n_points, tets, cell_values):
+    """Each point's plain mean of the values of the tets that use it, summed in float64."""
+    sums = np.zeros(n_points)
+    counts = np.zeros(n_points)
+    np.add.at(sums, tets, cell_values.astype(np.float64)[:, None])
+    np.add.at(counts, tets, 1)
+    return (sums / counts).astype(np.float32)
+
+
+@pytest.mark.parametrize("technique", ["interval", "shell"])
+def test_cell_data_renders_as_its_average_over_the_points(device, technique):
+    points, tets, _ = cube_tets()
+    averaged = averaged_onto_points(len(points), tets, CELL_VALUES)
+    # Vertex 0 is in every tet; the others in two (their mean differs from the global one).
+    assert averaged[0] == np.float32(CELL_VALUES.astype(np.float64).mean())
+    images = []
+    for mesh in (
+        tessera.TetMesh(points, tets, cell_data={"pressure": CELL_VALUES}),
+        tessera.TetMesh(points, tets, point_data={"pressure": averaged}),
+    ):
+        assert mesh.scalars == "pressure"
+        r = tessera.Renderer(device, technique)
+        r.set_data(mesh)
+        images.append(r.render(camera=(30, 20), size=SIZE))
+    assert np.array_equal(images[0], images[1])
+    assert len(np.unique(images[0].reshape(-1, 4), axis=0)) > 10
+
+
+def test_bad_cell_data_raises():
+    points, tets, values = cube_tets()
+    with pytest.raises(tessera.DataError, match="cell_data: 5 values for 6 items"):
+        tessera.TetMesh(points, tets, cell_data=CELL_VALUES[:5])
+    with pytest.raises(tessera.DataError, match="cell_data: expected 1 dimensions"):
+        tessera.TetMesh(points, tets, cell_data=np.ones((6, 2)))
+    with pytest.raises(tessera.DataError, match="cell_data: dtype complex128 is not supported"):
+        tessera.TetMesh(points, tets, cell_data=np.ones(6, complex))
+    with pytest.raises(tessera.DataError, match=r"cell_data\['p'\]: 8 values for 6 items"):
+        tessera.TetMesh(points, tets, cell_data={"p": values})
+    with pytest.raises(tessera.DataError, match="cell_data has no entry 'temp'"):
+        tessera.TetMesh(points, tets, cell_data={"p": CELL_VALUES}, scalars="temp")
+    with pytest.raises(tessera.DataError, match="cell_data is an empty dict"):
+        tessera.TetMesh(points, tets, cell_data={})
+    with pytest.raises(tessera.DataError, match="point_data or cell_data, not both"):
+        tessera.TetMesh(points, tets, point_data=values, cell_data=CELL_VALUES)
+    with pytest.raises(tessera.DataError, match="without point_data or cell_data"):
+        tessera.TetMesh(points, tets, scalars="p")
+
+
+def test_cell_data_keeps_nan_as_point_data_does():
+    points, tets, values = cube_tets()
+    with_nan = CELL_VALUES.copy()
+    with_nan[2] = np.nan
+    # Accepted, like NaN point values; the points of that tet become NaN.
+    assert tessera.TetMesh(points, tets, cell_data=with_nan).scalars == "scalars"
+    values = values.copy()
+    values[3] = np.nan
+    assert tessera.TetMesh(points, tets, point_data=values).scalars == "scalars"
+
+
 class FakeMeshio:
     """The parts of a meshio.Mesh the converter reads."""
 
@@ -89,6 +152,88 @@ class FakeMeshio:
         self.points = points
         self.cells = [self.Block("triangle", np.zeros((1, 3), int)), self.Block("tetra", tets)]
         self.point_data = {"velocity": np.zeros((len(points), 3)), "sum": values}
+
+
+class FakeMeshioWithCells(FakeMeshio):
+    """A meshio.Mesh with per-cell values only: one array per cell block."""
+
+    def __init__(self, points, tets, cell_values):
+        super().__init__(points, tets, None)
+        self.point_data = {"velocity": np.zeros((len(points), 3))}
+        self.cell_data = {
+            "gmsh:physical": [np.array([7]), np.arange(len(tets))],
+            "pressure": [np.array([[0.0]]), cell_values[:, None]],
+        }
+
+
+def test_from_meshio_takes_cell_data_without_point_data(device):
+    points, tets, _ = cube_tets()
+    mesh = tessera.from_meshio(FakeMeshioWithCells(points, tets, CELL_VALUES), scalars="pressure")
+    assert (mesh.n_tets, mesh.scalars) == (6, "pressure")
+    assert tessera.from_meshio(FakeMeshioWithCells(points, tets, CELL_VALUES)).scalars == (
+        "gmsh:physical"
+    )
+    averaged = averaged_onto_points(len(points), tets, CELL_VALUES)
+    images = []
+    for m in (mesh, tessera.TetMesh(points, tets, point_data=averaged)):
+        r = tessera.Renderer(device, "interval")
+        r.set_data(m)
+        images.append(r.render(camera=(30, 20), size=SIZE))
+    assert np.array_equal(images[0], images[1])
+    with pytest.raises(tessera.DataError, match="no one-value-per-point or per-cell array 'temp'"):
+        tessera.from_meshio(FakeMeshioWithCells(points, tets, CELL_VALUES), scalars="temp")
+
+
+@pytest.mark.skipif(importlib.util.find_spec("meshio") is None, reason="meshio absent")
+def test_from_meshio_with_cell_data_of_a_real_meshio_mesh(device, tmp_path):
+    import meshio
+
+    points, tets, _ = cube_tets()
+    written = meshio.Mesh(points, [("tetra", tets)], cell_data={"pressure": [CELL_VALUES]})
+    written.write(tmp_path / "cube.vtu")
+    read = meshio.read(tmp_path / "cube.vtu")
+    assert not read.point_data
+    mesh = tessera.from_meshio(read)
+    assert mesh.scalars == "pressure"
+    averaged = averaged_onto_points(len(points), tets, CELL_VALUES)
+    images = []
+    for m in (mesh, tessera.TetMesh(points, tets, point_data=averaged)):
+        r = tessera.Renderer(device, "interval")
+        r.set_data(m)
+        images.append(r.render(camera=(30, 20), size=SIZE))
+    assert np.array_equal(images[0], images[1])
+
+
+class FakePyvista:
+    """The parts of a pyvista.UnstructuredGrid the converter reads: a triangle (VTK type 5)
+    among the tets, vectors only as point data, two cell arrays."""
+
+    class Arrays(dict):
+        active_scalars_name = None
+
+    def __init__(self, points, tets, cell_values):
+        self.points = points
+        self.cells_dict = {5: np.array([[0, 1, 2]]), 10: tets}
+        self.celltypes = np.array([10, 10, 10, 5, 10, 10, 10], np.uint8)
+        self.point_data = self.Arrays(velocity=np.zeros((len(points), 3)))
+        with_triangle = np.insert(cell_values, 3, 100.0)
+        self.cell_data = self.Arrays(region=np.arange(7), pressure=with_triangle)
+        self.cell_data.active_scalars_name = "pressure"
+
+
+def test_from_pyvista_takes_the_tets_cell_data(device):
+    points, tets, _ = cube_tets()
+    mesh = tessera.from_pyvista(FakePyvista(points, tets, CELL_VALUES))
+    assert (mesh.n_tets, mesh.scalars) == (6, "pressure")
+    images = []
+    for m in (mesh, tessera.TetMesh(points, tets, cell_data=CELL_VALUES)):
+        r = tessera.Renderer(device, "interval")
+        r.set_data(m)
+        images.append(r.render(camera=(30, 20), size=SIZE))
+    assert np.array_equal(images[0], images[1])
+    assert tessera.from_pyvista(FakePyvista(points, tets, CELL_VALUES), scalars="region").scalars == (
+        "region"
+    )
 
 
 def test_from_meshio_takes_tetra_and_scalars():

@@ -382,11 +382,37 @@ impl Gpu {
     /// Bytes currently allocated through the device's allocator (by every live buffer and
     /// image), from its bookkeeping; for checking that objects free their memory.
     pub fn allocated_bytes(&self) -> u64 {
+        self.memory_report().allocated_bytes
+    }
+
+    /// The allocator's bookkeeping: what live buffers and images hold, and the device memory
+    /// blocks it keeps to place them in (kept after their objects go, for reuse).
+    pub fn memory_report(&self) -> MemoryReport {
         match self.shared.allocator.lock() {
-            Ok(a) => a.generate_report().total_allocated_bytes,
-            Err(_) => 0,
+            Ok(a) => {
+                let report = a.generate_report();
+                MemoryReport {
+                    allocated_bytes: report.total_allocated_bytes,
+                    allocations: report.allocations.len() as u64,
+                    reserved_bytes: report.total_capacity_bytes,
+                    blocks: report.blocks.len() as u64,
+                }
+            }
+            Err(_) => MemoryReport::default(),
         }
     }
+}
+
+/// Device memory in use, from the allocator ([`Gpu::memory_report`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct MemoryReport {
+    /// Bytes held by live buffers and images.
+    pub allocated_bytes: u64,
+    /// Live allocations (one per buffer or image).
+    pub allocations: u64,
+    /// Bytes of the device memory blocks the allocator holds.
+    pub reserved_bytes: u64,
+    pub blocks: u64,
 }
 
 /// Depth formats are viewed and transitioned through their depth aspect, all others as colour.

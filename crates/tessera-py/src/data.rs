@@ -28,9 +28,16 @@ pub struct Volume {
     pub(crate) data: Arc<Dataset>,
 }
 
-/// A tetrahedral mesh: `TetMesh(points, tets, point_data=None)` with `points` of shape
-/// (N, 3), `tets` of shape (M, 4) (vertex indices) and `point_data` one value per point (an
-/// array, or a dict whose first entry is used; `scalars` names the entry to take).
+/// A tetrahedral mesh: `TetMesh(points, tets, point_data=None, cell_data=None)` with
+/// `points` of shape (N, 3), `tets` of shape (M, 4) (vertex indices), and either
+/// `point_data`, one value per point, or `cell_data`, one value per tet (an array, or a dict
+/// whose first entry is used; `scalars` names the entry to take). The renderers interpolate
+/// values per point, so `cell_data` becomes point values as VTK's CellDataToPointData makes
+/// them: each point gets the plain (unweighted) mean of the values of the tets that use it,
+/// matching VTK and ParaView, and counting degenerate tets that a volume weight would drop;
+/// a point no tet uses gets NaN (never drawn, left out of the scalar range). Non-finite
+/// values are kept in both (a NaN tet makes its points NaN). Giving both is an error: which
+/// one to draw would be a guess.
 #[pyclass(module = "tessera", frozen)]
 pub struct TetMesh {
     pub(crate) data: Arc<Dataset>,
@@ -151,15 +158,16 @@ impl Volume {
     }
 }
 
-/// The per-point values of `point_data`: an array, or a dict's entry `scalars` (else its
-/// first), with the name they go by.
-fn point_values(
-    point_data: &Bound<'_, PyAny>,
+/// The values of `data` (the argument `what`, one value per item): an array, or a dict's
+/// entry `scalars` (else its first), with the name they go by.
+fn named_values(
+    data: &Bound<'_, PyAny>,
+    what: &str,
     scalars: Option<&str>,
     count: usize,
 ) -> PyResult<(String, Vec<f32>)> {
-    let Ok(dict) = point_data.cast::<PyDict>() else {
-        let values = arrays::per_item(point_data, "point_data", count)?;
+    let Ok(dict) = data.cast::<PyDict>() else {
+        let values = arrays::per_item(data, what, count)?;
         return Ok(("scalars".to_string(), values));
     };
     let (name, values) = match scalars {
@@ -167,7 +175,7 @@ fn point_values(
             let values = dict.get_item(name)?.ok_or_else(|| {
                 let keys: Vec<String> = dict.keys().iter().map(|k| k.to_string()).collect();
                 invalid(format!(
-                    "point_data has no entry '{name}' (it has: {})",
+                    "{what} has no entry '{name}' (it has: {})",
                     keys.join(", ")
                 ))
             })?;
@@ -177,32 +185,61 @@ fn point_values(
             let (key, values) = dict
                 .iter()
                 .next()
-                .ok_or_else(|| invalid("point_data is an empty dict".to_string()))?;
+                .ok_or_else(|| invalid(format!("{what} is an empty dict")))?;
             (key.str()?.to_string(), values)
         }
     };
-    let values = arrays::per_item(&values, &format!("point_data['{name}']"), count)?;
+    let values = arrays::per_item(&values, &format!("{what}['{name}']"), count)?;
     Ok((name, values))
 }
 
 #[pymethods]
 impl TetMesh {
     #[new]
-    #[pyo3(signature = (points, tets, point_data=None, scalars=None, name="mesh"))]
+    #[pyo3(signature = (points, tets, point_data=None, cell_data=None, scalars=None, name="mesh"))]
     fn new(
+        py: Python<'_>,
         points: &Bound<'_, PyAny>,
         tets: &Bound<'_, PyAny>,
         point_data: Option<&Bound<'_, PyAny>>,
+        cell_data: Option<&Bound<'_, PyAny>>,
         scalars: Option<&str>,
         name: &str,
     ) -> PyResult<Self> {
         let vertices = arrays::points(points, "points")?;
         let tets = arrays::tets(tets, "tets", vertices.len())?;
         let mut mesh = CpuTetMesh::new(vertices, tets);
-        if let Some(point_data) = point_data {
-            let (scalar_name, values) = point_values(point_data, scalars, mesh.vertex_count())?;
-            mesh.scalars = Some(values);
-            mesh.scalar_name = scalar_name;
+        match (point_data, cell_data) {
+            (Some(_), Some(_)) => {
+                return Err(invalid(
+                    "give point_data or cell_data, not both".to_string(),
+                ))
+            }
+            (Some(point_data), None) => {
+                let (scalar_name, values) =
+                    named_values(point_data, "point_data", scalars, mesh.vertex_count())?;
+                mesh.scalars = Some(values);
+                mesh.scalar_name = scalar_name;
+            }
+            (None, Some(cell_data)) => {
+                let (scalar_name, values) =
+                    named_values(cell_data, "cell_data", scalars, mesh.tet_count())?;
+                let averaged = py.detach(|| {
+                    guarded("averaging cell_data onto the points", || {
+                        mesh.point_values_from_cells(&values)
+                            .map_err(|e| invalid(format!("cell_data: {e}")))
+                    })
+                })?;
+                mesh.scalars = Some(averaged);
+                mesh.scalar_name = scalar_name;
+            }
+            (None, None) => {
+                if let Some(name) = scalars {
+                    return Err(invalid(format!(
+                        "scalars='{name}' without point_data or cell_data to take it from"
+                    )));
+                }
+            }
         }
         let report = guarded("checking the mesh", || {
             mesh.validate(name).map_err(from_data)

@@ -6,6 +6,7 @@ use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::Duration;
 
 use pyo3::prelude::*;
+use pyo3::types::PyDict;
 use tessera_gpu::{Gpu, GpuOptions};
 
 use crate::errors::{from_gpu, guarded, GpuError};
@@ -61,6 +62,20 @@ impl Device {
     fn _capabilities_json(&self) -> PyResult<String> {
         serde_json::to_string(Device::lock(&self.gpu).caps())
             .map_err(|e| GpuError::new_err(e.to_string()))
+    }
+
+    /// Device memory in use, from the allocator's bookkeeping, as a dict:
+    /// `allocated_bytes` and `allocations` held by live buffers and images (they return to
+    /// the same level once renderers and data are dropped), `reserved_bytes` and `blocks` of
+    /// device memory kept to place them in (kept for reuse after they go).
+    fn memory<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let report = Device::lock(&self.gpu).memory_report();
+        let dict = PyDict::new(py);
+        dict.set_item("allocated_bytes", report.allocated_bytes)?;
+        dict.set_item("allocations", report.allocations)?;
+        dict.set_item("reserved_bytes", report.reserved_bytes)?;
+        dict.set_item("blocks", report.blocks)?;
+        Ok(dict)
     }
 
     /// Error messages the validation layer reported so far (empty when it is off).

@@ -10,8 +10,8 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use tessera::path::PathChoice;
 use tessera::renderer::{
-    self, AmbientOcclusion, AmbiguityRule, Frame, FrameStats, FrameTimes, LayoutKind, Light,
-    RendererOptions, Technique,
+    self, Accumulation, AmbientOcclusion, AmbiguityRule, Frame, FrameStats, FrameTimes, LayoutKind,
+    Light, RendererOptions, Technique,
 };
 use tessera_data::scene::parse::parse_colour;
 use tessera_data::scene::{Appearance, Dataset, IntegrandChoice};
@@ -113,6 +113,18 @@ impl State {
         r.set_data(gpu, &data).map_err(from_tessera)
     }
 
+    /// The float quantity the frame just rendered accumulated, for `dtype="float32"`.
+    fn accumulated(&self, gpu: &Gpu) -> PyResult<Accumulation> {
+        let r = self.renderer.as_ref().expect("a frame was rendered");
+        r.accumulated(gpu).map_err(from_tessera)?.ok_or_else(|| {
+            invalid(format!(
+                "dtype='float32': {} draws colours only; interval shading gives a float \
+                 image (optical depth, emission or maximum)",
+                r.technique().name()
+            ))
+        })
+    }
+
     fn render(&mut self, gpu: &Gpu, camera: &OrbitCamera, size: (u32, u32)) -> PyResult<RgbaImage> {
         let r = self
             .renderer
@@ -135,11 +147,45 @@ impl State {
     }
 }
 
+enum Rendered {
+    Colour(RgbaImage),
+    Accumulated(Accumulation),
+}
+
 /// An image as an (H, W, 4) uint8 array, rows top to bottom.
 fn image_array(image: RgbaImage) -> Array3<u8> {
     let (w, h) = (image.width as usize, image.height as usize);
     let bytes: Vec<u8> = image.pixels.iter().flat_map(|p| p.to_le_bytes()).collect();
     Array3::from_shape_vec((h, w, 4), bytes).expect("4 bytes per pixel")
+}
+
+/// An accumulation as an (H, W, 3) float32 array, rows top to bottom.
+fn float_array(accumulation: Accumulation) -> Array3<f32> {
+    let (w, h) = (accumulation.width as usize, accumulation.height as usize);
+    let floats: Vec<f32> = accumulation.values.into_iter().flatten().collect();
+    Array3::from_shape_vec((h, w, 3), floats).expect("3 floats per pixel")
+}
+
+/// Images come out as uint8 colours or as the float quantity behind them.
+#[derive(Clone, Copy, PartialEq)]
+enum ImageType {
+    Colour,
+    Accumulated,
+}
+
+fn image_type(dtype: &Bound<'_, PyAny>) -> PyResult<ImageType> {
+    let numpy = PyModule::import(dtype.py(), "numpy")?;
+    let name: String = numpy
+        .call_method1("dtype", (dtype,))
+        .and_then(|d| d.getattr("name")?.extract())
+        .map_err(|e| invalid(format!("dtype: {e}")))?;
+    match name.as_str() {
+        "uint8" => Ok(ImageType::Colour),
+        "float32" => Ok(ImageType::Accumulated),
+        other => Err(invalid(format!(
+            "dtype {other}: images are uint8 (colour) or float32 (the accumulated quantity)"
+        ))),
+    }
 }
 
 fn camera_of(camera: Option<Vec<f32>>, up: Option<ViewUp>) -> PyResult<OrbitCamera> {
@@ -248,14 +294,19 @@ impl Renderer {
         })
     }
 
-    /// Renders one image and returns it as an (H, W, 4) uint8 array. `camera` is
+    /// Renders one image and returns it as an (H, W, 4) uint8 array; with `dtype="float32"`
+    /// the float quantity the colours were made from, as an (H, W, 3) float32 array, where
+    /// the technique has one: interval shading's optical depth per channel (absorption
+    /// integrands; the colour is `background * exp(-depth)`), emitted light (emission; the
+    /// colour is `background + light`) or `[largest scalar mapped to [0, 1], coverage, 0]`
+    /// (mip); other techniques raise `DataError`. `camera` is
     /// (azimuth, elevation[, distance]) in degrees around the data (longest side 1); `iso` a
     /// value in the data's units or `iso_fraction` a fraction of its range (default: Otsu's
     /// threshold); `tf` a transfer function preset or file; `integrate` how tet meshes are
     /// integrated (auto, tet-absorption, absorption, emission, mip); `up` the axis that appears
     /// up (default: towards the head where a medical file says). Settings persist to the next
     /// call.
-    #[pyo3(signature = (camera=None, size=(512, 512), iso=None, iso_fraction=None, tf=None, integrate=None, density=None, background=None, up=None))]
+    #[pyo3(signature = (camera=None, size=(512, 512), iso=None, iso_fraction=None, tf=None, integrate=None, density=None, background=None, up=None, dtype=None))]
     #[allow(clippy::too_many_arguments)]
     fn render<'py>(
         &self,
@@ -269,7 +320,9 @@ impl Renderer {
         density: Option<f32>,
         background: Option<String>,
         up: Option<String>,
-    ) -> PyResult<Bound<'py, numpy::PyArray3<u8>>> {
+        dtype: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let image_type = dtype.map_or(Ok(ImageType::Colour), image_type)?;
         let iso = match (iso, iso_fraction) {
             (Some(_), Some(_)) => {
                 return Err(invalid("give iso or iso_fraction, not both".to_string()))
@@ -304,10 +357,17 @@ impl Renderer {
                 let gpu = state.gpu.clone();
                 let gpu = Device::lock(&gpu);
                 state.apply_look(&gpu, change)?;
-                state.render(&gpu, &camera, size)
+                let image = state.render(&gpu, &camera, size)?;
+                match image_type {
+                    ImageType::Colour => Ok(Rendered::Colour(image)),
+                    ImageType::Accumulated => state.accumulated(&gpu).map(Rendered::Accumulated),
+                }
             })
         })?;
-        Ok(image_array(image).into_pyarray(py))
+        Ok(match image {
+            Rendered::Colour(image) => image_array(image).into_pyarray(py).into_any(),
+            Rendered::Accumulated(a) => float_array(a).into_pyarray(py).into_any(),
+        })
     }
 
     /// The technique drawing the current data (`None` before `set_data` when none was named).

@@ -244,3 +244,27 @@ fn byte_entries_match_the_path_loaders() {
 
 type LoadPath = fn(&Path) -> Result<(TetMesh, MeshReport)>;
 type ParseBytes = fn(&[u8], &Path) -> Result<(TetMesh, MeshReport)>;
+
+#[test]
+fn cell_values_become_the_mean_of_the_tets_around_each_vertex() {
+    let mut mesh = two_tets();
+    // A sixth vertex no tet uses.
+    mesh.vertices.push([5.0, 5.0, 5.0]);
+    let points = mesh.point_values_from_cells(&[2.0, 5.0]).expect("averaged");
+    // Vertex 0 only in tet 0, vertex 4 only in tet 1, vertices 1 to 3 in both.
+    assert_eq!(&points[..5], &[2.0, 3.5, 3.5, 3.5, 5.0]);
+    assert!(points[5].is_nan(), "an unused vertex has no value");
+    // Unweighted: the second tet's volume does not move the shared vertices.
+    assert!((mesh.volume_of(0).abs() - mesh.volume_of(1).abs()).abs() > 1e-3);
+    let nan = mesh
+        .point_values_from_cells(&[f32::NAN, 1.0])
+        .expect("kept");
+    assert!(nan[0].is_nan() && nan[1].is_nan() && nan[4] == 1.0);
+    let err = mesh.point_values_from_cells(&[1.0]).expect_err("one short");
+    assert_eq!(err.to_string(), "1 cell values for 2 tets");
+    mesh.tets[1][0] = 9;
+    let err = mesh
+        .point_values_from_cells(&[1.0, 2.0])
+        .expect_err("bad index");
+    assert!(err.to_string().contains("tet 1: vertex index 9"), "{err}");
+}

@@ -110,6 +110,50 @@ impl TetMesh {
         (0..self.tets.len()).map(|t| self.volume_of(t)).sum()
     }
 
+    /// Per-vertex values from one value per tet, as VTK's `vtkCellDataToPointData` makes
+    /// them: each vertex gets the plain (unweighted) mean of the values of the tets that use
+    /// it. Plain rather than volume-weighted, so that the result matches what VTK and
+    /// ParaView show for the same data, and so that degenerate (zero-volume) tets, which
+    /// validation keeps, still count instead of leaving a vertex used only by them with 0/0.
+    /// A vertex no tet uses gets NaN: it is never drawn, and the scalar range leaves
+    /// non-finite values out (VTK's 0 would widen the range). Non-finite tet values are kept
+    /// and reach the vertices of their tet, as non-finite vertex scalars are kept. Sums run
+    /// in `f64`, in tet order.
+    ///
+    /// Errors: `values` not one per tet, or a tet whose vertex index is out of range.
+    pub fn point_values_from_cells(&self, values: &[f32]) -> Result<Vec<f32>> {
+        if values.len() != self.tets.len() {
+            return Err(DataError::Invalid(format!(
+                "{} cell values for {} tets",
+                values.len(),
+                self.tets.len()
+            )));
+        }
+        let n = self.vertices.len();
+        let mut sums = vec![0.0f64; n];
+        let mut uses = vec![0u32; n];
+        for (t, (tet, &value)) in self.tets.iter().zip(values).enumerate() {
+            for &v in tet {
+                let v = v as usize;
+                if v >= n {
+                    return Err(DataError::Invalid(format!(
+                        "tet {t}: vertex index {v} out of range (mesh has {n} vertices)"
+                    )));
+                }
+                sums[v] += f64::from(value);
+                uses[v] += 1;
+            }
+        }
+        Ok(sums
+            .iter()
+            .zip(&uses)
+            .map(|(&sum, &count)| match count {
+                0 => f32::NAN,
+                c => (sum / f64::from(c)) as f32,
+            })
+            .collect())
+    }
+
     /// Checks the mesh and repairs what can be repaired; `source` (a file name, or a
     /// generator's name) labels the errors.
     ///

@@ -4,15 +4,16 @@
 //! is a table write and a push constant.
 
 use super::{
-    no_data, wrong_data, FrameOutcome, FrameStats, Renderer, RendererOptions, Target, Technique,
-    WorkCounters,
+    no_data, wrong_data, AccumulatedQuantity, Accumulation, FrameOutcome, FrameStats, Renderer,
+    RendererOptions, Target, Technique, WorkCounters,
 };
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::path::Path;
 use crate::tet::interval::{
     GpuTetMesh, Integrand, Interval, IntervalOptions, IntervalTuning, OpticalTarget,
 };
 use tessera_data::scene::{Appearance, DataKind, Dataset, ResolvedIntegrand, TetData};
+use tessera_data::transfer::ScalarMode;
 use tessera_data::View;
 use tessera_gpu::{Gpu, Recorder, Timer};
 
@@ -198,5 +199,40 @@ impl Renderer for IntervalRenderer {
 
     fn counters(&self) -> WorkCounters {
         self.counters
+    }
+
+    fn accumulated(&self, gpu: &Gpu) -> Result<Option<Accumulation>> {
+        let (Some(pipelines), Some(accumulation)) = (&self.pipelines, &self.accumulation) else {
+            return Err(no_data(Technique::Interval));
+        };
+        let quantity = match pipelines.integrand() {
+            Integrand::TetAbsorption
+            | Integrand::Scalar {
+                mode: ScalarMode::Absorption,
+                ..
+            } => AccumulatedQuantity::OpticalDepth,
+            Integrand::Scalar {
+                mode: ScalarMode::Emission,
+                ..
+            } => AccumulatedQuantity::Emission,
+            Integrand::Scalar {
+                mode: ScalarMode::Maximum,
+                ..
+            } => AccumulatedQuantity::Maximum,
+            // The compute path keeps packed colours and depth bits there, not floats.
+            Integrand::Asteroids => {
+                return Err(Error::Invalid(
+                    "interval: the asteroid field keeps the nearest hit per pixel, no float \
+                     quantity"
+                        .into(),
+                ))
+            }
+        };
+        Ok(Some(Accumulation {
+            width: accumulation.width,
+            height: accumulation.height,
+            values: accumulation.read(gpu)?,
+            quantity,
+        }))
     }
 }

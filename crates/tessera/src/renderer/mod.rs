@@ -16,7 +16,9 @@
 //!    the frame into the caller's command buffer and [`Target`], the caller submits, and
 //!    [`Renderer::finish_frame`] reads the frame's counters (and asks for the frame again when
 //!    a buffer overflowed and was grown). Culling state carries over from frame to frame.
-//! 5. The image stays on the GPU in the [`Target`] until someone reads it back.
+//! 5. The image stays on the GPU in the [`Target`] until someone reads it back; a technique
+//!    that accumulates a float quantity before turning it into colour (interval shading's
+//!    optical depth) also gives that quantity ([`Renderer::accumulated`]).
 //!
 //! [`Frame`] does steps 4–5 for callers that just want images and times.
 
@@ -83,6 +85,39 @@ pub enum FrameOutcome {
     Retry,
 }
 
+/// What a technique accumulated per pixel before turning it into colour
+/// ([`Renderer::accumulated`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Accumulation {
+    pub width: u32,
+    pub height: u32,
+    /// Per pixel, rows top to bottom.
+    pub values: Vec<[f32; 3]>,
+    /// What the values are, as [`Accumulation::quantity_name`] names it.
+    pub quantity: AccumulatedQuantity,
+}
+
+/// The kind of float quantity an [`Accumulation`] holds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum AccumulatedQuantity {
+    /// Optical depth per colour channel: the background shows through as `exp(-depth)`.
+    OpticalDepth,
+    /// Emitted light per channel, added to the background.
+    Emission,
+    /// `[largest scalar mapped to [0, 1], coverage (> 0 where a tet was crossed), 0]`.
+    Maximum,
+}
+
+impl Accumulation {
+    pub fn quantity_name(&self) -> &'static str {
+        match self.quantity {
+            AccumulatedQuantity::OpticalDepth => "optical-depth",
+            AccumulatedQuantity::Emission => "emission",
+            AccumulatedQuantity::Maximum => "maximum",
+        }
+    }
+}
+
 /// One technique behind the front door (see the module documentation for the order of calls).
 pub trait Renderer: Send {
     fn technique(&self) -> Technique;
@@ -134,6 +169,11 @@ pub trait Renderer: Send {
     fn finish_frame(&mut self, gpu: &Gpu) -> Result<FrameOutcome>;
     fn stats(&self) -> FrameStats;
     fn counters(&self) -> WorkCounters;
+    /// Reads back the float quantity the last frame accumulated before its colour was made
+    /// from it; `None` for techniques that draw colour directly.
+    fn accumulated(&self, _gpu: &Gpu) -> Result<Option<Accumulation>> {
+        Ok(None)
+    }
 
     /// The view of `camera` over an image of `size` pixels for this renderer's data.
     fn view(&self, camera: &OrbitCamera, size: (u32, u32)) -> Result<View> {

@@ -281,6 +281,11 @@ impl Interval {
         self.options.path
     }
 
+    /// What each pixel accumulates with these pipelines.
+    pub fn integrand(&self) -> &Integrand {
+        &self.options.integrand
+    }
+
     /// A target of the kind this path accumulates into.
     pub fn target(&self, gpu: &Gpu, width: u32, height: u32) -> Result<OpticalTarget> {
         let nearest = self.options.integrand == Integrand::Asteroids;
