@@ -127,6 +127,8 @@ def test_bench_returns_the_scenario_records(device):
         assert (r["scenario"], r["technique"], r["frames"]) == ("raymarch", "raymarch", 3)
         assert r["dataset"].startswith("sphere_24")
         assert r["stages"][0]["median_ms"] > 0 and r["counts"]["mrays_per_s"] > 0
+        # At least the warm-up asked for; more only while frame times had not settled.
+        assert 1 <= r["stages"][0]["warmup_frames"] <= 200
     with pytest.raises(tessera.DataError, match="unknown scenario"):
         tessera.bench("nothing", device=device)
     with pytest.raises(tessera.DataError, match="frames"):
