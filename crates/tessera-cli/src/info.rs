@@ -90,6 +90,10 @@ pub fn run(options: &GpuOptions, args: &InfoArgs) -> Result<()> {
         "  max 3-D image            {} per axis",
         caps.max_image_dimension_3d
     );
+    println!(
+        "  pipeline statistics      {} (--pipeline-stats)",
+        yes(caps.pipeline_executable_info)
+    );
     println!("techniques (the path `--path auto` takes):");
     let measured = tessera::path::remembered(caps).is_some();
     for technique in Technique::ALL {

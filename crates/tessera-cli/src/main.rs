@@ -30,6 +30,10 @@ struct Cli {
     /// e.g. an endless loop in a user function); 0: no limit.
     #[arg(long, global = true, default_value_t = 60.0)]
     gpu_timeout: f64,
+    /// Print what the driver reports of each compute pipeline built (registers, shared
+    /// memory, instructions; VK_KHR_pipeline_executable_properties), for performance work.
+    #[arg(long, global = true)]
+    pipeline_stats: bool,
     #[command(subcommand)]
     command: Command,
 }
@@ -69,6 +73,7 @@ fn main() {
         device_index: cli.device,
         validation: cli.validation,
         timeout,
+        pipeline_statistics: cli.pipeline_stats,
     };
     let result: Result<()> = match cli.command {
         Command::Info(a) => info::run(&gpu_options, &a),

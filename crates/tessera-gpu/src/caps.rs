@@ -43,6 +43,9 @@ pub struct Capabilities {
     /// for the triangle with its corners snapped to 2^-bits pixel.
     pub sub_pixel_precision_bits: u32,
     pub max_storage_buffer_range: u64,
+    /// `VK_KHR_pipeline_executable_properties`: the driver can report registers and the like
+    /// per compiled pipeline.
+    pub pipeline_executable_info: bool,
     pub max_compute_workgroup_invocations: u32,
     /// Most workgroups one dispatch may launch along x, y and z.
     pub max_compute_workgroup_count: [u32; 3],
@@ -92,6 +95,7 @@ pub(crate) fn query(
     let mut rep_f = vk::PhysicalDeviceRepresentativeFragmentTestFeaturesNV::default();
     let mut bary_f = vk::PhysicalDeviceFragmentShaderBarycentricFeaturesKHR::default();
     let mut lock_f = vk::PhysicalDeviceFragmentShaderInterlockFeaturesEXT::default();
+    let mut exe_f = vk::PhysicalDevicePipelineExecutablePropertiesFeaturesKHR::default();
     let mut v11_f = vk::PhysicalDeviceVulkan11Features::default();
     let mut v12_f = vk::PhysicalDeviceVulkan12Features::default();
     let mut features = vk::PhysicalDeviceFeatures2::default()
@@ -123,6 +127,9 @@ pub(crate) fn query(
     }
     if has(ash::ext::fragment_shader_interlock::NAME) {
         features = features.push_next(&mut lock_f);
+    }
+    if has(ash::khr::pipeline_executable_properties::NAME) {
+        features = features.push_next(&mut exe_f);
     }
     // SAFETY: `physical` was enumerated from this live instance and `features` is a valid chain
     // of structures that live until the call returns.
@@ -198,6 +205,7 @@ pub(crate) fn query(
         max_image_dimension_3d: p.limits.max_image_dimension3_d,
         sub_pixel_precision_bits: p.limits.sub_pixel_precision_bits,
         max_storage_buffer_range: p.limits.max_storage_buffer_range as u64,
+        pipeline_executable_info: exe_f.pipeline_executable_info != 0,
         max_compute_workgroup_invocations: p.limits.max_compute_work_group_invocations,
         max_compute_workgroup_count: p.limits.max_compute_work_group_count,
         draw_indirect_count: v12_f.draw_indirect_count != 0 && base_f.multi_draw_indirect != 0,

@@ -26,6 +26,9 @@ pub struct GpuOptions {
     /// [`crate::GpuError::Timeout`] (an endless loop in a user's shader function, say); `None`
     /// waits for ever. After a timeout the device is unusable and is not destroyed.
     pub timeout: Option<std::time::Duration>,
+    /// Captures what the driver reports of each compute pipeline (registers, shared memory…)
+    /// where it can ([`Gpu::pipeline_statistics`]); for performance work.
+    pub pipeline_statistics: bool,
 }
 
 /// A physical device as listed for the user, before one is opened.
@@ -47,6 +50,8 @@ pub struct Gpu {
     pub(crate) command_pool: vk::CommandPool,
     pub(crate) push_descriptor: ash::khr::push_descriptor::Device,
     pub(crate) mesh_shader: Option<ash::ext::mesh_shader::Device>,
+    /// Present when pipelines are created with their statistics captured.
+    pub(crate) pipeline_executables: Option<ash::khr::pipeline_executable_properties::Device>,
     pub(crate) debug_device: Option<ash::ext::debug_utils::Device>,
     /// Clamp-to-edge samplers shared by every texture binding.
     pub(crate) sampler_nearest: vk::Sampler,
@@ -178,6 +183,7 @@ const OPTIONAL_EXTENSIONS: &[&CStr] = &[
     ash::nv::representative_fragment_test::NAME,
     ash::khr::fragment_shader_barycentric::NAME,
     ash::ext::fragment_shader_interlock::NAME,
+    ash::khr::pipeline_executable_properties::NAME,
 ];
 
 impl Gpu {
@@ -226,10 +232,19 @@ impl Gpu {
             timeout_ns: options.timeout.map_or(u64::MAX, |t| {
                 u64::try_from(t.as_nanos()).unwrap_or(u64::MAX)
             }),
+            pipeline_statistics: Mutex::new(Vec::new()),
+            statistics_requested: options.pipeline_statistics,
         });
+        let capture = options.pipeline_statistics && opened.caps.pipeline_executable_info;
         // From here on `shared` owns the device and instance: a failure drops it, which destroys
         // them exactly once.
-        Self::finish(shared, opened.physical, opened.queue_family, opened.caps)
+        Self::finish(
+            shared,
+            opened.physical,
+            opened.queue_family,
+            opened.caps,
+            capture,
+        )
     }
 
     fn pick_physical(instance: &ash::Instance, index: Option<usize>) -> Result<vk::PhysicalDevice> {
@@ -324,6 +339,7 @@ impl Gpu {
         physical: vk::PhysicalDevice,
         queue_family: u32,
         caps: Capabilities,
+        capture_statistics: bool,
     ) -> Result<Gpu> {
         let device = shared.device.clone();
         let instance = &shared.instance;
@@ -338,9 +354,12 @@ impl Gpu {
             .then(|| ash::ext::mesh_shader::Device::new(instance, &device));
         // Null handles until created: if a creation below fails, dropping `gpu` destroys the
         // ones made so far (destroying a null handle does nothing).
+        let pipeline_executables = capture_statistics
+            .then(|| ash::khr::pipeline_executable_properties::Device::new(instance, &device));
         let mut gpu = Gpu {
             push_descriptor: ash::khr::push_descriptor::Device::new(instance, &device),
             mesh_shader,
+            pipeline_executables,
             debug_device,
             device,
             queue,
@@ -439,6 +458,8 @@ impl Gpu {
             .fragment_shader_barycentric(true);
         let mut lock = vk::PhysicalDeviceFragmentShaderInterlockFeaturesEXT::default()
             .fragment_shader_pixel_interlock(true);
+        let mut exe = vk::PhysicalDevicePipelineExecutablePropertiesFeaturesKHR::default()
+            .pipeline_executable_info(true);
         let mut info = vk::DeviceCreateInfo::default()
             .queue_create_infos(&queues)
             .enabled_extension_names(extensions)
@@ -472,6 +493,9 @@ impl Gpu {
         }
         if caps.fragment_shader_interlock {
             info = info.push_next(&mut lock);
+        }
+        if caps.pipeline_executable_info {
+            info = info.push_next(&mut exe);
         }
         // SAFETY: the create info, its feature chain and the extension names (static C
         // strings) all live until the call returns; only features the device reports are

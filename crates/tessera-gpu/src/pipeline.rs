@@ -245,7 +245,13 @@ impl Gpu {
             .stage(vk::ShaderStageFlags::COMPUTE)
             .module(module.handle)
             .name(ENTRY);
+        let flags = if self.captures_pipeline_statistics() {
+            vk::PipelineCreateFlags::CAPTURE_STATISTICS_KHR
+        } else {
+            vk::PipelineCreateFlags::empty()
+        };
         let info = [vk::ComputePipelineCreateInfo::default()
+            .flags(flags)
             .stage(stage)
             .layout(pipeline.layout)];
         // SAFETY: the create info, the live module and layout it names and the entry-point
@@ -259,6 +265,7 @@ impl Gpu {
             .map_err(|(_, e)| e)
             .call("vkCreateComputePipelines")?[0];
         self.set_name(pipeline.handle, name);
+        self.capture_statistics(name, pipeline.handle);
         Ok(pipeline)
     }
 

@@ -35,6 +35,10 @@ pub(crate) struct DeviceShared {
     pub(crate) hung: AtomicBool,
     /// How long a submission's fence is waited for ([`crate::GpuOptions::timeout`]).
     pub(crate) timeout_ns: u64,
+    /// What the driver reported of each pipeline created with statistics captured.
+    pub(crate) pipeline_statistics: Mutex<Vec<crate::statistics::PipelineStatistics>>,
+    /// [`crate::GpuOptions::pipeline_statistics`].
+    pub(crate) statistics_requested: bool,
 }
 
 /// The Vulkan handles (and memory) of a dropped GPU object, destroyed in the order given.

@@ -41,6 +41,7 @@ impl Device {
             device_index: index,
             validation,
             timeout: Some(Duration::from_secs_f64(timeout)),
+            pipeline_statistics: false,
         };
         let gpu = py.detach(|| {
             guarded("opening the device", || {
