@@ -1,6 +1,7 @@
 """Tet meshes, glyph fields and parametric scenes from numpy, their converters, and
 marching_cubes against the geometry it must reproduce."""
 
+import gzip
 import importlib.util
 import os
 
@@ -268,6 +269,51 @@ def test_glyph_field_matches_the_nifti_file(device, tmp_path):
         images.append(r.render(camera=(0, 60), size=SIZE))
     assert np.array_equal(images[0], images[1])
     assert len(np.unique(images[0].reshape(-1, 4), axis=0)) > 10
+
+
+DWI_FIT = os.path.join(
+    os.environ.get("TESSERA_DATA")
+    or os.path.join(os.environ.get("XDG_CACHE_HOME") or os.path.expanduser("~/.cache"), "tessera", "data"),
+    "dwi", "small_64D_csa8.nii.gz",
+)
+
+
+def read_nifti_float32(path):
+    """The float32 samples (X, Y, Z, K) and the sform rows of a gzipped NIfTI-1 file, read
+    with numpy alone (the test environment has no nibabel)."""
+    raw = gzip.open(path).read()
+    dims = np.frombuffer(raw, "<i2", 8, 40)
+    assert int(np.frombuffer(raw, "<i2", 1, 70)[0]) == 16, "float32 samples"
+    offset = int(np.frombuffer(raw, "<f4", 1, 108)[0])
+    shape = tuple(int(d) for d in dims[1 : 1 + dims[0]])
+    values = np.frombuffer(raw, "<f4", int(np.prod(shape)), offset).reshape(shape, order="F")
+    return values, np.frombuffer(raw, "<f4", 12, 280).reshape(3, 4)
+
+
+@pytest.mark.skipif(not os.path.exists(DWI_FIT), reason=f"{DWI_FIT} absent (scripts/fetch-dwi.sh)")
+def test_glyph_field_of_a_real_dipy_fit_matches_tessera_render_sh(device):
+    # DIPY's small_64D fitted to order 8: 10 x 10 x 10 voxels of 2 mm, placed by an sform that
+    # turns the grid against the world, so the image shows whether the placement was used.
+    coeffs, sform = read_nifti_float32(DWI_FIT)
+    assert coeffs.shape == (10, 10, 10, 45)
+    images = []
+    for data in (tessera.GlyphField(coeffs, affine=sform), tessera.load(f"sh:{DWI_FIT}"),
+                 tessera.GlyphField(coeffs, spacing=(2, 2, 2))):
+        r = tessera.Renderer(device, "sh-raytrace")
+        r.set_data(data)
+        images.append(r.render(camera=(30, 40), size=(96, 72)))
+    assert np.array_equal(images[0], images[1])
+    assert len(np.unique(images[0].reshape(-1, 4), axis=0)) > 100
+    # Without the placement the field is seen from elsewhere.
+    assert (images[2] != images[0]).any(axis=2).sum() > 1000
+    with pytest.raises(tessera.DataError, match="spacing or affine, not both"):
+        tessera.GlyphField(coeffs, spacing=(2, 2, 2), affine=sform)
+    with pytest.raises(tessera.DataError, match="affine: expected shape"):
+        tessera.GlyphField(coeffs, affine=np.eye(3))
+    flat = np.array(sform, dtype=np.float64)
+    flat[:, 0] = 0
+    with pytest.raises(tessera.DataError, match="no length"):
+        tessera.GlyphField(coeffs, affine=flat)
 
 
 def write_nifti(path, values):

@@ -17,6 +17,8 @@ pub enum OrientationSource {
     NiftiQform,
     /// VTK image data's `Origin` and `Direction` (VTK names no anatomical space).
     Vti,
+    /// A voxel-to-world affine given with an array (nibabel's `img.affine`, RAS+ like NIfTI).
+    Affine,
 }
 
 impl OrientationSource {
@@ -28,6 +30,7 @@ impl OrientationSource {
             OrientationSource::NiftiSform => "NIfTI sform",
             OrientationSource::NiftiQform => "NIfTI qform",
             OrientationSource::Vti => "VTK Origin and Direction",
+            OrientationSource::Affine => "the given affine",
         }
     }
 }
@@ -121,6 +124,26 @@ impl Orientation {
             source,
             unusable: None,
         })
+    }
+
+    /// The placement and voxel spacing of a voxel-to-world affine in NIfTI's RAS+ world, as
+    /// nibabel gives it (`img.affine`): rows are world x, y, z; columns 0-2 the world vectors
+    /// of the grid axes (their lengths the spacing), column 3 the origin. `None` when a value
+    /// is not finite or an axis has no length.
+    pub fn from_affine(rows: [[f64; 4]; 3]) -> Option<(Orientation, [f32; 3])> {
+        let axis = |i: usize| [rows[0][i], rows[1][i], rows[2][i]];
+        let axes = [axis(0), axis(1), axis(2)];
+        let spacing = axes.map(|a| a.iter().map(|v| v * v).sum::<f64>().sqrt() as f32);
+        let orientation = Orientation::new(
+            axis(3),
+            axes,
+            Some(AnatomicalSpace::Ras),
+            OrientationSource::Affine,
+        )?;
+        spacing
+            .iter()
+            .all(|s| s.is_finite() && *s > 0.0)
+            .then_some((orientation, spacing))
     }
 
     /// The same placement, noting that the header's `declared` placement was passed over.

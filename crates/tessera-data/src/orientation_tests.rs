@@ -65,3 +65,34 @@ fn up_axis_follows_the_direction_matrix() {
     assert_eq!(Orientation::default().up_axis(), None);
     assert_eq!(Orientation::default().source(), OrientationSource::Default);
 }
+
+#[test]
+fn an_affine_gives_spacing_origin_and_unit_axes() {
+    // small_64D's sform: 2 mm voxels, grid x along world -y, y and z turned about world y.
+    let rows = [
+        [0.0, -2.0, 0.0, 20.0],
+        [-1.9397, 0.0, -0.48723, 25.17],
+        [-0.48723, 0.0, 1.9397, 12.32],
+    ];
+    let (o, spacing) = Orientation::from_affine(rows).expect("a usable affine");
+    for (s, want) in spacing.iter().zip([2.0, 2.0, 2.0]) {
+        assert!((s - want).abs() < 1e-3, "{spacing:?}");
+    }
+    assert_eq!(o.origin(), [20.0, 25.17, 12.32]);
+    assert_eq!(o.direction()[1], [-1.0, 0.0, 0.0]);
+    assert!((o.direction()[0][1] + 0.97).abs() < 0.01);
+    assert_eq!(o.space(), Some(AnatomicalSpace::Ras));
+    assert_eq!(o.source(), OrientationSource::Affine);
+    let mut flat = rows;
+    flat[0][1] = 0.0;
+    assert!(
+        Orientation::from_affine(flat).is_none(),
+        "an axis of no length"
+    );
+    let mut nan = rows;
+    nan[2][3] = f64::NAN;
+    assert!(
+        Orientation::from_affine(nan).is_none(),
+        "a value that is not finite"
+    );
+}

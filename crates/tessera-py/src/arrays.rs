@@ -122,6 +122,20 @@ pub fn points(value: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<[f32; 3]>> {
         .collect())
 }
 
+/// A voxel-to-world affine, shape (4, 4) (its last row ignored) or (3, 4), as float64 rows.
+pub fn affine_rows(value: &Bound<'_, PyAny>, what: &str) -> PyResult<[[f64; 4]; 3]> {
+    let array = numpy_array(value, what, 2, "uif")?.call_method1("astype", ("float64",))?;
+    let array: numpy::PyReadonlyArray2<'_, f64> = array.extract()?;
+    let view = array.as_array();
+    if !matches!(view.shape(), [3 | 4, 4]) {
+        return Err(DataError::new_err(format!(
+            "{what}: expected shape (4, 4) or (3, 4), got {:?}",
+            view.shape()
+        )));
+    }
+    Ok([0, 1, 2].map(|r| [0, 1, 2, 3].map(|c| view[[r, c]])))
+}
+
 /// `M × 4` vertex indices, each checked against `vertex_count`.
 pub fn tets(value: &Bound<'_, PyAny>, what: &str, vertex_count: usize) -> PyResult<Vec<[u32; 4]>> {
     let array = numpy_array(value, what, 2, "ui")?.call_method1("astype", ("int64",))?;

@@ -45,7 +45,9 @@ pub struct TetMesh {
 
 /// A field of SH glyphs from a DIPY-style coefficient array of shape (X, Y, Z, K):
 /// `GlyphField(coeffs, basis="descoteaux07", legacy=True, spacing=(1, 1, 1))`; one glyph per
-/// voxel whose coefficients are not all zero, `z_slice` to keep one slice.
+/// voxel whose coefficients are not all zero, `z_slice` to keep one slice. `affine=img.affine`
+/// (nibabel's voxel-to-world matrix, RAS+) places the field and gives its spacing, so it is
+/// drawn as `tessera.load("sh:file.nii.gz")` draws the same fit.
 #[pyclass(module = "tessera", frozen)]
 pub struct GlyphField {
     pub(crate) data: Arc<Dataset>,
@@ -292,17 +294,18 @@ impl TetMesh {
 #[pymethods]
 impl GlyphField {
     #[new]
-    #[pyo3(signature = (coeffs, basis="descoteaux07", legacy=true, spacing=(1.0, 1.0, 1.0), z_slice=None, glyph_radius="minmax", name="coefficients"))]
+    #[pyo3(signature = (coeffs, basis="descoteaux07", legacy=true, spacing=None, z_slice=None, glyph_radius="minmax", name="coefficients", affine=None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         py: Python<'_>,
         coeffs: &Bound<'_, PyAny>,
         basis: &str,
         legacy: bool,
-        spacing: (f32, f32, f32),
+        spacing: Option<(f32, f32, f32)>,
         z_slice: Option<u32>,
         glyph_radius: &str,
         name: &str,
+        affine: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
         let basis = match parse_basis(basis).map_err(invalid)? {
             ShBasis::Descoteaux07 { .. } => ShBasis::Descoteaux07 { legacy },
@@ -310,10 +313,27 @@ impl GlyphField {
         };
         let radius = parse_glyph_radius(glyph_radius).map_err(invalid)?;
         let (dims, components, values) = arrays::coefficients(coeffs)?;
+        let (orientation, spacing) = match (affine, spacing) {
+            (Some(_), Some(_)) => {
+                return Err(DataError::new_err(
+                    "give spacing or affine, not both (the affine holds the spacing)",
+                ))
+            }
+            (Some(affine), None) => {
+                let rows = arrays::affine_rows(affine, "affine")?;
+                Orientation::from_affine(rows).ok_or_else(|| {
+                    DataError::new_err("affine: a value is not finite or a grid axis has no length")
+                })?
+            }
+            (None, spacing) => (
+                Orientation::default(),
+                spacing_of(spacing.unwrap_or((1.0, 1.0, 1.0))),
+            ),
+        };
         let volume = ComponentVolume {
             dims,
-            spacing: spacing_of(spacing),
-            orientation: Orientation::default(),
+            spacing,
+            orientation,
             components,
             values,
         };
