@@ -28,23 +28,10 @@ shared uint occupied_per_thread[32];
 shared uint occupied_ids[CELLS];
 shared uint list_count;
 
-void main() {
+// Fills the payload with `block`'s occupied cells cut into mesh-workgroup lists; returns how
+// many lists. Every invocation calls it (it has barriers).
+uint block_lists(uvec3 block, uvec3 dims, float iso) {
     uint me = gl_LocalInvocationIndex;
-    uvec3 dims = params.dims.xyz;
-    float iso = params.isovalue;
-    uvec3 block_dims = (dims - 2u) / uvec3(BLOCK_X, BLOCK_Y, BLOCK_Z) + 1u;
-#if BLOCK_LIST
-    uint listed = block_list[gl_WorkGroupID.x];
-    uvec3 block = uvec3(listed % block_dims.x, (listed / block_dims.x) % block_dims.y,
-                        listed / (block_dims.x * block_dims.y));
-#else
-    uvec3 block = gl_WorkGroupID;
-#endif
-    vec2 range = minmax_nodes[block.x + block_dims.x * (block.y + block_dims.y * block.z)];
-    if (iso < range.x || iso > range.y) {
-        EmitMeshTasksEXT(0, 1, 1);
-    }
-
     // Each invocation owns PER_THREAD consecutive cell ids, so compaction keeps id order.
     uint occupied = 0u;
     for (uint k = 0u; k < PER_THREAD; ++k) {
@@ -113,5 +100,27 @@ void main() {
         list_count = lists;
     }
     barrier();
-    EmitMeshTasksEXT(list_count, 1, 1);
+    return list_count;
+}
+
+void main() {
+    uvec3 dims = params.dims.xyz;
+    float iso = params.isovalue;
+    uvec3 block_dims = (dims - 2u) / uvec3(BLOCK_X, BLOCK_Y, BLOCK_Z) + 1u;
+#if BLOCK_LIST
+    uint listed = block_list[gl_WorkGroupID.x];
+    uvec3 block = uvec3(listed % block_dims.x, (listed / block_dims.x) % block_dims.y,
+                        listed / (block_dims.x * block_dims.y));
+#else
+    uvec3 block = gl_WorkGroupID;
+#endif
+    vec2 range = minmax_nodes[block.x + block_dims.x * (block.y + block_dims.y * block.z)];
+    // The same for the whole workgroup, so block_lists' barriers stay in uniform control
+    // flow. One EmitMeshTasksEXT, at the end (an early one for empty blocks is what made
+    // NVIDIA's driver emit meshlet extraction blocks twice; docs/BENCHMARKS.md, run 44).
+    uint lists = 0u;
+    if (range.x <= iso && iso <= range.y) {
+        lists = block_lists(block, dims, iso);
+    }
+    EmitMeshTasksEXT(lists, 1, 1);
 }
