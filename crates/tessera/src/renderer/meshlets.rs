@@ -5,15 +5,14 @@
 //! ([`crate::iso::meshlet_draw`]); with culling on, meshlets are frustum-culled on both and
 //! occlusion-culled on the compute path.
 
-use super::surface_frame::{FrameBuffers, SurfaceFrame};
+use super::surface_frame::{FrameBuffers, SurfaceDraw, SurfaceFrame};
 use super::{
     no_data, wrong_data, FrameOutcome, FrameStats, Renderer, RendererOptions, Target, Technique,
     WorkCounters,
 };
 use crate::error::{Error, Result};
 use crate::iso::meshlet_draw::{
-    DrawCounters, MeshletBounds, MeshletDraw, MeshletDrawParams, MeshletOcclusion,
-    OcclusionCounters,
+    DrawCounters, MeshletBounds, MeshletDraw, MeshletOcclusion, OcclusionCounters,
 };
 use crate::iso::meshlets::{
     ExtractionPath, GpuMeshlets, MeshletCounters, MeshletExtractor, OVERFLOW_CAPACITY,
@@ -265,31 +264,19 @@ impl Renderer for MeshletRenderer {
             }
         }
         let meshlets = &surface.meshlets;
-        let (dims, spacing) = (volume.dims(), volume.spacing());
-        match &self.frame.buffers {
-            FrameBuffers::Graphics(raster) => {
-                let params = MeshletDrawParams::new(view, dims, spacing, self.bounds, 0);
-                let drawn = timer.scope(rec, "meshlet draw", |rec| {
-                    draw.record_graphics(rec, meshlets, raster, &params)
-                });
-                raster.record_copy_to(rec, target);
-                drawn
-            }
-            FrameBuffers::Compute(frame) => {
-                let params =
-                    MeshletDrawParams::new(view, dims, spacing, self.bounds, frame.lists.capacity);
-                timer.scope(rec, "meshlet draw", |rec| match &self.occlusion {
-                    Some(occlusion) => {
-                        draw.record_compute_culled(rec, meshlets, frame, target, &params, occlusion)
-                    }
-                    None => draw.record_compute(rec, meshlets, frame, target, &params),
-                })
-            }
-            FrameBuffers::None => Err(Error::Invalid(format!(
-                "{}: record before prepare_frame",
-                self.technique.name()
-            ))),
-        }
+        let surface_draw = SurfaceDraw {
+            technique: self.technique,
+            scope: "meshlet draw",
+            graphics: &|rec, raster, params| draw.record_graphics(rec, meshlets, raster, params),
+            compute: &|rec, frame, params| match &self.occlusion {
+                Some(occlusion) => {
+                    draw.record_compute_culled(rec, meshlets, frame, target, params, occlusion)
+                }
+                None => draw.record_compute(rec, meshlets, frame, target, params),
+            },
+        };
+        self.frame
+            .record_draw(rec, timer, view, volume, self.bounds, target, &surface_draw)
     }
 
     fn finish_frame(&mut self, gpu: &Gpu) -> Result<FrameOutcome> {

@@ -3,13 +3,13 @@
 //! and draws the stored blocks from every view ([`crate::iso::pmb_draw`]) on the graphics
 //! path (indexed indirect draws) or the compute path.
 
-use super::surface_frame::{FrameBuffers, SurfaceFrame};
+use super::surface_frame::{SurfaceDraw, SurfaceFrame};
 use super::{
     no_data, wrong_data, FrameOutcome, FrameStats, Renderer, RendererOptions, Target, Technique,
     WorkCounters,
 };
-use crate::error::{Error, Result};
-use crate::iso::meshlet_draw::{MeshletBounds, MeshletDrawParams};
+use crate::error::Result;
+use crate::iso::meshlet_draw::MeshletBounds;
 use crate::iso::minmax::MinMaxBuilder;
 use crate::iso::pmb::{GpuPmb, PmbBlockSize, PmbCounters, PmbExtractor};
 use crate::iso::pmb_draw::PmbDraw;
@@ -155,29 +155,15 @@ impl Renderer for PmbRenderer {
             });
             rec.barrier();
         }
-        let (dims, spacing) = (volume.dims(), volume.spacing());
         let pmb = &surface.pmb;
-        match &self.frame.buffers {
-            FrameBuffers::Graphics(raster) => {
-                let params = MeshletDrawParams::new(view, dims, spacing, self.bounds, 0);
-                let drawn = timer.scope(rec, "PMB draw", |rec| {
-                    draw.record_graphics(rec, pmb, raster, &params)
-                });
-                raster.record_copy_to(rec, target);
-                drawn
-            }
-            FrameBuffers::Compute(frame) => {
-                let params =
-                    MeshletDrawParams::new(view, dims, spacing, self.bounds, frame.lists.capacity);
-                timer.scope(rec, "PMB draw", |rec| {
-                    draw.record_compute(rec, pmb, frame, target, &params)
-                })
-            }
-            FrameBuffers::None => Err(Error::Invalid(format!(
-                "{}: record before prepare_frame",
-                TECHNIQUE.name()
-            ))),
-        }
+        let surface_draw = SurfaceDraw {
+            technique: TECHNIQUE,
+            scope: "PMB draw",
+            graphics: &|rec, raster, params| draw.record_graphics(rec, pmb, raster, params),
+            compute: &|rec, frame, params| draw.record_compute(rec, pmb, frame, target, params),
+        };
+        self.frame
+            .record_draw(rec, timer, view, volume, self.bounds, target, &surface_draw)
     }
 
     fn finish_frame(&mut self, gpu: &Gpu) -> Result<FrameOutcome> {

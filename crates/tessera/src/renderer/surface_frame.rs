@@ -2,12 +2,24 @@
 //! graphics path's attachments, or the compute path's triangle list and raster frame, whose
 //! list grows when a frame drew more triangles than it holds.
 
-use crate::error::Result;
+use super::{Target, Technique};
+use crate::error::{Error, Result};
 use crate::iso::direct::compute::{ComputeTarget, TriangleLists};
 use crate::iso::direct::RasterTarget;
+use crate::iso::meshlet_draw::{MeshletBounds, MeshletDrawParams};
 use crate::path::Path;
-use tessera_data::View;
-use tessera_gpu::Gpu;
+use tessera_data::{View, Volume};
+use tessera_gpu::{Gpu, Recorder, Timer};
+
+/// How one technique draws its stored surface on each path: into the graphics path's
+/// attachments, or through the compute path's list into the frame's pixels.
+pub(super) struct SurfaceDraw<'a> {
+    pub(super) technique: Technique,
+    /// The timer scope of the draw.
+    pub(super) scope: &'static str,
+    pub(super) graphics: &'a dyn Fn(&Recorder, &RasterTarget, &MeshletDrawParams) -> Result<()>,
+    pub(super) compute: &'a dyn Fn(&Recorder, &ComputeTarget, &MeshletDrawParams) -> Result<()>,
+}
 
 /// The buffers of one path, made by [`SurfaceFrame::prepare`].
 pub(super) enum FrameBuffers {
@@ -60,6 +72,41 @@ impl SurfaceFrame {
             }
         }
         Ok(())
+    }
+
+    /// Records `draw` of the surface of `volume` seen in `view` into `target`, on the path the
+    /// buffers were prepared for, in its timer scope (the graphics path's image is copied to
+    /// `target` after it).
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn record_draw(
+        &self,
+        rec: &Recorder,
+        timer: &mut Timer,
+        view: &View,
+        volume: &Volume,
+        bounds: MeshletBounds,
+        target: &Target,
+        draw: &SurfaceDraw,
+    ) -> Result<()> {
+        let (dims, spacing) = (volume.dims(), volume.spacing());
+        match &self.buffers {
+            FrameBuffers::Graphics(raster) => {
+                let params = MeshletDrawParams::new(view, dims, spacing, bounds, 0);
+                let drawn =
+                    timer.scope(rec, draw.scope, |rec| (draw.graphics)(rec, raster, &params));
+                raster.record_copy_to(rec, target);
+                drawn
+            }
+            FrameBuffers::Compute(frame) => {
+                let params =
+                    MeshletDrawParams::new(view, dims, spacing, bounds, frame.lists.capacity);
+                timer.scope(rec, draw.scope, |rec| (draw.compute)(rec, frame, &params))
+            }
+            FrameBuffers::None => Err(Error::Invalid(format!(
+                "{}: record before prepare_frame",
+                draw.technique.name()
+            ))),
+        }
     }
 
     /// Whether a frame that drew `triangles` on `path` must be drawn again: on the compute
