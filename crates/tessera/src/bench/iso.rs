@@ -14,6 +14,7 @@ use crate::path::PathChoice;
 use crate::renderer::{self, Renderer, RendererOptions, Technique};
 use crate::target::Target;
 use std::collections::BTreeMap;
+use tessera_data::pmb::PmbBlockSize;
 use tessera_data::scene::{Appearance, Dataset};
 use tessera_data::{IsoValue, OrbitCamera, ScalarType, Volume};
 use tessera_gpu::{Gpu, ShaderCompiler};
@@ -31,6 +32,8 @@ pub(super) struct IsoTechnique {
     /// The record's technique and path names.
     pub(super) name: &'static str,
     pub(super) path: &'static str,
+    /// The record's variant (PMB's block size), empty for none.
+    pub(super) variant: String,
 }
 
 /// Ray marching, then `direct` on each path the device has, without and with culling.
@@ -45,6 +48,7 @@ pub(super) fn iso_techniques(gpu: &Gpu, sink: &mut dyn RecordSink) -> Vec<IsoTec
         options: with(PathChoice::Compute, false),
         name: "raymarch",
         path: "compute",
+        variant: String::new(),
     }];
     let caps = gpu.caps();
     if caps.mesh_shader && caps.task_shader {
@@ -54,6 +58,7 @@ pub(super) fn iso_techniques(gpu: &Gpu, sink: &mut dyn RecordSink) -> Vec<IsoTec
                 options: with(PathChoice::Graphics, culling),
                 name,
                 path: "mesh",
+                variant: String::new(),
             });
         }
     } else {
@@ -69,6 +74,7 @@ pub(super) fn iso_techniques(gpu: &Gpu, sink: &mut dyn RecordSink) -> Vec<IsoTec
                 options: with(PathChoice::Compute, culling),
                 name,
                 path: "compute",
+                variant: String::new(),
             });
         }
     } else {
@@ -82,7 +88,7 @@ pub(super) fn iso_techniques(gpu: &Gpu, sink: &mut dyn RecordSink) -> Vec<IsoTec
 
 /// Paper C's persistent meshlets, extracted on the GPU per isovalue (`meshlets`) or built
 /// offline by meshoptimizer from the CPU mesh (`offline`, drawn only), and its real-time
-/// reference PMB (8×8×4 blocks, extracted per isovalue), on each path the device has;
+/// reference PMB (each block size, extracted per isovalue), on each path the device has;
 /// frustum-culled by their boxes.
 pub(super) fn meshlet_techniques(gpu: &Gpu) -> Vec<IsoTechnique> {
     let caps = gpu.caps();
@@ -108,16 +114,22 @@ pub(super) fn meshlet_techniques(gpu: &Gpu) -> Vec<IsoTechnique> {
                 (PathChoice::Compute, "compute", caps.buffer_int64_atomics),
             ],
         };
+        let block_sizes: Vec<Option<PmbBlockSize>> = match technique {
+            Technique::Pmb => PmbBlockSize::ALL.map(Some).to_vec(),
+            _ => vec![None],
+        };
         for (path, path_name, available) in paths {
-            if available {
+            for &block in block_sizes.iter().filter(|_| available) {
                 out.push(IsoTechnique {
                     technique,
                     options: RendererOptions {
                         path,
+                        pmb_block: block.unwrap_or_default(),
                         ..RendererOptions::default()
                     },
                     name,
                     path: path_name,
+                    variant: block.map(PmbBlockSize::name).unwrap_or_default(),
                 });
             }
         }
@@ -195,6 +207,7 @@ fn run_scenario(
                 let view = r.view(&camera, size)?;
                 let stages = time_mono(gpu, r.as_mut(), &view, plan, distinct, each)?;
                 let mut record = BenchRecord::new(gpu, scenario, t.name, t.path, &volume_name);
+                record.variant = t.variant.clone();
                 (record.width, record.height, record.warmup, record.frames) =
                     (size.0, size.1, plan.warmup, plan.frames);
                 record.stages = stages;
