@@ -164,7 +164,7 @@ fn direct_mri_head_triangles_equal_cpu_marching_cubes() {
 /// Paper C's meshlets extracted on the GPU from real scans equal the CPU reference's bit for
 /// bit, and welded they are marching cubes' surface (the one `tessera extract` writes).
 #[test]
-fn meshlets_of_real_scans_equal_the_cpu_reference() {
+fn meshlets_and_pmb_of_real_scans_equal_the_cpu_reference() {
     use tessera::iso::meshlets::ExtractionPath;
     use tessera::iso::surface::{extract_surface, SurfaceMethod};
     use tessera_data::marching_cubes::{marching_cubes_with, AmbiguityRule};
@@ -211,6 +211,19 @@ fn meshlets_of_real_scans_equal_the_cpu_reference() {
             volume.name()
         );
         assert!(surface.cost.extract_ms > 0.0 && surface.cost.stored_bytes > 0);
+        // PMB, paper C's real-time reference, gives the same welded surface at every block
+        // size.
+        let mc_triangles = mc.canonical_triangle_multiset(1e-4);
+        for size in tessera_data::pmb::PmbBlockSize::ALL {
+            let pmb =
+                extract_surface(Some(&gpu), volume, texel, rule, SurfaceMethod::Pmb(size)).unwrap();
+            let what = format!("{} PMB {}", volume.name(), size.name());
+            assert_eq!(pmb.mesh.vertex_count(), mc.vertex_count(), "{what}");
+            assert!(
+                pmb.mesh.canonical_triangle_multiset(1e-4) == mc_triangles,
+                "{what}: triangles differ from marching cubes"
+            );
+        }
     }
     assert_clean(&gpu);
 }
