@@ -13,6 +13,7 @@ use tessera::renderer::{
     self, Accumulation, AmbientOcclusion, AmbiguityRule, Frame, FrameStats, FrameTimes, LayoutKind,
     Light, RendererOptions, Technique,
 };
+use tessera_data::pmb::PmbBlockSize;
 use tessera_data::scene::parse::parse_colour;
 use tessera_data::scene::{Appearance, Dataset, IntegrandChoice};
 use tessera_data::tet::shell::DEFAULT_AO_RADIUS;
@@ -52,7 +53,8 @@ struct State {
 /// and `render(...)` as often as wanted. `technique=None` draws each kind of data with its
 /// default (raymarch, interval, param-points). Options as the CLI's flags: `culling`
 /// (direct), `supersample`, `msaa`, `pre_split` (parametric), `ambiguity` (direct's
-/// marching cubes), `layout` (shell: tet32, tet20 or tet16), and shell traversal's effects:
+/// marching cubes), `layout` (shell: tet32, tet20 or tet16), `pmb_block` (pmb: "4x4x4",
+/// "8x4x4", "8x8x4" or "8x8x8"), and shell traversal's effects:
 /// `shadows` (with `light=(x, y, z)` or `light_dir=(x, y, z)`; default a sun above +y),
 /// `ao` (rays per tet, with `ao_radius`) and `gradient`.
 #[pyclass(module = "tessera", frozen)]
@@ -218,7 +220,7 @@ fn camera_of(camera: Option<Vec<f32>>, up: Option<ViewUp>) -> PyResult<OrbitCame
 #[pymethods]
 impl Renderer {
     #[new]
-    #[pyo3(signature = (device, technique=None, path="auto", culling=true, supersample=1, msaa=1, pre_split=None, ambiguity="decider", layout="tet20", shadows=false, light=None, light_dir=None, ao=None, ao_radius=None, gradient=false))]
+    #[pyo3(signature = (device, technique=None, path="auto", culling=true, supersample=1, msaa=1, pre_split=None, ambiguity="decider", layout="tet20", shadows=false, light=None, light_dir=None, ao=None, ao_radius=None, gradient=false, pmb_block="8x8x4"))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         device: &Bound<'_, Device>,
@@ -236,6 +238,7 @@ impl Renderer {
         ao: Option<u32>,
         ao_radius: Option<f32>,
         gradient: bool,
+        pmb_block: &str,
     ) -> PyResult<Self> {
         if let Some(name) = &technique {
             Technique::parse(name).map_err(from_tessera)?;
@@ -263,6 +266,7 @@ impl Renderer {
             shadows,
             ao,
             gradient,
+            pmb_block: PmbBlockSize::parse(pmb_block).map_err(from_data)?,
             ..RendererOptions::default()
         };
         Ok(Renderer {
