@@ -174,3 +174,33 @@ fn extract_refuses_what_it_cannot_do_and_says_why() {
     }
     assert!(!Path::new(out).exists(), "a refused run wrote {out}");
 }
+
+#[test]
+fn pipeline_stats_are_printed_or_their_absence_said() {
+    let dir = scratch("extract-stats");
+    let out = dir.join("s.ply");
+    let o = tessera(&[
+        "--pipeline-stats",
+        "extract",
+        "procedural:sphere:16",
+        "--iso",
+        "100.5",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    let info = String::from_utf8_lossy(&tessera(&["info"]).stdout).into_owned();
+    if info.contains("pipeline statistics      yes") {
+        assert!(
+            stdout.contains("pipeline meshlet extraction /"),
+            "no statistics of the extraction pipeline:\n{stdout}"
+        );
+    } else {
+        assert!(info.contains("pipeline statistics      no"), "{info}");
+        assert!(
+            stdout.contains("does not report them"),
+            "the missing statistics went unmentioned:\n{stdout}"
+        );
+    }
+}
