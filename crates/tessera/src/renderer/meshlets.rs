@@ -5,7 +5,7 @@
 //! ([`crate::iso::meshlet_draw`]); with culling on, meshlets are frustum-culled on both and
 //! occlusion-culled on the compute path.
 
-use super::surface_frame::{FrameBuffers, SurfaceDraw, SurfaceFrame};
+use super::surface_frame::{FrameBuffers, SurfaceDraw, SurfaceFrame, SurfaceLevel};
 use super::{
     no_data, wrong_data, FrameOutcome, FrameStats, Renderer, RendererOptions, Target, Technique,
     WorkCounters,
@@ -61,9 +61,7 @@ pub(super) struct MeshletRenderer {
     surface: Option<StoredSurface>,
     /// Whether the frame being recorded extracts the surface anew.
     extracting: bool,
-    look: Appearance,
-    iso: f32,
-    value_range: (f32, f32),
+    level: SurfaceLevel,
     frame: SurfaceFrame,
     /// What the offline surface cost on the CPU, in milliseconds.
     extraction_ms: f64,
@@ -94,9 +92,7 @@ impl MeshletRenderer {
             producer: None,
             surface: None,
             extracting: false,
-            look: Appearance::default(),
-            iso: 0.0,
-            value_range: (0.0, 1.0),
+            level: SurfaceLevel::new(),
             frame: SurfaceFrame::new(),
             extraction_ms: 0.0,
             stats: FrameStats::default(),
@@ -110,17 +106,21 @@ impl MeshletRenderer {
         let (Some(Producer::Offline), Some(volume)) = (&self.producer, &self.volume) else {
             return Ok(());
         };
-        if self.surface.as_ref().is_some_and(|s| s.made_at == self.iso) {
+        if self
+            .surface
+            .as_ref()
+            .is_some_and(|s| s.made_at == self.level.iso)
+        {
             return Ok(());
         }
         self.surface = None;
         let start = Instant::now();
-        let mesh = marching_cubes_with(volume, self.iso, self.ambiguity);
+        let mesh = marching_cubes_with(volume, self.level.iso, self.ambiguity);
         let meshlets = offline_meshlets(&mesh)?;
         self.extraction_ms = start.elapsed().as_secs_f64() * 1e3;
         self.surface = Some(StoredSurface {
             meshlets: GpuMeshlets::upload(gpu, &meshlets)?,
-            made_at: self.iso,
+            made_at: self.level.iso,
         });
         // Other meshlets under the same indices: what the flags say is void.
         self.occlusion = None;
@@ -194,17 +194,11 @@ impl Renderer for MeshletRenderer {
         };
         self.producer = Some(producer);
         self.volume = Some(volume.clone());
-        self.counters.data_uploads += 1;
-        self.counters.data_bytes += volume.size_bytes();
-        self.value_range = volume.texel_range();
-        self.iso = self.look.iso_in_range(self.value_range)?;
-        Ok(())
+        self.level.set_volume(volume, &mut self.counters)
     }
 
     fn set_appearance(&mut self, _gpu: &Gpu, look: &Appearance) -> Result<()> {
-        self.look = look.clone();
-        self.iso = self.look.iso_in_range(self.value_range)?;
-        Ok(())
+        self.level.set_look(look)
     }
 
     fn prepare_frame(&mut self, gpu: &Gpu, view: &View) -> Result<()> {
@@ -246,7 +240,7 @@ impl Renderer for MeshletRenderer {
         };
         // A new isovalue is extracted in the frame that draws it, and drawn without a
         // readback: the draw reads the meshlet count on the GPU.
-        self.extracting = surface.made_at != self.iso;
+        self.extracting = surface.made_at != self.level.iso;
         if let (
             true,
             Some(Producer::Extraction {
@@ -256,7 +250,7 @@ impl Renderer for MeshletRenderer {
         ) = (self.extracting, &self.producer)
         {
             timer.scope(rec, "meshlet extraction", |rec| {
-                extractor.record(rec, prepared, self.iso, &surface.meshlets)
+                extractor.record(rec, prepared, self.level.iso, &surface.meshlets)
             })?;
             rec.barrier();
             if let Some(occlusion) = &self.occlusion {
@@ -301,7 +295,7 @@ impl Renderer for MeshletRenderer {
                 retry = true;
             } else {
                 surface.meshlets.totals = totals;
-                surface.made_at = self.iso;
+                surface.made_at = self.level.iso;
             }
         }
         let passes = match &self.occlusion {

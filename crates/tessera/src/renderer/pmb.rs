@@ -3,7 +3,7 @@
 //! and draws the stored blocks from every view ([`crate::iso::pmb_draw`]) on the graphics
 //! path (indexed indirect draws) or the compute path.
 
-use super::surface_frame::{SurfaceDraw, SurfaceFrame};
+use super::surface_frame::{SurfaceDraw, SurfaceFrame, SurfaceLevel};
 use super::{
     no_data, wrong_data, FrameOutcome, FrameStats, Renderer, RendererOptions, Target, Technique,
     WorkCounters,
@@ -40,9 +40,7 @@ pub(super) struct PmbRenderer {
     surface: Option<Surface>,
     /// Whether the frame being recorded extracts the surface anew.
     extracting: bool,
-    look: Appearance,
-    iso: f32,
-    value_range: (f32, f32),
+    level: SurfaceLevel,
     frame: SurfaceFrame,
     stats: FrameStats,
     counters: WorkCounters,
@@ -66,9 +64,7 @@ impl PmbRenderer {
             volume: None,
             surface: None,
             extracting: false,
-            look: Appearance::default(),
-            iso: 0.0,
-            value_range: (0.0, 1.0),
+            level: SurfaceLevel::new(),
             frame: SurfaceFrame::new(),
             stats: FrameStats::default(),
             counters: WorkCounters::default(),
@@ -111,17 +107,11 @@ impl Renderer for PmbRenderer {
             made_at: f32::NAN,
         });
         self.volume = Some(volume.clone());
-        self.counters.data_uploads += 1;
-        self.counters.data_bytes += volume.size_bytes();
-        self.value_range = volume.texel_range();
-        self.iso = self.look.iso_in_range(self.value_range)?;
-        Ok(())
+        self.level.set_volume(volume, &mut self.counters)
     }
 
     fn set_appearance(&mut self, _gpu: &Gpu, look: &Appearance) -> Result<()> {
-        self.look = look.clone();
-        self.iso = self.look.iso_in_range(self.value_range)?;
-        Ok(())
+        self.level.set_look(look)
     }
 
     fn prepare_frame(&mut self, gpu: &Gpu, view: &View) -> Result<()> {
@@ -146,12 +136,12 @@ impl Renderer for PmbRenderer {
         };
         // A new isovalue is extracted in the frame that draws it, and drawn without a
         // readback: the draw reads the block count on the GPU.
-        self.extracting = surface.made_at != self.iso;
+        self.extracting = surface.made_at != self.level.iso;
         if self.extracting {
             timer.scope(rec, "PMB extraction", |rec| {
                 surface
                     .extractor
-                    .record(rec, &surface.prepared, self.iso, &surface.pmb)
+                    .record(rec, &surface.prepared, self.level.iso, &surface.pmb)
             });
             rec.barrier();
         }
@@ -181,7 +171,7 @@ impl Renderer for PmbRenderer {
                 retry = true;
             } else {
                 surface.pmb.totals = totals;
-                surface.made_at = self.iso;
+                surface.made_at = self.level.iso;
             }
         }
         let drawn = draw.read_counters(gpu)?;

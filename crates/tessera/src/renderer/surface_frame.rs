@@ -2,12 +2,13 @@
 //! graphics path's attachments, or the compute path's triangle list and raster frame, whose
 //! list grows when a frame drew more triangles than it holds.
 
-use super::{Target, Technique};
+use super::{Target, Technique, WorkCounters};
 use crate::error::{Error, Result};
 use crate::iso::direct::compute::{ComputeTarget, TriangleLists};
 use crate::iso::direct::RasterTarget;
 use crate::iso::meshlet_draw::{MeshletBounds, MeshletDrawParams};
 use crate::path::Path;
+use tessera_data::scene::Appearance;
 use tessera_data::{View, Volume};
 use tessera_gpu::{Gpu, Recorder, Timer};
 
@@ -117,5 +118,42 @@ impl SurfaceFrame {
             return true;
         }
         false
+    }
+}
+
+/// The isovalue a stored surface is drawn at: the look's, in texel units of the volume's value
+/// range.
+pub(super) struct SurfaceLevel {
+    look: Appearance,
+    value_range: (f32, f32),
+    pub(super) iso: f32,
+}
+
+impl SurfaceLevel {
+    pub(super) fn new() -> SurfaceLevel {
+        SurfaceLevel {
+            look: Appearance::default(),
+            value_range: (0.0, 1.0),
+            iso: 0.0,
+        }
+    }
+
+    /// A new volume: its value range, the isovalue in it, and its upload counted.
+    pub(super) fn set_volume(
+        &mut self,
+        volume: &Volume,
+        counters: &mut WorkCounters,
+    ) -> Result<()> {
+        counters.data_uploads += 1;
+        counters.data_bytes += volume.size_bytes();
+        self.value_range = volume.texel_range();
+        self.iso = self.look.iso_in_range(self.value_range)?;
+        Ok(())
+    }
+
+    pub(super) fn set_look(&mut self, look: &Appearance) -> Result<()> {
+        self.look = look.clone();
+        self.iso = self.look.iso_in_range(self.value_range)?;
+        Ok(())
     }
 }
