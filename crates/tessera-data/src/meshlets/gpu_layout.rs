@@ -33,11 +33,13 @@
 //!
 //! # Region analysis → extraction (task payload, or shared memory on the compute path)
 //!
-//! One workgroup of 32 invocations per occupied block; invocation `i` classifies the cells
-//! with Morton codes `8i .. 8i + 8` (a 2×2×2 subblock) and counts their triangles, occupied
-//! cells and the crossed edges they and their padding points own; sums over 8 and 32
-//! consecutive invocations give the 4×4×4 and 8×8×4 candidates. Shared-memory reductions
-//! rather than subgroup operations, since the subgroup size may be smaller than 32 (8 on
+//! One workgroup per occupied block first reads the block's samples with a one-sample apron
+//! into shared memory. On the task path (32 invocations, the paper's) invocation `i`
+//! classifies the cells with Morton codes `8i .. 8i + 8` (a 2×2×2 subblock, an eighth); on the
+//! compute path (128) four invocations share each eighth. Each eighth's triangles, occupied
+//! cells and the crossed edges they and their padding points own are summed in shared memory;
+//! sums over 8 and 32 consecutive eighths give the 4×4×4 and 8×8×4 candidates. Shared-memory
+//! sums rather than subgroup operations, since the subgroup size may be smaller than 32 (8 on
 //! lavapipe). The payload per block:
 //!
 //! * `uint block`: index into the occupied-block list;
@@ -51,4 +53,5 @@
 //!
 //! Padding points are not listed: the extraction workgroup re-tests the at most
 //! 9·9·5 − 8·8·4 = 149 points beyond a subblock's max faces (fewer for smaller subblocks),
-//! which reads the volume but keeps the payload within 1 KiB.
+//! from the samples it holds (a mesh workgroup loads its subblock's), which keeps the payload
+//! within 1 KiB.
