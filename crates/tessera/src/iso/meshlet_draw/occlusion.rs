@@ -12,7 +12,8 @@
 //! Everything pass 1 drew lies in the final image and the test is conservative, so the image
 //! equals the unculled draw's (up to triangles tying in depth, which the rasterizer breaks by
 //! index). The first frame, or one after [`MeshletOcclusion::forget`] (a new surface), draws
-//! everything in view in pass 2. The flags are indexed by meshlet, so they mean nothing once
+//! everything in view in pass 2 and skips pass 1 and the pyramid (a pyramid at the far plane
+//! stands in). The flags are indexed by meshlet, so they mean nothing once
 //! the meshlets are extracted or uploaded anew: forget then.
 
 use super::list::resolve_params;
@@ -203,8 +204,12 @@ impl MeshletDraw {
             ));
         }
         let (first, second) = (&target.lists, &occlusion.second);
-        if occlusion.forget_pending.replace(false) {
+        // Nothing seen yet: pass 1 would draw nothing, so it and the pyramid of its empty
+        // frame are skipped; a pyramid of the far plane hides nothing from pass 2.
+        let forgetting = occlusion.forget_pending.replace(false);
+        if forgetting {
             rec.fill_buffer(&occlusion.flags, 0);
+            rec.fill_buffer(&occlusion.hzb, 1.0f32.to_bits());
         }
         for buffer in [
             &self.counters,
@@ -233,10 +238,12 @@ impl MeshletDraw {
         };
         let rasterizer = passes.list.rasterizer();
         rasterizer.record_clear(rec, frame);
-        pass(&culling.first, first, &self.counters, false);
-        rasterizer.record_prepare_dispatch(rec, &first.counts);
-        rasterizer.record_raster(rec, &first.triangles, &first.counts, frame);
-        culling.hzb.record(rec, frame, &occlusion.hzb);
+        if !forgetting {
+            pass(&culling.first, first, &self.counters, false);
+            rasterizer.record_prepare_dispatch(rec, &first.counts);
+            rasterizer.record_raster(rec, &first.triangles, &first.counts, frame);
+            culling.hzb.record(rec, frame, &occlusion.hzb);
+        }
         pass(&culling.second, second, &occlusion.second_counters, true);
         rasterizer.record_prepare_dispatch(rec, &second.counts);
         rasterizer.record_raster_with_base(rec, &second.triangles, &second.counts, frame, base);
