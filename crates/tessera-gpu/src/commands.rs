@@ -55,6 +55,28 @@ impl Recorder<'_> {
         };
     }
 
+    /// Copies `bytes` from `src` at `src_offset` to `dst` at `dst_offset`.
+    pub fn copy_buffer_range(
+        &self,
+        src: &Buffer,
+        src_offset: u64,
+        dst: &Buffer,
+        dst_offset: u64,
+        bytes: u64,
+    ) {
+        let region = [vk::BufferCopy::default()
+            .src_offset(src_offset)
+            .dst_offset(dst_offset)
+            .size(bytes)];
+        // SAFETY: as for `copy_buffer`; the caller keeps both ranges inside their buffers
+        // (`Readback::record_copy` checks its own).
+        unsafe {
+            self.gpu
+                .device
+                .cmd_copy_buffer(self.cmd, src.handle, dst.handle, &region)
+        };
+    }
+
     /// Writes `data` (a multiple of 4 bytes, at most 65,536) to the start of `dst` in the
     /// command stream, for small per-frame values that must not need a staging buffer.
     pub fn update_buffer(&self, dst: &Buffer, data: &[u8]) {

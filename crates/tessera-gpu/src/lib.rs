@@ -27,7 +27,7 @@ pub use caps::Capabilities;
 pub use commands::{Binding, IndexedDraws, Recorder, INDEXED_COMMAND_BYTES};
 pub use context::{list_devices, DeviceListing, Gpu, GpuOptions};
 pub use error::{GpuError, Result};
-pub use memory::{Buffer, Image, MemoryLocation, MemoryReport};
+pub use memory::{Buffer, Image, MemoryLocation, MemoryReport, Readback};
 pub use pipeline::{spread_groups, Blend, Pipeline, RenderTargets, Slot, PUSH_CONSTANT_BYTES};
 pub use shader::{ShaderCompiler, Source, Spirv, Stage};
 pub use statistics::PipelineStatistics;

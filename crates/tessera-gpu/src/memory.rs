@@ -437,3 +437,49 @@ pub(crate) fn full_range(format: vk::Format, layers: u32) -> vk::ImageSubresourc
         layer_count: layers,
     }
 }
+
+/// Small GPU values (counters, statistics) that a frame copies to the host at its end and the
+/// host reads once the frame's submission finished: one host-visible buffer made once, so a
+/// read needs no staging buffer and no submission of its own (as [`Gpu::read_buffer`] does).
+pub struct Readback {
+    buffer: Buffer,
+}
+
+impl Gpu {
+    /// A readback of `bytes`, zero until a copy lands.
+    pub fn create_readback(&self, name: &str, bytes: u64) -> Result<Readback> {
+        let mut buffer = self.create_buffer(
+            name,
+            bytes,
+            vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuToCpu,
+        )?;
+        if let Some(bytes) = buffer.mapped_mut() {
+            bytes.fill(0);
+        }
+        Ok(Readback { buffer })
+    }
+}
+
+impl Readback {
+    /// Records a copy of the first `bytes` of `src` to `offset` in the readback, then a
+    /// barrier (so later commands may write `src` again); record a barrier before it so that
+    /// it follows the writes to `src`. Panics when the range passes either buffer: a caller's
+    /// layout error.
+    pub fn record_copy(&self, rec: &crate::Recorder, src: &Buffer, offset: u64, bytes: u64) {
+        assert!(
+            bytes <= src.size && offset + bytes <= self.buffer.size,
+            "readback of {bytes} bytes of '{}' at {offset} into '{}' ({} bytes)",
+            src.name,
+            self.buffer.name,
+            self.buffer.size
+        );
+        rec.copy_buffer_range(src, 0, &self.buffer, offset, bytes);
+        rec.barrier();
+    }
+
+    /// The bytes as the last finished submission left them (zeros before any).
+    pub fn bytes(&self) -> &[u8] {
+        self.buffer.mapped().unwrap_or(&[])
+    }
+}

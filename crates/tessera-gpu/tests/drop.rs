@@ -1,4 +1,5 @@
-//! GPU objects free themselves when dropped and keep the device alive while they exist.
+//! GPU objects free themselves when dropped and keep the device alive while they exist; a
+//! readback holds what the last submission copied into it.
 
 use tessera_gpu::{
     vk, Binding, Gpu, GpuOptions, MemoryLocation, ShaderCompiler, Slot, Source, Timer,
@@ -216,5 +217,40 @@ fn a_timer_never_submitted_is_an_error() {
     assert!(
         error.contains("fill") && error.contains("never submitted"),
         "{error}"
+    );
+}
+
+#[test]
+fn a_readback_holds_what_the_last_submission_copied() {
+    let Some(gpu) = open() else { return };
+    let source = gpu
+        .create_buffer(
+            "counters",
+            16,
+            vk::BufferUsageFlags::TRANSFER_SRC | vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuOnly,
+        )
+        .unwrap();
+    let readback = gpu.create_readback("counters (host)", 24).unwrap();
+    assert_eq!(readback.bytes(), [0u8; 24], "zero before any copy");
+    for round in 1..=2u32 {
+        let words = [round, 2 * round, 3 * round, 4 * round];
+        gpu.submit("copy", |rec| {
+            rec.update_buffer(&source, bytemuck::cast_slice(&words));
+            rec.barrier();
+            readback.record_copy(rec, &source, 8, 16);
+        })
+        .unwrap();
+        let held: Vec<u32> = bytemuck::pod_collect_to_vec(readback.bytes());
+        assert_eq!(
+            held,
+            [0, 0, round, 2 * round, 3 * round, 4 * round],
+            "round {round}"
+        );
+    }
+    assert!(
+        gpu.validation_errors().is_empty(),
+        "{:?}",
+        gpu.validation_errors()
     );
 }

@@ -204,7 +204,7 @@ fn implicit_and_explicit_boxes_cull_alike_and_draw_the_same_image() {
                 .unwrap()
         })
         .unwrap();
-        let counters = draw.read_counters(&gpu).unwrap();
+        let counters = draw.read_counters();
         results.push((bounds, counters, pixels.read(&gpu).unwrap()));
     }
     let (_, none, reference) = &results[2];

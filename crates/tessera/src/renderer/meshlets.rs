@@ -299,9 +299,9 @@ impl Renderer for MeshletRenderer {
             }
         }
         let passes = match &self.occlusion {
-            Some(occlusion) => occlusion.read_counters(draw, gpu)?,
+            Some(occlusion) => occlusion.read_counters(draw),
             None => OcclusionCounters {
-                second: draw.read_counters(gpu)?,
+                second: draw.read_counters(),
                 ..Default::default()
             },
         };

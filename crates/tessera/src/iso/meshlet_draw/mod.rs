@@ -35,8 +35,8 @@ use list::ListResolve;
 use tessera_data::shading::BACKGROUND;
 use tessera_data::{GridFrame, View};
 use tessera_gpu::{
-    spread_groups, vk, Binding, Buffer, Gpu, MemoryLocation, Pipeline, Recorder, RenderTargets,
-    ShaderCompiler, Slot,
+    spread_groups, vk, Binding, Buffer, Gpu, MemoryLocation, Pipeline, Readback, Recorder,
+    RenderTargets, ShaderCompiler, Slot,
 };
 
 /// Meshlets one task workgroup tests (one invocation each).
@@ -113,6 +113,9 @@ impl MeshletDrawParams {
     }
 }
 
+/// Bytes of [`DrawCounters`].
+const COUNTER_BYTES: u64 = std::mem::size_of::<DrawCounters>() as u64;
+
 /// What the last frame drew.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Pod, Zeroable)]
 #[repr(C)]
@@ -138,6 +141,7 @@ struct ComputePasses {
 pub struct MeshletDraw {
     passes: Passes,
     counters: Buffer,
+    readback: Readback,
     max_groups_x: u32,
 }
 
@@ -207,6 +211,8 @@ impl MeshletDraw {
         Ok(MeshletDraw {
             passes,
             counters,
+            // This draw's counters, then (occlusion culling) pass 2's.
+            readback: gpu.create_readback("meshlet draw counters (host)", 2 * COUNTER_BYTES)?,
             max_groups_x: gpu.caps().max_compute_workgroup_count[0],
         })
     }
@@ -259,6 +265,8 @@ impl MeshletDraw {
         );
         rec.end_rendering();
         rec.barrier();
+        self.readback
+            .record_copy(rec, &self.counters, 0, COUNTER_BYTES);
         Ok(drawn?)
     }
 
@@ -298,6 +306,8 @@ impl MeshletDraw {
         );
         rec.barrier();
         list.record(rec, target, pixels, params);
+        self.readback
+            .record_copy(rec, &self.counters, 0, COUNTER_BYTES);
         Ok(())
     }
 
@@ -310,10 +320,18 @@ impl MeshletDraw {
         }
     }
 
-    /// What the last recorded frame drew (read after it was submitted).
-    pub fn read_counters(&self, gpu: &Gpu) -> Result<DrawCounters> {
-        Ok(bytemuck::pod_read_unaligned(
-            &gpu.read_buffer(&self.counters)?,
-        ))
+    /// What the last recorded frame drew (read after it was submitted): copied to the host
+    /// at the frame's end, so reading takes no submission.
+    pub fn read_counters(&self) -> DrawCounters {
+        self.counters_at(0)
+    }
+
+    fn counters_at(&self, offset: u64) -> DrawCounters {
+        let at = offset as usize;
+        self.readback
+            .bytes()
+            .get(at..at + COUNTER_BYTES as usize)
+            .map(bytemuck::pod_read_unaligned)
+            .unwrap_or_default()
     }
 }

@@ -17,7 +17,7 @@
 //! the meshlets are extracted or uploaded anew: forget then.
 
 use super::list::resolve_params;
-use super::{DrawCounters, MeshletDraw, MeshletDrawParams, READ_SLOTS};
+use super::{DrawCounters, MeshletDraw, MeshletDrawParams, COUNTER_BYTES, READ_SLOTS};
 use crate::builtin_shader;
 use crate::config::meshlet_draw_defines;
 use crate::error::{Error, Result};
@@ -149,12 +149,13 @@ impl MeshletOcclusion {
         self.forget_pending.set(true);
     }
 
-    /// What the last recorded frame's passes drew (read after it was submitted).
-    pub fn read_counters(&self, draw: &MeshletDraw, gpu: &Gpu) -> Result<OcclusionCounters> {
-        Ok(OcclusionCounters {
-            first: draw.read_counters(gpu)?,
-            second: bytemuck::pod_read_unaligned(&gpu.read_buffer(&self.second_counters)?),
-        })
+    /// What the last recorded frame's passes drew (read after it was submitted; `draw` copied
+    /// both to the host at the frame's end).
+    pub fn read_counters(&self, draw: &MeshletDraw) -> OcclusionCounters {
+        OcclusionCounters {
+            first: draw.counters_at(0),
+            second: draw.counters_at(COUNTER_BYTES),
+        }
     }
 }
 
@@ -262,6 +263,14 @@ impl MeshletDraw {
             [frame.width, frame.height, 1],
         );
         rec.barrier();
+        self.readback
+            .record_copy(rec, &self.counters, 0, COUNTER_BYTES);
+        self.readback.record_copy(
+            rec,
+            &occlusion.second_counters,
+            COUNTER_BYTES,
+            COUNTER_BYTES,
+        );
         Ok(())
     }
 }
