@@ -174,7 +174,7 @@ impl Renderer for PmbRenderer {
                 surface.made_at = self.level.iso;
             }
         }
-        let drawn = draw.read_counters(gpu)?;
+        let drawn = draw.read_counters();
         if self.frame.grow_for(self.path, drawn.triangles_drawn) {
             retry = true;
         }

@@ -30,8 +30,8 @@ use crate::target::Target;
 use bytemuck::{Pod, Zeroable};
 use tessera_data::shading::BACKGROUND;
 use tessera_gpu::{
-    vk, Binding, Buffer, Capabilities, Gpu, IndexedDraws, MemoryLocation, Pipeline, Recorder,
-    RenderTargets, ShaderCompiler, Slot, INDEXED_COMMAND_BYTES,
+    vk, Binding, Buffer, Capabilities, Gpu, IndexedDraws, MemoryLocation, Pipeline, Readback,
+    Recorder, RenderTargets, ShaderCompiler, Slot, INDEXED_COMMAND_BYTES,
 };
 
 /// Blocks one workgroup of the command pass turns into draws (`PMB_DRAW_GROUP`).
@@ -39,6 +39,9 @@ pub const COMMAND_GROUP: u32 = 64;
 
 /// Where the block count sits in the indirect-arguments buffer; the dispatch follows it.
 const DISPATCH_OFFSET: u64 = 4;
+
+/// Bytes of [`PmbDrawCounters`].
+const COUNTER_BYTES: u64 = std::mem::size_of::<PmbDrawCounters>() as u64;
 
 /// What the last frame drew (`PmbDrawCounters` in `blocks.glsl`).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Pod, Zeroable)]
@@ -100,6 +103,8 @@ pub struct PmbDraw {
     /// The block count, then the dispatch over the blocks.
     block_count: Buffer,
     counters: Buffer,
+    /// `counters` copied to the host at the end of each frame.
+    readback: Readback,
     block_size: PmbBlockSize,
 }
 
@@ -179,6 +184,7 @@ impl PmbDraw {
             indirect: IndirectArgs::new(gpu, compiler)?,
             block_count: create_counts_buffer(gpu, "PMB draw block count")?,
             counters,
+            readback: gpu.create_readback("PMB draw counters (host)", COUNTER_BYTES)?,
             block_size,
         })
     }
@@ -296,6 +302,8 @@ impl PmbDraw {
         );
         rec.end_rendering();
         rec.barrier();
+        self.readback
+            .record_copy(rec, &self.counters, 0, COUNTER_BYTES);
         Ok(drawn?)
     }
 
@@ -340,17 +348,19 @@ impl PmbDraw {
         );
         rec.barrier();
         passes.list.record(rec, target, pixels, params);
+        self.readback
+            .record_copy(rec, &self.counters, 0, COUNTER_BYTES);
         Ok(())
     }
 
-    /// What the last recorded frame drew (read after it was submitted).
-    pub fn read_counters(&self, gpu: &Gpu) -> Result<PmbDrawCounters> {
-        let bytes = gpu.read_buffer(&self.counters)?;
-        let size = std::mem::size_of::<PmbDrawCounters>();
-        if bytes.len() < size {
-            return Err(Error::Invalid("PMB draw counters: short readback".into()));
-        }
-        Ok(bytemuck::pod_read_unaligned(&bytes[..size]))
+    /// What the last recorded frame drew (read after it was submitted): copied to the host
+    /// at the frame's end, so reading takes no submission.
+    pub fn read_counters(&self) -> PmbDrawCounters {
+        self.readback
+            .bytes()
+            .get(..COUNTER_BYTES as usize)
+            .map(bytemuck::pod_read_unaligned)
+            .unwrap_or_default()
     }
 
     /// The graphics path's draw commands of the last frame (for tests); empty on the compute
@@ -362,7 +372,7 @@ impl PmbDraw {
         let Some(buffer) = &passes.command_buffer else {
             return Ok(Vec::new());
         };
-        let drawn = self.read_counters(gpu)?.blocks_drawn as usize;
+        let drawn = self.read_counters().blocks_drawn as usize;
         let bytes = gpu.read_buffer(buffer)?;
         let commands: Vec<DrawIndexedIndirectCommand> =
             bytemuck::allocation::pod_collect_to_vec(&bytes);
