@@ -27,7 +27,10 @@ use tessera_data::mc_ambiguity::AmbiguityRule;
 use tessera_data::meshlets::offline_meshlets;
 use tessera_data::scene::{Appearance, Dataset};
 use tessera_data::{View, Volume};
-use tessera_gpu::{Gpu, Recorder, Timer};
+use tessera_gpu::{Gpu, Readback, Recorder, Timer};
+
+/// Bytes of [`MeshletCounters`].
+const TOTALS_BYTES: u64 = std::mem::size_of::<MeshletCounters>() as u64;
 
 /// How the stored surface was made.
 enum Producer {
@@ -62,6 +65,8 @@ pub(super) struct MeshletRenderer {
     /// Whether the frame being recorded extracts the surface anew.
     extracting: bool,
     level: SurfaceLevel,
+    /// The extraction's totals, copied to the host at the end of a frame that extracted.
+    totals: Option<Readback>,
     frame: SurfaceFrame,
     /// What the offline surface cost on the CPU, in milliseconds.
     extraction_ms: f64,
@@ -93,6 +98,7 @@ impl MeshletRenderer {
             surface: None,
             extracting: false,
             level: SurfaceLevel::new(),
+            totals: None,
             frame: SurfaceFrame::new(),
             extraction_ms: 0.0,
             stats: FrameStats::default(),
@@ -171,6 +177,9 @@ impl Renderer for MeshletRenderer {
             self.counters.pipeline_builds += 1;
         }
         self.occlusion = None;
+        if self.totals.is_none() {
+            self.totals = Some(gpu.create_readback("meshlet totals (host)", TOTALS_BYTES)?);
+        }
         let producer = match self.technique {
             Technique::Offline => Producer::Offline,
             _ => {
@@ -269,8 +278,14 @@ impl Renderer for MeshletRenderer {
                 None => draw.record_compute(rec, meshlets, frame, target, params),
             },
         };
-        self.frame
-            .record_draw(rec, timer, view, volume, self.bounds, target, &surface_draw)
+        let drawn =
+            self.frame
+                .record_draw(rec, timer, view, volume, self.bounds, target, &surface_draw);
+        if let (true, Some(totals)) = (self.extracting, &self.totals) {
+            rec.barrier();
+            totals.record_copy(rec, &surface.meshlets.counters, 0, TOTALS_BYTES);
+        }
+        drawn
     }
 
     fn finish_frame(&mut self, gpu: &Gpu) -> Result<FrameOutcome> {
@@ -279,8 +294,12 @@ impl Renderer for MeshletRenderer {
         };
         let mut retry = false;
         if self.extracting {
-            let totals: MeshletCounters =
-                bytemuck::pod_read_unaligned(&gpu.read_buffer(&surface.meshlets.counters)?);
+            let totals: MeshletCounters = self
+                .totals
+                .as_ref()
+                .and_then(|t| t.bytes().get(..TOTALS_BYTES as usize))
+                .map(bytemuck::pod_read_unaligned)
+                .ok_or_else(|| Error::Invalid("meshlet extraction: no totals read back".into()))?;
             if totals.overflow & OVERFLOW_MISMATCH != 0 {
                 return Err(Error::Invalid(
                     "meshlet extraction: a subblock's extraction counted other vertices or \

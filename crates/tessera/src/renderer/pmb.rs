@@ -8,7 +8,7 @@ use super::{
     no_data, wrong_data, FrameOutcome, FrameStats, Renderer, RendererOptions, Target, Technique,
     WorkCounters,
 };
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::iso::meshlet_draw::MeshletBounds;
 use crate::iso::minmax::MinMaxBuilder;
 use crate::iso::pmb::{GpuPmb, PmbBlockSize, PmbCounters, PmbExtractor};
@@ -18,7 +18,7 @@ use crate::path::Path;
 use tessera_data::mc_ambiguity::AmbiguityRule;
 use tessera_data::scene::{Appearance, Dataset};
 use tessera_data::{View, Volume};
-use tessera_gpu::{Gpu, Recorder, Timer};
+use tessera_gpu::{Gpu, Readback, Recorder, Timer};
 
 /// The extraction's pipelines and buffers for one volume.
 struct Surface {
@@ -28,7 +28,12 @@ struct Surface {
     /// The isovalue (texel units) `pmb` holds the surface of; NaN until an extraction into
     /// the current buffers succeeded.
     made_at: f32,
+    /// The extraction's totals, copied to the host at the end of a frame that extracted.
+    totals: Readback,
 }
+
+/// Bytes of [`PmbCounters`].
+const TOTALS_BYTES: u64 = std::mem::size_of::<PmbCounters>() as u64;
 
 pub(super) struct PmbRenderer {
     path: Path,
@@ -100,7 +105,9 @@ impl Renderer for PmbRenderer {
         if let Some(draw) = &mut self.draw {
             draw.prepare(gpu, &pmb)?;
         }
+        let totals = gpu.create_readback("PMB totals (host)", TOTALS_BYTES)?;
         self.surface = Some(Surface {
+            totals,
             extractor,
             prepared,
             pmb,
@@ -152,8 +159,16 @@ impl Renderer for PmbRenderer {
             graphics: &|rec, raster, params| draw.record_graphics(rec, pmb, raster, params),
             compute: &|rec, frame, params| draw.record_compute(rec, pmb, frame, target, params),
         };
-        self.frame
-            .record_draw(rec, timer, view, volume, self.bounds, target, &surface_draw)
+        let drawn =
+            self.frame
+                .record_draw(rec, timer, view, volume, self.bounds, target, &surface_draw);
+        if self.extracting {
+            rec.barrier();
+            surface
+                .totals
+                .record_copy(rec, &surface.pmb.counters, 0, TOTALS_BYTES);
+        }
+        drawn
     }
 
     fn finish_frame(&mut self, gpu: &Gpu) -> Result<FrameOutcome> {
@@ -162,8 +177,12 @@ impl Renderer for PmbRenderer {
         };
         let mut retry = false;
         if self.extracting {
-            let totals: PmbCounters =
-                bytemuck::pod_read_unaligned(&gpu.read_buffer(&surface.pmb.counters)?);
+            let totals: PmbCounters = surface
+                .totals
+                .bytes()
+                .get(..TOTALS_BYTES as usize)
+                .map(bytemuck::pod_read_unaligned)
+                .ok_or_else(|| Error::Invalid("PMB extraction: no totals read back".into()))?;
             let grew = surface.pmb.grow_for(gpu, &totals)?;
             if totals.overflow != 0 || grew {
                 // The grown buffers are empty: extract into them in the frame again.
