@@ -420,7 +420,7 @@ impl Renderer for IsoRenderer {
                 // Each of a culled frame's two lists holds `capacity` triangles.
                 let made = match culling.as_ref().filter(|_| !self.stereo) {
                     Some(state) => {
-                        let s = state.read_stats(gpu)?;
+                        let s = state.read_stats();
                         self.stats.blocks_drawn = Some((
                             u64::from(s.blocks_drawn_first),
                             u64::from(s.blocks_drawn_new),

@@ -42,7 +42,9 @@ use bytemuck::{Pod, Zeroable};
 use std::cell::Cell;
 use tessera_data::mc_ambiguity::AmbiguityRule;
 use tessera_data::ScalarType;
-use tessera_gpu::{vk, Buffer, Gpu, MemoryLocation, Pipeline, ShaderCompiler, Slot};
+use tessera_gpu::{
+    vk, Buffer, Gpu, MemoryLocation, Pipeline, Readback, Recorder, ShaderCompiler, Slot,
+};
 
 /// Push constants of `hzb_test.comp.glsl`.
 #[repr(C)]
@@ -153,6 +155,9 @@ pub struct ComputeCullState {
     /// The extraction's (triangles, blocks classified) of pass A and pass B.
     pub(super) extract_stats: [Buffer; 2],
     pub(super) hzb: Buffer,
+    /// The statistics of the last frame on the host: `stats`, then the first word of each
+    /// `extract_stats`.
+    readback: Readback,
     /// Pass B's triangles.
     pub new_lists: TriangleLists,
     pub(super) width: u32,
@@ -203,6 +208,7 @@ impl ComputeCullState {
             stats,
             extract_stats: [es_a, es_b],
             hzb,
+            readback: gpu.create_readback("hzb cull stats (host)", 24)?,
             new_lists,
             width: w,
             height: h,
@@ -240,21 +246,30 @@ impl ComputeCullState {
         &self.lists[(self.frame.get() + 1) % 2]
     }
 
-    /// What the last recorded frame did.
-    pub fn read_stats(&self, gpu: &Gpu) -> Result<ComputeCullStats> {
-        let words = |b: &Buffer| -> Result<Vec<u32>> {
-            Ok(bytemuck::allocation::pod_collect_to_vec(
-                &gpu.read_buffer(b)?,
-            ))
-        };
-        let s = words(&self.stats)?;
-        Ok(ComputeCullStats {
+    /// Records the copy of the frame's statistics to the host (at the frame's end).
+    pub(super) fn record_stats_readback(&self, rec: &Recorder) {
+        rec.barrier();
+        self.readback.record_copy(rec, &self.stats, 0, 16);
+        self.readback
+            .record_copy(rec, &self.extract_stats[0], 16, 4);
+        self.readback
+            .record_copy(rec, &self.extract_stats[1], 20, 4);
+    }
+
+    /// What the last recorded frame did (read after it was submitted): copied to the host at
+    /// the frame's end, so reading takes no submission.
+    pub fn read_stats(&self) -> ComputeCullStats {
+        let mut s = [0u32; 6];
+        if let Some(bytes) = self.readback.bytes().get(..24) {
+            s = bytemuck::pod_read_unaligned(bytes);
+        }
+        ComputeCullStats {
             blocks_occupied: s[0],
             blocks_drawn_first: s[1],
             blocks_drawn_new: s[2],
             blocks_visible: s[3],
-            triangles_first: words(&self.extract_stats[0])?[0],
-            triangles_new: words(&self.extract_stats[1])?[0],
-        })
+            triangles_first: s[4],
+            triangles_new: s[5],
+        }
     }
 }

@@ -183,6 +183,7 @@ impl DirectCompute {
             );
             rec.barrier();
         });
+        state.record_stats_readback(rec);
         state.frame.set(state.frame.get() + 1);
         Ok(())
     }
@@ -213,7 +214,7 @@ impl DirectCompute {
             .map_err(Error::from)
             .and(recorded)
             .and_then(|_| Ok(timer.read_ms(gpu)?.first().map(|s| s.1).unwrap_or(0.0)))?;
-        let stats = state.read_stats(gpu)?;
+        let stats = state.read_stats();
         for (made, capacity) in [
             (stats.triangles_first, target.lists.capacity),
             (stats.triangles_new, state.new_lists.capacity),
