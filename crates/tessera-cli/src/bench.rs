@@ -4,7 +4,7 @@ use anyhow::{bail, Context, Result};
 use clap::Args;
 use std::io::Write;
 use std::path::PathBuf;
-use tessera::bench::repeat::{spreads, Spread, REPEAT_TOLERANCE};
+use tessera::bench::repeat::{report, spreads};
 use tessera::bench::{BenchConfig, BenchRecord, FramePlan, RecordSink, SCENARIOS};
 use tessera::path::{Path, PathChoice};
 use tessera_gpu::GpuOptions;
@@ -28,10 +28,10 @@ pub struct BenchArgs {
     /// (the medians of the last two windows of 8 frames within 2 %), up to --max-warmup.
     #[arg(long, default_value_t = 10)]
     warmup: u32,
-    /// Warm-up frames per measurement at most (at or below --warmup: exactly --warmup).
-    /// Default 200, or --warmup with --quick (smoke runs on CPU drivers do not settle).
-    #[arg(long)]
-    max_warmup: Option<u32>,
+    /// Warm-up frames per measurement at most (at or below --warmup, or with --quick:
+    /// exactly --warmup).
+    #[arg(long, default_value_t = FramePlan::default().max_warmup)]
+    max_warmup: u32,
     /// Run the scenarios this many times and list the cells whose stage medians moved by more
     /// than 3 % between runs (every run's records are written, each with its `repeat`).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=10))]
@@ -174,11 +174,7 @@ pub fn run(options: &GpuOptions, args: &BenchArgs) -> Result<()> {
         plan: FramePlan {
             warmup: args.warmup,
             frames: args.frames.max(1),
-            max_warmup: args.max_warmup.unwrap_or(if args.quick {
-                0
-            } else {
-                FramePlan::default().max_warmup
-            }),
+            max_warmup: args.max_warmup,
         },
         quick: args.quick,
         iso_fraction: args.iso_fraction,
@@ -196,30 +192,8 @@ pub fn run(options: &GpuOptions, args: &BenchArgs) -> Result<()> {
             tessera::bench::run(&gpu, scenario, &config, &mut sink)?;
         }
     }
-    if let Some(kept) = &sink.kept {
-        print_spreads(&spreads(kept));
+    for line in sink.kept.iter().flat_map(|kept| report(&spreads(kept))) {
+        println!("{line}");
     }
     crate::gpu::check_validation(&gpu)
-}
-
-/// The repeat check: how far each stage's median moved between runs, flagged cells first.
-fn print_spreads(spreads: &[Spread]) {
-    let flagged: Vec<&Spread> = spreads.iter().filter(|s| s.flagged()).collect();
-    println!(
-        "repeat check: {} of {} stages moved by more than {:.0} % between runs{}",
-        flagged.len(),
-        spreads.len(),
-        100.0 * REPEAT_TOLERANCE,
-        if flagged.is_empty() { "" } else { ":" }
-    );
-    for s in flagged {
-        let medians: Vec<String> = s.medians_ms.iter().map(|m| format!("{m:.3}")).collect();
-        println!(
-            "  {} / {}: {} ms ({:.1} %)",
-            s.cell,
-            s.stage,
-            medians.join(", "),
-            100.0 * s.spread
-        );
-    }
 }

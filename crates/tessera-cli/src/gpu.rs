@@ -12,32 +12,12 @@ pub fn open_gpu(options: &tessera_gpu::GpuOptions) -> Result<tessera_gpu::Gpu> {
 /// Fails when validation is on and reported errors, so scripted runs cannot miss them. Prints
 /// the pipelines' statistics first when they were captured (`--pipeline-stats`).
 pub fn check_validation(gpu: &tessera_gpu::Gpu) -> Result<()> {
-    print_pipeline_statistics(gpu);
+    for line in gpu.pipeline_statistics_report() {
+        println!("{line}");
+    }
     let errors = gpu.validation_errors();
     if !errors.is_empty() {
         anyhow::bail!("the validation layer reported {} error(s)", errors.len());
     }
     Ok(())
-}
-
-fn print_pipeline_statistics(gpu: &tessera_gpu::Gpu) {
-    if !gpu.captures_pipeline_statistics() {
-        if gpu.statistics_requested() {
-            println!(
-                "pipeline statistics: {} does not report them \
-                 (no VK_KHR_pipeline_executable_properties)",
-                gpu.caps().device_name
-            );
-        }
-        return;
-    }
-    for s in gpu.pipeline_statistics() {
-        let values: Vec<String> = s.values.iter().map(|(k, v)| format!("{k}={v}")).collect();
-        println!(
-            "pipeline {} / {}: {}",
-            s.pipeline,
-            s.executable,
-            values.join(", ")
-        );
-    }
 }

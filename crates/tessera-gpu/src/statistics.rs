@@ -100,6 +100,34 @@ impl Gpu {
         }
     }
 
+    /// The statistics as lines to print: one per executable, or, when they were asked for on
+    /// a device that does not report them, a line saying so; none when not asked for.
+    pub fn pipeline_statistics_report(&self) -> Vec<String> {
+        if !self.captures_pipeline_statistics() {
+            return match self.statistics_requested() {
+                true => vec![format!(
+                    "pipeline statistics: {} does not report them \
+                     (no VK_KHR_pipeline_executable_properties)",
+                    self.caps().device_name
+                )],
+                false => Vec::new(),
+            };
+        }
+        self.pipeline_statistics()
+            .iter()
+            .map(|s| {
+                let values: Vec<String> =
+                    s.values.iter().map(|(k, v)| format!("{k}={v}")).collect();
+                format!(
+                    "pipeline {} / {}: {}",
+                    s.pipeline,
+                    s.executable,
+                    values.join(", ")
+                )
+            })
+            .collect()
+    }
+
     /// The statistics captured so far, in creation order (empty when capture is off).
     pub fn pipeline_statistics(&self) -> Vec<PipelineStatistics> {
         self.shared

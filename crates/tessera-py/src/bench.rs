@@ -61,12 +61,7 @@ fn _bench(
         plan: FramePlan {
             warmup,
             frames,
-            // Quick runs are smoke tests on CPU drivers: a fixed warm-up.
-            max_warmup: if quick {
-                0
-            } else {
-                FramePlan::default().max_warmup
-            },
+            ..FramePlan::default()
         },
         quick,
         iso_fraction,

@@ -77,7 +77,16 @@ pub trait RecordSink {
 
 /// Runs the scenario `name` (one of [`SCENARIOS`]).
 pub fn run(gpu: &Gpu, name: &str, config: &BenchConfig, sink: &mut dyn RecordSink) -> Result<()> {
-    let plan = config.plan;
+    // Quick runs are smoke tests on CPU drivers, whose frame times need not settle: exactly
+    // the warm-up asked for.
+    let plan = FramePlan {
+        max_warmup: if config.quick {
+            0
+        } else {
+            config.plan.max_warmup
+        },
+        ..config.plan
+    };
     match name {
         "pipeline-throughput" => basic::throughput(gpu, config, plan, sink),
         "raymarch" => basic::raymarch(gpu, config, plan, sink),

@@ -26,6 +26,30 @@ impl Spread {
     }
 }
 
+/// The repeat check as lines to print: how many stages moved by more than the tolerance, then
+/// each of those with its medians.
+pub fn report(spreads: &[Spread]) -> Vec<String> {
+    let flagged: Vec<&Spread> = spreads.iter().filter(|s| s.flagged()).collect();
+    let mut lines = vec![format!(
+        "repeat check: {} of {} stages moved by more than {:.0} % between runs{}",
+        flagged.len(),
+        spreads.len(),
+        100.0 * REPEAT_TOLERANCE,
+        if flagged.is_empty() { "" } else { ":" }
+    )];
+    for s in flagged {
+        let medians: Vec<String> = s.medians_ms.iter().map(|m| format!("{m:.3}")).collect();
+        lines.push(format!(
+            "  {} / {}: {} ms ({:.1} %)",
+            s.cell,
+            s.stage,
+            medians.join(", "),
+            100.0 * s.spread
+        ));
+    }
+    lines
+}
+
 fn cell_name(r: &BenchRecord) -> String {
     let variant = if r.variant.is_empty() {
         String::new()
@@ -125,5 +149,12 @@ mod tests {
         );
         assert!((s[1].spread - 0.05).abs() < 1e-9);
         assert_eq!(s[1].medians_ms, [2.0, 2.1]);
+        assert_eq!(
+            report(&s),
+            [
+                "repeat check: 1 of 3 stages moved by more than 3 % between runs:",
+                "  iso-sweep meshlets compute head 64x48 / extract: 2.000, 2.100 ms (5.0 %)",
+            ]
+        );
     }
 }
