@@ -177,7 +177,8 @@ impl Renderer for MeshletRenderer {
             self.counters.pipeline_builds += 1;
         }
         self.occlusion = None;
-        if self.totals.is_none() {
+        let extracts = self.technique != Technique::Offline;
+        if extracts && self.totals.is_none() {
             self.totals = Some(gpu.create_readback("meshlet totals (host)", TOTALS_BYTES)?);
         }
         let producer = match self.technique {

@@ -44,18 +44,11 @@ void meshlet_cell_corners(uvec3 cell, out float corners[8]) {
     }
 }
 
-// mc_box_owned_crossings from the held samples.
+// mc_box_owned_crossings from the held samples (the apron holds every neighbour).
 uint meshlet_owned_crossings(uvec3 p, uvec3 hi, float iso) {
-    bool below = meshlet_sample(p) < iso;
-    uint mask = 0u;
-    for (uint axis = 0u; axis < 3u; ++axis) {
-        uvec3 q = p;
-        q[axis] += 1u;
-        if (p[axis] < hi[axis] && (meshlet_sample(q) < iso) != below) {
-            mask |= 1u << axis;
-        }
-    }
-    return mask;
+    vec3 next = vec3(meshlet_sample(p + uvec3(1u, 0u, 0u)), meshlet_sample(p + uvec3(0u, 1u, 0u)),
+                     meshlet_sample(p + uvec3(0u, 0u, 1u)));
+    return mc_owned_crossings_of(p, hi, meshlet_sample(p), next, iso);
 }
 
 // mc_grid_gradient from the held samples.

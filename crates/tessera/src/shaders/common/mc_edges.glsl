@@ -6,14 +6,6 @@
 // the closed box is an edge of some occupied core cell, so each vertex is used and none is
 // repeated. Needs common/volume.glsl and common/mc_tables.glsl.
 
-// Whether the grid edge from `p` one step along `axis` crosses iso (below is `< iso`, as
-// cells are classified).
-bool mc_edge_crosses(VOLUME_SAMPLER vol, uvec3 p, uint axis, float iso) {
-    uvec3 q = p;
-    q[axis] += 1u;
-    return (volume_texel(vol, ivec3(p)) < iso) != (volume_texel(vol, ivec3(q)) < iso);
-}
-
 // Crossed edges a cell of case `case_index` owns: those from corner 0 to corners 1, 2 and 4.
 uint mc_case_owned_crossings(uint case_index) {
     uint count = 0u;
@@ -23,16 +15,31 @@ uint mc_case_owned_crossings(uint case_index) {
     return count;
 }
 
-// The crossed edges owned by sample `p` that lie inside the box ending at sample `hi`: bit
-// `axis` set for each.
-uint mc_box_owned_crossings(VOLUME_SAMPLER vol, uvec3 p, uvec3 hi, float iso) {
+// The crossed edges owned by sample `p` (value `value`) that lie inside the box ending at
+// sample `hi`: bit `axis` set for each. `next[axis]` is the value one step along `axis`; it
+// is read only where that edge lies inside the box.
+uint mc_owned_crossings_of(uvec3 p, uvec3 hi, float value, vec3 next, float iso) {
     uint mask = 0u;
     for (uint axis = 0u; axis < 3u; ++axis) {
-        if (p[axis] < hi[axis] && mc_edge_crosses(vol, p, axis, iso)) {
+        if (p[axis] < hi[axis] && (next[axis] < iso) != (value < iso)) {
             mask |= 1u << axis;
         }
     }
     return mask;
+}
+
+// mc_owned_crossings_of with the values read from the volume (none past the box).
+uint mc_box_owned_crossings(VOLUME_SAMPLER vol, uvec3 p, uvec3 hi, float iso) {
+    float value = volume_texel(vol, ivec3(p));
+    vec3 next = vec3(value);
+    for (uint axis = 0u; axis < 3u; ++axis) {
+        if (p[axis] < hi[axis]) {
+            uvec3 q = p;
+            q[axis] += 1u;
+            next[axis] = volume_texel(vol, ivec3(q));
+        }
+    }
+    return mc_owned_crossings_of(p, hi, value, next, iso);
 }
 
 // The owner of edge `edge` of `cell`: the sample at the edge's start and the edge's axis.
