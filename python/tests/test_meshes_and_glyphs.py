@@ -83,6 +83,17 @@ def test_point_data_must_fit():
 CELL_VALUES = np.array([1.0, 4.0, 2.0, 8.0, 3.0, 5.5], np.float32)
 
 
+def assert_same_image(device, first, second, technique="interval"):
+    """Both meshes drawn by `technique` from the same view give the same pixels; returns them."""
+    images = []
+    for mesh in (first, second):
+        r = tessera.Renderer(device, technique)
+        r.set_data(mesh)
+        images.append(r.render(camera=(30, 20), size=SIZE))
+    assert np.array_equal(images[0], images[1])
+    return images[0]
+
+
 def averaged_onto_points(n_points, tets, cell_values):
     """Each point's plain mean of the values of the tets that use it, summed in float64."""
     sums = np.zeros(n_points)
@@ -98,17 +109,13 @@ def test_cell_data_renders_as_its_average_over_the_points(device, technique):
     averaged = averaged_onto_points(len(points), tets, CELL_VALUES)
     # Vertex 0 is in every tet; the others in two (their mean differs from the global one).
     assert averaged[0] == np.float32(CELL_VALUES.astype(np.float64).mean())
-    images = []
-    for mesh in (
+    meshes = (
         tessera.TetMesh(points, tets, cell_data={"pressure": CELL_VALUES}),
         tessera.TetMesh(points, tets, point_data={"pressure": averaged}),
-    ):
-        assert mesh.scalars == "pressure"
-        r = tessera.Renderer(device, technique)
-        r.set_data(mesh)
-        images.append(r.render(camera=(30, 20), size=SIZE))
-    assert np.array_equal(images[0], images[1])
-    assert len(np.unique(images[0].reshape(-1, 4), axis=0)) > 10
+    )
+    assert [m.scalars for m in meshes] == ["pressure", "pressure"]
+    image = assert_same_image(device, *meshes, technique=technique)
+    assert len(np.unique(image.reshape(-1, 4), axis=0)) > 10
 
 
 def test_bad_cell_data_raises():
@@ -175,12 +182,7 @@ def test_from_meshio_takes_cell_data_without_point_data(device):
         "gmsh:physical"
     )
     averaged = averaged_onto_points(len(points), tets, CELL_VALUES)
-    images = []
-    for m in (mesh, tessera.TetMesh(points, tets, point_data=averaged)):
-        r = tessera.Renderer(device, "interval")
-        r.set_data(m)
-        images.append(r.render(camera=(30, 20), size=SIZE))
-    assert np.array_equal(images[0], images[1])
+    assert_same_image(device, mesh, tessera.TetMesh(points, tets, point_data=averaged))
     with pytest.raises(tessera.DataError, match="no one-value-per-point or per-cell array 'temp'"):
         tessera.from_meshio(FakeMeshioWithCells(points, tets, CELL_VALUES), scalars="temp")
 
@@ -197,12 +199,7 @@ def test_from_meshio_with_cell_data_of_a_real_meshio_mesh(device, tmp_path):
     mesh = tessera.from_meshio(read)
     assert mesh.scalars == "pressure"
     averaged = averaged_onto_points(len(points), tets, CELL_VALUES)
-    images = []
-    for m in (mesh, tessera.TetMesh(points, tets, point_data=averaged)):
-        r = tessera.Renderer(device, "interval")
-        r.set_data(m)
-        images.append(r.render(camera=(30, 20), size=SIZE))
-    assert np.array_equal(images[0], images[1])
+    assert_same_image(device, mesh, tessera.TetMesh(points, tets, point_data=averaged))
 
 
 class FakePyvista:
@@ -226,12 +223,7 @@ def test_from_pyvista_takes_the_tets_cell_data(device):
     points, tets, _ = cube_tets()
     mesh = tessera.from_pyvista(FakePyvista(points, tets, CELL_VALUES))
     assert (mesh.n_tets, mesh.scalars) == (6, "pressure")
-    images = []
-    for m in (mesh, tessera.TetMesh(points, tets, cell_data=CELL_VALUES)):
-        r = tessera.Renderer(device, "interval")
-        r.set_data(m)
-        images.append(r.render(camera=(30, 20), size=SIZE))
-    assert np.array_equal(images[0], images[1])
+    assert_same_image(device, mesh, tessera.TetMesh(points, tets, cell_data=CELL_VALUES))
     assert tessera.from_pyvista(FakePyvista(points, tets, CELL_VALUES), scalars="region").scalars == (
         "region"
     )
