@@ -1,5 +1,6 @@
 //! Command recording and one-shot submission.
 
+use crate::accel::AccelerationStructure;
 use crate::context::Gpu;
 use crate::error::{GpuError, Result};
 use crate::memory::{aspect_of, full_range, Buffer, Image};
@@ -17,6 +18,8 @@ pub enum Binding<'a> {
         linear: bool,
     },
     StorageImage(&'a Image),
+    /// A top-level acceleration structure for `traceRayEXT`.
+    AccelerationStructure(&'a AccelerationStructure),
 }
 
 /// Bytes of one `VkDrawIndexedIndirectCommand`, the stride of packed commands.
@@ -222,8 +225,10 @@ impl Recorder<'_> {
         assert!(push.len() <= PUSH_CONSTANT_BYTES as usize);
         let mut buffer_infos = Vec::with_capacity(bindings.len());
         let mut image_infos = Vec::with_capacity(bindings.len());
+        let mut structures = Vec::new();
         for b in bindings {
             match *b {
+                Binding::AccelerationStructure(s) => structures.push([s.handle]),
                 Binding::Buffer(buf) => buffer_infos.push([vk::DescriptorBufferInfo {
                     buffer: buf.handle,
                     offset: 0,
@@ -245,6 +250,13 @@ impl Recorder<'_> {
                 }]),
             }
         }
+        let mut structure_writes: Vec<_> = structures
+            .iter()
+            .map(|s| {
+                vk::WriteDescriptorSetAccelerationStructureKHR::default().acceleration_structures(s)
+            })
+            .collect();
+        let mut structure_writes = structure_writes.iter_mut();
         let (mut bi, mut ii) = (0, 0);
         let writes: Vec<_> = bindings
             .iter()
@@ -259,6 +271,11 @@ impl Recorder<'_> {
                         bi += 1;
                         w.buffer_info(&buffer_infos[bi - 1])
                     }
+                    Binding::AccelerationStructure(_) => match structure_writes.next() {
+                        // One write was made per structure binding, in the same order.
+                        Some(structure) => w.descriptor_count(1).push_next(structure),
+                        None => w,
+                    },
                     _ => {
                         ii += 1;
                         w.image_info(&image_infos[ii - 1])
@@ -595,5 +612,6 @@ fn slot_type(slot: Slot) -> vk::DescriptorType {
         Slot::UniformBuffer => vk::DescriptorType::UNIFORM_BUFFER,
         Slot::Texture => vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
         Slot::StorageImage => vk::DescriptorType::STORAGE_IMAGE,
+        Slot::AccelerationStructure => vk::DescriptorType::ACCELERATION_STRUCTURE_KHR,
     }
 }

@@ -50,6 +50,7 @@ pub struct Gpu {
     pub(crate) command_pool: vk::CommandPool,
     pub(crate) push_descriptor: ash::khr::push_descriptor::Device,
     pub(crate) mesh_shader: Option<ash::ext::mesh_shader::Device>,
+    pub(crate) ray_tracing: Option<ash::khr::ray_tracing_pipeline::Device>,
     /// Present when pipelines are created with their statistics captured.
     pub(crate) pipeline_executables: Option<ash::khr::pipeline_executable_properties::Device>,
     pub(crate) debug_device: Option<ash::ext::debug_utils::Device>,
@@ -219,7 +220,12 @@ impl Gpu {
                 return Err(e);
             }
         };
+        let acceleration = opened
+            .caps
+            .acceleration_structure
+            .then(|| ash::khr::acceleration_structure::Device::new(&instance, &opened.device));
         let shared = Arc::new(DeviceShared {
+            acceleration,
             device: opened.device,
             allocator: ManuallyDrop::new(Mutex::new(opened.allocator)),
             instance,
@@ -356,7 +362,10 @@ impl Gpu {
         // ones made so far (destroying a null handle does nothing).
         let pipeline_executables = capture_statistics
             .then(|| ash::khr::pipeline_executable_properties::Device::new(instance, &device));
+        let ray_tracing = (caps.ray_tracing_pipeline && caps.acceleration_structure)
+            .then(|| ash::khr::ray_tracing_pipeline::Device::new(instance, &device));
         let mut gpu = Gpu {
+            ray_tracing,
             push_descriptor: ash::khr::push_descriptor::Device::new(instance, &device),
             mesh_shader,
             pipeline_executables,

@@ -57,6 +57,9 @@ pub enum GpuError {
     ShaderCompile { path: String, log: String },
     #[error("shader {path}: {message}")]
     ShaderReflect { path: String, message: String },
+    /// A request the device could serve but whose arguments make no sense (an empty list).
+    #[error("{0}")]
+    Invalid(String),
     #[error("shader cache {path}: {source}")]
     ShaderCache {
         path: PathBuf,

@@ -2,17 +2,20 @@
 //! pipelines, command recording and GPU timing. It knows nothing about volumes, meshes or
 //! glyphs; techniques in the `tessera` crate build on it.
 //!
-//! GPU objects ([`Buffer`], [`Image`], [`Pipeline`], [`Timer`]) free themselves when dropped and
+//! GPU objects ([`Buffer`], [`Image`], [`Pipeline`], [`RayTracingPipeline`],
+//! [`AccelerationStructure`], [`Timer`]) free themselves when dropped and
 //! keep the device alive while they exist, so they may be dropped in any order, before or after
 //! the [`Gpu`] they were made from.
 #![warn(unsafe_op_in_unsafe_fn)]
 
+pub mod accel;
 pub mod caps;
 pub mod commands;
 pub mod context;
 pub mod error;
 pub mod memory;
 pub mod pipeline;
+pub mod ray_tracing;
 pub mod shader;
 mod shared;
 pub mod spirv;
@@ -22,6 +25,7 @@ pub mod timer;
 pub mod timing;
 pub mod validation;
 
+pub use accel::AccelerationStructure;
 pub use ash::vk;
 pub use caps::Capabilities;
 pub use commands::{Binding, IndexedDraws, Recorder, INDEXED_COMMAND_BYTES};
@@ -29,6 +33,7 @@ pub use context::{list_devices, DeviceListing, Gpu, GpuOptions};
 pub use error::{GpuError, Result};
 pub use memory::{Buffer, Image, MemoryLocation, MemoryReport, Readback};
 pub use pipeline::{spread_groups, Blend, Pipeline, RenderTargets, Slot, PUSH_CONSTANT_BYTES};
+pub use ray_tracing::{ProceduralHitGroup, RayTracingPipeline, RayTracingShaders};
 pub use shader::{ShaderCompiler, Source, Spirv, Stage};
 pub use statistics::PipelineStatistics;
 pub use timer::Timer;

@@ -33,6 +33,8 @@ pub enum Slot {
     /// A combined image sampler (`sampler3D`/`sampler2D`).
     Texture,
     StorageImage,
+    /// A top-level acceleration structure (ray-tracing pipelines).
+    AccelerationStructure,
 }
 
 impl Slot {
@@ -42,6 +44,7 @@ impl Slot {
             Slot::UniformBuffer => vk::DescriptorType::UNIFORM_BUFFER,
             Slot::Texture => vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
             Slot::StorageImage => vk::DescriptorType::STORAGE_IMAGE,
+            Slot::AccelerationStructure => vk::DescriptorType::ACCELERATION_STRUCTURE_KHR,
         }
     }
 }
@@ -72,9 +75,9 @@ impl Drop for Pipeline {
 }
 
 /// A shader module, destroyed when it goes out of scope (once its pipeline has been made).
-struct Module<'a> {
+pub(crate) struct Module<'a> {
     device: &'a ash::Device,
-    handle: vk::ShaderModule,
+    pub(crate) handle: vk::ShaderModule,
 }
 
 impl Drop for Module<'_> {
@@ -171,7 +174,7 @@ impl Gpu {
 
     /// A pipeline whose set layout and layout exist and whose pipeline handle is still null,
     /// for the caller to create; dropping it on a failure destroys what was made.
-    fn layout_for(
+    pub(crate) fn layout_for(
         &self,
         name: &str,
         bind_point: vk::PipelineBindPoint,
@@ -222,7 +225,7 @@ impl Gpu {
         Ok(pipeline)
     }
 
-    fn module(&self, spirv: &Spirv) -> Result<Module<'_>> {
+    pub(crate) fn module(&self, spirv: &Spirv) -> Result<Module<'_>> {
         let info = vk::ShaderModuleCreateInfo::default().code(&spirv.words);
         // SAFETY: `words` is SPIR-V produced by the shader compiler (a whole number of 32-bit
         // words), alive for the call.

@@ -39,6 +39,9 @@ pub(crate) struct DeviceShared {
     pub(crate) pipeline_statistics: Mutex<Vec<crate::statistics::PipelineStatistics>>,
     /// [`crate::GpuOptions::pipeline_statistics`].
     pub(crate) statistics_requested: bool,
+    /// The acceleration-structure functions, where the device has them (a dropped structure
+    /// needs them to be destroyed).
+    pub(crate) acceleration: Option<ash::khr::acceleration_structure::Device>,
 }
 
 /// The Vulkan handles (and memory) of a dropped GPU object, destroyed in the order given.
@@ -55,6 +58,7 @@ pub(crate) enum Retired {
         set_layout: vk::DescriptorSetLayout,
     },
     QueryPool(vk::QueryPool),
+    AccelerationStructure(vk::AccelerationStructureKHR),
 }
 
 /// Keeps a submission open while it lives: objects dropped meanwhile wait for it.
@@ -136,6 +140,12 @@ impl DeviceShared {
                     device.destroy_descriptor_set_layout(set_layout, None);
                 }
                 Retired::QueryPool(pool) => device.destroy_query_pool(pool, None),
+                Retired::AccelerationStructure(structure) => {
+                    // Only made through `acceleration`, so it is present.
+                    if let Some(acceleration) = &self.acceleration {
+                        acceleration.destroy_acceleration_structure(structure, None);
+                    }
+                }
             }
         }
     }

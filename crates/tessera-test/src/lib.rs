@@ -28,6 +28,8 @@ pub enum Need {
     /// 32-bit float atomic add on storage buffers.
     BufferFloatAtomics,
     Tessellation,
+    /// Ray-tracing pipelines with acceleration structures.
+    RayTracingPipeline,
 }
 
 impl Need {
@@ -38,6 +40,7 @@ impl Need {
             Need::BufferInt64Atomics => caps.buffer_int64_atomics,
             Need::BufferFloatAtomics => caps.buffer_float32_atomic_add,
             Need::Tessellation => caps.tessellation,
+            Need::RayTracingPipeline => caps.ray_tracing_pipeline && caps.acceleration_structure,
         }
     }
 
@@ -48,6 +51,7 @@ impl Need {
             Need::BufferInt64Atomics => "64-bit buffer atomics",
             Need::BufferFloatAtomics => "float buffer atomics",
             Need::Tessellation => "tessellation shaders",
+            Need::RayTracingPipeline => "ray-tracing pipelines",
         }
     }
 }
