@@ -75,6 +75,29 @@ fn effect_flags_shade_the_image_and_report_their_passes() {
         stdout.contains("with shadows, AO 2x0.1, gradient shading"),
         "{stdout}"
     );
+    // The ray-tracing pipeline (the graphics path) draws the compute path's image.
+    let out = dir.join("ray-tracing.png");
+    let o = tessera(&[
+        "--validation",
+        "render",
+        "tets:box:3",
+        "--technique",
+        "shell",
+        "--layout",
+        "tet16",
+        "--path",
+        "graphics",
+        "--size",
+        "40x30",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    if stderr(&o).contains("needs features") {
+        tessera_test::skip("ray-tracing pipeline", &stderr(&o));
+    } else {
+        assert!(o.status.success(), "{}", stderr(&o));
+        assert_eq!(png_pixels(&out), plain, "the ray-tracing pipeline's image");
+    }
 }
 
 #[test]

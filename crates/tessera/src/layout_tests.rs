@@ -331,9 +331,12 @@ fn interval_structs(t: &mut Table) {
 }
 
 fn shell_structs(t: &mut Table) {
-    use crate::tet::shell::{defines, GpuRay, RayResult, ShellParams, VisitedTet, RECORDED_STEPS};
+    use crate::tet::shell::{
+        defines, GpuRay, RayResult, ShellOptions, ShellParams, VisitedTet, RECORDED_STEPS,
+    };
     use tessera_data::tet::shell::{BvhNode, LayoutKind};
-    let mut defines = defines(LayoutKind::Tet20, 256);
+    let options = ShellOptions::new(LayoutKind::Tet20);
+    let mut defines = defines(&options, 256);
     defines.push(("RECORDED_STEPS".into(), RECORDED_STEPS.to_string()));
     let rays = compile(&builtin_shader!("tet/shell/shell_rays.comp.glsl"), &defines);
     #[rustfmt::skip]
@@ -350,7 +353,7 @@ fn shell_structs(t: &mut Table) {
         gradient: true,
         ..Default::default()
     };
-    let mut lighting_defines = crate::tet::shell::defines(LayoutKind::Tet20, 256);
+    let mut lighting_defines = crate::tet::shell::defines(&options, 256);
     lighting_defines.extend(effect_defines(&effects));
     lighting_defines.extend(pass_defines(&effects, LightingPass::Gradients));
     let lighting = compile(

@@ -174,6 +174,13 @@ const COMMON: &[(&str, &str)] = &[
         include_str!("tet/shell/ray_space.glsl"),
     ),
     ("tet/shell/bvh.glsl", include_str!("tet/shell/bvh.glsl")),
+    ("tet/shell/hit.glsl", include_str!("tet/shell/hit.glsl")),
+    ("tet/shell/stage.glsl", include_str!("tet/shell/stage.glsl")),
+    ("tet/shell/trace.glsl", include_str!("tet/shell/trace.glsl")),
+    (
+        "tet/shell/rt_trace.glsl",
+        include_str!("tet/shell/rt_trace.glsl"),
+    ),
     (
         "tet/shell/layout.glsl",
         include_str!("tet/shell/layout.glsl"),

@@ -1,6 +1,8 @@
 //! Shell traversal (paper B) on the GPU against the CPU reference of `tessera_data::tet::shell`:
 //! the tets each ray visits, images, shadow transmittance and the loop guard, for all three
-//! tet layouts; and against interval shading (paper A) where the optical models agree.
+//! tet layouts and both ways of tracing the shell (compute BVH walk, ray-tracing pipeline),
+//! which must agree with each other exactly; and against interval shading (paper A) where the
+//! optical models agree.
 //!
 //! The GPU decides in `f32` what the CPU decides in `f64`, so a ray passing within
 //! [`EDGE_MARGIN`] of a tet edge may legitimately take the other side of it: such rays are left
@@ -8,7 +10,7 @@
 
 mod common;
 
-use common::{assert_images_match, gpu, skip};
+use common::{assert_images_match, gpu, skip, Need, TestGpu};
 use glam::DVec3;
 use tessera::path::Path;
 use tessera::renderer::{self, RendererOptions, Technique};
@@ -43,6 +45,20 @@ fn meshes() -> Vec<(&'static str, TetMesh)> {
 
 fn optics(density: f32) -> EmissionAbsorption {
     EmissionAbsorption::new(&TransferFunction::preset("cool-warm").unwrap(), density)
+}
+
+/// The ways of tracing the shell the device runs: the compute path always, the ray-tracing
+/// pipeline where the device has it (else reported as skipped).
+fn paths(gpu: &TestGpu) -> Vec<Path> {
+    if gpu.has(Need::RayTracingPipeline) {
+        vec![Path::Compute, Path::Graphics]
+    } else {
+        skip(
+            "ray-tracing pipeline",
+            &format!("{} lacks ray-tracing pipelines", gpu.caps().device_name),
+        );
+        vec![Path::Compute]
+    }
 }
 
 /// A small deterministic generator (xorshift), so failures reproduce.
@@ -129,6 +145,7 @@ fn cpu_visits(
 fn every_ray_visits_the_tets_the_cpu_traversal_visits() {
     let gpu = gpu();
     let compiler = shaders::compiler();
+    let ways = paths(&gpu);
     let optics = optics(0.5);
     let rays = test_rays(60, 0x5eed_0001);
     for (name, mesh) in meshes() {
@@ -138,18 +155,31 @@ fn every_ray_visits_the_tets_the_cpu_traversal_visits() {
             .map(|(_, r)| grazes_an_edge(&shell, r))
             .collect();
         let excluded_count = excluded.iter().filter(|&&e| e).count();
+        let mut compute_traced = Vec::new();
         // Random rays come this close to an edge rarely.
         assert!(
             excluded_count * 50 <= rays.len(),
             "{name}: {excluded_count} of {} rays graze an edge",
             rays.len()
         );
-        for kind in LayoutKind::ALL {
-            let options = ShellOptions::new(kind);
+        for (kind, path) in LayoutKind::ALL
+            .into_iter()
+            .flat_map(|k| ways.iter().map(move |&p| (k, p)))
+        {
+            let options = ShellOptions::on(kind, path);
             let pass = ShellRays::new(&gpu, &compiler, &options, &optics).unwrap();
-            let mesh = GpuShellMesh::upload(&gpu, &shell, kind).unwrap();
+            let mesh = GpuShellMesh::upload_for(&gpu, &shell, kind, path).unwrap();
             let only_rays: Vec<Ray> = rays.iter().map(|(_, r)| *r).collect();
             let (traced, gpu_stats) = pass.trace(&gpu, &mesh, &only_rays).unwrap();
+            // Both ways of tracing find the same faces: every ray, grazing ones too, gives
+            // the same record, bit for bit.
+            match path {
+                Path::Compute => compute_traced = traced.clone(),
+                Path::Graphics => assert!(
+                    traced == compute_traced,
+                    "{name} {kind:?}: the ray-tracing pipeline differs from the compute path"
+                ),
+            }
             let mut cpu_stats = TraversalStats::default();
             let (mut compared, mut crossing, mut two_segments) = (0, 0, 0);
             for (i, ((from, ray), got)) in rays.iter().zip(&traced).enumerate() {
@@ -177,8 +207,9 @@ fn every_ray_visits_the_tets_the_cpu_traversal_visits() {
                 assert!(two_segments > 0, "{kind:?}: no ray crossed the gap");
             }
             eprintln!(
-                "{name} {kind:?}: {compared} rays equal ({crossing} crossing, {two_segments} with \
-                 two segments), {excluded_count} excluded; GPU {gpu_stats:?}"
+                "{name} {kind:?} {}: {compared} rays equal ({crossing} crossing, {two_segments} \
+                 with two segments), {excluded_count} excluded; GPU {gpu_stats:?}",
+                path.name()
             );
         }
     }
@@ -232,6 +263,7 @@ fn covered(image: &tessera_data::RgbaImage, background: [f32; 3]) -> f64 {
 fn images_equal_the_cpu_reference_from_outside_and_inside() {
     let gpu = gpu();
     let compiler = shaders::compiler();
+    let ways = paths(&gpu);
     let size = (40, 32);
     let background = [0.9, 0.9, 0.85];
     // Dense enough that rays through the middle terminate early.
@@ -245,10 +277,15 @@ fn images_equal_the_cpu_reference_from_outside_and_inside() {
     for (name, mesh) in meshes {
         let shell = ShellMesh::build(&mesh).unwrap();
         let normalized = normalized_scalars(&shell.mesh, None, name).unwrap();
-        for kind in LayoutKind::ALL {
-            let pass = Shell::new(&gpu, &compiler, &ShellOptions::new(kind), &optics).unwrap();
-            let gpu_mesh = GpuShellMesh::upload(&gpu, &shell, kind).unwrap();
-            for (where_from, camera) in &views {
+        let mut compute_images = [None, None];
+        for (kind, path) in LayoutKind::ALL
+            .into_iter()
+            .flat_map(|k| ways.iter().map(move |&p| (k, p)))
+        {
+            let options = ShellOptions::on(kind, path);
+            let pass = Shell::new(&gpu, &compiler, &options, &optics).unwrap();
+            let gpu_mesh = GpuShellMesh::upload_for(&gpu, &shell, kind, path).unwrap();
+            for (v, (where_from, camera)) in views.iter().enumerate() {
                 let reference = render_shell_reference(
                     &shell,
                     kind,
@@ -260,7 +297,16 @@ fn images_equal_the_cpu_reference_from_outside_and_inside() {
                 )
                 .unwrap();
                 let (image, stats) = gpu_image(&gpu, &pass, &gpu_mesh, camera, size, background);
-                let label = format!("shell-{name}-{}-{where_from}", kind.name()).replace(' ', "-");
+                let label = format!("shell-{name}-{}-{}-{where_from}", kind.name(), path.name())
+                    .replace(' ', "-");
+                match path {
+                    Path::Compute => compute_images[v] = Some((image.clone(), stats)),
+                    Path::Graphics => assert_eq!(
+                        Some((&image, &stats)),
+                        compute_images[v].as_ref().map(|(i, s)| (i, s)),
+                        "{label}: the ray-tracing pipeline differs from the compute path"
+                    ),
+                }
                 // The same stretches in f32: colours within 1/255 but for rays along an edge.
                 assert_images_match(&label, &image, &reference.image, 1, 0.995);
                 assert!(covered(&image, background) > 0.2, "{label}: little drawn");
@@ -284,6 +330,7 @@ fn images_equal_the_cpu_reference_from_outside_and_inside() {
 fn the_loop_guard_ends_a_circling_walk_and_counts_it() {
     let gpu = gpu();
     let compiler = shaders::compiler();
+    let ways = paths(&gpu);
     let optics = optics(0.5);
     let shell = ShellMesh::build(&box_mesh(2)).unwrap();
     let ray = Ray::new(
@@ -306,15 +353,19 @@ fn the_loop_guard_ends_a_circling_walk_and_counts_it() {
     let (first, second) = (steps[0].tet, steps[1].tet);
     glued[first as usize][face_of(first, steps[0].entered_face)] = first;
     glued[second as usize][face_of(second, steps[2].entered_face)] = second;
-    for kind in LayoutKind::ALL {
+    for (kind, path) in LayoutKind::ALL
+        .into_iter()
+        .flat_map(|k| ways.iter().map(move |&p| (k, p)))
+    {
         let layout = build_layout(kind, &shell.mesh.tets, &glued);
         let options = ShellOptions {
             layout: kind,
             traversal,
+            path,
         };
         let mut cpu_stats = TraversalStats::default();
         trace_segments(&shell, &*layout, &ray, &traversal, &mut cpu_stats);
-        let mesh = GpuShellMesh::upload_layout(&gpu, &shell, &*layout).unwrap();
+        let mesh = GpuShellMesh::upload_layout(&gpu, &shell, &*layout, path).unwrap();
         let pass = ShellRays::new(&gpu, &compiler, &options, &optics).unwrap();
         let (_, gpu_stats) = pass.trace(&gpu, &mesh, &[ray]).unwrap();
         assert!(gpu_stats.guard_hits() >= 1, "{kind:?}: {gpu_stats:?}");
@@ -331,7 +382,10 @@ fn the_loop_guard_ends_a_circling_walk_and_counts_it() {
             [0.0; 3],
         );
         assert!(stats.guard_hits() >= 1, "{kind:?} image: {stats:?}");
-        eprintln!("{kind:?}: ray {gpu_stats:?}; image {stats:?}");
+        eprintln!(
+            "{kind:?} {}: ray {gpu_stats:?}; image {stats:?}",
+            path.name()
+        );
     }
 }
 
@@ -339,6 +393,7 @@ fn the_loop_guard_ends_a_circling_walk_and_counts_it() {
 fn shadow_transmittance_equals_the_cpu_reference() {
     let gpu = gpu();
     let compiler = shaders::compiler();
+    let ways = paths(&gpu);
     let optics = optics(6.0);
     let shell = ShellMesh::build(&two_boxes()).unwrap();
     let normalized = normalized_scalars(&shell.mesh, None, "two boxes").unwrap();
@@ -351,9 +406,13 @@ fn shadow_transmittance_equals_the_cpu_reference() {
     ];
     let mut rng = Rng(0x5eed_0002);
     let points: Vec<DVec3> = (0..24).map(|_| rng.in_box(0.7)).collect();
-    for kind in LayoutKind::ALL {
-        let pass = ShellRays::new(&gpu, &compiler, &ShellOptions::new(kind), &optics).unwrap();
-        let mut mesh = GpuShellMesh::upload(&gpu, &shell, kind).unwrap();
+    for (kind, path) in LayoutKind::ALL
+        .into_iter()
+        .flat_map(|k| ways.iter().map(move |&p| (k, p)))
+    {
+        let options = ShellOptions::on(kind, path);
+        let pass = ShellRays::new(&gpu, &compiler, &options, &optics).unwrap();
+        let mut mesh = GpuShellMesh::upload_for(&gpu, &shell, kind, path).unwrap();
         mesh.scalar_range = tessera_data::tet::scalar_integral::scalar_range(&shell.mesh).unwrap();
         let mut rays = Vec::new();
         let mut want = Vec::new();

@@ -13,8 +13,9 @@
 
 mod common;
 
-use common::{assert_clean, assert_images_match, gpu};
+use common::{assert_clean, assert_images_match, gpu, skip, Need};
 use glam::DVec3;
+use tessera::path::Path;
 use tessera::renderer::{self, AmbientOcclusion, Light, RendererOptions, Technique};
 use tessera::shaders;
 use tessera::tet::shell::{EffectBuffers, GpuShellMesh, Shell, ShellOptions};
@@ -460,5 +461,58 @@ fn a_shadow_darkens_the_ground() {
         "shadowed ground {dark} against lit {bright}"
     );
     assert!(got.stats.details["shadow_rays"] as usize > shadowed.len() + lit.len());
+    assert_clean(&gpu);
+}
+
+/// Both ways of tracing the shell light and draw alike: with every effect on, the ray-tracing
+/// pipeline's per-tet lighting, image and counters equal the compute path's exactly, from
+/// outside and from inside the mesh (the secondary rays start inside it).
+#[test]
+fn the_ray_tracing_pipeline_lights_and_draws_as_the_compute_path() {
+    let gpu = gpu();
+    if !gpu.has(Need::RayTracingPipeline) {
+        skip(
+            "",
+            &format!("{} lacks ray-tracing pipelines", gpu.caps().device_name),
+        );
+        return;
+    }
+    let compiler = shaders::compiler();
+    let optics = optics(10.0);
+    let size = (32, 24);
+    let background = [0.1, 0.1, 0.15];
+    let (_, effects) = effect_sets().pop().unwrap();
+    let views = [camera(33.0, 28.0, 2.4), camera(-47.0, 12.0, 0.3)];
+    // Non-convex, with a gap the secondary rays cross.
+    for (name, mesh) in [("two-boxes", two_boxes())] {
+        let shell = ShellMesh::build(&mesh).unwrap();
+        let pixels = u64::from(size.0 * size.1);
+        let draw = |path: Path, camera: &OrbitCamera| {
+            let options = ShellOptions::on(LayoutKind::Tet20, path);
+            let pass = Shell::with_effects(&gpu, &compiler, &options, &optics, &effects).unwrap();
+            let mesh = GpuShellMesh::upload_for(&gpu, &shell, LayoutKind::Tet20, path).unwrap();
+            let buffers = EffectBuffers::new(&gpu, &shell, &effects, pixels).unwrap();
+            let got = pass
+                .render_effects_image(
+                    &gpu, &mesh, &buffers, &shell, &optics, camera, size, background,
+                )
+                .unwrap();
+            let lighting: TetLighting = buffers.read_lighting(&gpu).unwrap();
+            (got.image, got.stats, got.secondary, lighting)
+        };
+        for (v, camera) in views.iter().enumerate() {
+            let compute = draw(Path::Compute, camera);
+            let traced = draw(Path::Graphics, camera);
+            let label = format!("{name} view {v}");
+            assert!(
+                compute.2.shadow_rays > 0 && compute.2.ao_rays > 0,
+                "{label}"
+            );
+            assert_eq!(traced.1, compute.1, "{label}: pixel-ray counters");
+            assert_eq!(traced.2, compute.2, "{label}: secondary-ray counters");
+            assert!(traced.3 == compute.3, "{label}: per-tet lighting differs");
+            assert_eq!(traced.0, compute.0, "{label}: images differ");
+        }
+    }
     assert_clean(&gpu);
 }

@@ -201,7 +201,7 @@ pub fn create(
         }
         Technique::Pmb => Box::new(pmb::PmbRenderer::new(gpu, options)?),
         Technique::Interval => Box::new(interval::IntervalRenderer::new(gpu, options)?),
-        Technique::Shell => Box::new(shell::ShellRenderer::new(options)),
+        Technique::Shell => Box::new(shell::ShellRenderer::new(gpu, options)?),
         Technique::ParamPoints | Technique::ParamTess | Technique::ShRaytrace => {
             Box::new(param::ParamRenderer::new(gpu, technique, options)?)
         }

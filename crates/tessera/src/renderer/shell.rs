@@ -29,6 +29,8 @@ struct MeshOnGpu {
 }
 
 pub(super) struct ShellRenderer {
+    /// The graphics path is the ray-tracing pipeline.
+    path: Path,
     layout: LayoutKind,
     effects: ShellEffects,
     data: Option<MeshOnGpu>,
@@ -41,8 +43,9 @@ pub(super) struct ShellRenderer {
 }
 
 impl ShellRenderer {
-    pub(super) fn new(options: &RendererOptions) -> ShellRenderer {
-        ShellRenderer {
+    pub(super) fn new(gpu: &Gpu, options: &RendererOptions) -> Result<ShellRenderer> {
+        Ok(ShellRenderer {
+            path: super::path_for(gpu.caps(), Technique::Shell, options.path)?,
             layout: options.layout,
             effects: options.shell_effects(),
             data: None,
@@ -52,7 +55,7 @@ impl ShellRenderer {
             background: [0.0; 3],
             stats: FrameStats::default(),
             counters: WorkCounters::default(),
-        }
+        })
     }
 
     /// The optical model and scalar range of the look for the mesh; builds the pipeline the
@@ -72,7 +75,7 @@ impl ShellRenderer {
         match &self.pass {
             Some(pass) => pass.set_optics(gpu, &optics)?,
             None => {
-                let options = ShellOptions::new(self.layout);
+                let options = ShellOptions::on(self.layout, self.path);
                 let compiler = crate::shaders::compiler();
                 let pass = Shell::with_effects(gpu, &compiler, &options, &optics, &self.effects)?;
                 self.pass = Some(pass);
@@ -91,7 +94,7 @@ impl Renderer for ShellRenderer {
     }
 
     fn path(&self) -> Path {
-        Path::Compute
+        self.path
     }
 
     fn set_data(&mut self, gpu: &Gpu, data: &Dataset) -> Result<()> {
@@ -106,7 +109,7 @@ impl Renderer for ShellRenderer {
         }
         self.data = None;
         let shell = ShellMesh::build(&tets.mesh)?;
-        let mesh = GpuShellMesh::upload(gpu, &shell, self.layout)?;
+        let mesh = GpuShellMesh::upload_for(gpu, &shell, self.layout, self.path)?;
         self.counters.data_uploads += 1;
         self.counters.data_bytes += mesh.bytes();
         // The mesh as loaded names the scalars' range; the reordered copy is on the GPU.

@@ -215,7 +215,7 @@ impl Technique {
             }
             Technique::Pmb => &["path", "culling", "ambiguity", "pmb_block"],
             Technique::Interval => &["path", "interval"],
-            Technique::Shell => &["layout", "shadows", "ao", "gradient"],
+            Technique::Shell => &["path", "layout", "shadows", "ao", "gradient"],
             Technique::ParamPoints => &["supersample", "pre_split"],
             Technique::ParamTess => &["supersample", "msaa", "pre_split"],
             Technique::ShRaytrace => &["supersample"],
@@ -258,8 +258,12 @@ impl RendererOptions {
 pub fn path_for(caps: &Capabilities, technique: Technique, choice: PathChoice) -> Result<Path> {
     let measured = crate::path::remembered(caps);
     match technique {
-        Technique::Raymarch | Technique::ParamPoints | Technique::ShRaytrace | Technique::Shell => {
-            Ok(Path::Compute)
+        Technique::Raymarch | Technique::ParamPoints | Technique::ShRaytrace => Ok(Path::Compute),
+        // The graphics path is the ray-tracing pipeline. `auto` takes the compute path: the
+        // BVH walk needs nothing special, and on devices without ray-tracing hardware the
+        // pipeline's traversal is software too (docs/BENCHMARKS.md compares them).
+        Technique::Shell => {
+            crate::path::choose_for(caps, &crate::tet::shell::path_support(caps), choice, None)
         }
         Technique::ParamTess => Ok(Path::Graphics),
         // The meshlet draw needs what direct's two paths need: task and mesh shaders, or the
@@ -374,5 +378,20 @@ mod option_tests {
             Path::Graphics
         );
         assert!(path_for(&counts, Technique::Meshlets, auto).is_err());
+        // Shell traversal's graphics path is the ray-tracing pipeline; `auto` stays on compute.
+        assert!(path_for(&caps, Technique::Shell, PathChoice::Graphics).is_err());
+        let rays = Capabilities {
+            ray_tracing_pipeline: true,
+            acceleration_structure: true,
+            ..Capabilities::default()
+        };
+        assert_eq!(
+            path_for(&rays, Technique::Shell, PathChoice::Graphics).unwrap(),
+            Path::Graphics
+        );
+        assert_eq!(
+            path_for(&rays, Technique::Shell, auto).unwrap(),
+            Path::Compute
+        );
     }
 }

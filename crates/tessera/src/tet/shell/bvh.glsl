@@ -1,35 +1,9 @@
 // The traces of Alg. 1 against the shell BVH, in the ray space of the ray being traversed:
 // the nearest face the ray leaves through beyond a distance (the trace with front faces
 // culled), and the farthest face it enters through before one (the backward trace from the
-// exit, front faces of the reversed ray culled). Faces are tested with the marching's own edge
-// predicates, so the face found agrees with the steps after it; the whole line is searched,
-// so an entry face behind the origin (an eye inside the mesh) is found too. Ties go to the
-// face first in the buffer for exits and last for entries, as the CPU reference's sorted hits.
-// Needs buffers.glsl and ray_space.glsl.
-
-const uint NO_FACE = 0xffffffffu;
-
-struct ShellHit {
-    float t;
-    uint face;  // index into shell_faces, NO_FACE when none
-};
-
-// How the ray crosses shell face f: 1 leaving, -1 entering, 0 missing; t where.
-int shell_crossing(RaySpace ray, uint f, out float t) {
-    uvec4 face = shell_faces[f];
-    Projected a = project(ray, face.x);
-    Projected b = project(ray, face.y);
-    Projected c = project(ray, face.z);
-    bool ab = ray_left_of(a, b);
-    bool bc = ray_left_of(b, c);
-    bool ca = ray_left_of(c, a);
-    t = 0.0;
-    if (ab != bc || bc != ca) {
-        return 0;
-    }
-    t = crossing(a, b, c).x;
-    return ab ? 1 : -1;
-}
+// exit, front faces of the reversed ray culled), faces judged as hit.glsl says. The whole line
+// is searched, so an entry face behind the origin (an eye inside the mesh) is found too.
+// Needs buffers.glsl, ray_space.glsl and hit.glsl.
 
 // Parameter range [near, far] of the ray's line inside a node's box.
 vec2 box_span(RaySpace ray, vec3 inv_dir, uint node) {
@@ -67,11 +41,9 @@ ShellHit shell_trace(RaySpace ray, bool leaving, float lo, float hi) {
                 int side = shell_crossing(ray, f, t);
                 bool better;
                 if (leaving) {
-                    better = side == 1 && t > lo
-                        && (t < best.t || (t == best.t && (best.face == NO_FACE || f < best.face)));
+                    better = side == 1 && t > lo && better_exit(t, f, best);
                 } else {
-                    better = side == -1 && t >= lo && t < hi
-                        && (t > best.t || (t == best.t && (best.face == NO_FACE || f > best.face)));
+                    better = side == -1 && t >= lo && t < hi && better_entry(t, f, best);
                 }
                 if (better) {
                     best = ShellHit(t, f);

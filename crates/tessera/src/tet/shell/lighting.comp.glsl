@@ -4,10 +4,13 @@
 // light (PASS_SHADOWS) and its mean transmittance over the AO hemisphere (PASS_OCCLUSION);
 // per pixel, the ground plane lit through the volume (PASS_GROUND). Secondary rays march by
 // the same traversal as pixel rays and stop at the same opacity.
+#include "tet/shell/stage.glsl"
+#if !SHELL_RAY_TRACING
 #if LIGHTING_PASS == PASS_GROUND
 layout(local_size_x = 8, local_size_y = 8) in;
 #else
 layout(local_size_x = 64) in;
+#endif
 #endif
 
 #include "tet/shell/buffers.glsl"
@@ -15,7 +18,8 @@ layout(local_size_x = 64) in;
 #include "tet/table.glsl"
 #include "tet/shell/integrate.glsl"
 #include "tet/shell/ray_space.glsl"
-#include "tet/shell/bvh.glsl"
+#include "tet/shell/hit.glsl"
+#include "tet/shell/trace.glsl"
 #include "tet/shell/layout.glsl"
 #include "tet/shell/traverse.glsl"
 #include "tet/shell/stats.glsl"
@@ -50,7 +54,7 @@ vec3 towards_light_from(vec3 p) {
 
 void main() {
 #if LIGHTING_PASS == PASS_GROUND
-    uvec2 pixel = gl_GlobalInvocationID.xy;
+    uvec2 pixel = INVOCATION_ID.xy;
     if (any(greaterThanEqual(pixel, params.size))) {
         return;
     }
@@ -64,7 +68,7 @@ void main() {
     ground_hits[pixel.y * params.size.x + pixel.x] = hit;
     add_secondary_counts(STAT_SHADOW_RAYS, secondary_rays, secondary_counts);
 #else
-    uint tet = gl_GlobalInvocationID.x;
+    uint tet = INVOCATION_ID.x;
     if (tet >= params.tet_count) {
         return;
     }

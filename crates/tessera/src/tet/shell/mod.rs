@@ -1,12 +1,16 @@
-//! Ray-traced shell traversal of tet meshes — paper B (Sahistan et al.), compute path: per
-//! pixel, the nearest shell face the ray leaves through is found in a BVH over the shell
-//! triangles (front faces culled), the backward trace from there finds the segment's entry
-//! face, and the ray marches tet to tet through the compact layout (Tet32, Tet20 or Tet16)
+//! Ray-traced shell traversal of tet meshes — paper B (Sahistan et al.): per pixel, the
+//! nearest shell face the ray leaves through is found among the shell triangles (front faces
+//! culled), the backward trace from there finds the segment's entry face, and the ray marches tet to tet through the compact layout (Tet32, Tet20 or Tet16)
 //! with the ray-centric projection and exit decision of the CPU reference
 //! (`tessera_data::tet::shell`), integrating emission–absorption per tet stretch through the
 //! transfer function's tables, until 98 % opacity; then on past the exit for the next segment
 //! of a non-convex mesh. The eye may sit inside the mesh. A loop guard ends a segment after a
 //! step limit and counts it.
+//!
+//! The traces run either in compute shaders walking a BVH over the shell triangles (the
+//! compute path) or on the ray-tracing pipeline through an acceleration structure over boxes
+//! around them (the graphics path, the paper's way; [`pass`]); both judge faces alike and find
+//! the same ones.
 //!
 //! [`ShellRays`] runs the same traversal for given rays (shadow rays; per-ray checks against
 //! the CPU traversal). [`Shell::with_effects`] adds the secondary-ray effects ([`effects`]):
@@ -14,6 +18,7 @@
 
 pub mod effects;
 pub mod mesh;
+mod pass;
 pub mod rays;
 
 pub use effects::{EffectBuffers, EffectParams};
@@ -22,16 +27,18 @@ pub use rays::{shadow_ray, GpuRay, RayResult, ShellRays, TracedRay, VisitedTet, 
 
 use crate::builtin_shader;
 use crate::error::{Error, Result};
+use crate::path::Path;
 use crate::target::Target;
 use bytemuck::{Pod, Zeroable};
 use effects::LightingPass;
+use pass::ShellPass;
 use tessera_data::tet::emission_absorption::{EmissionAbsorption, EARLY_TERMINATION_OPACITY};
 use tessera_data::tet::shell::{
     LayoutKind, SecondaryStats, ShellEffects, ShellMesh, Tet16, Tet20, Tet32, TraversalOptions,
     TraversalStats, BVH_MAX_DEPTH,
 };
 use tessera_data::{OrbitCamera, RgbaImage, View};
-use tessera_gpu::{vk, Binding, Buffer, Gpu, Pipeline, Recorder, ShaderCompiler, Slot, Timer};
+use tessera_gpu::{vk, Binding, Buffer, Gpu, Recorder, ShaderCompiler, Timer};
 
 /// Bindings every shell pass shares (`buffers.glsl`).
 const COMMON_BINDINGS: usize = 6;
@@ -81,20 +88,29 @@ pub struct ShellParams {
 pub struct ShellOptions {
     pub layout: LayoutKind,
     pub traversal: TraversalOptions,
+    /// How the shell is traced: [`Path::Compute`] (a BVH walked in compute shaders) or
+    /// [`Path::Graphics`] (the ray-tracing pipeline; meshes then need their acceleration
+    /// structure, [`GpuShellMesh::upload_for`]).
+    pub path: Path,
 }
 
 impl ShellOptions {
     pub fn new(layout: LayoutKind) -> ShellOptions {
+        ShellOptions::on(layout, Path::Compute)
+    }
+
+    pub fn on(layout: LayoutKind, path: Path) -> ShellOptions {
         ShellOptions {
             layout,
             traversal: TraversalOptions::default(),
+            path,
         }
     }
 }
 
-/// The defines of every shell pass for `layout` with tables of `knots` knots.
-pub(crate) fn defines(layout: LayoutKind, knots: usize) -> Vec<(String, String)> {
-    let (code, bytes) = match layout {
+/// The defines of every shell pass for `options` with tables of `knots` knots.
+pub(crate) fn defines(options: &ShellOptions, knots: usize) -> Vec<(String, String)> {
+    let (code, bytes) = match options.layout {
         LayoutKind::Tet32 => (0, std::mem::size_of::<Tet32>()),
         LayoutKind::Tet20 => (1, std::mem::size_of::<Tet20>()),
         LayoutKind::Tet16 => (2, std::mem::size_of::<Tet16>()),
@@ -121,6 +137,7 @@ pub(crate) fn defines(layout: LayoutKind, knots: usize) -> Vec<(String, String)>
             .enumerate()
             .map(|(i, name)| (name.to_string(), format!("{i}u"))),
     );
+    defines.extend(pass::tracing_defines(options.path));
     defines
 }
 
@@ -216,8 +233,26 @@ impl ShellTables {
     }
 }
 
-/// Refuses a mesh uploaded in another layout than the pipelines decode.
+/// What each way of tracing the shell needs of a device.
+pub fn path_support(caps: &tessera_gpu::Capabilities) -> crate::path::Support {
+    crate::path::Support {
+        graphics: caps.ray_tracing_pipeline && caps.acceleration_structure,
+        graphics_needs: "ray-tracing pipelines",
+        compute: true,
+        compute_needs: "nothing",
+    }
+}
+
+/// Refuses a mesh uploaded in another layout than the pipelines decode, or without the
+/// acceleration structure they trace.
 fn check_layout(mesh: &GpuShellMesh, options: &ShellOptions) -> Result<()> {
+    if options.path == Path::Graphics && mesh.scene.is_none() {
+        return Err(Error::Invalid(
+            "shell traversal: the ray-tracing pipeline needs the mesh uploaded with its \
+             acceleration structure"
+                .into(),
+        ));
+    }
     if mesh.layout != options.layout {
         return Err(Error::Invalid(format!(
             "shell traversal: a {} mesh for {} pipelines",
@@ -245,9 +280,9 @@ fn base_params(mesh: &GpuShellMesh, options: &ShellOptions) -> ShellParams {
 /// The pixel pass: one image of emission–absorption by shell traversal, with the passes of
 /// its effects before it.
 pub struct Shell {
-    pipeline: Pipeline,
+    pipeline: ShellPass,
     /// The effects' passes in the order they run.
-    lighting: Vec<(LightingPass, Pipeline)>,
+    lighting: Vec<(LightingPass, ShellPass)>,
     tables: ShellTables,
     options: ShellOptions,
     effects: ShellEffects,
@@ -283,23 +318,35 @@ impl Shell {
         effects: &ShellEffects,
     ) -> Result<Shell> {
         let tables = ShellTables::new(gpu, optics)?;
-        let mut base = defines(options.layout, tables.knots);
+        let mut base = defines(options, tables.knots);
         base.extend(effects::effect_defines(effects));
         let slots = if effects.any() {
             COMMON_BINDINGS + 1 + effects::EFFECT_BINDINGS
         } else {
             COMMON_BINDINGS + 1
         };
-        let spirv = compiler.compile(&builtin_shader!("shell.comp.glsl"), &base)?;
-        let pipeline =
-            gpu.compute_pipeline("shell traversal", &spirv, &vec![Slot::StorageBuffer; slots])?;
+        let pipeline = ShellPass::new(
+            gpu,
+            compiler,
+            "shell traversal",
+            builtin_shader!("shell.comp.glsl"),
+            &base,
+            slots,
+            options.path,
+        )?;
         let mut lighting = Vec::new();
         for pass in LightingPass::ALL.into_iter().filter(|p| p.needed(effects)) {
-            let mut defines = defines(options.layout, tables.knots);
+            let mut defines = defines(options, tables.knots);
             defines.extend(effects::pass_defines(effects, pass));
-            let spirv = compiler.compile(&builtin_shader!("lighting.comp.glsl"), &defines)?;
-            let pipeline =
-                gpu.compute_pipeline(pass.scope(), &spirv, &vec![Slot::StorageBuffer; slots])?;
+            let pipeline = ShellPass::new(
+                gpu,
+                compiler,
+                pass.scope(),
+                builtin_shader!("lighting.comp.glsl"),
+                &defines,
+                slots,
+                options.path,
+            )?;
             lighting.push((pass, pipeline));
         }
         Ok(Shell {
@@ -368,12 +415,13 @@ impl Shell {
         rec.barrier();
         let mut bindings = self.tables.bindings(mesh).to_vec();
         bindings.push(Binding::Buffer(&target.pixels));
-        rec.dispatch(
-            &self.pipeline,
+        self.pipeline.record(
+            rec,
+            mesh,
             &bindings,
             bytemuck::bytes_of(params),
             [target.width, target.height, 1],
-        );
+        )?;
         rec.barrier();
         Ok(())
     }
@@ -417,20 +465,18 @@ impl Shell {
                 [mesh.tet_count, 1, 1]
             };
             timer.scope(rec, pass.scope(), |rec| {
-                rec.dispatch(pipeline, &bindings, push, threads);
+                let recorded = pipeline.record(rec, mesh, &bindings, push, threads);
                 rec.barrier();
-            });
+                recorded
+            })?;
         }
         timer.scope(rec, "shell traversal", |rec| {
-            rec.dispatch(
-                &self.pipeline,
-                &bindings,
-                push,
-                [target.width, target.height, 1],
-            );
+            let recorded =
+                self.pipeline
+                    .record(rec, mesh, &bindings, push, [target.width, target.height, 1]);
             rec.barrier();
-        });
-        Ok(())
+            recorded
+        })
     }
 
     /// The counters of the last frame.

@@ -19,11 +19,16 @@ struct Projected {
     float s;
 };
 
-RaySpace ray_space(vec3 origin, vec3 dir) {
-    dir = normalize(dir);
+// The ray space of a direction already of unit length (a hit shader rebuilding the space of
+// the ray it was traced for must not normalize it a second time).
+RaySpace ray_space_of_unit(vec3 origin, vec3 dir) {
     vec3 helper = abs(dir.x) < 0.9 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0);
     vec3 u = normalize(cross(dir, helper));
     return RaySpace(origin, dir, u, cross(dir, u));
+}
+
+RaySpace ray_space(vec3 origin, vec3 dir) {
+    return ray_space_of_unit(origin, normalize(dir));
 }
 
 // As tessera_data::tet::scalar_integral::normalize_scalar.

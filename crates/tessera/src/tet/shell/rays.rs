@@ -1,16 +1,18 @@
 //! Shell traversal of given rays: shadow rays towards a light, and the per-ray record of the
 //! tets visited that the tests hold to the CPU traversal.
 
+use super::pass::ShellPass;
 use super::{
     base_params, check_layout, defines, GpuShellMesh, ShellOptions, ShellTables, COMMON_BINDINGS,
 };
 use crate::builtin_shader;
-use crate::error::Result;
+use crate::error::{Error, Result};
+use crate::path::Path;
 use bytemuck::{Pod, Zeroable};
 use glam::DVec3;
 use tessera_data::tet::emission_absorption::EmissionAbsorption;
 use tessera_data::tet::shell::{Light, Ray, TraversalStats};
-use tessera_gpu::{vk, Binding, Gpu, MemoryLocation, Pipeline, ShaderCompiler, Slot};
+use tessera_gpu::{vk, Binding, Gpu, MemoryLocation, ShaderCompiler};
 
 /// Tets recorded per ray, in order; the rest are counted only.
 pub const RECORDED_STEPS: usize = 256;
@@ -53,7 +55,7 @@ pub struct TracedRay {
 }
 
 pub struct ShellRays {
-    pipeline: Pipeline,
+    pipeline: ShellPass,
     tables: ShellTables,
     options: ShellOptions,
 }
@@ -80,13 +82,16 @@ impl ShellRays {
         optics: &EmissionAbsorption,
     ) -> Result<ShellRays> {
         let tables = ShellTables::new(gpu, optics)?;
-        let mut defines = defines(options.layout, tables.knots);
+        let mut defines = defines(options, tables.knots);
         defines.push(("RECORDED_STEPS".into(), RECORDED_STEPS.to_string()));
-        let spirv = compiler.compile(&builtin_shader!("shell_rays.comp.glsl"), &defines)?;
-        let pipeline = gpu.compute_pipeline(
+        let pipeline = ShellPass::new(
+            gpu,
+            compiler,
             "shell traversal rays",
-            &spirv,
-            &[Slot::StorageBuffer; COMMON_BINDINGS + 3],
+            builtin_shader!("shell_rays.comp.glsl"),
+            &defines,
+            COMMON_BINDINGS + 3,
+            options.path,
         )?;
         Ok(ShellRays {
             pipeline,
@@ -106,6 +111,12 @@ impl ShellRays {
         check_layout(mesh, &self.options)?;
         if rays.is_empty() {
             return Ok((Vec::new(), TraversalStats::default()));
+        }
+        // A trace through the acceleration structure cannot start behind its origin.
+        if self.pipeline.path() == Path::Graphics && rays.iter().any(|r| !(r.t_min >= 0.0)) {
+            return Err(Error::Invalid(
+                "shell traversal on the ray-tracing pipeline: rays must start at t_min >= 0".into(),
+            ));
         }
         let gpu_rays: Vec<GpuRay> = rays
             .iter()
@@ -141,19 +152,22 @@ impl ShellRays {
             Binding::Buffer(&results),
             Binding::Buffer(&visited),
         ]);
+        let mut recorded = Ok(());
         gpu.submit("shell traversal rays", |rec| {
             rec.fill_buffer(&self.tables.stats, 0);
             rec.fill_buffer(&results, 0xdead_beef);
             rec.fill_buffer(&visited, 0xdead_beef);
             rec.barrier();
-            rec.dispatch(
-                &self.pipeline,
+            recorded = self.pipeline.record(
+                rec,
+                mesh,
                 &bindings,
                 bytemuck::bytes_of(&params),
                 [rays.len() as u32, 1, 1],
             );
             rec.barrier();
         })?;
+        recorded?;
         let results: Vec<RayResult> =
             bytemuck::allocation::pod_collect_to_vec(&gpu.read_buffer(&results)?);
         let visited: Vec<VisitedTet> =

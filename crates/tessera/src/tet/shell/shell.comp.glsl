@@ -4,7 +4,10 @@
 // front to back over the background, stopping at the early-termination opacity. With
 // SHELL_EFFECTS each stretch's emission is scaled by its tet's lighting (effects.glsl), and
 // with shadows the ray ends at the ground plane, whose colour lighting.comp.glsl left behind.
+#include "tet/shell/stage.glsl"
+#if !SHELL_RAY_TRACING
 layout(local_size_x = 8, local_size_y = 8) in;
+#endif
 
 #include "tet/shell/buffers.glsl"
 #include "tet/shell/params.glsl"
@@ -13,7 +16,8 @@ layout(binding = 6) writeonly buffer Pixels { uint pixels[]; };  // packed RGBA8
 #include "tet/table.glsl"
 #include "tet/shell/integrate.glsl"
 #include "tet/shell/ray_space.glsl"
-#include "tet/shell/bvh.glsl"
+#include "tet/shell/hit.glsl"
+#include "tet/shell/trace.glsl"
 #include "tet/shell/layout.glsl"
 #include "tet/shell/traverse.glsl"
 #include "tet/shell/stats.glsl"
@@ -40,7 +44,7 @@ bool visit_step(uint segment, ShellStep step) {
 }
 
 void main() {
-    uvec2 pixel = gl_GlobalInvocationID.xy;
+    uvec2 pixel = INVOCATION_ID.xy;
     if (any(greaterThanEqual(pixel, params.size))) {
         return;
     }

@@ -2,7 +2,10 @@
 // Shell traversal of given rays (shadow rays, and the per-ray checks against the CPU
 // traversal): per ray, the emission–absorption sum and the tets visited in order, the first
 // RECORDED_STEPS of them kept with their segment numbers.
+#include "tet/shell/stage.glsl"
+#if !SHELL_RAY_TRACING
 layout(local_size_x = 64) in;
+#endif
 
 #include "tet/shell/buffers.glsl"
 #include "tet/shell/params.glsl"
@@ -29,7 +32,8 @@ layout(binding = 8) writeonly buffer Visited { VisitedTet visited[]; };
 #include "tet/table.glsl"
 #include "tet/shell/integrate.glsl"
 #include "tet/shell/ray_space.glsl"
-#include "tet/shell/bvh.glsl"
+#include "tet/shell/hit.glsl"
+#include "tet/shell/trace.glsl"
 #include "tet/shell/layout.glsl"
 #include "tet/shell/traverse.glsl"
 #include "tet/shell/stats.glsl"
@@ -50,7 +54,7 @@ bool visit_step(uint segment, ShellStep step) {
 }
 
 void main() {
-    ray_index = gl_GlobalInvocationID.x;
+    ray_index = INVOCATION_ID.x;
     if (ray_index >= params.size.x) {
         return;
     }
