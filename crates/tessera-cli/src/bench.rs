@@ -15,8 +15,8 @@ pub struct BenchArgs {
     /// iso-sweep (isovalue changes every frame; meshlets and pmb extract and draw), extraction
     /// (meshlets against PMB at every block size: GPU time and stored bytes), time-varying (a
     /// new volume every frame),
-    /// stereo (two eyes against one), interval (tet meshes), param (parametric objects: SH
-    /// glyphs) or all.
+    /// stereo (two eyes against one), interval and shell (tet meshes), param (parametric
+    /// objects: SH glyphs) or all.
     scenario: String,
     /// Append JSON lines here.
     #[arg(long)]
@@ -43,13 +43,13 @@ pub struct BenchArgs {
     #[arg(long, default_value_t = 0.3)]
     pub(crate) iso_fraction: f32,
     /// Benchmark the isosurface scenarios on this volume (a file or procedural:NAME:SIZE[:TYPE])
-    /// instead of the built-in head phantoms; or, for `interval`, a tet mesh file to add to the
-    /// procedural meshes.
+    /// instead of the built-in head phantoms; or, for `interval` and `shell`, a tet mesh (file
+    /// or spec) to measure instead of the procedural meshes.
     #[arg(long)]
     pub(crate) data: Option<String>,
     #[command(flatten)]
     volume: crate::data::VolumeArgs,
-    /// Paths to measure for `interval` and `extraction` (default: every path the device has).
+    /// Paths for `interval`, `shell` and `extraction` (default: every path the device has).
     #[arg(long, value_delimiter = ',', value_parser = parse_path)]
     pub(crate) paths: Vec<Path>,
     /// Image sizes to measure, in this order (default 1280x720,1920x1080,3840x2160).

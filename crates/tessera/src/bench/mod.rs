@@ -9,6 +9,7 @@ mod interval;
 mod iso;
 mod param;
 pub mod repeat;
+mod shell;
 mod stereo;
 
 use crate::error::{Error, Result};
@@ -31,6 +32,7 @@ pub const SCENARIOS: &[&str] = &[
     "time-varying",
     "stereo",
     "interval",
+    "shell",
     "param",
 ];
 
@@ -97,6 +99,7 @@ pub fn run(gpu: &Gpu, name: &str, config: &BenchConfig, sink: &mut dyn RecordSin
         "time-varying" => iso::time_varying(gpu, config, plan, sink),
         "stereo" => stereo::stereo(gpu, config, plan, sink),
         "interval" => interval::interval(gpu, config, plan, sink),
+        "shell" => shell::shell(gpu, config, plan, sink),
         "param" => param::param(gpu, config, plan, sink),
         _ => Err(Error::Invalid(format!(
             "unknown scenario '{name}'; choose one of {} or all",
