@@ -359,9 +359,8 @@ fn the_loop_guard_ends_a_circling_walk_and_counts_it() {
     {
         let layout = build_layout(kind, &shell.mesh.tets, &glued);
         let options = ShellOptions {
-            layout: kind,
             traversal,
-            path,
+            ..ShellOptions::on(kind, path)
         };
         let mut cpu_stats = TraversalStats::default();
         trace_segments(&shell, &*layout, &ray, &traversal, &mut cpu_stats);

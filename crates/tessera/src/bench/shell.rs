@@ -10,11 +10,14 @@ use super::{BenchConfig, BenchRecord, FramePlan, RecordSink};
 use crate::error::Result;
 use crate::path::{Path, PathChoice};
 use crate::renderer::{self, AmbientOcclusion, Light, RendererOptions, Technique};
+use crate::target::Target;
+use crate::tet::shell::{GpuShellMesh, Shell, ShellOptions};
 use glam::DVec3;
 use tessera_data::scene::{Appearance, DataKind, Dataset, IntegrandChoice, LoadOptions};
-use tessera_data::tet::shell::{LayoutKind, Tet16, Tet20, Tet32};
+use tessera_data::tet::emission_absorption::EmissionAbsorption;
+use tessera_data::tet::shell::{LayoutKind, ShellMesh, Tet16, Tet20, Tet32};
 use tessera_data::transfer::ScalarMode;
-use tessera_data::OrbitCamera;
+use tessera_data::{OrbitCamera, View};
 use tessera_gpu::Gpu;
 
 /// Hemisphere rays per tet for ambient occlusion, and their reach (the mesh's longest side is
@@ -144,6 +147,10 @@ pub fn shell(
                 }
             }
         }
+        for &path in &paths {
+            let record = measure.time_traces(path)?;
+            sink.emit(&record)?;
+        }
         if tets.mesh.scalars.is_some() {
             let look = Appearance {
                 integrand: IntegrandChoice::Scalar(ScalarMode::Absorption),
@@ -175,6 +182,53 @@ struct MeshRun<'a> {
 }
 
 impl MeshRun<'_> {
+    /// The pixel pass in Tet20 finding every segment's exit and entry faces without marching
+    /// it: the shell traces' share of the E+A frame.
+    fn time_traces(&self, path: Path) -> Result<BenchRecord> {
+        let gpu = self.gpu;
+        let Dataset::Tets(tets) = self.data else {
+            return Err(renderer::wrong_data(Technique::Shell, self.data));
+        };
+        let shell = ShellMesh::build(&tets.mesh)?;
+        let options = ShellOptions {
+            traces_only: true,
+            ..ShellOptions::on(LayoutKind::Tet20, path)
+        };
+        let look = Appearance::default();
+        let optics = EmissionAbsorption::new(&look.transfer, look.density);
+        let pass = Shell::new(gpu, &crate::shaders::compiler(), &options, &optics)?;
+        let mesh = GpuShellMesh::upload_for(gpu, &shell, LayoutKind::Tet20, path)?;
+        let view = View::of_unit_box(self.camera, self.size);
+        let target = Target::new(gpu, self.size.0, self.size.1)?;
+        let params = pass.params(&mesh, &view, [0.0; 3]);
+        let mut recorded = Ok(());
+        let stages = tessera_gpu::timing::time_frames(gpu, self.plan, 1, |rec, timer| {
+            let frame = timer.scope(rec, "shell traces", |rec| {
+                pass.record(rec, &mesh, &target, &params)
+            });
+            if recorded.is_ok() {
+                recorded = frame;
+            }
+        })?;
+        recorded?;
+        let stats = pass.read_stats(gpu)?;
+        let mut record = BenchRecord::new(gpu, "shell", "shell", path.name(), self.dataset);
+        record.width = self.size.0;
+        record.height = self.size.1;
+        record.warmup = self.plan.warmup;
+        record.frames = self.plan.frames;
+        record.stages = stages;
+        record.variant = "tet20, shell traces only".into();
+        record.counts.insert("tets".into(), self.tets as f64);
+        record
+            .counts
+            .insert("segments".into(), stats.segments as f64);
+        record
+            .counts
+            .insert("shell_faces".into(), shell.faces.len() as f64);
+        Ok(record)
+    }
+
     fn time(
         &self,
         technique: Technique,

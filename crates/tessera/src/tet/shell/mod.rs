@@ -92,6 +92,9 @@ pub struct ShellOptions {
     /// [`Path::Graphics`] (the ray-tracing pipeline; meshes then need their acceleration
     /// structure, [`GpuShellMesh::upload_for`]).
     pub path: Path,
+    /// Find each segment's exit and entry faces but march no tets: what the shell traces
+    /// alone cost (benchmarks; the image shows the background).
+    pub traces_only: bool,
 }
 
 impl ShellOptions {
@@ -104,6 +107,7 @@ impl ShellOptions {
             layout,
             traversal: TraversalOptions::default(),
             path,
+            traces_only: false,
         }
     }
 }
@@ -138,6 +142,10 @@ pub(crate) fn defines(options: &ShellOptions, knots: usize) -> Vec<(String, Stri
             .map(|(i, name)| (name.to_string(), format!("{i}u"))),
     );
     defines.extend(pass::tracing_defines(options.path));
+    defines.push((
+        "SHELL_TRACES_ONLY".into(),
+        u32::from(options.traces_only).to_string(),
+    ));
     defines
 }
 

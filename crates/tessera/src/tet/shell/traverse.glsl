@@ -143,6 +143,11 @@ TraversalCounts traverse(vec3 origin, vec3 dir, float t_min, float t_max) {
         if (entry.t >= t_max) {
             break;
         }
+#if SHELL_TRACES_ONLY
+        // What the traces alone cost: the segment is found, not marched.
+        counts.segments += 1u;
+        continue;
+#endif
         bool reported;
         bool stopped;
         uint end = march_segment(ray, entry.face, entry.t, t_min, t_max, segment, counts, reported, stopped);
