@@ -359,6 +359,62 @@ fn the_front_door_times_each_effect_and_counts_its_rays() {
     assert_clean(&gpu);
 }
 
+/// The per-tet lighting does not depend on the eye: the front door casts the tets' shadow and
+/// AO rays in the first frame and reuses them while the mesh, the look and the light stay, and
+/// a reused frame equals a freshly lit one, from another view too; a new look lights again.
+#[test]
+fn the_front_door_lights_the_tets_once_until_the_look_changes() {
+    let gpu = gpu();
+    let data = Dataset::load("tets:box:3", &LoadOptions::default()).unwrap();
+    let size = (40, 30);
+    let options = RendererOptions {
+        shadows: Some(Light::above(DVec3::Y)),
+        ao: ao(4, 0.15),
+        gradient: true,
+        ..RendererOptions::default()
+    };
+    let look = Appearance::default();
+    let fresh = |camera: &OrbitCamera, look: &Appearance| {
+        let mut r = renderer::create(&gpu, Technique::Shell, &options).unwrap();
+        r.set_appearance(&gpu, look).unwrap();
+        r.set_data(&gpu, &data).unwrap();
+        renderer::render_image(&gpu, r.as_mut(), camera, size).unwrap()
+    };
+    let mut r = renderer::create(&gpu, Technique::Shell, &options).unwrap();
+    r.set_appearance(&gpu, &look).unwrap();
+    r.set_data(&gpu, &data).unwrap();
+    let (near, far) = (camera(33.0, 25.0, 2.2), camera(-70.0, 10.0, 2.6));
+    let first = renderer::render_image(&gpu, r.as_mut(), &near, size).unwrap();
+    let ao_rays = |f: &renderer::RenderedImage| f.stats.details["ao_rays"];
+    assert!(ao_rays(&first) > 0);
+    let again = renderer::render_image(&gpu, r.as_mut(), &near, size).unwrap();
+    assert_eq!(ao_rays(&again), 0, "the second frame cast AO rays again");
+    assert!(again.stats.details["shadow_rays"] < first.stats.details["shadow_rays"]);
+    assert_eq!(again.image, first.image);
+    // The lighting scopes stay in every frame, so frames line up in benchmarks.
+    assert_eq!(again.times.scopes.len(), first.times.scopes.len());
+    let turned = renderer::render_image(&gpu, r.as_mut(), &far, size).unwrap();
+    assert_eq!(ao_rays(&turned), 0);
+    assert_eq!(
+        turned.image,
+        fresh(&far, &look).image,
+        "reused lighting from another view"
+    );
+    let denser = Appearance {
+        density: look.density * 3.0,
+        ..look.clone()
+    };
+    r.set_appearance(&gpu, &denser).unwrap();
+    let relit = renderer::render_image(&gpu, r.as_mut(), &far, size).unwrap();
+    assert!(
+        ao_rays(&relit) > 0,
+        "a new look did not light the tets again"
+    );
+    assert_eq!(relit.image, fresh(&far, &denser).image);
+    assert_ne!(relit.image, turned.image);
+    assert_clean(&gpu);
+}
+
 /// A ray–box test (slab method): whether `origin + t dir`, `t > 0`, meets the box.
 fn meets_box(origin: DVec3, dir: DVec3, (lo, hi): (DVec3, DVec3)) -> bool {
     let (mut near, mut far) = (0.0f64, f64::INFINITY);

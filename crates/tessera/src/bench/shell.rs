@@ -1,15 +1,16 @@
 //! Shell traversal (paper B) against its Table 1: tet boxes of about 1 M, 1.3 M, 2.9 M and
 //! 10 M tets (the paper's Jets, Plasma64 and Fusion sizes, and beyond) at 1024², emission and
-//! absorption alone and with all effects (shadows, ambient occlusion, gradient shading), in
-//! each layout on each way of tracing the shell; and interval shading (paper A) of the same
+//! absorption alone and with all effects (shadows, ambient occlusion, gradient shading; the
+//! tets' lighting reused from frame to frame, and cast again every frame), in each layout on
+//! each way of tracing the shell, and the shell traces alone; and interval shading (paper A) of the same
 //! mesh and transfer function (scalar absorption: interval shading has no emission–absorption
 //! integrand), on its own fastest settings.
 
-use super::frames::time_mono;
+use super::frames::{time_mono, EachFrame};
 use super::{BenchConfig, BenchRecord, FramePlan, RecordSink};
 use crate::error::Result;
 use crate::path::{Path, PathChoice};
-use crate::renderer::{self, AmbientOcclusion, Light, RendererOptions, Technique};
+use crate::renderer::{self, AmbientOcclusion, Light, Renderer, RendererOptions, Technique};
 use crate::target::Target;
 use crate::tet::shell::{GpuShellMesh, Shell, ShellOptions};
 use glam::DVec3;
@@ -119,7 +120,9 @@ pub fn shell(
         };
         for &path in &paths {
             for &kind in layouts {
-                for effects in [false, true] {
+                // E+A; all effects lit once and reused (the light and look stay, as while the
+                // camera turns); all effects lit again every frame (as while the light moves).
+                for (effects, relight) in [(false, false), (true, false), (true, true)] {
                     let mut options = RendererOptions {
                         path: match path {
                             Path::Graphics => PathChoice::Graphics,
@@ -136,10 +139,18 @@ pub fn shell(
                     let label = format!(
                         "{}, {}",
                         kind.name(),
-                        if effects { "all effects" } else { "E+A" }
+                        match (effects, relight) {
+                            (false, _) => "E+A",
+                            (true, false) => "all effects",
+                            (true, true) => "all effects, relit every frame",
+                        }
                     );
+                    let look = Appearance::default();
+                    // Setting the look again discards the tets' lighting.
+                    let set_look = |_: u32, r: &mut dyn Renderer| r.set_appearance(gpu, &look);
+                    let each_frame: EachFrame = relight.then_some(&set_look);
                     let mut record =
-                        measure.time(Technique::Shell, &options, &Appearance::default(), &label)?;
+                        measure.time(Technique::Shell, &options, &look, &label, each_frame)?;
                     record
                         .counts
                         .insert("bytes_per_tet".into(), layout_bytes(kind) as f64);
@@ -161,6 +172,7 @@ pub fn shell(
                 &RendererOptions::default(),
                 &look,
                 "scalar absorption, automatic path and tiling",
+                None,
             ) {
                 Ok(record) => sink.emit(&record)?,
                 Err(e) => sink.note(&format!("interval shading of {dataset}: {e}")),
@@ -235,13 +247,14 @@ impl MeshRun<'_> {
         options: &RendererOptions,
         look: &Appearance,
         label: &str,
+        each_frame: EachFrame,
     ) -> Result<BenchRecord> {
         let gpu = self.gpu;
         let mut r = renderer::create(gpu, technique, options)?;
         r.set_appearance(gpu, look)?;
         r.set_data(gpu, self.data)?;
         let view = r.view(self.camera, self.size)?;
-        let stages = time_mono(gpu, r.as_mut(), &view, self.plan, 1, None)?;
+        let stages = time_mono(gpu, r.as_mut(), &view, self.plan, 1, each_frame)?;
         let mut record = BenchRecord::new(
             gpu,
             "shell",

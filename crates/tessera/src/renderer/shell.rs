@@ -26,6 +26,12 @@ struct MeshOnGpu {
     bounds: (DVec3, DVec3),
     /// The effects' buffers (with effects only).
     effects: Option<EffectBuffers>,
+    /// The effect settings the per-tet lighting in `effects` was computed with; `None` until
+    /// a frame lit the tets for the current mesh and look (the lighting depends on them and
+    /// on the light, not on the eye, so frames after that reuse it).
+    lit_with: Option<EffectParams>,
+    /// The settings of the frame recorded last, lit by it when it completes.
+    lighting_recorded: Option<EffectParams>,
 }
 
 pub(super) struct ShellRenderer {
@@ -71,6 +77,7 @@ impl ShellRenderer {
             )));
         }
         data.mesh.scalar_range = mapping_range(&data.data.mesh, self.look.range, &data.data.name)?;
+        data.lit_with = None;
         let optics = EmissionAbsorption::new(&self.look.transfer, self.look.density);
         match &self.pass {
             Some(pass) => pass.set_optics(gpu, &optics)?,
@@ -123,6 +130,8 @@ impl Renderer for ShellRenderer {
             mesh,
             bounds: shell.world_bounds(),
             effects,
+            lit_with: None,
+            lighting_recorded: None,
         });
         self.apply_look(gpu)
     }
@@ -151,14 +160,18 @@ impl Renderer for ShellRenderer {
         target: &Target,
         timer: &mut Timer,
     ) -> Result<()> {
-        let (Some(pass), Some(data)) = (&self.pass, &self.data) else {
+        let (Some(pass), Some(data)) = (&self.pass, &mut self.data) else {
             return Err(no_data(Technique::Shell));
         };
         let params = pass.params(&data.mesh, view, self.background);
         match (&data.effects, &self.optics) {
             (Some(buffers), Some(optics)) => {
                 let effect = EffectParams::new(&self.effects, view, data.bounds, optics);
-                pass.record_effects(rec, &data.mesh, buffers, target, &params, &effect, timer)
+                let relight = data.lit_with != Some(effect);
+                data.lighting_recorded = relight.then_some(effect);
+                pass.record_effects(
+                    rec, &data.mesh, buffers, target, &params, &effect, relight, timer,
+                )
             }
             _ => timer.scope(rec, "shell traversal", |rec| {
                 pass.record(rec, &data.mesh, target, &params)
@@ -171,6 +184,11 @@ impl Renderer for ShellRenderer {
             .pass
             .as_ref()
             .ok_or_else(|| no_data(Technique::Shell))?;
+        if let Some(data) = &mut self.data {
+            if let Some(lit) = data.lighting_recorded.take() {
+                data.lit_with = Some(lit);
+            }
+        }
         let s = pass.read_stats(gpu)?;
         let mut details: std::collections::BTreeMap<&'static str, u64> = [
             ("segments", s.segments),

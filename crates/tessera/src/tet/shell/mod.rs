@@ -436,7 +436,9 @@ impl Shell {
 
     /// Records one frame with the effects into `target`: counters cleared and `effect` written
     /// first, then each effect's pass and the pixel pass, each in a scope of `timer` (the
-    /// pixel pass's is "shell traversal").
+    /// pixel pass's is "shell traversal"). Without `relight` the per-tet passes are left out
+    /// (their scopes stay, empty): `buffers` still hold the lighting of an earlier frame with
+    /// the same `effect`, mesh and optics, which does not depend on the eye.
     #[allow(clippy::too_many_arguments)]
     pub fn record_effects(
         &self,
@@ -446,6 +448,7 @@ impl Shell {
         target: &Target,
         params: &ShellParams,
         effect: &EffectParams,
+        relight: bool,
         timer: &mut Timer,
     ) -> Result<()> {
         check_layout(mesh, &self.options)?;
@@ -472,6 +475,10 @@ impl Shell {
             } else {
                 [mesh.tet_count, 1, 1]
             };
+            if !relight && !pass.per_pixel() {
+                timer.scope(rec, pass.scope(), |_| ());
+                continue;
+            }
             timer.scope(rec, pass.scope(), |rec| {
                 let recorded = pipeline.record(rec, mesh, &bindings, push, threads);
                 rec.barrier();
@@ -544,8 +551,9 @@ impl Shell {
         timer.reset(gpu);
         let mut recorded = Ok(());
         gpu.submit("shell traversal image with effects", |rec| {
-            recorded =
-                self.record_effects(rec, mesh, buffers, &target, &params, &effect, &mut timer);
+            recorded = self.record_effects(
+                rec, mesh, buffers, &target, &params, &effect, true, &mut timer,
+            );
         })?;
         recorded?;
         let (stats, secondary) = self.tables.read_all_stats(gpu)?;
