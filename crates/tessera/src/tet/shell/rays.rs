@@ -113,7 +113,9 @@ impl ShellRays {
             return Ok((Vec::new(), TraversalStats::default()));
         }
         // A trace through the acceleration structure cannot start behind its origin.
-        if self.pipeline.path() == Path::Graphics && rays.iter().any(|r| r.t_min < 0.0 || r.t_min.is_nan()) {
+        if self.pipeline.path() == Path::Graphics
+            && rays.iter().any(|r| r.t_min < 0.0 || r.t_min.is_nan())
+        {
             return Err(Error::Invalid(
                 "shell traversal on the ray-tracing pipeline: rays must start at t_min >= 0".into(),
             ));
