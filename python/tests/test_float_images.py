@@ -1,5 +1,5 @@
-"""``render(dtype="float32")``: the float quantity interval shading accumulates, of which the
-uint8 image is the quantized colour."""
+"""``render(dtype="float32")``: the float quantity interval shading accumulates, and the
+radiance shell traversal composites, of which the uint8 image is the quantized colour."""
 
 import numpy as np
 import pytest
@@ -32,6 +32,7 @@ def render_both(renderer, **look):
     )
     assert colour.dtype == np.uint8 and colour.shape == (SIZE[1], SIZE[0], 4)
     assert values.dtype == np.float32 and values.shape == (SIZE[1], SIZE[0], 3)
+    assert renderer.quantity in ("optical-depth", "emission", "maximum", "radiance")
     return colour, values
 
 
@@ -59,6 +60,24 @@ def test_emission_adds_to_the_background(device):
     assert light.max() > 0.01
     expected = quantized(np.asarray(BACKGROUND) + light.astype(np.float64))
     assert np.abs(colour[..., :3] - expected).max() <= 1
+
+
+@pytest.mark.parametrize("path", ["compute", "graphics"])
+def test_shell_radiance_quantizes_to_the_colour_image(device, path):
+    r = tessera.Renderer(device, "shell", path=path)
+    try:
+        r.set_data(cube())
+    except tessera.DataError as e:
+        if "needs features" not in str(e):
+            raise
+        pytest.skip(f"shell traversal's {path} path: {e}")
+    assert r.quantity is None
+    colour, light = render_both(r, density=4.0)
+    assert r.quantity == "radiance"
+    # The colour is the radiance clamped and rounded, the background where no tet is.
+    assert np.array_equal(colour[..., :3], quantized(light.astype(np.float64)))
+    assert np.allclose(light[0, 0], BACKGROUND)
+    assert np.abs(light - np.asarray(BACKGROUND, np.float32)).max() > 0.05
 
 
 def test_float_images_only_where_a_technique_has_them(device):

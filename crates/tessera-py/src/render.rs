@@ -47,6 +47,8 @@ struct State {
     iso_given: bool,
     frame: Option<Frame>,
     last: Option<(FrameTimes, FrameStats)>,
+    /// What the last float image held (`Accumulation::quantity_name`).
+    quantity: Option<&'static str>,
 }
 
 /// A technique on a device: `Renderer(device, "direct", path="auto")`, then `set_data(data)`
@@ -120,8 +122,8 @@ impl State {
         let r = self.renderer.as_ref().expect("a frame was rendered");
         r.accumulated(gpu).map_err(from_tessera)?.ok_or_else(|| {
             invalid(format!(
-                "dtype='float32': {} draws colours only; interval shading gives a float \
-                 image (optical depth, emission or maximum)",
+                "dtype='float32': {} draws colours only; interval shading (optical depth, \
+                 emission or maximum) and shell traversal (radiance) give a float image",
                 r.technique().name()
             ))
         })
@@ -280,6 +282,7 @@ impl Renderer {
                 iso_given: false,
                 frame: None,
                 last: None,
+                quantity: None,
             }),
         })
     }
@@ -303,7 +306,9 @@ impl Renderer {
     /// the technique has one: interval shading's optical depth per channel (absorption
     /// integrands; the colour is `background * exp(-depth)`), emitted light (emission; the
     /// colour is `background + light`) or `[largest scalar mapped to [0, 1], coverage, 0]`
-    /// (mip); other techniques raise `DataError`. `camera` is
+    /// (mip); shell traversal's radiance (the light reaching the eye, over the background,
+    /// before it is clamped and quantized); other techniques raise `DataError`; `r.quantity`
+    /// names what the last float image holds. `camera` is
     /// (azimuth, elevation[, distance]) in degrees around the data (longest side 1); `iso` a
     /// value in the data's units or `iso_fraction` a fraction of its range (default: Otsu's
     /// threshold); `tf` a transfer function preset or file; `integrate` how tet meshes are
@@ -364,7 +369,10 @@ impl Renderer {
                 let image = state.render(&gpu, &camera, size)?;
                 match image_type {
                     ImageType::Colour => Ok(Rendered::Colour(image)),
-                    ImageType::Accumulated => state.accumulated(&gpu).map(Rendered::Accumulated),
+                    ImageType::Accumulated => state.accumulated(&gpu).map(|a| {
+                        state.quantity = Some(a.quantity_name());
+                        Rendered::Accumulated(a)
+                    }),
                 }
             })
         })?;
@@ -383,6 +391,13 @@ impl Renderer {
             .as_ref()
             .map(|r| r.technique().name().to_string())
             .or_else(|| state.asked.clone())
+    }
+
+    /// What the last `dtype="float32"` image holds: `optical-depth`, `emission`, `maximum`
+    /// or `radiance` (`None` before one was rendered).
+    #[getter]
+    fn quantity(&self) -> Option<&'static str> {
+        self.lock().quantity
     }
 
     /// The path taken: `graphics` or `compute` (`None` before `set_data`).

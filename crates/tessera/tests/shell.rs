@@ -17,7 +17,9 @@ use tessera::renderer::{self, RendererOptions, Technique};
 use tessera::shaders;
 use tessera::target::Target;
 use tessera::tet::interval::{GpuTetMesh, Integrand, Interval, IntervalOptions};
-use tessera::tet::shell::{shadow_ray, GpuShellMesh, Shell, ShellOptions, ShellRays};
+use tessera::tet::shell::{
+    shadow_ray, GpuShellMesh, RadianceBuffer, Shell, ShellOptions, ShellRays,
+};
 use tessera_data::scene::{Appearance, DataKind, Dataset, LoadOptions};
 use tessera_data::tet::emission_absorption::EmissionAbsorption;
 use tessera_data::tet::procedural::{box_mesh, exploded, sphere_mesh};
@@ -238,10 +240,11 @@ fn gpu_image(
 ) -> (tessera_data::RgbaImage, TraversalStats) {
     let target = Target::new(gpu, size.0, size.1).unwrap();
     target.poison(gpu, POISON).unwrap();
+    let radiance = RadianceBuffer::new(gpu, size.0, size.1).unwrap();
     let params = pass.params(mesh, &View::of_unit_box(camera, size), background);
     let mut recorded = Ok(());
     gpu.submit("shell test image", |rec| {
-        recorded = pass.record(rec, mesh, &target, &params);
+        recorded = pass.record(rec, mesh, &target, &radiance, &params);
     })
     .unwrap();
     recorded.unwrap();
@@ -559,6 +562,27 @@ fn the_front_door_draws_tets_in_each_layout_and_refuses_what_it_cannot() {
         );
         assert_eq!(through.stats.details["guard_step_limits"], 0);
         assert!(through.stats.details["tet_steps"] > 0);
+        // The float radiance behind the colours: each 8-bit channel is it clamped and
+        // rounded, and it differs from the background where the mesh is.
+        let radiance = r.accumulated(&gpu).unwrap().unwrap();
+        assert_eq!(radiance.quantity_name(), "radiance");
+        assert_eq!((radiance.width, radiance.height), size);
+        let mut lit = 0;
+        for (value, &packed) in radiance.values.iter().zip(&through.image.pixels) {
+            for (c, &v) in value.iter().enumerate() {
+                let byte = (packed >> (8 * c)) & 0xff;
+                assert_eq!(
+                    byte,
+                    (v.clamp(0.0, 1.0) * 255.0).round() as u32,
+                    "{value:?}"
+                );
+            }
+            lit += usize::from((0..3).any(|c| (value[c] - background[c]).abs() > 1e-3));
+        }
+        assert!(
+            lit * 5 > radiance.values.len(),
+            "{lit} pixels differ from the background"
+        );
         // A new look is a table write and a push constant.
         let before = r.counters();
         let denser = Appearance {

@@ -12,7 +12,7 @@ use crate::error::Result;
 use crate::path::{Path, PathChoice};
 use crate::renderer::{self, AmbientOcclusion, Light, Renderer, RendererOptions, Technique};
 use crate::target::Target;
-use crate::tet::shell::{GpuShellMesh, Shell, ShellOptions};
+use crate::tet::shell::{GpuShellMesh, RadianceBuffer, Shell, ShellOptions};
 use glam::DVec3;
 use tessera_data::scene::{Appearance, DataKind, Dataset, IntegrandChoice, LoadOptions};
 use tessera_data::tet::emission_absorption::EmissionAbsorption;
@@ -212,11 +212,12 @@ impl MeshRun<'_> {
         let mesh = GpuShellMesh::upload_for(gpu, &shell, LayoutKind::Tet20, path)?;
         let view = View::of_unit_box(self.camera, self.size);
         let target = Target::new(gpu, self.size.0, self.size.1)?;
+        let radiance = RadianceBuffer::new(gpu, self.size.0, self.size.1)?;
         let params = pass.params(&mesh, &view, [0.0; 3]);
         let mut recorded = Ok(());
         let stages = tessera_gpu::timing::time_frames(gpu, self.plan, 1, |rec, timer| {
             let frame = timer.scope(rec, "shell traces", |rec| {
-                pass.record(rec, &mesh, &target, &params)
+                pass.record(rec, &mesh, &target, &radiance, &params)
             });
             if recorded.is_ok() {
                 recorded = frame;

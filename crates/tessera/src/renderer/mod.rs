@@ -106,6 +106,9 @@ pub enum AccumulatedQuantity {
     Emission,
     /// `[largest scalar mapped to [0, 1], coverage (> 0 where a tet was crossed), 0]`.
     Maximum,
+    /// The light reaching the eye per channel (emission composited front to back over the
+    /// background), before it is clamped to [0, 1] and quantized to 8 bits.
+    Radiance,
 }
 
 impl Accumulation {
@@ -114,6 +117,7 @@ impl Accumulation {
             AccumulatedQuantity::OpticalDepth => "optical-depth",
             AccumulatedQuantity::Emission => "emission",
             AccumulatedQuantity::Maximum => "maximum",
+            AccumulatedQuantity::Radiance => "radiance",
         }
     }
 }

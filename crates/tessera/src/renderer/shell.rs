@@ -5,12 +5,14 @@
 //! range is a table write and a push constant.
 
 use super::{
-    no_data, wrong_data, FrameOutcome, FrameStats, Renderer, RendererOptions, Target, Technique,
-    WorkCounters,
+    no_data, wrong_data, AccumulatedQuantity, Accumulation, FrameOutcome, FrameStats, Renderer,
+    RendererOptions, Target, Technique, WorkCounters,
 };
 use crate::error::{Error, Result};
 use crate::path::Path;
-use crate::tet::shell::{EffectBuffers, EffectParams, GpuShellMesh, Shell, ShellOptions};
+use crate::tet::shell::{
+    EffectBuffers, EffectParams, GpuShellMesh, RadianceBuffer, Shell, ShellOptions,
+};
 use glam::DVec3;
 use tessera_data::scene::{Appearance, DataKind, Dataset, TetData};
 use tessera_data::tet::emission_absorption::EmissionAbsorption;
@@ -44,6 +46,8 @@ pub(super) struct ShellRenderer {
     optics: Option<EmissionAbsorption>,
     pass: Option<Shell>,
     background: [f32; 3],
+    /// The float radiance behind the colours, at the last prepared size.
+    radiance: Option<RadianceBuffer>,
     stats: FrameStats,
     counters: WorkCounters,
 }
@@ -59,6 +63,7 @@ impl ShellRenderer {
             optics: None,
             pass: None,
             background: [0.0; 3],
+            radiance: None,
             stats: FrameStats::default(),
             counters: WorkCounters::default(),
         })
@@ -142,15 +147,17 @@ impl Renderer for ShellRenderer {
     }
 
     fn prepare_frame(&mut self, gpu: &Gpu, view: &View) -> Result<()> {
-        match (&self.pass, &mut self.data) {
-            (Some(_), Some(data)) => match &mut data.effects {
-                Some(buffers) => {
-                    buffers.resize(gpu, u64::from(view.size.0) * u64::from(view.size.1))
-                }
-                None => Ok(()),
-            },
-            _ => Err(no_data(Technique::Shell)),
+        let (Some(_), Some(data)) = (&self.pass, &mut self.data) else {
+            return Err(no_data(Technique::Shell));
+        };
+        if let Some(buffers) = &mut data.effects {
+            buffers.resize(gpu, u64::from(view.size.0) * u64::from(view.size.1))?;
         }
+        let (width, height) = view.size;
+        if !matches!(&self.radiance, Some(r) if (r.width, r.height) == (width, height)) {
+            self.radiance = Some(RadianceBuffer::new(gpu, width, height)?);
+        }
+        Ok(())
     }
 
     fn record(
@@ -160,7 +167,8 @@ impl Renderer for ShellRenderer {
         target: &Target,
         timer: &mut Timer,
     ) -> Result<()> {
-        let (Some(pass), Some(data)) = (&self.pass, &mut self.data) else {
+        let (Some(pass), Some(data), Some(radiance)) = (&self.pass, &mut self.data, &self.radiance)
+        else {
             return Err(no_data(Technique::Shell));
         };
         let params = pass.params(&data.mesh, view, self.background);
@@ -170,11 +178,18 @@ impl Renderer for ShellRenderer {
                 let relight = data.lit_with != Some(effect);
                 data.lighting_recorded = relight.then_some(effect);
                 pass.record_effects(
-                    rec, &data.mesh, buffers, target, &params, &effect, relight, timer,
+                    rec,
+                    &data.mesh,
+                    buffers,
+                    (target, radiance),
+                    &params,
+                    &effect,
+                    relight,
+                    timer,
                 )
             }
             _ => timer.scope(rec, "shell traversal", |rec| {
-                pass.record(rec, &data.mesh, target, &params)
+                pass.record(rec, &data.mesh, target, radiance, &params)
             }),
         }
     }
@@ -220,5 +235,18 @@ impl Renderer for ShellRenderer {
 
     fn counters(&self) -> WorkCounters {
         self.counters
+    }
+
+    fn accumulated(&self, gpu: &Gpu) -> Result<Option<Accumulation>> {
+        let radiance = self
+            .radiance
+            .as_ref()
+            .ok_or_else(|| no_data(Technique::Shell))?;
+        Ok(Some(Accumulation {
+            width: radiance.width,
+            height: radiance.height,
+            values: radiance.read(gpu)?,
+            quantity: AccumulatedQuantity::Radiance,
+        }))
     }
 }

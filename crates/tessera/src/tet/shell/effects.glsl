@@ -5,17 +5,17 @@
 // model's constants come from the Rust side as defines.
 // Needs buffers.glsl, common/shading.glsl and traverse.glsl (for infinity()).
 
-layout(binding = 7) readonly buffer EffectParams {
+layout(binding = 8) readonly buffer EffectParams {
     vec4 light;            // a point light's position (w = 1) or the direction towards the light (w = 0)
     vec4 ground;           // the ground plane: unit up axis, and in w its height along it
     float ao_radius;
     float max_absorption;  // the absorption table's largest value: what "dense" is measured against
 } effect;
-layout(binding = 8) readonly buffer TetVertices { uvec4 tet_vertices[]; };  // per tet, as ShellMesh::mesh
-layout(binding = 9) buffer Gradients { vec4 gradients[]; };                 // per tet: scalar gradient
-layout(binding = 10) buffer TetLight { vec4 tet_light[]; };                 // per tet: transmittance to the light
-layout(binding = 11) buffer Occlusion { vec4 occlusion[]; };                // per tet: mean AO transmittance
-layout(binding = 12) buffer GroundHits { vec4 ground_hits[]; };             // per pixel: colour behind the volume, t where it ends
+layout(binding = 9) readonly buffer TetVertices { uvec4 tet_vertices[]; };  // per tet, as ShellMesh::mesh
+layout(binding = 10) buffer Gradients { vec4 gradients[]; };                 // per tet: scalar gradient
+layout(binding = 11) buffer TetLight { vec4 tet_light[]; };                 // per tet: transmittance to the light
+layout(binding = 12) buffer Occlusion { vec4 occlusion[]; };                // per tet: mean AO transmittance
+layout(binding = 13) buffer GroundHits { vec4 ground_hits[]; };             // per pixel: colour behind the volume, t where it ends
 
 // Unit direction from p towards the light and the distance to it (infinite for a directional
 // light); a zero direction where p is the light.

@@ -22,7 +22,7 @@ use tessera_gpu::{vk, Buffer, Gpu, MemoryLocation};
 use crate::config::{float, vec3};
 use crate::error::Result;
 
-/// Bindings the effects add after the pixels (`effects.glsl`).
+/// Bindings the effects add after the pixels and their radiance (`effects.glsl`).
 pub(crate) const EFFECT_BINDINGS: usize = 6;
 
 /// The effects' passes, as `lighting.comp.glsl`'s LIGHTING_PASS names them.
@@ -252,7 +252,7 @@ impl EffectBuffers {
         &self.effects
     }
 
-    /// Bindings 7 to 12.
+    /// Bindings 8 to 13.
     pub(crate) fn bindings(&self) -> [tessera_gpu::Binding<'_>; EFFECT_BINDINGS] {
         use tessera_gpu::Binding;
         [

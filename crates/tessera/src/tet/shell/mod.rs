@@ -42,6 +42,39 @@ use tessera_gpu::{vk, Binding, Buffer, Gpu, Recorder, ShaderCompiler, Timer};
 
 /// Bindings every shell pass shares (`buffers.glsl`).
 const COMMON_BINDINGS: usize = 6;
+/// What the pixel pass writes after them: the packed colours and their float radiance.
+const OUTPUT_BINDINGS: usize = 2;
+
+/// The light reaching the eye per pixel, three floats, before the pixel pass clamps it to
+/// [0, 1] and packs it into the target's 8-bit colours.
+pub struct RadianceBuffer {
+    buffer: Buffer,
+    pub width: u32,
+    pub height: u32,
+}
+
+impl RadianceBuffer {
+    pub fn new(gpu: &Gpu, width: u32, height: u32) -> Result<RadianceBuffer> {
+        let buffer = gpu.create_buffer(
+            "shell radiance",
+            u64::from(width) * u64::from(height) * 12,
+            vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC,
+            tessera_gpu::MemoryLocation::GpuOnly,
+        )?;
+        Ok(RadianceBuffer {
+            buffer,
+            width,
+            height,
+        })
+    }
+
+    /// Per pixel, rows top to bottom.
+    pub fn read(&self, gpu: &Gpu) -> Result<Vec<[f32; 3]>> {
+        Ok(bytemuck::allocation::pod_collect_to_vec(
+            &gpu.read_buffer(&self.buffer)?,
+        ))
+    }
+}
 
 /// The counters of `stats.glsl`, in buffer order (each a `STAT_…` define; 64-bit counts take
 /// two, low word first).
@@ -329,9 +362,9 @@ impl Shell {
         let mut base = defines(options, tables.knots);
         base.extend(effects::effect_defines(effects));
         let slots = if effects.any() {
-            COMMON_BINDINGS + 1 + effects::EFFECT_BINDINGS
+            COMMON_BINDINGS + OUTPUT_BINDINGS + effects::EFFECT_BINDINGS
         } else {
-            COMMON_BINDINGS + 1
+            COMMON_BINDINGS + OUTPUT_BINDINGS
         };
         let pipeline = ShellPass::new(
             gpu,
@@ -395,8 +428,14 @@ impl Shell {
         }
     }
 
-    fn check_target(target: &Target, params: &ShellParams) -> Result<()> {
-        if params.size != [target.width, target.height] {
+    fn check_target(
+        target: &Target,
+        radiance: &RadianceBuffer,
+        params: &ShellParams,
+    ) -> Result<()> {
+        if params.size != [target.width, target.height]
+            || params.size != [radiance.width, radiance.height]
+        {
             return Err(Error::Invalid(
                 "shell traversal: target of another size".into(),
             ));
@@ -404,16 +443,18 @@ impl Shell {
         Ok(())
     }
 
-    /// Records one frame into `target`, counters cleared first (a pass without effects).
+    /// Records one frame into `target` and `radiance`, counters cleared first (a pass without
+    /// effects).
     pub fn record(
         &self,
         rec: &Recorder,
         mesh: &GpuShellMesh,
         target: &Target,
+        radiance: &RadianceBuffer,
         params: &ShellParams,
     ) -> Result<()> {
         check_layout(mesh, &self.options)?;
-        Self::check_target(target, params)?;
+        Self::check_target(target, radiance, params)?;
         if self.effects.any() {
             return Err(Error::Invalid(
                 "shell traversal: a pass with effects records through record_effects".into(),
@@ -422,7 +463,10 @@ impl Shell {
         rec.fill_buffer(&self.tables.stats, 0);
         rec.barrier();
         let mut bindings = self.tables.bindings(mesh).to_vec();
-        bindings.push(Binding::Buffer(&target.pixels));
+        bindings.extend([
+            Binding::Buffer(&target.pixels),
+            Binding::Buffer(&radiance.buffer),
+        ]);
         self.pipeline.record(
             rec,
             mesh,
@@ -445,14 +489,15 @@ impl Shell {
         rec: &Recorder,
         mesh: &GpuShellMesh,
         buffers: &EffectBuffers,
-        target: &Target,
+        output: (&Target, &RadianceBuffer),
         params: &ShellParams,
         effect: &EffectParams,
         relight: bool,
         timer: &mut Timer,
     ) -> Result<()> {
+        let (target, radiance) = output;
         check_layout(mesh, &self.options)?;
-        Self::check_target(target, params)?;
+        Self::check_target(target, radiance, params)?;
         if buffers.effects() != &self.effects
             || buffers.pixels() != u64::from(target.width) * u64::from(target.height)
         {
@@ -464,7 +509,10 @@ impl Shell {
         rec.update_buffer(&buffers.params, bytemuck::bytes_of(effect));
         rec.barrier();
         let mut bindings = self.tables.bindings(mesh).to_vec();
-        bindings.push(Binding::Buffer(&target.pixels));
+        bindings.extend([
+            Binding::Buffer(&target.pixels),
+            Binding::Buffer(&radiance.buffer),
+        ]);
         if self.effects.any() {
             bindings.extend(buffers.bindings());
         }
@@ -516,12 +564,15 @@ impl Shell {
     ) -> Result<(RgbaImage, TraversalStats, f64)> {
         let view = View::of_unit_box(camera, size);
         let target = Target::new(gpu, size.0, size.1)?;
+        let radiance = RadianceBuffer::new(gpu, size.0, size.1)?;
         let params = self.params(mesh, &view, background);
         let mut timer = Timer::new(gpu, 1)?;
         timer.reset(gpu);
         let mut recorded = Ok(());
         gpu.submit("shell traversal image", |rec| {
-            recorded = timer.scope(rec, "shell", |rec| self.record(rec, mesh, &target, &params));
+            recorded = timer.scope(rec, "shell", |rec| {
+                self.record(rec, mesh, &target, &radiance, &params)
+            });
         })?;
         recorded?;
         let ms = timer.read_ms(gpu)?.first().map(|s| s.1).unwrap_or(0.0);
@@ -545,6 +596,7 @@ impl Shell {
     ) -> Result<ShellImage> {
         let view = View::of_unit_box(camera, size);
         let target = Target::new(gpu, size.0, size.1)?;
+        let radiance = RadianceBuffer::new(gpu, size.0, size.1)?;
         let params = self.params(mesh, &view, background);
         let effect = EffectParams::new(&self.effects, &view, shell.world_bounds(), optics);
         let mut timer = Timer::new(gpu, 1 + self.lighting.len() as u32)?;
@@ -552,7 +604,14 @@ impl Shell {
         let mut recorded = Ok(());
         gpu.submit("shell traversal image with effects", |rec| {
             recorded = self.record_effects(
-                rec, mesh, buffers, &target, &params, &effect, true, &mut timer,
+                rec,
+                mesh,
+                buffers,
+                (&target, &radiance),
+                &params,
+                &effect,
+                true,
+                &mut timer,
             );
         })?;
         recorded?;

@@ -12,6 +12,8 @@ layout(local_size_x = 8, local_size_y = 8) in;
 #include "tet/shell/buffers.glsl"
 #include "tet/shell/params.glsl"
 layout(binding = 6) writeonly buffer Pixels { uint pixels[]; };  // packed RGBA8
+// The light reaching the eye per pixel before it is clamped and packed: 3 floats per pixel.
+layout(binding = 7) writeonly buffer Radiance { float radiance[]; };
 
 #include "tet/table.glsl"
 #include "tet/shell/integrate.glsl"
@@ -62,5 +64,8 @@ void main() {
     sum = FrontToBack(vec3(0.0), vec3(1.0));
     add_counts(traverse(params.eye, ray_dir, ray.w, t_max));
     vec3 light = sum.colour + sum.transmittance * behind;
+    radiance[3u * index] = light.r;
+    radiance[3u * index + 1u] = light.g;
+    radiance[3u * index + 2u] = light.b;
     pixels[index] = packUnorm4x8(vec4(light, 1.0));
 }
