@@ -15,9 +15,9 @@ use tessera_gpu::GpuOptions;
 pub struct RenderArgs {
     /// A volume file (raw, .nrrd, .nhdr, .nii[.gz], .vti) or procedural:NAME:SIZE[:TYPE], e.g.
     /// procedural:marschner-lobb:128; or a tetrahedral mesh (.vtu, .vtk, .node/.ele, .msh) or
-    /// tets:box:N / tets:sphere:N (N³ cells of 6 tets) / tets:asteroids:COUNT (an SDF asteroid
-    /// field, one bounding tet per asteroid); or a parametric scene: param:sphere, param:heart,
-    /// param:seashell, param:yarn:ROWSxLOOPS[:fibres], param:sh-glyph:orderN,
+    /// tets:box:N / tets:sphere:N / tets:ring:N (N³ cells of 6 tets) / tets:asteroids:COUNT (an SDF
+    /// asteroid field, one bounding tet per asteroid); or a parametric scene: param:sphere,
+    /// param:heart, param:seashell, param:yarn:ROWSxLOOPS[:fibres], param:sh-glyph:orderN,
     /// param:sh-glyphs:WxH:orderN (= procedural:sh-glyphs:…), glyphs of an SH coefficient NIfTI
     /// sh:FILE[:zN], or a GLSL file defining `vec3 f(float u, float v)`.
     pub(crate) data: String,

@@ -127,7 +127,9 @@ impl TetData {
         };
         let invalid = |message: String| DataError::Invalid(format!("'{spec}': {message}"));
         let (kind, n) = rest.split_once(':').ok_or_else(|| {
-            invalid("expected tets:box:N, tets:sphere:N or tets:asteroids:COUNT".into())
+            invalid(
+                "expected tets:box:N, tets:sphere:N, tets:ring:N or tets:asteroids:COUNT".into(),
+            )
         })?;
         if kind == "asteroids" {
             let count = parse_count(n, MAX_ASTEROIDS)
@@ -139,9 +141,10 @@ impl TetData {
         let mesh = match kind {
             "box" => tet_procedural::box_mesh(n),
             "sphere" => tet_procedural::sphere_mesh(n),
+            "ring" => tet_procedural::ring_mesh(n),
             _ => {
                 return Err(invalid(format!(
-                    "unknown mesh '{kind}' (box, sphere, asteroids)"
+                    "unknown mesh '{kind}' (box, sphere, ring, asteroids)"
                 )))
             }
         };

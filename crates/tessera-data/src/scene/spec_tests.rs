@@ -128,14 +128,14 @@ fn mesh_spec_errors() {
     let cases = [
         (
             "tets:box",
-            "expected tets:box:N, tets:sphere:N or tets:asteroids:COUNT",
+            "expected tets:box:N, tets:sphere:N, tets:ring:N or tets:asteroids:COUNT",
         ),
         ("tets:box:0", "N must be a whole number from 1 to 200"),
         ("tets:sphere:201", "N must be a whole number from 1 to 200"),
         ("tets:box:two", "N must be a whole number from 1 to 200"),
         (
             "tets:cone:3",
-            "unknown mesh 'cone' (box, sphere, asteroids)",
+            "unknown mesh 'cone' (box, sphere, ring, asteroids)",
         ),
         ("tets:asteroids:0", "COUNT must be from 1 to 4000000"),
         ("tets:asteroids:4000001", "COUNT must be from 1 to 4000000"),

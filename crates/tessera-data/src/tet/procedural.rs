@@ -75,6 +75,54 @@ pub fn box_mesh(n: u32) -> TetMesh {
     mesh
 }
 
+/// A square ring: the [`box_mesh`] of `n³` cubes (`n` at least 3) without the cubes of the
+/// middle third in x and z, so a hole runs through it along y. Non-convex with a hole (a
+/// torus's topology): rays through the hole meet the mesh twice or not at all. Scalars,
+/// regions and absorption as the box's.
+pub fn ring_mesh(n: u32) -> TetMesh {
+    let n = n.clamp(3, MAX_CELLS_PER_AXIS);
+    let full = box_mesh(n);
+    let (lo, hi) = (n / 3, n - n / 3);
+    let in_hole = |cell: usize| {
+        let (i, k) = (cell as u32 % n, cell as u32 / (n * n));
+        (lo..hi).contains(&i) && (lo..hi).contains(&k)
+    };
+    // box_mesh emits each cube's 6 tets together, cube after cube in x, y, z order.
+    let kept: Vec<usize> = (0..full.tets.len()).filter(|&t| !in_hole(t / 6)).collect();
+    let mut remap = vec![u32::MAX; full.vertices.len()];
+    let mut vertices = Vec::new();
+    let mut used = Vec::new();
+    let tets: Vec<[u32; 4]> = kept
+        .iter()
+        .map(|&t| {
+            full.tets[t].map(|v| {
+                let slot = &mut remap[v as usize];
+                if *slot == u32::MAX {
+                    *slot = vertices.len() as u32;
+                    vertices.push(full.vertices[v as usize]);
+                    used.push(v as usize);
+                }
+                *slot
+            })
+        })
+        .collect();
+    let mut mesh = TetMesh::new(vertices, tets);
+    mesh.scalar_name = full.scalar_name.clone();
+    mesh.scalars = full
+        .scalars
+        .as_ref()
+        .map(|s| used.iter().map(|&v| s[v]).collect());
+    mesh.regions = full
+        .regions
+        .as_ref()
+        .map(|r| kept.iter().map(|&t| r[t]).collect());
+    mesh.absorption = full
+        .absorption
+        .as_ref()
+        .map(|a| kept.iter().map(|&t| a[t]).collect());
+    mesh
+}
+
 /// A ball of radius 1: the [`box_mesh`] with its vertices mapped from the cube onto the ball
 /// by the smooth "elliptical grid" mapping, so the boundary lies on the sphere. The scalar
 /// `radius` is the distance from the centre.

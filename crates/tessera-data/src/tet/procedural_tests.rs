@@ -85,3 +85,26 @@ fn exploded_separates_parts() {
     assert_eq!(one.vertex_count(), plain.vertex_count());
     assert!((one.total_volume() - 8.0).abs() < 1e-4);
 }
+
+#[test]
+fn ring_has_a_hole_through_it() {
+    let mut ring = ring_mesh(6);
+    let cubes = 6 * 6 * 6 - 2 * 6 * 2;
+    assert_eq!(ring.tets.len(), 6 * cubes);
+    let report = ring.validate("ring").unwrap();
+    assert_eq!((report.reoriented, report.degenerate), (0, 0));
+    // Every vertex is used and carries its scalar; the hole's axis is empty.
+    assert_eq!(ring.scalars.as_ref().unwrap().len(), ring.vertices.len());
+    let mut used = vec![false; ring.vertices.len()];
+    for t in &ring.tets {
+        for &v in t {
+            used[v as usize] = true;
+        }
+    }
+    assert!(used.iter().all(|&u| u));
+    assert!(ring
+        .vertices
+        .iter()
+        .all(|p| p[0].abs() > 0.3 || p[2].abs() > 0.3));
+    assert_eq!(ring.regions.as_ref().unwrap().len(), ring.tets.len());
+}
