@@ -31,8 +31,15 @@ ShellHit shell_trace(RaySpace ray, bool leaving, float lo, float hi) {
         float window_hi = leaving ? best.t : hi;
         bool enter = span.x <= span.y && span.y >= window_lo && span.x <= window_hi;
         if (enter && count == 0u && top <= uint(BVH_MAX_DEPTH)) {
-            stack[top++] = first + 1u;
-            node = first;
+            // The nearer child first for the nearest exit, the farther first for the farthest
+            // entry: the best face found there then prunes more of the other. The order does
+            // not change the face found (ties go by face index, not by visit).
+            vec3 a = bvh_nodes[first].lo + bvh_nodes[first].hi;
+            vec3 b = bvh_nodes[first + 1u].lo + bvh_nodes[first + 1u].hi;
+            float first_beyond_second = dot(a - b, ray.dir);
+            bool second_first = leaving ? first_beyond_second > 0.0 : first_beyond_second < 0.0;
+            stack[top++] = second_first ? first : first + 1u;
+            node = second_first ? first + 1u : first;
             continue;
         }
         if (enter) {
