@@ -18,6 +18,8 @@ mod shared;
 pub mod spirv;
 pub mod statistics;
 mod submit;
+#[cfg(feature = "window")]
+pub mod swapchain;
 pub mod timer;
 pub mod timing;
 pub mod validation;
@@ -31,4 +33,6 @@ pub use memory::{Buffer, Image, MemoryLocation, MemoryReport, Readback};
 pub use pipeline::{spread_groups, Blend, Pipeline, RenderTargets, Slot, PUSH_CONSTANT_BYTES};
 pub use shader::{ShaderCompiler, Source, Spirv, Stage};
 pub use statistics::PipelineStatistics;
+#[cfg(feature = "window")]
+pub use swapchain::{SwapImage, Swapchain};
 pub use timer::Timer;
