@@ -237,10 +237,10 @@ fn frame_overlay(ctx: &egui::Context, session: &Session) {
                 let path = session.renderer().map(|r| r.path().name()).unwrap_or("-");
                 ui.strong(format!("{} ({path})", session.state.technique.name()));
                 for (stage, ms) in &session.times.scopes {
-                    ui.monospace(format!("{stage:<16} {ms:8.3} ms"));
+                    ui.monospace(format!("{stage:<20} {ms:8.3} ms"));
                 }
                 ui.monospace(format!(
-                    "{:<16} {:8.3} ms",
+                    "{:<20} {:8.3} ms",
                     "GPU total",
                     session.times.total_ms()
                 ));
@@ -252,14 +252,14 @@ fn frame_overlay(ctx: &egui::Context, session: &Session) {
                 ];
                 for (name, value) in counts {
                     if let Some(v) = value {
-                        ui.monospace(format!("{name:<16} {v:>11}"));
+                        ui.monospace(format!("{name:<20} {v:>11}"));
                     }
                 }
                 if let Some((kept, new)) = stats.blocks_drawn {
-                    ui.monospace(format!("{:<16} {kept:>5} + {new}", "blocks drawn"));
+                    ui.monospace(format!("{:<20} {kept:>5} + {new}", "blocks drawn"));
                 }
                 for (name, v) in &stats.details {
-                    ui.monospace(format!("{name:<16} {v:>11}"));
+                    ui.monospace(format!("{name:<20} {v:>11}"));
                 }
             });
         });
