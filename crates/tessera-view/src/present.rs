@@ -109,20 +109,21 @@ impl Presenter {
                 false,
             )?);
         }
+        let Some(staging) = &self.staging else {
+            return Ok(false); // made just above
+        };
         let Some(image) = self.swapchain.acquire()? else {
             self.stale = true;
+            self.overlay
+                .free_textures(&textures.free)
+                .map_err(overlay_error)?;
             return Ok(false);
         };
-        if (image.extent.width, image.extent.height) != size {
-            // The window changed since the frame was rendered. An acquired image must still be
-            // presented: it is shown cleared this once, and the next frame fits.
-            self.stale = true;
-        }
-        let Some(staging) = &self.staging else {
-            return Ok(false);
-        };
+        // When the window changed since the frame was rendered, the acquired image must still
+        // be presented: it is shown cleared this once, and the next frame fits.
+        let fits = (image.extent.width, image.extent.height) == size;
+        self.stale |= !fits;
         let mut drawn = Ok(());
-        let fits = !self.stale;
         let overlay_renderer = &mut self.overlay;
         gpu.submit("present", |rec| {
             if fits {

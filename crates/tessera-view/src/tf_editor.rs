@@ -128,7 +128,8 @@ impl TfEditor {
                 self.dragging = nearest(pos);
                 self.selected = self.dragging.or(self.selected);
             }
-            if let (Some(i), true) = (self.dragging, response.dragged()) {
+            let dragged = self.dragging.filter(|&i| i < tf.knots.len());
+            if let (Some(i), true) = (dragged, response.dragged()) {
                 let (at, alpha) = from_screen(pos);
                 // A point stays between its neighbours, so the knots stay in order.
                 let lo = if i > 0 { tf.knots[i - 1].at } else { 0.0 };
