@@ -22,6 +22,10 @@ use winit::window::{Window, WindowId};
 struct Windowed {
     presenter: Presenter,
     input: egui_winit::State,
+    /// The window's size from its last resize event: asking the window system instead fails
+    /// once the window is gone (destroyed from outside), and a failed swapchain then ends the
+    /// run with an error.
+    size: PhysicalSize<u32>,
     window: Window,
 }
 
@@ -119,16 +123,17 @@ impl App {
         self.windowed = Some(Windowed {
             presenter,
             input,
+            size,
             window,
         });
         Ok(())
     }
 
     fn redraw(&mut self, event_loop: &ActiveEventLoop) -> Result<(), ViewError> {
-        let Some(w) = self.windowed.as_mut() else {
+        let Some(w) = self.windowed.as_mut().filter(|_| !event_loop.exiting()) else {
             return Ok(());
         };
-        let size = w.window.inner_size();
+        let size = w.size;
         if size.width == 0 || size.height == 0 {
             return Ok(()); // minimised: nothing to show
         }
@@ -247,8 +252,13 @@ impl ApplicationHandler for App {
             w.window.request_redraw();
         }
         match event {
-            WindowEvent::CloseRequested => event_loop.exit(),
-            WindowEvent::Resized(_) | WindowEvent::ScaleFactorChanged { .. } => {
+            WindowEvent::CloseRequested | WindowEvent::Destroyed => event_loop.exit(),
+            WindowEvent::Resized(size) => {
+                w.size = size;
+                w.presenter.invalidate();
+                w.window.request_redraw();
+            }
+            WindowEvent::ScaleFactorChanged { .. } => {
                 w.presenter.invalidate();
                 w.window.request_redraw();
             }
