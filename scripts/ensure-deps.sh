@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Makes sure the Vulkan loader, a Vulkan driver and the Khronos validation layer are present.
+# Makes sure the Vulkan loader, a Vulkan driver, the Khronos validation layer and Xvfb (for the
+# viewer's tests) are present.
 # As root on Debian it installs what is missing (Mesa's lavapipe comes from bookworm-backports:
 # bookworm's own Mesa 22.3 lacks mesh shaders and ray tracing on the CPU); otherwise it says
 # what to install and fails.
@@ -20,6 +21,8 @@ fi
 # The Python package's tests (scripts/test-python.sh) and the diffusion MRI fit
 # (scripts/fetch-dwi.sh) build virtual environments.
 python3 -c 'import venv, ensurepip' >/dev/null 2>&1 || need+=(python3-venv)
+# The viewer's tests open windows on a virtual X server.
+command -v Xvfb >/dev/null 2>&1 || need+=(xvfb)
 
 # Real scans the tests render when present (DESIGN §8); optional, installed when we can.
 optional=()
@@ -49,7 +52,7 @@ fi
 if [ "$can_install" = no ]; then
   echo "missing: ${need[*]}" >&2
   echo "install on Debian 12 (as root): add bookworm-backports, then" >&2
-  echo "  apt-get install -t bookworm-backports mesa-vulkan-drivers && apt-get install libvulkan1 vulkan-validationlayers" >&2
+  echo "  apt-get install -t bookworm-backports mesa-vulkan-drivers && apt-get install libvulkan1 vulkan-validationlayers xvfb" >&2
   exit 1
 fi
 
@@ -68,6 +71,9 @@ esac
 apt-get install -y -qq libvulkan1 vulkan-validationlayers
 case " ${need[*]} " in
   *" python3-venv "*) apt-get install -y -qq python3-venv ;;
+esac
+case " ${need[*]} " in
+  *" xvfb "*) apt-get install -y -qq xvfb ;;
 esac
 if [ ${#optional[@]} -gt 0 ]; then
   apt-get install -y -qq "${optional[@]}" >/dev/null || echo "could not install ${optional[*]}: the real-data tests will be skipped" >&2

@@ -9,6 +9,7 @@ mod info;
 mod look;
 mod output;
 mod render;
+mod view;
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};
@@ -55,6 +56,9 @@ enum Command {
     /// marching cubes on the CPU).
     #[command(allow_negative_numbers = true)]
     Extract(extract::ExtractArgs),
+    /// Open a window on a data set: orbit, edit the look, watch GPU times (or run a script).
+    #[command(allow_negative_numbers = true)]
+    View(Box<view::ViewArgs>),
 }
 
 fn main() {
@@ -81,6 +85,7 @@ fn main() {
         Command::Bench(a) => bench::run(&gpu_options, &a),
         Command::Demo(a) => demo::run(&gpu_options, &a),
         Command::Extract(a) => extract::run(&gpu_options, &a),
+        Command::View(a) => view::run(&gpu_options, &a),
     };
     if let Err(e) = result {
         eprintln!("error: {e:#}");

@@ -25,13 +25,5 @@ pub fn write_file(
 }
 
 pub fn write_png(path: &Path, image: &RgbaImage) -> Result<()> {
-    write_file(path, |out| {
-        let mut encoder = png::Encoder::new(out, image.width, image.height);
-        encoder.set_color(png::ColorType::Rgba);
-        encoder.set_depth(png::BitDepth::Eight);
-        let mut writer = encoder.write_header()?;
-        writer.write_image_data(&image.to_rgba_bytes())?;
-        writer.finish()?;
-        Ok(())
-    })
+    write_file(path, |out| Ok(image.write_png(out)?))
 }

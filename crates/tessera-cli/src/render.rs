@@ -7,8 +7,9 @@ use clap::Args;
 use std::path::PathBuf;
 use std::time::Instant;
 use tessera::renderer::{self, Frame, Technique};
-use tessera_data::scene::{DataKind, Dataset};
-use tessera_data::{OrbitCamera, RgbaImage, ViewUp};
+use tessera::report;
+use tessera_data::scene::{Appearance, DataKind, Dataset};
+use tessera_data::{OrbitCamera, ViewUp};
 use tessera_gpu::GpuOptions;
 
 #[derive(Args)]
@@ -61,13 +62,23 @@ pub struct RenderArgs {
     pub(crate) output: PathBuf,
 }
 
-pub fn run(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
+/// What the flags ask to draw, loaded: `render` and `view` start from it.
+pub struct Loaded {
+    pub technique: Technique,
+    pub dataset: Dataset,
+    pub look: Appearance,
+    pub camera: OrbitCamera,
+    pub options: renderer::RendererOptions,
+}
+
+/// Loads DATA and turns the flags into a look, camera and renderer options; with `gpu`, a
+/// volume that the device cannot hold is refused before its bytes are read.
+pub fn load(args: &RenderArgs, gpu: Option<&tessera_gpu::Gpu>) -> Result<Loaded> {
     let kind = DataKind::of_spec(&args.data);
     let technique = Technique::for_data(args.technique.as_deref(), kind, &args.data)?;
     let mut look = look::appearance(&args.iso, &args.tet)?;
-    let gpu = crate::gpu::open_gpu(options)?;
-    if kind == DataKind::Volume {
-        data::check_fits(&gpu, &args.data, &args.volume)?;
+    if let (DataKind::Volume, Some(gpu)) = (kind, gpu) {
+        data::check_fits(gpu, &args.data, &args.volume)?;
     }
     let dataset = data::load_dataset(&args.data, &look::load_options(&args.volume, &args.param))?;
     let mut camera = args.camera;
@@ -86,27 +97,39 @@ pub fn run(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
         }
         None => ViewUp::default(),
     });
-    let renderer_options = args.shell.apply(
+    let options = args.shell.apply(
         renderer::RendererOptions {
             layout: args.tet.layout(),
             ..look::renderer_options(&args.paths, &args.param, &args.iso)
         },
         camera.up,
     )?;
+    look::warn_ignored(&options, &args.tet, technique);
+    Ok(Loaded {
+        technique,
+        dataset,
+        look,
+        camera,
+        options,
+    })
+}
+
+pub fn run(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
+    let gpu = crate::gpu::open_gpu(options)?;
+    let Loaded {
+        technique,
+        dataset,
+        look,
+        camera,
+        options: renderer_options,
+    } = load(args, Some(&gpu))?;
     let started = Instant::now();
     let bar = data::spinner("compiling shaders, uploading, building auxiliary structures".into());
-    let built = (|| -> tessera::Result<_> {
-        let options = renderer_options;
-        let mut renderer = renderer::create(&gpu, technique, &options)?;
-        renderer.set_appearance(&gpu, &look)?;
-        renderer.set_data(&gpu, &dataset)?;
-        Ok(renderer)
-    })();
+    let built = renderer::create_for(&gpu, technique, &renderer_options, &look, &dataset);
     bar.finish_and_clear();
     let mut renderer =
         built.with_context(|| format!("preparing {} for {}", args.data, technique.name()))?;
     let rendering = || format!("rendering {} with {}", args.data, technique.name());
-    look::warn_ignored(&renderer_options, &args.tet, technique);
     let prepare_s = started.elapsed().as_secs_f64();
     let view = renderer.view(&camera, args.size)?;
     let mut frame = Frame::new(&gpu, args.size)?;
@@ -123,7 +146,10 @@ pub fn run(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
             let times =
                 renderer::render_stereo(&gpu, renderer.as_mut(), &eyes, &mut frame, &mut right)
                     .with_context(rendering)?;
-            let image = side_by_side(&frame.target.read(&gpu)?, &right.target.read(&gpu)?);
+            let image = frame
+                .target
+                .read(&gpu)?
+                .side_by_side(&right.target.read(&gpu)?);
             (image, times)
         }
     };
@@ -140,100 +166,15 @@ pub fn run(options: &GpuOptions, args: &RenderArgs) -> Result<()> {
         dataset.name(),
         technique.name(),
         renderer.path().name(),
-        describe(&dataset, &look, technique, &renderer_options),
+        report::describe(&dataset, &look, technique, &renderer_options),
         args.output.display()
     );
     if technique == Technique::Shell && renderer_options.shell_effects().any() {
-        report_effects(&times, &stats);
+        println!("  {}", report::effect_passes(&times, &stats));
     }
     drop(renderer);
     drop(frame);
     crate::gpu::check_validation(&gpu)
-}
-
-/// What the image shows besides technique and path, as the report line gives it.
-fn describe(
-    dataset: &Dataset,
-    look: &tessera_data::scene::Appearance,
-    technique: Technique,
-    options: &renderer::RendererOptions,
-) -> String {
-    match dataset {
-        // Shell traversal always composites emission and absorption of the vertex scalars.
-        Dataset::Tets(tets) if technique == Technique::Shell => format!(
-            ", emission-absorption in {}{}, {} tets",
-            options.layout.name(),
-            describe_effects(options),
-            tets.mesh.tets.len()
-        ),
-        Dataset::Volume(volume) => {
-            let iso = look
-                .iso_texel(volume)
-                .map(|iso| format!(", iso {iso}"))
-                .unwrap_or_default();
-            if technique == Technique::Pmb {
-                format!("{iso}, {} blocks", options.pmb_block.name())
-            } else {
-                iso
-            }
-        }
-        Dataset::Tets(tets) => {
-            let what = look
-                .resolve_integrand(tets)
-                .map(|i| i.describe(&tets.mesh))
-                .unwrap_or_default();
-            format!(", {what}, {} tets", tets.mesh.tets.len())
-        }
-        Dataset::Param(param) => format!(", {} objects", param.scene.objects.len()),
-    }
-}
-
-/// The GPU time of each of shell traversal's passes and the secondary rays they cast.
-fn report_effects(times: &renderer::FrameTimes, stats: &renderer::FrameStats) {
-    let passes: Vec<String> = times
-        .scopes
-        .iter()
-        .map(|(name, ms)| format!("{name} {ms:.3} ms"))
-        .collect();
-    let count = |name: &str| stats.details.get(name).copied().unwrap_or(0);
-    println!(
-        "  passes: {}; secondary rays: {} shadow, {} AO ({} tet steps)",
-        passes.join(", "),
-        count("shadow_rays"),
-        count("ao_rays"),
-        count("secondary_steps")
-    );
-}
-
-/// Shell traversal's effects as the report line names them.
-fn describe_effects(options: &renderer::RendererOptions) -> String {
-    let mut on = Vec::new();
-    if options.shadows.is_some() {
-        on.push("shadows".to_string());
-    }
-    if let Some(ao) = options.ao {
-        on.push(format!("AO {}x{}", ao.samples, ao.radius));
-    }
-    if options.gradient {
-        on.push("gradient shading".to_string());
-    }
-    if on.is_empty() {
-        String::new()
-    } else {
-        format!(" with {}", on.join(", "))
-    }
-}
-
-fn side_by_side(left: &RgbaImage, right: &RgbaImage) -> RgbaImage {
-    let (w, h) = (left.width, left.height);
-    let mut out = RgbaImage::new(2 * w, h);
-    let w = w as usize;
-    for y in 0..h as usize {
-        let dst = &mut out.pixels[y * 2 * w..(y + 1) * 2 * w];
-        dst[..w].copy_from_slice(&left.pixels[y * w..(y + 1) * w]);
-        dst[w..].copy_from_slice(&right.pixels[y * w..(y + 1) * w]);
-    }
-    out
 }
 
 fn parse_separation(text: &str) -> std::result::Result<f32, String> {

@@ -103,6 +103,9 @@ pub struct OrbitCamera {
     /// Sideways shift of the eye along the camera's right axis, in world units, keeping the
     /// view direction: the two eyes of a stereo pair are ±half the eye separation.
     pub eye_shift: f32,
+    /// Upward shift of the eye along the camera's up axis, in world units, keeping the view
+    /// direction: with `eye_shift`, how a viewer pans.
+    pub eye_rise: f32,
     /// The world axis that appears up on screen.
     pub up: ViewUp,
 }
@@ -115,6 +118,7 @@ impl Default for OrbitCamera {
             distance: 1.8,
             fov_y_deg: 40.0,
             eye_shift: 0.0,
+            eye_rise: 0.0,
             up: ViewUp::PlusY,
         }
     }
@@ -145,7 +149,7 @@ impl OrbitCamera {
         Ok(camera)
     }
 
-    /// The orbit position, before any eye shift.
+    /// The orbit position, before any eye shift or rise.
     fn orbit_position(&self) -> Vec3 {
         // Straight up or down has no defined "right"; stay just short of the pole.
         let el = self.elevation_deg.clamp(-89.9, 89.9).to_radians();
@@ -155,10 +159,11 @@ impl OrbitCamera {
     }
 
     pub fn eye(&self) -> Vec3 {
-        self.orbit_position() + self.basis().1 * self.eye_shift
+        let (_, right, up) = self.basis();
+        self.orbit_position() + right * self.eye_shift + up * self.eye_rise
     }
 
-    /// Orthonormal (forward, right, up) in world space; the eye shift does not turn it.
+    /// Orthonormal (forward, right, up) in world space; the eye shift and rise do not turn it.
     pub fn basis(&self) -> (Vec3, Vec3, Vec3) {
         let forward = (-self.orbit_position()).normalize();
         let right = forward.cross(self.up.vector()).normalize();
@@ -319,6 +324,7 @@ mod tests {
             elevation_deg: -25.0,
             distance: 2.1,
             eye_shift: 0.0,
+            eye_rise: 0.0,
             up: ViewUp::PlusY,
             fov_y_deg: 35.0,
         };

@@ -32,6 +32,28 @@ impl RgbaImage {
         self.pixels.iter().flat_map(|p| p.to_le_bytes()).collect()
     }
 
+    /// Writes the image as an 8-bit RGBA PNG.
+    pub fn write_png(&self, out: impl std::io::Write) -> Result<(), png::EncodingError> {
+        let mut encoder = png::Encoder::new(out, self.width, self.height);
+        encoder.set_color(png::ColorType::Rgba);
+        encoder.set_depth(png::BitDepth::Eight);
+        let mut writer = encoder.write_header()?;
+        writer.write_image_data(&self.to_rgba_bytes())?;
+        writer.finish()
+    }
+
+    /// `self` on the left and `right` (of the same height) on the right.
+    pub fn side_by_side(&self, right: &RgbaImage) -> RgbaImage {
+        let (lw, rw) = (self.width as usize, right.width as usize);
+        let mut out = RgbaImage::new(self.width + right.width, self.height);
+        for y in 0..self.height.min(right.height) as usize {
+            let dst = &mut out.pixels[y * (lw + rw)..(y + 1) * (lw + rw)];
+            dst[..lw].copy_from_slice(&self.pixels[y * lw..(y + 1) * lw]);
+            dst[lw..].copy_from_slice(&right.pixels[y * rw..(y + 1) * rw]);
+        }
+        out
+    }
+
     pub fn compare(&self, other: &RgbaImage, tolerance: u8) -> ImageDiff {
         self.compare_where(other, &vec![true; self.pixels.len()], tolerance)
     }

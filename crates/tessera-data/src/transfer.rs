@@ -142,6 +142,16 @@ impl TransferFunction {
         Ok(TransferFunction { knots })
     }
 
+    /// The knots as `at r g b a` lines, the text [`TransferFunction::parse`] reads back.
+    pub fn to_text(&self) -> String {
+        let mut text = String::from("# at r g b a (normalized scalar, colour, opacity)\n");
+        for k in &self.knots {
+            let [r, g, b, a] = k.rgba;
+            text.push_str(&format!("{} {r} {g} {b} {a}\n", k.at));
+        }
+        text
+    }
+
     /// Colour and opacity at normalized scalar `x` (NaN counts as below the first knot);
     /// transparent black without knots.
     pub fn sample(&self, x: f64) -> [f64; 4] {

@@ -149,3 +149,15 @@ fn sampling_never_panics() {
     assert_eq!(tf.sample(f64::INFINITY), tf.sample(1.0));
     assert_eq!(TransferFunction { knots: vec![] }.sample(0.5), [0.0; 4]);
 }
+
+#[test]
+fn text_reads_back_as_the_same_function() {
+    for name in PRESETS {
+        let tf = TransferFunction::preset(name).unwrap();
+        assert_eq!(
+            TransferFunction::parse(&tf.to_text()).unwrap(),
+            tf,
+            "{name}"
+        );
+    }
+}

@@ -47,6 +47,7 @@ pub struct Gpu {
     pub(crate) device: ash::Device,
     pub(crate) shared: Arc<DeviceShared>,
     pub(crate) queue: vk::Queue,
+    pub(crate) queue_family: u32,
     pub(crate) command_pool: vk::CommandPool,
     pub(crate) push_descriptor: ash::khr::push_descriptor::Device,
     pub(crate) mesh_shader: Option<ash::ext::mesh_shader::Device>,
@@ -79,7 +80,11 @@ fn load_entry() -> Result<ash::Entry> {
     unsafe { ash::Entry::load() }.map_err(|e| GpuError::Loader(e.to_string()))
 }
 
-fn create_instance(entry: &ash::Entry, validation: bool) -> Result<ash::Instance> {
+fn create_instance(
+    entry: &ash::Entry,
+    validation: bool,
+    extra_extensions: &[&CStr],
+) -> Result<ash::Instance> {
     let app_name = c"tessera";
     let app = vk::ApplicationInfo::default()
         .application_name(app_name)
@@ -102,7 +107,7 @@ fn create_instance(entry: &ash::Entry, validation: bool) -> Result<ash::Instance
     // SAFETY: a plain query on a loaded entry.
     let ext_props = unsafe { entry.enumerate_instance_extension_properties(None) }
         .call("vkEnumerateInstanceExtensionProperties")?;
-    let mut extensions = vec![];
+    let mut extensions: Vec<*const i8> = extra_extensions.iter().map(|e| e.as_ptr()).collect();
     if has_extension(&ext_props, ash::ext::debug_utils::NAME) {
         extensions.push(ash::ext::debug_utils::NAME.as_ptr());
     }
@@ -146,7 +151,7 @@ fn device_rank(t: vk::PhysicalDeviceType) -> u32 {
 /// Lists the devices without opening one, for `tessera info`.
 pub fn list_devices() -> Result<Vec<DeviceListing>> {
     let entry = load_entry()?;
-    let instance = create_instance(&entry, false)?;
+    let instance = create_instance(&entry, false, &[])?;
     // SAFETY: a plain query on the live instance created above.
     let physicals =
         unsafe { instance.enumerate_physical_devices() }.call("vkEnumeratePhysicalDevices");
@@ -189,8 +194,14 @@ const OPTIONAL_EXTENSIONS: &[&CStr] = &[
 
 impl Gpu {
     pub fn new(options: &GpuOptions) -> Result<Gpu> {
+        Self::with_instance_extensions(options, &[])
+    }
+
+    /// Opens the device with further instance extensions (a window system's surface ones);
+    /// with any given, the device also enables `VK_KHR_swapchain` where it has it.
+    pub fn with_instance_extensions(options: &GpuOptions, extra: &[&CStr]) -> Result<Gpu> {
         let entry = load_entry()?;
-        let instance = create_instance(&entry, options.validation)?;
+        let instance = create_instance(&entry, options.validation, extra)?;
         let validation = Arc::new(ValidationLog::default());
         // Until `DeviceShared` owns them, failures destroy the messenger and instance here.
         let messenger = if options.validation {
@@ -205,7 +216,7 @@ impl Gpu {
         } else {
             None
         };
-        let opened = match Self::open_device(&instance, options) {
+        let opened = match Self::open_device(&instance, options, !extra.is_empty()) {
             Ok(opened) => opened,
             Err(e) => {
                 // SAFETY: `open_device` destroyed whatever it created on failure; the messenger
@@ -278,7 +289,11 @@ impl Gpu {
 
     /// Picks the physical device and creates the logical device and its allocator. On failure
     /// it destroys what it created (the device), leaving the instance to the caller.
-    fn open_device(instance: &ash::Instance, options: &GpuOptions) -> Result<OpenedDevice> {
+    fn open_device(
+        instance: &ash::Instance,
+        options: &GpuOptions,
+        presenting: bool,
+    ) -> Result<OpenedDevice> {
         let physical = Self::pick_physical(instance, options.device_index)?;
         // SAFETY: `physical` was enumerated from this live instance.
         let extensions = unsafe { instance.enumerate_device_extension_properties(physical) }
@@ -309,6 +324,9 @@ impl Gpu {
             if has_extension(&extensions, ext) {
                 enabled.push(ext.as_ptr());
             }
+        }
+        if presenting && has_extension(&extensions, ash::khr::swapchain::NAME) {
+            enabled.push(ash::khr::swapchain::NAME.as_ptr());
         }
         let device = Self::create_device(instance, physical, queue_family, &caps, &enabled)?;
         let allocator = Allocator::new(&AllocatorCreateDesc {
@@ -372,6 +390,7 @@ impl Gpu {
             debug_device,
             device,
             queue,
+            queue_family,
             command_pool: vk::CommandPool::null(),
             sampler_nearest: vk::Sampler::null(),
             sampler_linear: vk::Sampler::null(),

@@ -21,6 +21,8 @@ mod shared;
 pub mod spirv;
 pub mod statistics;
 mod submit;
+#[cfg(feature = "window")]
+pub mod swapchain;
 pub mod timer;
 pub mod timing;
 pub mod validation;
@@ -36,4 +38,6 @@ pub use pipeline::{spread_groups, Blend, Pipeline, RenderTargets, Slot, PUSH_CON
 pub use ray_tracing::{ProceduralHitGroup, RayTracingPipeline, RayTracingShaders};
 pub use shader::{ShaderCompiler, Source, Spirv, Stage};
 pub use statistics::PipelineStatistics;
+#[cfg(feature = "window")]
+pub use swapchain::{SwapImage, Swapchain};
 pub use timer::Timer;

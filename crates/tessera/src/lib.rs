@@ -13,6 +13,7 @@ pub mod param;
 pub mod path;
 pub mod raster;
 pub mod renderer;
+pub mod report;
 pub mod shaders;
 pub mod target;
 pub mod tet;

@@ -94,6 +94,7 @@ fn direct_images_match_cpu_rasterized_marching_cubes() {
         elevation_deg: 30.0,
         distance: 1.9,
         eye_shift: 0.0,
+        eye_rise: 0.0,
         up: Default::default(),
         fov_y_deg: 40.0,
     };

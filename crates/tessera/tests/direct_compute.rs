@@ -114,6 +114,7 @@ fn compute_path_images_match_cpu_rasterized_marching_cubes() {
         elevation_deg: -20.0,
         distance: 1.7,
         eye_shift: 0.0,
+        eye_rise: 0.0,
         up: Default::default(),
         fov_y_deg: 45.0,
     };

@@ -82,6 +82,7 @@ fn raymarched_images_match_cpu_reference() {
         elevation_deg: 25.0,
         distance: 1.9,
         eye_shift: 0.0,
+        eye_rise: 0.0,
         up: Default::default(),
         fov_y_deg: 40.0,
     };

@@ -73,6 +73,7 @@ fn raymarch_mri_head_matches_cpu_reference() {
         elevation_deg: 0.0,
         distance: 1.8,
         eye_shift: 0.0,
+        eye_rise: 0.0,
         up: Default::default(),
         fov_y_deg: 40.0,
     };
@@ -96,6 +97,7 @@ fn raymarch_t1_brain_template_matches_cpu_reference() {
         elevation_deg: 20.0,
         distance: 1.8,
         eye_shift: 0.0,
+        eye_rise: 0.0,
         up: Default::default(),
         fov_y_deg: 40.0,
     };

@@ -12,6 +12,7 @@ fn camera(azimuth_deg: f32, elevation_deg: f32, distance: f32, fov_y_deg: f32) -
         distance,
         fov_y_deg,
         eye_shift: 0.0,
+        eye_rise: 0.0,
         up: Default::default(),
     }
 }

@@ -212,6 +212,21 @@ pub fn create(
     })
 }
 
+/// A renderer of `technique` with its first look and its data set, in the order that builds
+/// the pipelines once (see the module documentation).
+pub fn create_for(
+    gpu: &Gpu,
+    technique: Technique,
+    options: &RendererOptions,
+    look: &Appearance,
+    data: &Dataset,
+) -> Result<Box<dyn Renderer>> {
+    let mut renderer = create(gpu, technique, options)?;
+    renderer.set_appearance(gpu, look)?;
+    renderer.set_data(gpu, data)?;
+    Ok(renderer)
+}
+
 /// A target and a timer kept from frame to frame: rendering N frames allocates nothing per
 /// frame once the renderer's buffers exist.
 pub struct Frame {

@@ -1,0 +1,234 @@
+//! `tessera view` under a virtual X server: scripted sessions whose screenshots must equal
+//! `tessera render` of the same state, with the validation layer on, a frame loop that stops
+//! allocating once warm, resizes, and a clear refusal without a display.
+
+mod common;
+use common::*;
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+/// An Xvfb server started for one test and stopped when dropped.
+struct VirtualDisplay {
+    server: Child,
+    name: String,
+}
+
+impl VirtualDisplay {
+    /// A fresh server on a free display number; `None` (the test reported as skipped) when
+    /// Xvfb is not installed.
+    fn start() -> Option<VirtualDisplay> {
+        let first = 200 + (std::process::id() % 400) * 8;
+        for number in first..first + 40 {
+            if Path::new(&format!("/tmp/.X{number}-lock")).exists() {
+                continue;
+            }
+            let spawned = Command::new("Xvfb")
+                .args([
+                    &format!(":{number}"),
+                    "-screen",
+                    "0",
+                    "640x480x24",
+                    "-nolisten",
+                    "tcp",
+                ])
+                .stdout(Stdio::null())
+                .stderr(Stdio::null())
+                .spawn();
+            let mut server = match spawned {
+                Ok(server) => server,
+                Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+                    tessera_test::skip("", "Xvfb is not installed (Debian: apt-get install xvfb)");
+                    return None;
+                }
+                Err(e) => panic!("starting Xvfb: {e}"),
+            };
+            let socket = PathBuf::from(format!("/tmp/.X11-unix/X{number}"));
+            let started = Instant::now();
+            while started.elapsed() < Duration::from_secs(10) {
+                if socket.exists() {
+                    return Some(VirtualDisplay {
+                        server,
+                        name: format!(":{number}"),
+                    });
+                }
+                if server.try_wait().ok().flatten().is_some() {
+                    break; // the number was taken meanwhile: try the next
+                }
+                std::thread::sleep(Duration::from_millis(20));
+            }
+            let _ = server.kill();
+            let _ = server.wait();
+        }
+        panic!("no display number free for Xvfb");
+    }
+
+    /// Runs `tessera --validation ARGS` on this display.
+    fn tessera(&self, args: &[&str]) -> Output {
+        Command::new(env!("CARGO_BIN_EXE_tessera"))
+            .arg("--validation")
+            .args(args)
+            .env("DISPLAY", &self.name)
+            .env_remove("WAYLAND_DISPLAY")
+            .output()
+            .expect("run tessera")
+    }
+}
+
+impl Drop for VirtualDisplay {
+    fn drop(&mut self) {
+        let _ = self.server.kill();
+        let _ = self.server.wait();
+    }
+}
+
+/// Runs a scripted session of `data` and returns its summary line(s).
+fn view(display: &VirtualDisplay, dir: &Path, data: &str, script: &str) -> String {
+    let file = dir.join("script.txt");
+    std::fs::write(&file, script).unwrap();
+    let o = display.tessera(&["view", data, "--script", file.to_str().unwrap()]);
+    let out = String::from_utf8_lossy(&o.stdout).into_owned();
+    assert!(o.status.success(), "view failed: {}\n{out}", stderr(&o));
+    assert!(!stderr(&o).contains("validation error"), "{}", stderr(&o));
+    out
+}
+
+/// Asserts that the viewer's screenshot equals `tessera render` with `flags` at its size.
+fn assert_same_as_render(shot: &Path, data: &str, flags: &[&str]) {
+    let (w, h) = png_size(shot);
+    let reference = shot.with_extension("render.png");
+    let size = format!("{w}x{h}");
+    let mut args = vec![
+        "render",
+        data,
+        "--size",
+        &size,
+        "-o",
+        reference.to_str().unwrap(),
+    ];
+    args.extend_from_slice(flags);
+    let o = tessera(&args);
+    assert!(o.status.success(), "render failed: {}", stderr(&o));
+    // Both run the same renderer on the same device with the same state, so the images are
+    // the same to the bit.
+    assert!(
+        png_pixels(shot) == png_pixels(&reference),
+        "{} differs from `tessera render {}`",
+        shot.display(),
+        args.join(" ")
+    );
+}
+
+/// The device allocations the summary reports after the warm-up frame and the last one.
+fn allocations(summary: &str) -> (u64, u64, u64) {
+    let line = summary
+        .lines()
+        .find(|l| l.contains("device allocations"))
+        .unwrap_or_else(|| panic!("no allocation counts in: {summary}"));
+    let numbers: Vec<u64> = line
+        .split(|c: char| !c.is_ascii_digit())
+        .filter_map(|w| w.parse().ok())
+        .collect();
+    // "view: F frames; device allocations after frame 5: A, after frame N: B"
+    let [_, 5, warm, frames, last] = numbers[..] else {
+        panic!("unexpected summary: {line}")
+    };
+    (warm, frames, last)
+}
+
+#[test]
+fn scripted_volume_session_matches_render_and_allocates_nothing_per_frame() {
+    let Some(display) = VirtualDisplay::start() else {
+        return;
+    };
+    let dir = scratch("view_volume");
+    let shot = |name: &str| dir.join(name).to_str().unwrap().to_string();
+    let data = "procedural:marschner-lobb:32";
+    let script = format!(
+        "size 96x72\ncamera 30,20,1.8\nscreenshot {}\ncamera 120,-10,2\niso-fraction 0.3\n\
+         frames 12\nscreenshot {}\nsize 80x64\nscreenshot {}\n",
+        shot("a.png"),
+        shot("b.png"),
+        shot("c.png")
+    );
+    let summary = view(&display, &dir, data, &script);
+    let (warm, frames, last) = allocations(&summary);
+    assert!(frames > 10, "{summary}");
+    assert_eq!(warm, last, "the frame loop allocated: {summary}");
+    assert_eq!(png_size(&dir.join("c.png")), (80, 64), "resize");
+    assert_same_as_render(&dir.join("a.png"), data, &["--camera", "30,20,1.8"]);
+    let turned = ["--camera", "120,-10,2", "--iso-fraction", "0.3"];
+    assert_same_as_render(&dir.join("b.png"), data, &turned);
+    assert_same_as_render(&dir.join("c.png"), data, &turned);
+}
+
+#[test]
+fn scripted_tet_session_switches_technique_and_edits_the_transfer_function() {
+    let Some(display) = VirtualDisplay::start() else {
+        return;
+    };
+    let dir = scratch("view_tets");
+    let shot = |name: &str| dir.join(name).to_str().unwrap().to_string();
+    let data = "tets:box:3";
+    let saved = shot("tf.txt");
+    let script = format!(
+        "size 96x80\ncamera 40,25,1.9\ntf hot\ndensity 6\ntf-save {saved}\nscreenshot {}\n\
+         technique shell\nscreenshot {}\ntechnique interval\nframes 2\nscreenshot {}\n",
+        shot("interval.png"),
+        shot("shell.png"),
+        shot("back.png")
+    );
+    view(&display, &dir, data, &script);
+    let look = ["--camera", "40,25,1.9", "--tf", &saved, "--density", "6"];
+    assert_same_as_render(&dir.join("interval.png"), data, &look);
+    let mut shell = look.to_vec();
+    shell.extend(["--technique", "shell"]);
+    assert_same_as_render(&dir.join("shell.png"), data, &shell);
+    // Back on the renderer kept from before the switch.
+    assert_same_as_render(&dir.join("back.png"), data, &look);
+}
+
+#[test]
+fn scripted_glyph_session_matches_render() {
+    let Some(display) = VirtualDisplay::start() else {
+        return;
+    };
+    let dir = scratch("view_glyph");
+    let data = "param:sh-glyph:order4";
+    let shot = dir.join("glyph.png");
+    let script = format!(
+        "size 64x64\ncamera 10,30,2.2\nscreenshot {}\n",
+        shot.display()
+    );
+    view(&display, &dir, data, &script);
+    assert_same_as_render(&shot, data, &["--camera", "10,30,2.2"]);
+}
+
+#[test]
+fn view_without_a_display_says_so() {
+    let o = Command::new(env!("CARGO_BIN_EXE_tessera"))
+        .args(["view", "procedural:sphere:16"])
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .expect("run tessera");
+    assert_fails_with(&o, &["no display", "xvfb-run -a"]);
+}
+
+#[test]
+fn bad_scripts_name_the_line() {
+    let dir = scratch("view_bad_script");
+    let file = dir.join("bad.txt");
+    std::fs::write(&file, "camera 1,2,3\nspin 90\n").unwrap();
+    let o = Command::new(env!("CARGO_BIN_EXE_tessera"))
+        .args([
+            "view",
+            "procedural:sphere:16",
+            "--script",
+            file.to_str().unwrap(),
+        ])
+        .env("DISPLAY", ":0")
+        .output()
+        .expect("run tessera");
+    assert_fails_with(&o, &["line 2", "unknown step 'spin'"]);
+}
