@@ -18,10 +18,15 @@ pub struct ViewArgs {
     /// Render every frame, not only when something changed (to watch the frame time).
     #[arg(long)]
     continuous: bool,
+    /// Run the script without a window (no display needed) and report the GPU frame times.
+    #[arg(long, requires = "script")]
+    offscreen: bool,
 }
 
 pub fn run(gpu: &GpuOptions, args: &ViewArgs) -> Result<()> {
-    tessera_view::check_display()?;
+    if !args.offscreen {
+        tessera_view::check_display()?;
+    }
     let script = match &args.script {
         Some(path) => Some(tessera_view::Script::load(path)?),
         None => None,
@@ -42,7 +47,11 @@ pub fn run(gpu: &GpuOptions, args: &ViewArgs) -> Result<()> {
         script,
         continuous: args.continuous,
     };
-    let summary = tessera_view::run(scene, settings).context("tessera view")?;
+    let summary = match args.offscreen {
+        true => tessera_view::run_offscreen(scene, settings),
+        false => tessera_view::run(scene, settings),
+    }
+    .context("tessera view")?;
     println!("{summary}");
     Ok(())
 }

@@ -232,3 +232,45 @@ fn bad_scripts_name_the_line() {
         .expect("run tessera");
     assert_fails_with(&o, &["line 2", "unknown step 'spin'"]);
 }
+
+/// Without a display, `--offscreen` runs the same script into the renderer's target: the
+/// screenshot equals `render`, the frame loop allocates nothing once warm, GPU frame times
+/// are reported, and a run without a script is refused.
+#[test]
+fn offscreen_runs_need_no_display() {
+    let dir = scratch("view_offscreen");
+    let shot = dir.join("shell.png");
+    let file = dir.join("script.txt");
+    let script = format!(
+        "size 72x56\ncamera 40,25,1.9\nframes 10\ncamera 120,10,2\nframes 3\nscreenshot {}\n",
+        shot.display()
+    );
+    std::fs::write(&file, script).unwrap();
+    let run = |extra: &[&str]| {
+        let mut args = vec!["--validation", "view", "tets:box:3", "--technique", "shell"];
+        args.extend_from_slice(extra);
+        Command::new(env!("CARGO_BIN_EXE_tessera"))
+            .args(&args)
+            .env_remove("DISPLAY")
+            .env_remove("WAYLAND_DISPLAY")
+            .output()
+            .expect("run tessera")
+    };
+    let o = run(&["--offscreen", "--script", file.to_str().unwrap()]);
+    let out = String::from_utf8_lossy(&o.stdout).into_owned();
+    assert!(o.status.success(), "{}\n{out}", stderr(&o));
+    let (warm, frames, last) = allocations(&out);
+    assert!(frames >= 13, "{out}");
+    assert_eq!(warm, last, "the frame loop allocated: {out}");
+    assert!(out.contains("GPU frame time over"), "{out}");
+    let look = ["--technique", "shell", "--camera", "120,10,2"];
+    assert_same_as_render(&shot, "tets:box:3", &look);
+    // A usage error (clap's exit status 2) naming the missing flag.
+    let refused = run(&["--offscreen"]);
+    assert_eq!(refused.status.code(), Some(2), "{}", stderr(&refused));
+    assert!(
+        stderr(&refused).contains("--script"),
+        "{}",
+        stderr(&refused)
+    );
+}

@@ -139,7 +139,11 @@ impl App {
         }
         let size = (size.width, size.height);
         if let Some(runner) = &mut self.script {
-            match runner.before_frame(&mut self.session, &w.window, size)? {
+            let window = &w.window;
+            let mut request_size = |width, height| {
+                let _ = window.request_inner_size(winit::dpi::PhysicalSize::new(width, height));
+            };
+            match runner.before_frame(&mut self.session, &mut request_size, size)? {
                 crate::script::Before::Render => {}
                 crate::script::Before::Wait => return Ok(()),
                 crate::script::Before::Done => {
@@ -198,21 +202,9 @@ impl App {
 
     /// Writes the rendered image (without the panels) as a PNG.
     fn write_screenshot(&mut self, path: &Path) -> Result<(), ViewError> {
-        let Some(image) = self.session.read_image(&self.gpu)? else {
-            return Ok(());
-        };
-        let file_error = |e: &dyn std::fmt::Display| ViewError::File {
-            path: path.to_owned(),
-            message: e.to_string(),
-        };
-        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-            std::fs::create_dir_all(dir).map_err(|e| file_error(&e))?;
+        if self.session.write_png(&self.gpu, path)? {
+            self.summary.screenshots.push(path.to_owned());
         }
-        let file = std::fs::File::create(path).map_err(|e| file_error(&e))?;
-        let mut out = std::io::BufWriter::new(file);
-        image.write_png(&mut out).map_err(|e| file_error(&e))?;
-        std::io::Write::flush(&mut out).map_err(|e| file_error(&e))?;
-        self.summary.screenshots.push(path.to_owned());
         Ok(())
     }
 }

@@ -28,6 +28,8 @@ pub enum ViewError {
     },
     #[error("{path}: {message}")]
     File { path: PathBuf, message: String },
+    #[error("an offscreen run has no one at the controls: give it --script")]
+    OffscreenWithoutScript,
     #[error("the validation layer reported {0} error(s)")]
     Validation(usize),
 }

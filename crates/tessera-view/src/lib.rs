@@ -8,10 +8,12 @@
 //! - [`present`]: the swapchain and the egui renderer over the rendered image.
 //! - [`controls`], [`tf_editor`], [`orbit`]: the panels and the mouse.
 //! - [`script`]: the text format of scripted runs.
+//! - [`offscreen`]: scripted runs without a window, for GPU machines with no display.
 
 pub mod app;
 pub mod controls;
 pub mod error;
+pub mod offscreen;
 pub mod orbit;
 pub mod present;
 pub mod script;
@@ -47,6 +49,8 @@ pub struct Summary {
     /// can see that the frame loop allocates nothing once warm.
     pub allocations: Vec<u64>,
     pub screenshots: Vec<PathBuf>,
+    /// GPU milliseconds of each rendered frame (offscreen runs).
+    pub frame_ms: Vec<f64>,
 }
 
 /// The frame after which allocations must stay constant.
@@ -63,6 +67,18 @@ impl std::fmt::Display for Summary {
                 f,
                 "; device allocations after frame {WARM_FRAME}: {warm}, after frame {}: {last}",
                 self.allocations.len()
+            )?;
+        }
+        if !self.frame_ms.is_empty() {
+            let mut sorted = self.frame_ms.clone();
+            sorted.sort_by(f64::total_cmp);
+            write!(
+                f,
+                "\nGPU frame time over {} frames: median {:.3} ms, min {:.3}, max {:.3}",
+                sorted.len(),
+                sorted[sorted.len() / 2],
+                sorted[0],
+                sorted[sorted.len() - 1]
             )?;
         }
         for path in &self.screenshots {
@@ -87,4 +103,9 @@ pub fn check_display() -> Result<(), ViewError> {
 pub fn run(scene: Scene, settings: Settings) -> Result<Summary, ViewError> {
     check_display()?;
     app::run(scene, settings)
+}
+
+/// Runs the script of `settings` on `scene` without a window ([`offscreen`]).
+pub fn run_offscreen(scene: Scene, settings: Settings) -> Result<Summary, ViewError> {
+    offscreen::run(scene, settings)
 }

@@ -219,11 +219,12 @@ impl Runner {
         }
     }
 
-    /// Applies the steps due before the next frame; `size` is the window's.
+    /// Applies the steps due before the next frame; `size` is the image's now, and
+    /// `request_size` asks the window (or the offscreen frame) for another.
     pub fn before_frame(
         &mut self,
         session: &mut crate::session::Session,
-        window: &winit::window::Window,
+        request_size: &mut dyn FnMut(u32, u32),
         size: (u32, u32),
     ) -> Result<Before, ViewError> {
         let state = &mut session.state;
@@ -238,7 +239,7 @@ impl Runner {
                         self.resize_started = None;
                     } else {
                         let started = *self.resize_started.get_or_insert_with(|| {
-                            let _ = window.request_inner_size(winit::dpi::PhysicalSize::new(w, h));
+                            request_size(w, h);
                             std::time::Instant::now()
                         });
                         if started.elapsed() > RESIZE_WAIT {

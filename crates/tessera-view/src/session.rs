@@ -205,4 +205,24 @@ impl Session {
             None => None,
         })
     }
+
+    /// Writes the last image as a PNG at `path` (its folder made); `false` before the first
+    /// frame, when there is nothing to write.
+    pub fn write_png(&self, gpu: &Gpu, path: &std::path::Path) -> Result<bool, ViewError> {
+        let Some(image) = self.read_image(gpu)? else {
+            return Ok(false);
+        };
+        let file_error = |e: &dyn std::fmt::Display| ViewError::File {
+            path: path.to_owned(),
+            message: e.to_string(),
+        };
+        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+            std::fs::create_dir_all(dir).map_err(|e| file_error(&e))?;
+        }
+        let file = std::fs::File::create(path).map_err(|e| file_error(&e))?;
+        let mut out = std::io::BufWriter::new(file);
+        image.write_png(&mut out).map_err(|e| file_error(&e))?;
+        std::io::Write::flush(&mut out).map_err(|e| file_error(&e))?;
+        Ok(true)
+    }
 }
