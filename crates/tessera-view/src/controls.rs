@@ -7,7 +7,7 @@ use crate::session::Session;
 use crate::tf_editor::{paint_histogram, TfEditor};
 use egui::{PointerButton, Sense};
 use tessera::path::PathChoice;
-use tessera::renderer::{AmbientOcclusion, Light, Technique};
+use tessera::renderer::{AmbientOcclusion, AmbiguityRule, Light, PmbBlockSize, Technique};
 use tessera_data::scene::{Dataset, IntegrandChoice};
 use tessera_data::tet::shell::{LayoutKind, DEFAULT_AO_RADIUS};
 use tessera_data::IsoValue;
@@ -179,6 +179,43 @@ fn technique_options(ui: &mut egui::Ui, session: &mut Session) {
     }
     if reads("supersample") {
         ui.add(egui::Slider::new(&mut options.supersample, 1..=4).text("supersample"));
+    }
+    if reads("msaa") {
+        ui.horizontal(|ui| {
+            ui.label("MSAA");
+            for samples in [1, 2, 4, 8] {
+                ui.radio_value(&mut options.msaa, samples, samples.to_string());
+            }
+        });
+    }
+    if reads("pre_split") {
+        // 0 stands for the technique's own choice.
+        let mut split = options.pre_split.unwrap_or(0);
+        if ui
+            .add(egui::Slider::new(&mut split, 0..=8).text("pre-split (0: auto)"))
+            .changed()
+        {
+            options.pre_split = (split > 0).then_some(split);
+        }
+    }
+    if reads("ambiguity") {
+        ui.horizontal(|ui| {
+            ui.label("ambiguous faces");
+            ui.radio_value(
+                &mut options.ambiguity,
+                AmbiguityRule::AsymptoticDecider,
+                "asymptotic decider",
+            );
+            ui.radio_value(&mut options.ambiguity, AmbiguityRule::Vtk, "VTK");
+        });
+    }
+    if reads("pmb_block") {
+        ui.horizontal(|ui| {
+            ui.label("PMB block");
+            for block in PmbBlockSize::ALL {
+                ui.radio_value(&mut options.pmb_block, block, block.name());
+            }
+        });
     }
     if reads("layout") {
         ui.horizontal(|ui| {
