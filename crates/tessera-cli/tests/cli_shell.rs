@@ -10,7 +10,7 @@ use common::*;
 #[test]
 fn effect_flags_shade_the_image_and_report_their_passes() {
     let dir = scratch("shell-effects");
-    let render = |name: &str, flags: &[&str]| {
+    let run = |name: &str, flags: &[&str]| {
         let out = dir.join(format!("{name}.png"));
         let mut args = vec![
             "--validation",
@@ -26,7 +26,10 @@ fn effect_flags_shade_the_image_and_report_their_passes() {
             out.to_str().unwrap(),
         ];
         args.extend(flags);
-        let o = tessera(&args);
+        (tessera(&args), out)
+    };
+    let render = |name: &str, flags: &[&str]| {
+        let (o, out) = run(name, flags);
         assert!(o.status.success(), "{name}: {}", stderr(&o));
         assert!(!stderr(&o).contains("warning"), "{name}: {}", stderr(&o));
         (
@@ -76,22 +79,7 @@ fn effect_flags_shade_the_image_and_report_their_passes() {
         "{stdout}"
     );
     // The ray-tracing pipeline (the graphics path) draws the compute path's image.
-    let out = dir.join("ray-tracing.png");
-    let o = tessera(&[
-        "--validation",
-        "render",
-        "tets:box:3",
-        "--technique",
-        "shell",
-        "--layout",
-        "tet16",
-        "--path",
-        "graphics",
-        "--size",
-        "40x30",
-        "-o",
-        out.to_str().unwrap(),
-    ]);
+    let (o, out) = run("ray-tracing", &["--path", "graphics"]);
     if stderr(&o).contains("needs features") {
         tessera_test::skip("ray-tracing pipeline", &stderr(&o));
     } else {

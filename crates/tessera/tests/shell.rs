@@ -67,6 +67,14 @@ fn paths(gpu: &TestGpu) -> Vec<Path> {
     }
 }
 
+/// Every layout on each of `paths`, the compute path of a layout first.
+fn layouts_and_paths(paths: &[Path]) -> Vec<(LayoutKind, Path)> {
+    LayoutKind::ALL
+        .into_iter()
+        .flat_map(|k| paths.iter().map(move |&p| (k, p)))
+        .collect()
+}
+
 /// A small deterministic generator (xorshift), so failures reproduce.
 struct Rng(u64);
 
@@ -168,10 +176,7 @@ fn every_ray_visits_the_tets_the_cpu_traversal_visits() {
             "{name}: {excluded_count} of {} rays graze an edge",
             rays.len()
         );
-        for (kind, path) in LayoutKind::ALL
-            .into_iter()
-            .flat_map(|k| ways.iter().map(move |&p| (k, p)))
-        {
+        for (kind, path) in layouts_and_paths(&ways) {
             let options = ShellOptions::on(kind, path);
             let pass = ShellRays::new(&gpu, &compiler, &options, &optics).unwrap();
             let mesh = GpuShellMesh::upload_for(&gpu, &shell, kind, path).unwrap();
@@ -285,10 +290,7 @@ fn images_equal_the_cpu_reference_from_outside_and_inside() {
         let shell = ShellMesh::build(&mesh).unwrap();
         let normalized = normalized_scalars(&shell.mesh, None, name).unwrap();
         let mut compute_images = [None, None];
-        for (kind, path) in LayoutKind::ALL
-            .into_iter()
-            .flat_map(|k| ways.iter().map(move |&p| (k, p)))
-        {
+        for (kind, path) in layouts_and_paths(&ways) {
             let options = ShellOptions::on(kind, path);
             let pass = Shell::new(&gpu, &compiler, &options, &optics).unwrap();
             let gpu_mesh = GpuShellMesh::upload_for(&gpu, &shell, kind, path).unwrap();
@@ -360,10 +362,7 @@ fn the_loop_guard_ends_a_circling_walk_and_counts_it() {
     let (first, second) = (steps[0].tet, steps[1].tet);
     glued[first as usize][face_of(first, steps[0].entered_face)] = first;
     glued[second as usize][face_of(second, steps[2].entered_face)] = second;
-    for (kind, path) in LayoutKind::ALL
-        .into_iter()
-        .flat_map(|k| ways.iter().map(move |&p| (k, p)))
-    {
+    for (kind, path) in layouts_and_paths(&ways) {
         let layout = build_layout(kind, &shell.mesh.tets, &glued);
         let options = ShellOptions {
             traversal,
@@ -412,10 +411,7 @@ fn shadow_transmittance_equals_the_cpu_reference() {
     ];
     let mut rng = Rng(0x5eed_0002);
     let points: Vec<DVec3> = (0..24).map(|_| rng.in_box(0.7)).collect();
-    for (kind, path) in LayoutKind::ALL
-        .into_iter()
-        .flat_map(|k| ways.iter().map(move |&p| (k, p)))
-    {
+    for (kind, path) in layouts_and_paths(&ways) {
         let options = ShellOptions::on(kind, path);
         let pass = ShellRays::new(&gpu, &compiler, &options, &optics).unwrap();
         let mut mesh = GpuShellMesh::upload_for(&gpu, &shell, kind, path).unwrap();
