@@ -21,8 +21,15 @@ fi
 # The Python package's tests (scripts/test-python.sh) and the diffusion MRI fit
 # (scripts/fetch-dwi.sh) build virtual environments.
 python3 -c 'import venv, ensurepip' >/dev/null 2>&1 || need+=(python3-venv)
-# The viewer's tests open windows on a virtual X server.
+# The viewer's tests open windows on a virtual X server; winit loads the X11 client libraries
+# when the window opens, not at link time, so their absence would only show then.
 command -v Xvfb >/dev/null 2>&1 || need+=(xvfb)
+window_libs=()
+for pair in libX11-xcb.so.1:libx11-xcb1 libXcursor.so.1:libxcursor1 libXrandr.so.2:libxrandr2 \
+  libXi.so.6:libxi6 libxkbcommon-x11.so.0:libxkbcommon-x11-0; do
+  ldconfig -p 2>/dev/null | grep -q "${pair%%:*}" || window_libs+=("${pair##*:}")
+done
+need+=("${window_libs[@]}")
 
 # Real scans the tests render when present (DESIGN §8); optional, installed when we can.
 optional=()
@@ -52,7 +59,7 @@ fi
 if [ "$can_install" = no ]; then
   echo "missing: ${need[*]}" >&2
   echo "install on Debian 12 (as root): add bookworm-backports, then" >&2
-  echo "  apt-get install -t bookworm-backports mesa-vulkan-drivers && apt-get install libvulkan1 vulkan-validationlayers xvfb" >&2
+  echo "  apt-get install -t bookworm-backports mesa-vulkan-drivers && apt-get install libvulkan1 vulkan-validationlayers xvfb ${window_libs[*]}" >&2
   exit 1
 fi
 
@@ -75,6 +82,7 @@ esac
 case " ${need[*]} " in
   *" xvfb "*) apt-get install -y -qq xvfb ;;
 esac
+[ ${#window_libs[@]} -eq 0 ] || apt-get install -y -qq "${window_libs[@]}"
 if [ ${#optional[@]} -gt 0 ]; then
   apt-get install -y -qq "${optional[@]}" >/dev/null || echo "could not install ${optional[*]}: the real-data tests will be skipped" >&2
 fi
