@@ -90,7 +90,7 @@ fn isosurface_structs(t: &mut Table) {
     use crate::iso::direct::compute_cull::HzbTestParams;
     use crate::iso::direct::stereo::StereoViews;
     use crate::iso::direct::DirectParams;
-    use crate::iso::minmax::{block_defines, BlockParams, ReduceParams};
+    use crate::iso::minmax::{block_defines, BlockParams, GroupParams, ReduceParams};
     use crate::iso::raymarch::RaymarchParams;
     let u8_defines = crate::config::marching_cubes_defines(ScalarType::U8, Default::default());
     let raymarch = compile(
@@ -172,6 +172,15 @@ fn isosurface_structs(t: &mut Table) {
         &blocks,
         "BlockParams",
         host!(BlockParams, volume_dims, block_dims),
+    );
+    let groups = compile(
+        &builtin_shader!("iso/minmax/minmax_groups.comp.glsl"),
+        &crate::config::volume_defines(ScalarType::U16),
+    );
+    t.push_constants::<GroupParams>(
+        &groups,
+        "GroupParams",
+        host!(GroupParams, volume_dims, block_dims, parent_dims),
     );
     let reduce = compile(
         &builtin_shader!("iso/minmax/minmax_reduce.comp.glsl"),

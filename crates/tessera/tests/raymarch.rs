@@ -4,7 +4,7 @@ mod common;
 
 use common::{assert_clean, assert_images_match, gpu};
 use tessera::gpu_volume::GpuVolume;
-use tessera::iso::minmax::{MinMaxBuilder, MinMaxOctreeGpu};
+use tessera::iso::minmax::{LevelZeroPass, MinMaxBuilder, MinMaxOctreeGpu};
 use tessera::iso::raymarch::Raymarch;
 use tessera::shaders;
 use tessera::target::Target;
@@ -44,30 +44,44 @@ fn gpu_octree_equals_cpu_octree_exactly() {
 }
 
 #[test]
-fn both_block_reductions_give_the_cpu_octree() {
+fn every_level_zero_pass_gives_the_cpu_octree() {
     let gpu = gpu();
     let compiler = shaders::compiler();
-    let volume = generate(ProceduralKind::Turbulence, 37, ScalarType::U16).unwrap();
-    let cpu = MinMaxOctree::build(&volume).flattened();
-    let gpu_volume = GpuVolume::upload(&gpu, &volume).unwrap();
-    let modes = if gpu.caps().subgroup_arithmetic {
-        vec![false, true]
-    } else {
-        vec![false]
-    };
-    for subgroups in modes {
-        let builder =
-            MinMaxBuilder::with_reduction(&gpu, &compiler, ScalarType::U16, subgroups).unwrap();
-        let octree = MinMaxOctreeGpu::allocate(&gpu, volume.dims()).unwrap();
-        gpu.submit("poison", |rec| rec.fill_buffer(&octree.nodes, POISON))
-            .unwrap();
-        gpu.submit("build", |rec| builder.record(rec, &gpu_volume, &octree))
-            .unwrap();
-        assert_eq!(
-            octree.read(&gpu).unwrap(),
-            cpu,
-            "subgroup reduction: {subgroups}"
-        );
+    let mut passes = vec![
+        LevelZeroPass::PerBlock { subgroups: false },
+        LevelZeroPass::Grouped,
+    ];
+    if gpu.caps().subgroup_arithmetic {
+        passes.push(LevelZeroPass::PerBlock { subgroups: true });
+    }
+    // Odd block counts (partial groups of 2×2×2 blocks), one block (no level 1), and a
+    // volume whose last block row is a single plane of samples.
+    let n = 23 * 18 * 11;
+    let ramp: Vec<f32> = (0..n).map(|i| ((i * 37) % 101) as f32 - 50.5).collect();
+    let volumes = [
+        generate(ProceduralKind::Turbulence, 37, ScalarType::U16).unwrap(),
+        Volume::new("ramp", [23, 18, 11], [1.0; 3], Samples::F32(ramp)).unwrap(),
+        generate(ProceduralKind::MarschnerLobb, 5, ScalarType::U8).unwrap(),
+        generate(ProceduralKind::Sphere, 17, ScalarType::F32).unwrap(),
+    ];
+    for volume in &volumes {
+        let cpu = MinMaxOctree::build(volume).flattened();
+        let gpu_volume = GpuVolume::upload(&gpu, volume).unwrap();
+        for &pass in &passes {
+            let builder =
+                MinMaxBuilder::with_pass(&gpu, &compiler, volume.scalar_type(), pass).unwrap();
+            let octree = MinMaxOctreeGpu::allocate(&gpu, volume.dims()).unwrap();
+            gpu.submit("poison", |rec| rec.fill_buffer(&octree.nodes, POISON))
+                .unwrap();
+            gpu.submit("build", |rec| builder.record(rec, &gpu_volume, &octree))
+                .unwrap();
+            assert_eq!(
+                octree.read(&gpu).unwrap(),
+                cpu,
+                "{pass:?}, {}",
+                volume.name()
+            );
+        }
     }
     assert_clean(&gpu);
 }

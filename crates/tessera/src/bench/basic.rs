@@ -5,6 +5,7 @@
 use super::frames::{settle_after_upload, time_mono};
 use super::{time_frames, BenchConfig, BenchRecord, FramePlan, RecordSink};
 use crate::error::Result;
+use crate::iso::minmax::{LevelZeroPass, MinMaxBuilder};
 use crate::iso::raymarch::Raymarch;
 use crate::renderer::{self, RendererOptions, Technique};
 use tessera_data::minmax::MinMaxOctree;
@@ -126,7 +127,8 @@ pub(super) fn raymarch(
     Ok(())
 }
 
-/// The octree build reads the volume once; a buffer copy of the same bytes shows what the
+/// The octree build reads the volume once (a workgroup per block, and per 2×2×2 blocks); a
+/// buffer copy of the same bytes (`vkCmdCopyBuffer`, and a compute shader's) shows what the
 /// memory system allows.
 pub(super) fn minmax_build(
     gpu: &Gpu,
@@ -135,6 +137,7 @@ pub(super) fn minmax_build(
     sink: &mut dyn RecordSink,
 ) -> Result<()> {
     let compiler = crate::shaders::compiler();
+    let copy = crate::throughput::bandwidth::ComputeCopy::new(gpu, &compiler)?;
     for spec in bench_volumes(config) {
         let volume = make_volume(gpu, &spec, config)?;
         let scalar = volume.scalar_type();
@@ -142,15 +145,33 @@ pub(super) fn minmax_build(
         let bytes = volume.size_bytes();
         let rm = Raymarch::new(gpu, &compiler, scalar)?;
         let prepared = rm.prepare(gpu, &volume)?;
-        let usage = vk::BufferUsageFlags::TRANSFER_SRC | vk::BufferUsageFlags::TRANSFER_DST;
+        let usage = vk::BufferUsageFlags::TRANSFER_SRC
+            | vk::BufferUsageFlags::TRANSFER_DST
+            | vk::BufferUsageFlags::STORAGE_BUFFER;
         let src = gpu.upload_buffer("copy source", volume.bytes(), usage)?;
         let dst = gpu.create_buffer("copy destination", bytes, usage, MemoryLocation::GpuOnly)?;
         drop(volume);
-        let stages = time_frames(gpu, plan, 2, |rec, timer| {
+        // The compute copy moves whole 16-byte words: the volume's bytes rounded down.
+        let compute_bytes = bytes / 16 * 16;
+        let mut recorded = Ok(());
+        let grouped = MinMaxBuilder::with_pass(gpu, &compiler, scalar, LevelZeroPass::Grouped)?;
+        let stages = time_frames(gpu, plan, 4, |rec, timer| {
             timer.scope(rec, "octree-build", |rec| rm.record_build(rec, &prepared));
             rec.barrier();
+            timer.scope(rec, "octree-build-grouped", |rec| {
+                grouped.record(rec, &prepared.volume, &prepared.octree)
+            });
+            rec.barrier();
             timer.scope(rec, "copy", |rec| rec.copy_buffer(&src, &dst, bytes));
+            rec.barrier();
+            let copied = timer.scope(rec, "compute-copy", |rec| {
+                copy.record(rec, &src, &dst, compute_bytes)
+            });
+            if recorded.is_ok() {
+                recorded = copied;
+            }
         })?;
+        recorded?;
         let mut r = BenchRecord::new(gpu, "minmax-build", "minmax-octree", "compute", &name);
         (r.warmup, r.frames, r.stages) = (plan.warmup, plan.frames, stages);
         r.counts.insert("volume_bytes".into(), bytes as f64);
@@ -164,6 +185,24 @@ pub(super) fn minmax_build(
                 2.0 * bytes as f64 / copy / 1e6,
             );
             r.counts.insert("build_over_copy".into(), build / copy);
+        }
+        if let Some(grouped) = r.median_ms("octree-build-grouped") {
+            r.counts.insert(
+                "grouped_build_read_gb_per_s".into(),
+                bytes as f64 / grouped / 1e6,
+            );
+        }
+        if let (Some(build), Some(copy)) =
+            (r.median_ms("octree-build"), r.median_ms("compute-copy"))
+        {
+            r.counts.insert(
+                "compute_copy_read_write_gb_per_s".into(),
+                2.0 * compute_bytes as f64 / copy / 1e6,
+            );
+            // The build's read rate as a fraction of the rate the compute copy moves the same
+            // bytes at.
+            r.counts
+                .insert("build_rate_of_compute_copy".into(), copy / build);
         }
         sink.emit(&r)?;
     }

@@ -12,6 +12,7 @@
 //! the times compare equal work.
 
 pub mod arithmetic;
+pub mod bandwidth;
 pub mod triangles;
 
 use crate::bench::{BenchRecord, FramePlan};

@@ -1,8 +1,9 @@
 //! Min-max octree built on the GPU (paper D's empty-space-skipping structure; DESIGN §4).
 //!
-//! Level 0 holds one (min, max) per block of 8×8×4 cells, computed by one workgroup per block in
-//! a single pass over the volume; each further level is the 2×2×2 max-reduction of the one
-//! below, up to a single root. The CPU twin is `tessera_data::minmax`.
+//! Level 0 holds one (min, max) per block of 8×8×4 cells, computed in a single pass over the
+//! volume, by one workgroup per block or ([`LevelZeroPass::Grouped`]) one per 2×2×2 blocks that
+//! also writes level 1; each further level is the 2×2×2 max-reduction of the one below, up to a
+//! single root. The CPU twin is `tessera_data::minmax`.
 
 use crate::builtin_shader;
 use crate::config::volume_defines;
@@ -20,6 +21,26 @@ use tessera_gpu::{
 pub struct BlockParams {
     pub volume_dims: [u32; 4],
     pub block_dims: [u32; 4],
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+pub struct GroupParams {
+    pub volume_dims: [u32; 4],
+    pub block_dims: [u32; 4],
+    /// Level-1 nodes per axis, and in w the first one's index (0: the octree has no level 1).
+    pub parent_dims: [u32; 4],
+}
+
+/// How level 0 is computed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LevelZeroPass {
+    /// A workgroup per block, reduced by subgroup arithmetic where `subgroups`, else by a
+    /// shared-memory tree.
+    PerBlock { subgroups: bool },
+    /// A workgroup per 2×2×2 blocks, its samples read once into shared memory, writing level 1
+    /// too (`minmax_groups.comp.glsl`).
+    Grouped,
 }
 
 #[repr(C)]
@@ -89,6 +110,7 @@ pub struct MinMaxBuilder {
     blocks: Pipeline,
     reduce: Pipeline,
     scalar: ScalarType,
+    pass: LevelZeroPass,
 }
 
 /// Defines of the block pass: the volume's, and which reduction it uses.
@@ -103,21 +125,28 @@ pub(crate) fn block_defines(scalar: ScalarType, subgroups: bool) -> Vec<(String,
 
 impl MinMaxBuilder {
     pub fn new(gpu: &Gpu, compiler: &ShaderCompiler, scalar: ScalarType) -> Result<MinMaxBuilder> {
-        Self::with_reduction(gpu, compiler, scalar, gpu.caps().subgroup_arithmetic)
+        let subgroups = gpu.caps().subgroup_arithmetic;
+        Self::with_pass(gpu, compiler, scalar, LevelZeroPass::PerBlock { subgroups })
     }
 
-    /// `subgroups` picks the block reduction: subgroup arithmetic (needs device support) or a
-    /// shared-memory tree. Both give identical results; tests run both.
-    pub fn with_reduction(
+    /// `pass` picks how level 0 is computed; every pass gives identical results (tests run
+    /// them all). `PerBlock { subgroups: true }` needs subgroup arithmetic.
+    pub fn with_pass(
         gpu: &Gpu,
         compiler: &ShaderCompiler,
         scalar: ScalarType,
-        subgroups: bool,
+        pass: LevelZeroPass,
     ) -> Result<MinMaxBuilder> {
         let defines = volume_defines(scalar);
-        let block_defines = block_defines(scalar, subgroups);
-        let blocks =
-            compiler.compile(&builtin_shader!("minmax_blocks.comp.glsl"), &block_defines)?;
+        let blocks = match pass {
+            LevelZeroPass::PerBlock { subgroups } => compiler.compile(
+                &builtin_shader!("minmax_blocks.comp.glsl"),
+                &block_defines(scalar, subgroups),
+            )?,
+            LevelZeroPass::Grouped => {
+                compiler.compile(&builtin_shader!("minmax_groups.comp.glsl"), &defines)?
+            }
+        };
         let reduce = compiler.compile(&builtin_shader!("minmax_reduce.comp.glsl"), &defines)?;
         Ok(MinMaxBuilder {
             blocks: gpu.compute_pipeline(
@@ -127,6 +156,7 @@ impl MinMaxBuilder {
             )?,
             reduce: gpu.compute_pipeline("minmax reduce", &reduce, &[Slot::StorageBuffer])?,
             scalar,
+            pass,
         })
     }
 
@@ -138,23 +168,39 @@ impl MinMaxBuilder {
     /// Records the build of every level of `octree` from `volume`.
     pub fn record(&self, rec: &Recorder, volume: &GpuVolume, octree: &MinMaxOctreeGpu) {
         let d0 = octree.level_dims[0];
-        let params = BlockParams {
-            volume_dims: [volume.dims[0], volume.dims[1], volume.dims[2], 0],
-            block_dims: [d0[0], d0[1], d0[2], 0],
+        let volume_dims = [volume.dims[0], volume.dims[1], volume.dims[2], 0];
+        let block_dims = [d0[0], d0[1], d0[2], 0];
+        let bindings = [
+            Binding::Texture {
+                image: &volume.texture,
+                linear: false,
+            },
+            Binding::Buffer(&octree.nodes),
+        ];
+        let first_reduced = match self.pass {
+            LevelZeroPass::PerBlock { .. } => {
+                let params = BlockParams {
+                    volume_dims,
+                    block_dims,
+                };
+                rec.dispatch_groups(&self.blocks, &bindings, bytemuck::bytes_of(&params), d0);
+                1
+            }
+            LevelZeroPass::Grouped => {
+                let (parent_dims, groups) = match octree.level_dims.get(1) {
+                    Some(d1) => ([d1[0], d1[1], d1[2], octree.level_offsets[1]], *d1),
+                    None => ([1, 1, 1, 0], [1, 1, 1]),
+                };
+                let params = GroupParams {
+                    volume_dims,
+                    block_dims,
+                    parent_dims,
+                };
+                rec.dispatch_groups(&self.blocks, &bindings, bytemuck::bytes_of(&params), groups);
+                2
+            }
         };
-        rec.dispatch_groups(
-            &self.blocks,
-            &[
-                Binding::Texture {
-                    image: &volume.texture,
-                    linear: false,
-                },
-                Binding::Buffer(&octree.nodes),
-            ],
-            bytemuck::bytes_of(&params),
-            d0,
-        );
-        for level in 1..octree.level_dims.len() {
+        for level in first_reduced..octree.level_dims.len() {
             rec.barrier();
             let c = octree.level_dims[level - 1];
             let p = octree.level_dims[level];
