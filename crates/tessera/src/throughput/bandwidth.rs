@@ -50,7 +50,10 @@ impl ComputeCopy {
 /// The 16-byte words of a copy of `bytes` between the buffers, or why it cannot be made.
 fn words_of(bytes: u64, source: &Buffer, destination: &Buffer) -> Result<u32> {
     let words = bytes / 16;
-    if bytes % 16 != 0 || bytes > source.size.min(destination.size) || words > u64::from(u32::MAX) {
+    if !bytes.is_multiple_of(16)
+        || bytes > source.size.min(destination.size)
+        || words > u64::from(u32::MAX)
+    {
         return Err(Error::Invalid(format!(
             "compute copy of {bytes} bytes between buffers of {} and {}: whole 16-byte words \
              within both, fewer than 2^32 of them",
