@@ -24,6 +24,8 @@ python3 -c 'import venv, ensurepip' >/dev/null 2>&1 || need+=(python3-venv)
 # The viewer's tests open windows on a virtual X server; winit loads the X11 client libraries
 # when the window opens, not at link time, so their absence would only show then.
 command -v Xvfb >/dev/null 2>&1 || need+=(xvfb)
+# ... and close one from outside with xdotool.
+command -v xdotool >/dev/null 2>&1 || need+=(xdotool)
 window_libs=()
 for pair in libX11-xcb.so.1:libx11-xcb1 libXcursor.so.1:libxcursor1 libXrandr.so.2:libxrandr2 \
   libXi.so.6:libxi6 libxkbcommon-x11.so.0:libxkbcommon-x11-0; do
@@ -59,7 +61,7 @@ fi
 if [ "$can_install" = no ]; then
   echo "missing: ${need[*]}" >&2
   echo "install on Debian 12 (as root): add bookworm-backports, then" >&2
-  echo "  apt-get install -t bookworm-backports mesa-vulkan-drivers && apt-get install libvulkan1 vulkan-validationlayers xvfb ${window_libs[*]}" >&2
+  echo "  apt-get install -t bookworm-backports mesa-vulkan-drivers && apt-get install libvulkan1 vulkan-validationlayers xvfb xdotool ${window_libs[*]}" >&2
   exit 1
 fi
 
@@ -81,6 +83,9 @@ case " ${need[*]} " in
 esac
 case " ${need[*]} " in
   *" xvfb "*) apt-get install -y -qq xvfb ;;
+esac
+case " ${need[*]} " in
+  *" xdotool "*) apt-get install -y -qq xdotool ;;
 esac
 [ ${#window_libs[@]} -eq 0 ] || apt-get install -y -qq "${window_libs[@]}"
 if [ ${#optional[@]} -gt 0 ]; then

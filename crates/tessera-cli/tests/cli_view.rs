@@ -274,3 +274,83 @@ fn offscreen_runs_need_no_display() {
         stderr(&refused)
     );
 }
+
+/// Waits for `child` to end, up to `limit`; kills it and fails when it does not.
+fn wait_for_exit(child: &mut Child, limit: Duration, what: &str) -> std::process::ExitStatus {
+    let started = Instant::now();
+    loop {
+        if let Some(status) = child.try_wait().expect("poll tessera") {
+            return status;
+        }
+        if started.elapsed() > limit {
+            let _ = child.kill();
+            panic!("{what}: still running after {limit:?}");
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    }
+}
+
+/// A person closing the window (here the window destroyed from outside with xdotool, as a
+/// window manager's close does once the client ignores the request) ends the viewer: status
+/// 0, its objects freed with validation clean, the frames it drew reported.
+#[test]
+fn closing_the_window_ends_the_run_cleanly() {
+    let Some(display) = VirtualDisplay::start() else {
+        return;
+    };
+    if Command::new("xdotool").arg("version").output().is_err() {
+        tessera_test::skip(
+            "",
+            "xdotool is not installed (Debian: apt-get install xdotool)",
+        );
+        return;
+    }
+    let mut viewer = Command::new(env!("CARGO_BIN_EXE_tessera"))
+        .args(["--validation", "view", "tets:box:3", "--size", "64x48"])
+        .env("DISPLAY", &display.name)
+        .env_remove("WAYLAND_DISPLAY")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("start tessera view");
+    // The window appears once the data is loaded and the first frame drawn.
+    let started = Instant::now();
+    let window = loop {
+        let found = Command::new("xdotool")
+            .args(["search", "--name", "tessera view"])
+            .env("DISPLAY", &display.name)
+            .output()
+            .expect("xdotool search");
+        let id = String::from_utf8_lossy(&found.stdout).trim().to_string();
+        if !id.is_empty() {
+            break id.lines().next().unwrap_or_default().to_string();
+        }
+        if started.elapsed() > Duration::from_secs(30) {
+            let _ = viewer.kill();
+            panic!("no viewer window appeared");
+        }
+        std::thread::sleep(Duration::from_millis(100));
+    };
+    std::thread::sleep(Duration::from_millis(500)); // a few frames
+    let closed = Command::new("xdotool")
+        .args(["windowclose", &window])
+        .env("DISPLAY", &display.name)
+        .status()
+        .expect("xdotool windowclose");
+    assert!(closed.success());
+    let status = wait_for_exit(&mut viewer, Duration::from_secs(30), "closed viewer");
+    let output = viewer.wait_with_output().expect("viewer output");
+    let (out, err) = (
+        String::from_utf8_lossy(&output.stdout),
+        String::from_utf8_lossy(&output.stderr),
+    );
+    assert!(status.success(), "exit {status}: {err}\n{out}");
+    assert!(
+        !err.contains("validation") && !err.contains("panicked"),
+        "{err}"
+    );
+    assert!(
+        out.contains("view: ") && !out.contains("view: 0 frames"),
+        "{out}"
+    );
+}
