@@ -37,34 +37,35 @@ uint meshlet_point_slot(uvec3 p, uvec3 lo, uvec3 points) {
     return (d.z * points.y + d.y) * points.x + d.x;
 }
 
-// Exclusive prefixes of the three per-invocation counts in place, one count per invocation
-// of the first three (so the three run side by side); their totals into s_sums. Ends with a
-// barrier.
+// Exclusive prefixes of the three per-invocation counts in place, all three at once by a
+// Hillis-Steele scan (log2(MESHLET_WORKGROUP) rounds, each invocation adding the entry an
+// offset below its own); their totals into s_sums. Ends with a barrier.
 void meshlet_scan_counts() {
     uint me = gl_LocalInvocationIndex;
-    uint total = 0u;
-    if (me == 0u) {
-        for (uint i = 0u; i < MESHLET_WORKGROUP; ++i) {
-            uint c = s_core_count[i];
-            s_core_count[i] = total;
-            total += c;
+    uvec3 own = uvec3(s_core_count[me], s_padding_count[me], s_triangle_count[me]);
+    uvec3 inclusive = own;
+    for (uint offset = 1u; offset < MESHLET_WORKGROUP; offset *= 2u) {
+        uvec3 below = uvec3(0u);
+        if (me >= offset) {
+            below = uvec3(s_core_count[me - offset], s_padding_count[me - offset],
+                          s_triangle_count[me - offset]);
         }
-    } else if (me == 1u) {
-        for (uint i = 0u; i < MESHLET_WORKGROUP; ++i) {
-            uint c = s_padding_count[i];
-            s_padding_count[i] = total;
-            total += c;
-        }
-    } else if (me == 2u) {
-        for (uint i = 0u; i < MESHLET_WORKGROUP; ++i) {
-            uint c = s_triangle_count[i];
-            s_triangle_count[i] = total;
-            total += c;
-        }
+        barrier();
+        inclusive += below;
+        s_core_count[me] = inclusive.x;
+        s_padding_count[me] = inclusive.y;
+        s_triangle_count[me] = inclusive.z;
+        barrier();
     }
-    if (me < 3u) {
-        s_sums[me] = total;
+    if (me == MESHLET_WORKGROUP - 1u) {
+        s_sums[0] = inclusive.x;
+        s_sums[1] = inclusive.y;
+        s_sums[2] = inclusive.z;
     }
+    barrier();
+    s_core_count[me] = inclusive.x - own.x;
+    s_padding_count[me] = inclusive.y - own.y;
+    s_triangle_count[me] = inclusive.z - own.z;
     barrier();
 }
 
