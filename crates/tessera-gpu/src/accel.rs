@@ -214,13 +214,7 @@ impl Gpu {
     /// `minAccelerationStructureScratchOffsetAlignment` of the device.
     fn scratch_alignment(&self) -> u32 {
         let mut accel = vk::PhysicalDeviceAccelerationStructurePropertiesKHR::default();
-        let mut properties = vk::PhysicalDeviceProperties2::default().push_next(&mut accel);
-        // SAFETY: a plain query on a live physical device of this instance.
-        unsafe {
-            self.shared
-                .instance
-                .get_physical_device_properties2(self.physical_device(), &mut properties)
-        };
+        self.chained_properties(&mut accel);
         accel.min_acceleration_structure_scratch_offset_alignment
     }
 }

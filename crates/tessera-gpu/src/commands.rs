@@ -110,6 +110,23 @@ impl Recorder<'_> {
     }
 
     fn image_barrier(&self, image: &Image, from: vk::ImageLayout, to: vk::ImageLayout) {
+        self.layout_barrier(
+            image.handle,
+            full_range(image.format, image.layers),
+            from,
+            to,
+        );
+    }
+
+    /// Moves `range` of `image` from layout `from` to `to`, after all earlier writes and
+    /// before all later accesses.
+    pub(crate) fn layout_barrier(
+        &self,
+        image: vk::Image,
+        range: vk::ImageSubresourceRange,
+        from: vk::ImageLayout,
+        to: vk::ImageLayout,
+    ) {
         let barrier = [vk::ImageMemoryBarrier2::default()
             .src_stage_mask(vk::PipelineStageFlags2::ALL_COMMANDS)
             .src_access_mask(vk::AccessFlags2::MEMORY_WRITE)
@@ -117,10 +134,11 @@ impl Recorder<'_> {
             .dst_access_mask(vk::AccessFlags2::MEMORY_READ | vk::AccessFlags2::MEMORY_WRITE)
             .old_layout(from)
             .new_layout(to)
-            .image(image.handle)
-            .subresource_range(full_range(image.format, image.layers))];
+            .image(image)
+            .subresource_range(range)];
         let dep = vk::DependencyInfo::default().image_memory_barriers(&barrier);
-        // SAFETY: `self.cmd` is recording; the barrier names a live image and its full range.
+        // SAFETY: `self.cmd` is recording; the caller names a live image of this device and a
+        // range within it.
         unsafe { self.gpu.device.cmd_pipeline_barrier2(self.cmd, &dep) };
     }
 

@@ -47,6 +47,8 @@ pub struct Gpu {
     pub(crate) device: ash::Device,
     pub(crate) shared: Arc<DeviceShared>,
     pub(crate) queue: vk::Queue,
+    /// The queue's family, which presenting to a surface asks about (`window` feature).
+    #[cfg_attr(not(feature = "window"), allow(dead_code))]
     pub(crate) queue_family: u32,
     pub(crate) command_pool: vk::CommandPool,
     pub(crate) push_descriptor: ash::khr::push_descriptor::Device,
@@ -559,6 +561,17 @@ impl Gpu {
     }
 
     /// Names a Vulkan object for the validation layer and capture tools.
+    /// Fills `next` (a properties structure of an extension) from the physical device.
+    pub(crate) fn chained_properties<T: vk::ExtendsPhysicalDeviceProperties2>(&self, next: &mut T) {
+        let mut properties = vk::PhysicalDeviceProperties2::default().push_next(next);
+        // SAFETY: a plain query on a live physical device of this instance; `next` outlives it.
+        unsafe {
+            self.shared
+                .instance
+                .get_physical_device_properties2(self.physical, &mut properties)
+        };
+    }
+
     pub fn set_name<H: vk::Handle>(&self, handle: H, name: &str) {
         if let (Some(debug), Ok(name)) = (&self.debug_device, CString::new(name)) {
             let info = vk::DebugUtilsObjectNameInfoEXT::default()

@@ -86,13 +86,7 @@ impl Gpu {
 
     fn group_layout(&self) -> GroupLayout {
         let mut rt = vk::PhysicalDeviceRayTracingPipelinePropertiesKHR::default();
-        let mut properties = vk::PhysicalDeviceProperties2::default().push_next(&mut rt);
-        // SAFETY: a plain query on a live physical device of this instance.
-        unsafe {
-            self.shared
-                .instance
-                .get_physical_device_properties2(self.physical_device(), &mut properties)
-        };
+        self.chained_properties(&mut rt);
         GroupLayout {
             handle_size: u64::from(rt.shader_group_handle_size),
             handle_alignment: u64::from(rt.shader_group_handle_alignment.max(1)),

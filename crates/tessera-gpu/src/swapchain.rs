@@ -446,17 +446,6 @@ impl Recorder<'_> {
     }
 
     fn layout(&self, image: vk::Image, from: vk::ImageLayout, to: vk::ImageLayout) {
-        let barrier = [vk::ImageMemoryBarrier2::default()
-            .src_stage_mask(vk::PipelineStageFlags2::ALL_COMMANDS)
-            .src_access_mask(vk::AccessFlags2::MEMORY_WRITE)
-            .dst_stage_mask(vk::PipelineStageFlags2::ALL_COMMANDS)
-            .dst_access_mask(vk::AccessFlags2::MEMORY_READ | vk::AccessFlags2::MEMORY_WRITE)
-            .old_layout(from)
-            .new_layout(to)
-            .image(image)
-            .subresource_range(colour_range())];
-        let dep = vk::DependencyInfo::default().image_memory_barriers(&barrier);
-        // SAFETY: `self.cmd` is recording; the barrier names a live single-layer colour image.
-        unsafe { self.gpu.device.cmd_pipeline_barrier2(self.cmd, &dep) };
+        self.layout_barrier(image, colour_range(), from, to);
     }
 }
