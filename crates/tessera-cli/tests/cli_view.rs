@@ -354,3 +354,57 @@ fn closing_the_window_ends_the_run_cleanly() {
         "{out}"
     );
 }
+
+/// A stereo pair in the viewer (each eye half the window, joined on the GPU) equals `tessera
+/// render --stereo` at half the width, in a window and offscreen.
+#[test]
+fn stereo_pairs_match_render() {
+    let dir = scratch("view_stereo");
+    let data = "tets:box:3";
+    let windowed = dir.join("window.png");
+    let offscreen = dir.join("offscreen.png");
+    let script = |shot: &Path| {
+        format!(
+            "size 96x48\ncamera 40,25,1.9\nstereo 0.08\nframes 2\nscreenshot {}\n",
+            shot.display()
+        )
+    };
+    let file = dir.join("offscreen.txt");
+    std::fs::write(&file, script(&offscreen)).unwrap();
+    let o = Command::new(env!("CARGO_BIN_EXE_tessera"))
+        .args([
+            "--validation",
+            "view",
+            data,
+            "--size",
+            "96x48",
+            "--offscreen",
+        ])
+        .args(["--script", file.to_str().unwrap()])
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .expect("run tessera");
+    assert!(o.status.success(), "{}", stderr(&o));
+    let pair = ["--camera", "40,25,1.9", "--stereo", "0.08"];
+    // `render --stereo` at 48x48 writes the two 48x48 eyes side by side: 96x48.
+    let check = |shot: &Path| {
+        assert_eq!(png_size(shot), (96, 48));
+        let reference = shot.with_extension("render.png");
+        let mut args = vec!["render", data, "--size", "48x48", "-o"];
+        args.push(reference.to_str().unwrap());
+        args.extend(pair);
+        let r = tessera(&args);
+        assert!(r.status.success(), "{}", stderr(&r));
+        assert!(
+            png_pixels(shot) == png_pixels(&reference),
+            "{} differs",
+            shot.display()
+        );
+    };
+    check(&offscreen);
+    if let Some(display) = VirtualDisplay::start() {
+        view(&display, &dir, data, &script(&windowed));
+        check(&windowed);
+    }
+}

@@ -110,6 +110,7 @@ impl Panels {
             }
             ui.checkbox(&mut self.continuous, "continuous");
         });
+        stereo_control(ui, session);
         let c = &session.state.camera;
         ui.label(format!(
             "camera {:.1},{:.1},{:.2} (drag: orbit, right drag: pan, wheel: zoom, double click: reset)",
@@ -119,6 +120,22 @@ impl Panels {
             ui.colored_label(egui::Color32::LIGHT_RED, line);
         }
     }
+}
+
+/// Eye separation of a new stereo pair (world units; the data's longest side is 1).
+const DEFAULT_EYE_SEPARATION: f32 = 0.06;
+
+/// A stereo pair side by side (each eye half the window), and its eye separation.
+fn stereo_control(ui: &mut egui::Ui, session: &mut Session) {
+    ui.horizontal(|ui| {
+        let mut on = session.state.stereo.is_some();
+        if ui.checkbox(&mut on, "stereo").changed() {
+            session.state.stereo = on.then_some(DEFAULT_EYE_SEPARATION);
+        }
+        if let Some(separation) = &mut session.state.stereo {
+            ui.add(egui::Slider::new(separation, 0.005..=0.3).text("eye separation"));
+        }
+    });
 }
 
 fn technique_picker(ui: &mut egui::Ui, session: &mut Session) {

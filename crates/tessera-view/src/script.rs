@@ -14,6 +14,7 @@
 //! path compute               # graphics, compute or auto
 //! culling off                # on or off
 //! supersample 2              # samples per pixel along each axis (parametric objects)
+//! stereo 0.06                # a stereo pair with this eye separation, side by side; or off
 //! frames 10                  # render this many frames before the next step
 //! screenshot out/a.png       # write the rendered image (without the controls) as PNG
 //! ```
@@ -44,6 +45,7 @@ pub enum Step {
     Path(PathChoice),
     Culling(bool),
     Supersample(u32),
+    Stereo(Option<f32>),
     Frames(u32),
     Screenshot(PathBuf),
 }
@@ -140,6 +142,13 @@ fn parse_step(word: &str, rest: &str) -> Result<Step, String> {
             "on" => Ok(Step::Culling(true)),
             "off" => Ok(Step::Culling(false)),
             _ => Err(format!("culling '{rest}': choose on or off")),
+        },
+        "stereo" if rest == "off" => Ok(Step::Stereo(None)),
+        "stereo" => match finite(rest, "stereo")? {
+            separation if separation > 0.0 => Ok(Step::Stereo(Some(separation))),
+            _ => Err(format!(
+                "stereo: give a positive eye separation or off, not '{rest}'"
+            )),
         },
         "supersample" => match number::<u32>(rest, "supersample")? {
             k @ 1..=4 => Ok(Step::Supersample(k)),
@@ -286,6 +295,7 @@ impl Runner {
                 &Step::Path(p) => state.options.path = p,
                 &Step::Culling(on) => state.options.culling = on,
                 &Step::Supersample(k) => state.options.supersample = k,
+                &Step::Stereo(separation) => state.stereo = separation,
             }
             self.steps.pop_front();
         }

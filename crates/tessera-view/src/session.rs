@@ -32,6 +32,9 @@ pub struct ViewState {
     pub options: RendererOptions,
     pub look: Appearance,
     pub camera: OrbitCamera,
+    /// A stereo pair with this eye separation (world units), the eyes side by side, each half
+    /// the image's width (as `tessera render --stereo` at half the width).
+    pub stereo: Option<f32>,
 }
 
 /// A renderer with the state it was made for and the look it last had.
@@ -51,7 +54,10 @@ pub struct Session {
     pub home: OrbitCamera,
     /// Most recently used first.
     kept: Vec<Kept>,
+    /// The image shown: the frame, or the stereo pair side by side.
     frame: Option<Frame>,
+    /// The eyes' frames of a stereo pair.
+    eyes: Option<(Frame, Frame)>,
     /// What the last frame was rendered with; `None` before the first.
     rendered: Option<ViewState>,
     pub times: FrameTimes,
@@ -68,6 +74,7 @@ impl Session {
             options: scene.options,
             look: scene.look,
             camera: scene.camera,
+            stereo: None,
         };
         let renderer = renderer::create_for(
             gpu,
@@ -88,6 +95,7 @@ impl Session {
             home: state.camera,
             state,
             frame: None,
+            eyes: None,
             rendered: None,
             times: FrameTimes::default(),
             stats: FrameStats::default(),
@@ -114,11 +122,28 @@ impl Session {
 
     /// Whether the image no longer shows the state (or a size of `size`).
     pub fn stale(&self, size: (u32, u32)) -> bool {
+        let shown = self.image_size(size);
         self.rendered.as_ref() != Some(&self.state)
             || self
                 .frame
                 .as_ref()
-                .is_none_or(|f| (f.target.width, f.target.height) != size)
+                .is_none_or(|f| (f.target.width, f.target.height) != shown)
+    }
+
+    /// Each eye's size in a window of `size`.
+    fn eye_size(size: (u32, u32)) -> (u32, u32) {
+        ((size.0 / 2).max(1), size.1)
+    }
+
+    /// The size of the image shown in a window of `size`: a stereo pair is two whole eyes.
+    fn image_size(&self, size: (u32, u32)) -> (u32, u32) {
+        match self.state.stereo {
+            Some(_) => {
+                let eye = Self::eye_size(size);
+                (2 * eye.0, eye.1)
+            }
+            None => size,
+        }
     }
 
     /// The last rendered image, if any.
@@ -145,14 +170,25 @@ impl Session {
                 None => return Err(e),
             }
         }
+        let shown = self.image_size(size);
         if self
             .frame
             .as_ref()
-            .is_none_or(|f| (f.target.width, f.target.height) != size)
+            .is_none_or(|f| (f.target.width, f.target.height) != shown)
         {
             // The old target goes first, so the new one can take its memory.
             self.frame = None;
-            self.frame = Some(Frame::new(gpu, size)?);
+            self.frame = Some(Frame::new(gpu, shown)?);
+        }
+        let eye = Self::eye_size(size);
+        match self.state.stereo {
+            Some(_) if !matches!(&self.eyes, Some((l, _)) if (l.target.width, l.target.height) == eye) =>
+            {
+                self.eyes = None;
+                self.eyes = Some((Frame::new(gpu, eye)?, Frame::new(gpu, eye)?));
+            }
+            None => self.eyes = None,
+            Some(_) => {}
         }
         let (Some(kept), Some(frame)) = (self.kept.first_mut(), self.frame.as_mut()) else {
             return Ok(());
@@ -161,8 +197,26 @@ impl Session {
             kept.renderer.set_appearance(gpu, &self.state.look)?;
             kept.look = self.state.look.clone();
         }
-        let view = kept.renderer.view(&self.state.camera, size)?;
-        self.times = frame.render(gpu, kept.renderer.as_mut(), &view)?;
+        self.times = match (self.state.stereo, self.eyes.as_mut()) {
+            (Some(separation), Some((left, right))) => {
+                let view = kept.renderer.view(&self.state.camera, eye)?;
+                let eyes = view.stereo_pair(separation);
+                let times =
+                    renderer::render_stereo(gpu, kept.renderer.as_mut(), &eyes, left, right)?;
+                let mut joined = Ok(());
+                gpu.submit("stereo pair side by side", |rec| {
+                    joined = frame
+                        .target
+                        .record_side_by_side(rec, &left.target, &right.target);
+                })?;
+                joined?;
+                times
+            }
+            _ => {
+                let view = kept.renderer.view(&self.state.camera, size)?;
+                frame.render(gpu, kept.renderer.as_mut(), &view)?
+            }
+        };
         self.stats = kept.renderer.stats();
         self.rendered = Some(self.state.clone());
         Ok(())

@@ -2,7 +2,7 @@
 
 use crate::error::Result;
 use tessera_data::RgbaImage;
-use tessera_gpu::{vk, Buffer, Gpu, MemoryLocation};
+use tessera_gpu::{vk, Buffer, Gpu, MemoryLocation, Recorder};
 
 /// Where a frame's pixels go: packed RGBA8, one `u32` per pixel.
 pub struct Target {
@@ -32,6 +32,31 @@ impl Target {
     /// Fills every pixel with `value`, so a pixel the shader never writes is caught.
     pub fn poison(&self, gpu: &Gpu, value: u32) -> Result<()> {
         gpu.submit("poison pixels", |rec| rec.fill_buffer(&self.pixels, value))?;
+        Ok(())
+    }
+
+    /// Records `left` and `right` (of this target's height, their widths summing to its)
+    /// copied side by side into this target, row by row, as [`RgbaImage::side_by_side`] puts
+    /// two images: a stereo pair shown as one image without a read back.
+    pub fn record_side_by_side(&self, rec: &Recorder, left: &Target, right: &Target) -> Result<()> {
+        if left.height != self.height
+            || right.height != self.height
+            || left.width + right.width != self.width
+        {
+            return Err(crate::error::Error::Invalid(format!(
+                "side by side: {}x{} and {}x{} into {}x{}",
+                left.width, left.height, right.width, right.height, self.width, self.height
+            )));
+        }
+        rec.barrier();
+        for y in 0..u64::from(self.height) {
+            let row = u64::from(self.width) * 4;
+            for (part, at) in [(left, 0), (right, u64::from(left.width) * 4)] {
+                let bytes = u64::from(part.width) * 4;
+                rec.copy_buffer_range(&part.pixels, y * bytes, &self.pixels, y * row + at, bytes);
+            }
+        }
+        rec.barrier();
         Ok(())
     }
 
