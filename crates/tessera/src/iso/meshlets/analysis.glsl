@@ -19,6 +19,9 @@ shared uint s_eighth_occupied[MESHLET_EIGHTHS];
 shared uint s_eighth_padding[MESHLET_EIGHTHS];
 shared uint s_quarter_padding[MESHLET_EIGHTHS];
 shared uint s_block_padding[MESHLET_EIGHTHS];
+// Whether the whole block fits one meshlet (then its quarters' and eighths' padding is not
+// needed); uniform across the workgroup once written.
+shared bool s_block_fits;
 // Exclusive prefix of s_eighth_cells: where each eighth's cells start in `payload.cells`.
 shared uint s_first_cell[MESHLET_EIGHTHS];
 shared uint s_codes[BLOCK_X * BLOCK_Y * BLOCK_Z];
@@ -105,17 +108,33 @@ void meshlet_analyse(uint listed) {
     atomicAdd(s_eighth_triangles[e], triangles);
     atomicAdd(s_eighth_core[e], core);
     atomicOr(s_eighth_occupied[e], occupied_mask);
-    // Padding counts are only read for eighths with occupied cells (the partition's rule).
-    const uint QUARTER_CELLS = EIGHTHS_PER_QUARTER * MESHLET_EIGHTH_CELLS;
-    const uint QUARTER_INVOCATIONS = MESHLET_WORKGROUP / 4u;
-    atomicAdd(s_eighth_padding[e], meshlet_padding_share(block_origin, eighth,
-        MESHLET_EIGHTH_CELLS, part, INVOCATIONS_PER_EIGHTH, iso));
-    atomicAdd(s_quarter_padding[e], meshlet_padding_share(block_origin,
-        (me / QUARTER_INVOCATIONS) * QUARTER_CELLS, QUARTER_CELLS, me % QUARTER_INVOCATIONS,
-        QUARTER_INVOCATIONS, iso));
     atomicAdd(s_block_padding[e], meshlet_padding_share(block_origin, 0u,
         BLOCK_X * BLOCK_Y * BLOCK_Z, me, MESHLET_WORKGROUP, iso));
     barrier();
+    // Most blocks fit one meshlet whole; only the others need their quarters' and eighths'
+    // padding (counted for eighths with occupied cells only, the partition's rule).
+    if (me == 0u) {
+        uint block_v = 0u;
+        uint block_t = 0u;
+        uint block_c = 0u;
+        for (uint i = 0u; i < MESHLET_EIGHTHS; ++i) {
+            block_v += s_eighth_core[i] + s_block_padding[i];
+            block_t += s_eighth_triangles[i];
+            block_c += s_eighth_cells[i];
+        }
+        s_block_fits = meshlet_fits(block_v, block_t, block_c);
+    }
+    barrier();
+    if (!s_block_fits) {
+        const uint QUARTER_CELLS = EIGHTHS_PER_QUARTER * MESHLET_EIGHTH_CELLS;
+        const uint QUARTER_INVOCATIONS = MESHLET_WORKGROUP / 4u;
+        atomicAdd(s_eighth_padding[e], meshlet_padding_share(block_origin, eighth,
+            MESHLET_EIGHTH_CELLS, part, INVOCATIONS_PER_EIGHTH, iso));
+        atomicAdd(s_quarter_padding[e], meshlet_padding_share(block_origin,
+            (me / QUARTER_INVOCATIONS) * QUARTER_CELLS, QUARTER_CELLS, me % QUARTER_INVOCATIONS,
+            QUARTER_INVOCATIONS, iso));
+        barrier();
+    }
 
     if (me == 0u) {
         uint total = 0u;
