@@ -108,8 +108,9 @@ void meshlet_analyse(uint listed) {
     atomicAdd(s_eighth_triangles[e], triangles);
     atomicAdd(s_eighth_core[e], core);
     atomicOr(s_eighth_occupied[e], occupied_mask);
-    atomicAdd(s_block_padding[e], meshlet_padding_share(block_origin, 0u,
-        BLOCK_X * BLOCK_Y * BLOCK_Z, me, MESHLET_WORKGROUP, iso));
+    analysed_block_padding = meshlet_padding_share(block_origin, 0u, BLOCK_X * BLOCK_Y * BLOCK_Z,
+                                                   me, MESHLET_WORKGROUP, iso);
+    atomicAdd(s_block_padding[e], analysed_block_padding);
     barrier();
     // Most blocks fit one meshlet whole; only the others need their quarters' and eighths'
     // padding (counted for eighths with occupied cells only, the partition's rule).

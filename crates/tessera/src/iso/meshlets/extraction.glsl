@@ -111,7 +111,12 @@ void meshlet_extract(uint s, bool block_samples_held) {
     }
     s_core_count[me] = core;
     s_triangle_count[me] = triangles;
-    s_padding_count[me] = meshlet_padding_crossings(lo, hi, padding_first, padding_end, iso);
+    // The compute path analysed this block in this workgroup: a whole-block subblock's share
+    // is counted already.
+    bool whole_block_analysed = block_samples_held && code_count == BLOCK_X * BLOCK_Y * BLOCK_Z;
+    s_padding_count[me] = whole_block_analysed
+        ? analysed_block_padding
+        : meshlet_padding_crossings(lo, hi, padding_first, padding_end, iso);
     for (uint w = me; w < MESHLET_INDEX_WORDS; w += MESHLET_WORKGROUP) {
         s_index_words[w] = 0u;
     }
