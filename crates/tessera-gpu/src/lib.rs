@@ -12,6 +12,7 @@ pub mod accel;
 pub mod caps;
 pub mod commands;
 pub mod context;
+mod device_features;
 pub mod error;
 pub mod memory;
 pub mod pipeline;
@@ -25,6 +26,7 @@ mod submit;
 pub mod swapchain;
 pub mod timer;
 pub mod timing;
+mod transfer;
 pub mod validation;
 
 pub use accel::AccelerationStructure;

@@ -49,12 +49,13 @@ impl Target {
             )));
         }
         rec.barrier();
-        for y in 0..u64::from(self.height) {
-            let row = u64::from(self.width) * 4;
-            for (part, at) in [(left, 0), (right, u64::from(left.width) * 4)] {
-                let bytes = u64::from(part.width) * 4;
-                rec.copy_buffer_range(&part.pixels, y * bytes, &self.pixels, y * row + at, bytes);
-            }
+        let row = u64::from(self.width) * 4;
+        for (part, at) in [(left, 0), (right, u64::from(left.width) * 4)] {
+            let bytes = u64::from(part.width) * 4;
+            let rows: Vec<(u64, u64, u64)> = (0..u64::from(self.height))
+                .map(|y| (y * bytes, y * row + at, bytes))
+                .collect();
+            rec.copy_buffer_regions(&part.pixels, &self.pixels, &rows);
         }
         rec.barrier();
         Ok(())

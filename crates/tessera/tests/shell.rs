@@ -10,19 +10,17 @@
 
 mod common;
 
-use common::{assert_images_match, gpu, skip, Need, TestGpu};
+use common::shell::{camera, covered, gpu_image, layouts_and_paths, optics, paths, two_boxes, Rng};
+use common::{assert_images_match, gpu, skip};
 use glam::DVec3;
 use tessera::path::Path;
 use tessera::renderer::{self, RendererOptions, Technique};
 use tessera::shaders;
-use tessera::target::Target;
 use tessera::tet::interval::{GpuTetMesh, Integrand, Interval, IntervalOptions};
-use tessera::tet::shell::{
-    shadow_ray, GpuShellMesh, RadianceBuffer, Shell, ShellOptions, ShellRays,
-};
+use tessera::tet::shell::{shadow_ray, GpuShellMesh, Shell, ShellOptions, ShellRays};
 use tessera_data::scene::{Appearance, DataKind, Dataset, LoadOptions};
 use tessera_data::tet::emission_absorption::EmissionAbsorption;
-use tessera_data::tet::procedural::{box_mesh, exploded, ring_mesh, sphere_mesh};
+use tessera_data::tet::procedural::{box_mesh, ring_mesh, sphere_mesh};
 use tessera_data::tet::scalar_integral::normalized_scalars;
 use tessera_data::tet::shell::{
     build_layout, render_shell_reference, shadow_transmittance, trace_segments, LayoutKind, Light,
@@ -30,16 +28,9 @@ use tessera_data::tet::shell::{
 };
 use tessera_data::tet::TetMesh;
 use tessera_data::transfer::{IntegrandTable, ScalarMode, TransferFunction, TABLE_KNOTS};
-use tessera_data::{OrbitCamera, View};
-use tessera_gpu::Gpu;
 
 /// World distance from a tet edge within which `f32` and `f64` edge predicates may disagree.
 const EDGE_MARGIN: f64 = 1e-4;
-
-/// Two boxes side by side with a gap between them.
-fn two_boxes() -> TetMesh {
-    exploded(&box_mesh(2), 2, 0.5)
-}
 
 fn meshes() -> Vec<(&'static str, TetMesh)> {
     vec![
@@ -47,48 +38,6 @@ fn meshes() -> Vec<(&'static str, TetMesh)> {
         ("two boxes", two_boxes()),
         ("ring", ring_mesh(3)),
     ]
-}
-
-fn optics(density: f32) -> EmissionAbsorption {
-    EmissionAbsorption::new(&TransferFunction::preset("cool-warm").unwrap(), density)
-}
-
-/// The ways of tracing the shell the device runs: the compute path always, the ray-tracing
-/// pipeline where the device has it (else reported as skipped).
-fn paths(gpu: &TestGpu) -> Vec<Path> {
-    if gpu.has(Need::RayTracingPipeline) {
-        vec![Path::Compute, Path::Graphics]
-    } else {
-        skip(
-            "ray-tracing pipeline",
-            &format!("{} lacks ray-tracing pipelines", gpu.caps().device_name),
-        );
-        vec![Path::Compute]
-    }
-}
-
-/// Every layout on each of `paths`, the compute path of a layout first.
-fn layouts_and_paths(paths: &[Path]) -> Vec<(LayoutKind, Path)> {
-    LayoutKind::ALL
-        .into_iter()
-        .flat_map(|k| paths.iter().map(move |&p| (k, p)))
-        .collect()
-}
-
-/// A small deterministic generator (xorshift), so failures reproduce.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
-    }
-
-    fn in_box(&mut self, half: f64) -> DVec3 {
-        DVec3::new(self.next(), self.next(), self.next()) * (2.0 * half) - DVec3::splat(half)
-    }
 }
 
 /// Rays from a sphere around the mesh through points inside it, and rays from points inside
@@ -224,51 +173,6 @@ fn every_ray_visits_the_tets_the_cpu_traversal_visits() {
             );
         }
     }
-}
-
-fn camera(azimuth_deg: f32, elevation_deg: f32, distance: f32) -> OrbitCamera {
-    OrbitCamera {
-        azimuth_deg,
-        elevation_deg,
-        distance,
-        ..OrbitCamera::default()
-    }
-}
-
-/// A pixel the shader never wrote keeps this (alpha 0x12; written pixels are opaque).
-const POISON: u32 = 0x1234_5678;
-
-/// The GPU image of `shell` in layout `kind`, the target poisoned first.
-fn gpu_image(
-    gpu: &Gpu,
-    pass: &Shell,
-    mesh: &GpuShellMesh,
-    camera: &OrbitCamera,
-    size: (u32, u32),
-    background: [f32; 3],
-) -> (tessera_data::RgbaImage, TraversalStats) {
-    let target = Target::new(gpu, size.0, size.1).unwrap();
-    target.poison(gpu, POISON).unwrap();
-    let radiance = RadianceBuffer::new(gpu, size.0, size.1).unwrap();
-    let params = pass.params(mesh, &View::of_unit_box(camera, size), background);
-    let mut recorded = Ok(());
-    gpu.submit("shell test image", |rec| {
-        recorded = pass.record(rec, mesh, &target, &radiance, &params);
-    })
-    .unwrap();
-    recorded.unwrap();
-    let image = target.read(gpu).unwrap();
-    assert!(
-        image.pixels.iter().all(|&p| p != POISON),
-        "pixels left unwritten"
-    );
-    (image, pass.read_stats(gpu).unwrap())
-}
-
-/// Pixels whose colour is not the background's: the mesh covers the view.
-fn covered(image: &tessera_data::RgbaImage, background: [f32; 3]) -> f64 {
-    let bg = tessera_data::shading::pack_rgba8([background[0], background[1], background[2], 1.0]);
-    image.pixels.iter().filter(|&&p| p != bg).count() as f64 / image.pixels.len() as f64
 }
 
 #[test]

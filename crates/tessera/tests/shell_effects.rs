@@ -13,6 +13,7 @@
 
 mod common;
 
+use common::shell::{camera, optics, two_boxes};
 use common::{assert_clean, assert_images_match, gpu, skip, Need};
 use glam::DVec3;
 use tessera::path::Path;
@@ -21,28 +22,13 @@ use tessera::shaders;
 use tessera::tet::shell::{EffectBuffers, GpuShellMesh, Shell, ShellOptions};
 use tessera_data::scene::{Appearance, DataKind, Dataset, LoadOptions};
 use tessera_data::tet::emission_absorption::EmissionAbsorption;
-use tessera_data::tet::procedural::{box_mesh, exploded, sphere_mesh};
+use tessera_data::tet::procedural::sphere_mesh;
 use tessera_data::tet::scalar_integral::normalized_scalars;
 use tessera_data::tet::shell::{
     render_shell_effects_reference, render_shell_reference, GroundPlane, LayoutKind, ShellEffects,
     ShellMesh, ShellScene, TetLighting, GROUND_ALBEDO, VOLUME_AMBIENT,
 };
-use tessera_data::tet::TetMesh;
-use tessera_data::transfer::TransferFunction;
 use tessera_data::{OrbitCamera, RgbaImage, View};
-
-fn optics(density: f32) -> EmissionAbsorption {
-    EmissionAbsorption::new(&TransferFunction::preset("cool-warm").unwrap(), density)
-}
-
-fn camera(azimuth_deg: f32, elevation_deg: f32, distance: f32) -> OrbitCamera {
-    OrbitCamera {
-        azimuth_deg,
-        elevation_deg,
-        distance,
-        ..OrbitCamera::default()
-    }
-}
 
 fn ao(samples: u32, radius: f32) -> Option<AmbientOcclusion> {
     Some(AmbientOcclusion::new(samples, radius).unwrap())
@@ -89,11 +75,6 @@ fn effect_sets() -> Vec<(&'static str, ShellEffects)> {
             },
         ),
     ]
-}
-
-/// Two boxes side by side with a gap: the one shadows the other.
-fn two_boxes() -> TetMesh {
-    exploded(&box_mesh(2), 2, 0.5)
 }
 
 /// How many entries of `got` differ from `want` by more than `tolerance` in some component.

@@ -141,6 +141,11 @@ impl TetData {
         let mesh = match kind {
             "box" => tet_procedural::box_mesh(n),
             "sphere" => tet_procedural::sphere_mesh(n),
+            "ring" if n < 3 => {
+                return Err(invalid(format!(
+                    "a ring needs N of at least 3 (its hole is the middle third), not {n}"
+                )))
+            }
             "ring" => tet_procedural::ring_mesh(n),
             _ => {
                 return Err(invalid(format!(

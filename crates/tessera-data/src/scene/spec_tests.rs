@@ -144,6 +144,12 @@ fn mesh_spec_errors() {
         let err = TetData::load(spec).unwrap_err().to_string();
         assert_eq!(err, format!("'{spec}': {expected}"));
     }
+    let ring = TetData::load("tets:ring:2").unwrap_err().to_string();
+    assert!(
+        ring.contains("'tets:ring:2'") && ring.contains("at least 3"),
+        "{ring}"
+    );
+    assert!(TetData::load("tets:ring:3").is_ok());
 }
 
 #[test]

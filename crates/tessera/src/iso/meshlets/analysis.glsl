@@ -22,6 +22,8 @@ shared uint s_block_padding[MESHLET_EIGHTHS];
 // Whether the whole block fits one meshlet (then its quarters' and eighths' padding is not
 // needed); uniform across the workgroup once written.
 shared bool s_block_fits;
+// The whole block's vertices (core and padding), triangles and occupied cells.
+shared uvec3 s_block_counts;
 // Exclusive prefix of s_eighth_cells: where each eighth's cells start in `payload.cells`.
 shared uint s_first_cell[MESHLET_EIGHTHS];
 shared uint s_codes[BLOCK_X * BLOCK_Y * BLOCK_Z];
@@ -115,15 +117,13 @@ void meshlet_analyse(uint listed) {
     // Most blocks fit one meshlet whole; only the others need their quarters' and eighths'
     // padding (counted for eighths with occupied cells only, the partition's rule).
     if (me == 0u) {
-        uint block_v = 0u;
-        uint block_t = 0u;
-        uint block_c = 0u;
+        uvec3 block = uvec3(0u);
         for (uint i = 0u; i < MESHLET_EIGHTHS; ++i) {
-            block_v += s_eighth_core[i] + s_block_padding[i];
-            block_t += s_eighth_triangles[i];
-            block_c += s_eighth_cells[i];
+            block += uvec3(s_eighth_core[i] + s_block_padding[i], s_eighth_triangles[i],
+                           s_eighth_cells[i]);
         }
-        s_block_fits = meshlet_fits(block_v, block_t, block_c);
+        s_block_counts = block;
+        s_block_fits = meshlet_fits(block.x, block.y, block.z);
     }
     barrier();
     if (!s_block_fits) {
@@ -146,17 +146,11 @@ void meshlet_analyse(uint listed) {
         uint n = 0u;
         uint vertex_cursor = 0u;
         uint triangle_cursor = 0u;
-        uint block_v = 0u;
-        uint block_t = 0u;
-        for (uint i = 0u; i < MESHLET_EIGHTHS; ++i) {
-            block_v += s_eighth_core[i] + s_block_padding[i];
-            block_t += s_eighth_triangles[i];
-        }
         if (total == 0u) {
             // The block's range holds iso, yet no cell has a corner below and one above.
-        } else if (meshlet_fits(block_v, block_t, total)) {
-            meshlet_add_subblock(n, vertex_cursor, triangle_cursor, 0u,
-                                 BLOCK_X * BLOCK_Y * BLOCK_Z, block_v, block_t, 0u, total);
+        } else if (s_block_fits) {
+            meshlet_add_subblock(n, vertex_cursor, triangle_cursor, 0u, BLOCK_X * BLOCK_Y * BLOCK_Z,
+                                 s_block_counts.x, s_block_counts.y, 0u, total);
         } else {
             for (uint q = 0u; q < MESHLET_EIGHTHS; q += EIGHTHS_PER_QUARTER) {
                 uint quarter_v = 0u;

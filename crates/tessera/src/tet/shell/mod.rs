@@ -20,6 +20,7 @@ pub mod effects;
 pub mod mesh;
 mod pass;
 pub mod rays;
+mod tables;
 
 pub use effects::{EffectBuffers, EffectParams};
 pub use mesh::GpuShellMesh;
@@ -32,6 +33,7 @@ use crate::target::Target;
 use bytemuck::{Pod, Zeroable};
 use effects::LightingPass;
 use pass::ShellPass;
+use tables::{ShellTables, STATS};
 use tessera_data::tet::emission_absorption::{EmissionAbsorption, EARLY_TERMINATION_OPACITY};
 use tessera_data::tet::shell::{
     LayoutKind, SecondaryStats, ShellEffects, ShellMesh, Tet16, Tet20, Tet32, TraversalOptions,
@@ -75,24 +77,6 @@ impl RadianceBuffer {
         ))
     }
 }
-
-/// The counters of `stats.glsl`, in buffer order (each a `STAT_…` define; 64-bit counts take
-/// two, low word first).
-const STATS: [&str; 13] = [
-    "STAT_RAYS",
-    "STAT_SEGMENTS",
-    "STAT_STEPS_LOW",
-    "STAT_STEPS_HIGH",
-    "STAT_DEAD_ENDS",
-    "STAT_STEP_LIMITS",
-    "STAT_BACKWARD_STEPS",
-    "STAT_UNMATCHED_EXITS",
-    "STAT_SHADOW_RAYS",
-    "STAT_AO_RAYS",
-    "STAT_SECONDARY_STEPS_LOW",
-    "STAT_SECONDARY_STEPS_HIGH",
-    "STAT_SECONDARY_GUARD_HITS",
-];
 
 /// Push constants (`params.glsl`).
 #[repr(C)]
@@ -180,98 +164,6 @@ pub(crate) fn defines(options: &ShellOptions, knots: usize) -> Vec<(String, Stri
         u32::from(options.traces_only).to_string(),
     ));
     defines
-}
-
-/// The absorption and emission tables back to back, as `integrate.glsl` reads them.
-fn table_words(optics: &EmissionAbsorption) -> Result<Vec<[f32; 4]>> {
-    if optics.absorption.values.len() != optics.emission.values.len()
-        || optics.absorption.values.len() < 2
-    {
-        return Err(Error::Invalid(format!(
-            "shell traversal: tables of {} and {} knots (need one count, at least 2)",
-            optics.absorption.values.len(),
-            optics.emission.values.len()
-        )));
-    }
-    let mut words = optics.absorption.gpu_words();
-    words.extend(optics.emission.gpu_words());
-    Ok(words)
-}
-
-/// What every pass binds besides the mesh: the tables and the counters.
-pub(crate) struct ShellTables {
-    table: Buffer,
-    stats: Buffer,
-    knots: usize,
-}
-
-impl ShellTables {
-    fn new(gpu: &Gpu, optics: &EmissionAbsorption) -> Result<ShellTables> {
-        let words = table_words(optics)?;
-        let table = gpu.upload_buffer(
-            "shell tables",
-            bytemuck::cast_slice(&words),
-            vk::BufferUsageFlags::STORAGE_BUFFER,
-        )?;
-        let stats = gpu.upload_buffer(
-            "shell stats",
-            bytemuck::cast_slice(&[0u32; STATS.len()]),
-            vk::BufferUsageFlags::STORAGE_BUFFER
-                | vk::BufferUsageFlags::TRANSFER_DST
-                | vk::BufferUsageFlags::TRANSFER_SRC,
-        )?;
-        Ok(ShellTables {
-            table,
-            stats,
-            knots: optics.absorption.values.len(),
-        })
-    }
-
-    /// Writes `optics`' tables (of the knot count the pipelines were built for).
-    fn write(&self, gpu: &Gpu, optics: &EmissionAbsorption) -> Result<()> {
-        if optics.absorption.values.len() != self.knots {
-            return Err(Error::Invalid(format!(
-                "shell traversal: tables of {} knots for pipelines built for {}",
-                optics.absorption.values.len(),
-                self.knots
-            )));
-        }
-        Ok(gpu.write_buffer(&self.table, bytemuck::cast_slice(&table_words(optics)?))?)
-    }
-
-    fn bindings<'a>(&'a self, mesh: &'a GpuShellMesh) -> [Binding<'a>; COMMON_BINDINGS] {
-        [
-            Binding::Buffer(&mesh.vertices),
-            Binding::Buffer(&mesh.tets),
-            Binding::Buffer(&mesh.faces),
-            Binding::Buffer(&mesh.bvh),
-            Binding::Buffer(&self.table),
-            Binding::Buffer(&self.stats),
-        ]
-    }
-
-    /// The pixel rays' counts and the secondary rays'.
-    fn read_all_stats(&self, gpu: &Gpu) -> Result<(TraversalStats, SecondaryStats)> {
-        let w = tessera_gpu::timing::read_words(gpu, &self.stats)?;
-        let word = |name: &str| {
-            let i = STATS.iter().position(|s| *s == name).unwrap_or(0);
-            u64::from(w.get(i).copied().unwrap_or(0))
-        };
-        let traversal = TraversalStats {
-            rays: word("STAT_RAYS"),
-            segments: word("STAT_SEGMENTS"),
-            steps: word("STAT_STEPS_LOW") | word("STAT_STEPS_HIGH") << 32,
-            dead_ends: word("STAT_DEAD_ENDS"),
-            step_limits: word("STAT_STEP_LIMITS"),
-            backward_steps: word("STAT_BACKWARD_STEPS"),
-            unmatched_exits: word("STAT_UNMATCHED_EXITS"),
-        };
-        Ok((traversal, effects::secondary_stats(word)))
-    }
-
-    fn read_stats(&self, gpu: &Gpu) -> Result<TraversalStats> {
-        Ok(self.read_all_stats(gpu)?.0)
-    }
 }
 
 /// What each way of tracing the shell needs of a device.
