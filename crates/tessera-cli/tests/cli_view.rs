@@ -4,7 +4,7 @@
 
 mod common;
 use common::*;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Child, Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
@@ -15,52 +15,47 @@ struct VirtualDisplay {
 }
 
 impl VirtualDisplay {
-    /// A fresh server on a free display number; `None` (the test reported as skipped) when
-    /// Xvfb is not installed.
+    /// A fresh server on a display number the server picks itself (`-displayfd`), so tests
+    /// running side by side never share one; `None` (the test reported as skipped) when Xvfb
+    /// is not installed.
     fn start() -> Option<VirtualDisplay> {
-        let first = 200 + (std::process::id() % 400) * 8;
-        for number in first..first + 40 {
-            if Path::new(&format!("/tmp/.X{number}-lock")).exists() {
-                continue;
+        let spawned = Command::new("Xvfb")
+            .args([
+                "-displayfd",
+                "1",
+                "-screen",
+                "0",
+                "640x480x24",
+                "-nolisten",
+                "tcp",
+            ])
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn();
+        let mut server = match spawned {
+            Ok(server) => server,
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+                tessera_test::skip("", "Xvfb is not installed (Debian: apt-get install xvfb)");
+                return None;
             }
-            let spawned = Command::new("Xvfb")
-                .args([
-                    &format!(":{number}"),
-                    "-screen",
-                    "0",
-                    "640x480x24",
-                    "-nolisten",
-                    "tcp",
-                ])
-                .stdout(Stdio::null())
-                .stderr(Stdio::null())
-                .spawn();
-            let mut server = match spawned {
-                Ok(server) => server,
-                Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-                    tessera_test::skip("", "Xvfb is not installed (Debian: apt-get install xvfb)");
-                    return None;
-                }
-                Err(e) => panic!("starting Xvfb: {e}"),
-            };
-            let socket = PathBuf::from(format!("/tmp/.X11-unix/X{number}"));
-            let started = Instant::now();
-            while started.elapsed() < Duration::from_secs(10) {
-                if socket.exists() {
-                    return Some(VirtualDisplay {
-                        server,
-                        name: format!(":{number}"),
-                    });
-                }
-                if server.try_wait().ok().flatten().is_some() {
-                    break; // the number was taken meanwhile: try the next
-                }
-                std::thread::sleep(Duration::from_millis(20));
-            }
+            Err(e) => panic!("starting Xvfb: {e}"),
+        };
+        // The server writes its display number once it accepts connections.
+        let mut number = String::new();
+        let read = std::io::BufRead::read_line(
+            &mut std::io::BufReader::new(server.stdout.take().expect("Xvfb stdout")),
+            &mut number,
+        );
+        let number = number.trim();
+        if read.is_err() || number.is_empty() {
             let _ = server.kill();
-            let _ = server.wait();
+            let status = server.wait();
+            panic!("Xvfb gave no display number (exit {status:?})");
         }
-        panic!("no display number free for Xvfb");
+        Some(VirtualDisplay {
+            name: format!(":{number}"),
+            server,
+        })
     }
 
     /// Runs `tessera --validation ARGS` on this display.
@@ -325,9 +320,20 @@ fn closing_the_window_ends_the_run_cleanly() {
         if !id.is_empty() {
             break id.lines().next().unwrap_or_default().to_string();
         }
-        if started.elapsed() > Duration::from_secs(30) {
+        if let Some(status) = viewer.try_wait().expect("poll tessera") {
+            let output = viewer.wait_with_output().expect("viewer output");
+            panic!(
+                "the viewer ended ({status}) before its window appeared: {}",
+                String::from_utf8_lossy(&output.stderr)
+            );
+        }
+        if started.elapsed() > Duration::from_secs(60) {
             let _ = viewer.kill();
-            panic!("no viewer window appeared");
+            let output = viewer.wait_with_output().expect("viewer output");
+            panic!(
+                "no viewer window appeared in 60 s: {}",
+                String::from_utf8_lossy(&output.stderr)
+            );
         }
         std::thread::sleep(Duration::from_millis(100));
     };
