@@ -96,6 +96,7 @@ pub fn meshlet_defines(
     scalar: ScalarType,
     rule: AmbiguityRule,
     path: crate::iso::meshlets::ExtractionPath,
+    subgroup_arithmetic: bool,
 ) -> Vec<(String, String)> {
     use tessera_data::meshlets::{
         subblock::SUBBLOCK_CELL_COUNTS, MAX_OCCUPIED_CELLS, MAX_TRIANGLES, MAX_VERTICES,
@@ -111,6 +112,11 @@ pub fn meshlet_defines(
     ] {
         d.push((name.into(), format!("{value}u")));
     }
+    // A preprocessor condition: a plain 0 or 1.
+    d.push((
+        "MESHLET_SUBGROUP_SCAN".into(),
+        u32::from(path.subgroup_scan(subgroup_arithmetic)).to_string(),
+    ));
     d
 }
 

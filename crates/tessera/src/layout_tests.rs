@@ -197,6 +197,7 @@ fn meshlet_structs(t: &mut Table) {
         ScalarType::U8,
         Default::default(),
         crate::iso::meshlets::ExtractionPath::Compute,
+        true,
     );
     let extract = compile(&builtin_shader!("iso/meshlets/extract.comp.glsl"), &defines);
     let occupied = compile(

@@ -27,6 +27,11 @@ shared uvec3 s_block_counts;
 // Exclusive prefix of s_eighth_cells: where each eighth's cells start in `payload.cells`.
 shared uint s_first_cell[MESHLET_EIGHTHS];
 shared uint s_codes[BLOCK_X * BLOCK_Y * BLOCK_Z];
+#ifdef MESHLET_ROWS_FROM_ANALYSIS
+// Per Morton code of an occupied cell: its table row (bits 0-15) and case (bits 16-23), for
+// an extraction in the same workgroup, which then need not classify the cell again.
+shared uint s_code_rows[BLOCK_X * BLOCK_Y * BLOCK_Z];
+#endif
 
 const uint EIGHTHS_PER_QUARTER = MESHLET_EIGHTHS / 4u;
 const uint INVOCATIONS_PER_EIGHTH = MESHLET_WORKGROUP / MESHLET_EIGHTHS;
@@ -103,8 +108,12 @@ void meshlet_analyse(uint listed) {
         }
         cells += 1u;
         occupied_mask |= 1u << k;
-        triangles += mc_tri_count(mc_row_of_corners(corners, case_index, iso));
+        uint row = mc_row_of_corners(corners, case_index, iso);
+        triangles += mc_tri_count(row);
         core += mc_case_owned_crossings(case_index);
+#ifdef MESHLET_ROWS_FROM_ANALYSIS
+        s_code_rows[eighth + k] = row | case_index << 16;
+#endif
     }
     atomicAdd(s_eighth_cells[e], cells);
     atomicAdd(s_eighth_triangles[e], triangles);

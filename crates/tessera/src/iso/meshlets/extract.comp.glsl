@@ -1,7 +1,12 @@
 #version 460
 // Compute path of the meshlet extraction: the task stage's region analysis and the mesh
 // stage's extraction of each subblock, one after the other, in one workgroup per occupied
-// block; the payload lives in shared memory.
+// block; the payload lives in shared memory, and so do the cells' table rows the analysis
+// found, which the extraction reuses.
+#if MESHLET_SUBGROUP_SCAN
+#extension GL_KHR_shader_subgroup_arithmetic : require
+#endif
+#define MESHLET_ROWS_FROM_ANALYSIS
 #include "common/volume.glsl"
 #include "common/exact.glsl"
 #include "common/mc_tables.glsl"

@@ -16,13 +16,9 @@ const uint MESHLET_INDEX_WORDS = (MESHLET_MAX_TRIANGLES + 3u) / 4u * 3u;
 // one (bits 0-15) and its owned crossings (bits 16-18: x, y, z edge).
 shared uint s_point_vertices[MESHLET_BOX_POINTS];
 shared uint s_index_words[MESHLET_INDEX_WORDS];
+// Per occupied cell of the subblock: its table row (bits 0-15) and owned crossed edges
+// (bits 16-18: x, y, z).
 shared uint s_cell_rows[MESHLET_MAX_OCCUPIED_CELLS];
-// Per invocation: core vertices, padding vertices, triangles; then their exclusive prefixes.
-shared uint s_core_count[MESHLET_WORKGROUP];
-shared uint s_padding_count[MESHLET_WORKGROUP];
-shared uint s_triangle_count[MESHLET_WORKGROUP];
-// Totals of the counts: core vertices, padding vertices, triangles.
-shared uint s_sums[3];
 // The meshlet's AABB as float bits: positions are grid coordinates, never negative, so their
 // bits order as their values and integer atomics find the extremes.
 shared uint s_aabb_min[3];
@@ -37,37 +33,59 @@ uint meshlet_point_slot(uvec3 p, uvec3 lo, uvec3 points) {
     return (d.z * points.y + d.y) * points.x + d.x;
 }
 
-// Exclusive prefixes of the three per-invocation counts in place, all three at once by a
-// Hillis-Steele scan (log2(MESHLET_WORKGROUP) rounds, each invocation adding the entry an
-// offset below its own); their totals into s_sums. Ends with a barrier.
-void meshlet_scan_counts() {
+// Exclusive prefixes over the workgroup's invocations (in invocation order) of each one's
+// `own` counts (core vertices, padding vertices, triangles), and their totals. Call from
+// uniform control flow; the shared memory it uses is free again when it returns.
+#if MESHLET_SUBGROUP_SCAN
+// Each subgroup's sums; a subgroup has at least one invocation.
+shared uvec3 s_subgroup_sums[MESHLET_WORKGROUP];
+
+// Subgroup scans, then each invocation adds the sums of the subgroups before its own: two
+// barriers instead of the shared-memory scan's 2 log2(MESHLET_WORKGROUP).
+uvec3 meshlet_scan_counts(uvec3 own, out uvec3 totals) {
+    // The order is the invocations' only where subgroups hold consecutive invocations, as
+    // every driver lays out a one-dimensional workgroup; anything else is reported rather
+    // than numbered otherwise than the CPU reference.
+    if (gl_LocalInvocationIndex != gl_SubgroupID * gl_SubgroupSize + gl_SubgroupInvocationID) {
+        atomicOr(counters.overflow, MESHLET_OVERFLOW_MISMATCH);
+    }
+    uvec3 below = subgroupExclusiveAdd(own);
+    uvec3 sum = subgroupAdd(own);
+    if (subgroupElect()) {
+        s_subgroup_sums[gl_SubgroupID] = sum;
+    }
+    barrier();
+    totals = uvec3(0u);
+    for (uint g = 0u; g < gl_NumSubgroups; ++g) {
+        uvec3 sums = s_subgroup_sums[g];
+        below += g < gl_SubgroupID ? sums : uvec3(0u);
+        totals += sums;
+    }
+    barrier();
+    return below;
+}
+#else
+shared uvec3 s_scanned[MESHLET_WORKGROUP];
+
+// A Hillis-Steele scan in shared memory: log2(MESHLET_WORKGROUP) rounds, each invocation
+// adding the entry an offset below its own; no subgroup operations.
+uvec3 meshlet_scan_counts(uvec3 own, out uvec3 totals) {
     uint me = gl_LocalInvocationIndex;
-    uvec3 own = uvec3(s_core_count[me], s_padding_count[me], s_triangle_count[me]);
     uvec3 inclusive = own;
+    s_scanned[me] = own;
+    barrier();
     for (uint offset = 1u; offset < MESHLET_WORKGROUP; offset *= 2u) {
-        uvec3 below = uvec3(0u);
-        if (me >= offset) {
-            below = uvec3(s_core_count[me - offset], s_padding_count[me - offset],
-                          s_triangle_count[me - offset]);
-        }
+        uvec3 below = me >= offset ? s_scanned[me - offset] : uvec3(0u);
         barrier();
         inclusive += below;
-        s_core_count[me] = inclusive.x;
-        s_padding_count[me] = inclusive.y;
-        s_triangle_count[me] = inclusive.z;
+        s_scanned[me] = inclusive;
         barrier();
     }
-    if (me == MESHLET_WORKGROUP - 1u) {
-        s_sums[0] = inclusive.x;
-        s_sums[1] = inclusive.y;
-        s_sums[2] = inclusive.z;
-    }
+    totals = s_scanned[MESHLET_WORKGROUP - 1u];
     barrier();
-    s_core_count[me] = inclusive.x - own.x;
-    s_padding_count[me] = inclusive.y - own.y;
-    s_triangle_count[me] = inclusive.z - own.z;
-    barrier();
+    return inclusive - own;
 }
+#endif
 
 // `block_samples_held`: the workgroup already holds the samples of the block's box (the
 // compute path, after the analysis); otherwise it loads its subblock's. Uniform across the
@@ -100,21 +118,26 @@ void meshlet_extract(uint s, bool block_samples_held) {
     uint cell_first = me * MESHLET_CELLS_PER_EXTRACTOR;
     uint cell_end = clamp(cell_count, cell_first, cell_first + MESHLET_CELLS_PER_EXTRACTOR);
     for (uint c = cell_first; c < cell_end; ++c) {
+#ifdef MESHLET_ROWS_FROM_ANALYSIS
+        uint cached = s_code_rows[meshlet_cell_code(first_cell + c)];
+        uint row = cached & 0xffffu;
+        uint case_index = cached >> 16;
+#else
         uvec3 cell = block_origin + meshlet_cell_of_code(meshlet_cell_code(first_cell + c));
         float corners[8];
         meshlet_cell_corners(cell, corners);
         uint case_index = mc_case_of_corners(corners, iso);
         uint row = mc_row_of_corners(corners, case_index, iso);
-        s_cell_rows[c] = row;
+#endif
+        uint owned = mc_case_owned_mask(case_index);
+        s_cell_rows[c] = row | owned << 16;
         triangles += mc_tri_count(row);
-        core += mc_case_owned_crossings(case_index);
+        core += bitCount(owned);
     }
-    s_core_count[me] = core;
-    s_triangle_count[me] = triangles;
     // The compute path analysed this block in this workgroup: a whole-block subblock's share
     // is counted already.
     bool whole_block_analysed = block_samples_held && code_count == BLOCK_X * BLOCK_Y * BLOCK_Z;
-    s_padding_count[me] = whole_block_analysed
+    uint padding = whole_block_analysed
         ? analysed_block_padding
         : meshlet_padding_crossings(lo, hi, padding_first, padding_end, iso);
     for (uint w = me; w < MESHLET_INDEX_WORDS; w += MESHLET_WORKGROUP) {
@@ -124,16 +147,17 @@ void meshlet_extract(uint s, bool block_samples_held) {
         s_aabb_min[me] = 0x7f800000u;  // +inf
         s_aabb_max[me] = 0u;
     }
-    barrier();
-    meshlet_scan_counts();
-    uint core_total = s_sums[0];
-    uint vertices = core_total + s_sums[1];
+    // Its barriers also publish the words and bounds just cleared.
+    uvec3 totals;
+    uvec3 first = meshlet_scan_counts(uvec3(core, padding, triangles), totals);
+    uint core_total = totals.x;
+    uint vertices = core_total + totals.y;
     uint expected = sub.counts;
-    if (me == 0u && (vertices != (expected & 0xffffu) || s_sums[2] != expected >> 16)) {
+    if (me == 0u && (vertices != (expected & 0xffffu) || totals.z != expected >> 16)) {
         atomicOr(counters.overflow, MESHLET_OVERFLOW_MISMATCH);
     }
     uint vertex_count = min(vertices, MESHLET_MAX_VERTICES);
-    uint triangle_count = min(s_sums[2], MESHLET_MAX_TRIANGLES);
+    uint triangle_count = min(totals.z, MESHLET_MAX_TRIANGLES);
     uint first_vertex = payload.base_vertex + (sub.offsets & 0xffffu);
     uint first_triangle = payload.base_triangle + (sub.offsets >> 16);
 
@@ -143,7 +167,7 @@ void meshlet_extract(uint s, bool block_samples_held) {
     vec3 hi_bound = vec3(0.0);
     uint cell_items = cell_end - cell_first;
     uint items = cell_items + (padding_end - padding_first);
-    uint local = s_core_count[me];
+    uint local = first.x;
     for (uint i = 0u; i < items; ++i) {
         bool core = i < cell_items;
         uvec3 p;
@@ -153,13 +177,14 @@ void meshlet_extract(uint s, bool block_samples_held) {
             uint j = padding_first + i - cell_items;
             p = mc_box_point(lo, points, j);
             if (i == cell_items) {
-                local = core_total + s_padding_count[me];
+                local = core_total + first.y;
             }
             if (!any(equal(p, hi))) {
                 continue;
             }
         }
-        uint owned = meshlet_owned_crossings(p, hi, iso);
+        // A core cell lies inside the box: its case says which of its edges cross.
+        uint owned = core ? s_cell_rows[cell_first + i] >> 16 : meshlet_owned_crossings(p, hi, iso);
         if (owned != 0u) {
             s_point_vertices[meshlet_point_slot(p, lo, points)] = local | owned << 16;
         }
@@ -189,10 +214,10 @@ void meshlet_extract(uint s, bool block_samples_held) {
     barrier();
 
     // Triangles: local indices packed into shared words, then copied out whole.
-    uint t = 3u * s_triangle_count[me];  // the local index at hand
+    uint t = 3u * first.z;  // the local index at hand
     for (uint c = cell_first; c < cell_end; ++c) {
         uvec3 cell = block_origin + meshlet_cell_of_code(meshlet_cell_code(first_cell + c));
-        uint row = s_cell_rows[c];
+        uint row = s_cell_rows[c] & 0xffffu;
         for (uint i = 0u; i < 3u * mc_tri_count(row); ++i, ++t) {
             uvec3 p;
             uint axis;

@@ -12,10 +12,12 @@
 //! * [`ExtractionPath::Compute`]: one compute workgroup per block analyses it and extracts
 //!   its subblocks one after the other, the payload in shared memory.
 //!
-//! Changes from the paper: workgroups sum over shared memory, not a subgroup (lavapipe's
-//! subgroup has 8 invocations); the compute path's workgroups have 128 invocations, four per
-//! eighth of a block ([`ExtractionPath::workgroup_size`]); a block's samples are read once
-//! into shared memory (`samples.glsl`); the meshlet limits and the partition are
+//! Changes from the paper: the analysis sums over shared memory, not a subgroup (lavapipe's
+//! subgroup has 8 invocations), and the extraction's prefix sums use subgroup arithmetic of
+//! any subgroup size where the device has it; the compute path's workgroups have 128
+//! invocations, four per eighth of a block ([`ExtractionPath::workgroup_size`]), and its
+//! extraction reuses the cells' table rows its analysis found; a block's samples are read
+//! once into shared memory (`samples.glsl`); the meshlet limits and the partition are
 //! `tessera_data::meshlets`'s, whose CPU reference the output equals bit for bit once both are
 //! sorted by block and subblock. A block whose reservation passes the buffers' capacity
 //! writes nothing; the totals keep counting, so the host grows the buffers and extracts again.
@@ -76,6 +78,13 @@ impl ExtractionPath {
             ExtractionPath::MeshShaders => 32,
         }
     }
+
+    /// Whether the extraction's prefix sums use subgroup arithmetic (where the device has it
+    /// for compute shaders) rather than a shared-memory scan. The mesh stage keeps the
+    /// shared-memory scan: subgroup support there is a separate, rarer capability.
+    pub fn subgroup_scan(self, subgroup_arithmetic: bool) -> bool {
+        self == ExtractionPath::Compute && subgroup_arithmetic
+    }
 }
 
 /// The slots of the extraction pipelines, as `buffers.glsl` binds them.
@@ -127,7 +136,7 @@ impl MeshletExtractor {
                 what: "task and mesh shaders (VK_EXT_mesh_shader)".into(),
             }));
         }
-        let defines = meshlet_defines(scalar, rule, path);
+        let defines = meshlet_defines(scalar, rule, path, gpu.caps().subgroup_arithmetic);
         let occupied = compiler.compile(&builtin_shader!("occupied.comp.glsl"), &defines)?;
         let producer = match path {
             ExtractionPath::Compute => {

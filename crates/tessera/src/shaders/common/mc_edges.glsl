@@ -6,13 +6,18 @@
 // the closed box is an edge of some occupied core cell, so each vertex is used and none is
 // repeated. Needs common/volume.glsl and common/mc_tables.glsl.
 
-// Crossed edges a cell of case `case_index` owns: those from corner 0 to corners 1, 2 and 4.
-uint mc_case_owned_crossings(uint case_index) {
-    uint count = 0u;
+// Crossed edges a cell of case `case_index` owns, those from corner 0 to corners 1, 2 and 4:
+// bit `axis` set for each (as mc_owned_crossings_of gives them for a cell inside its box).
+uint mc_case_owned_mask(uint case_index) {
+    uint mask = 0u;
     for (uint axis = 0u; axis < 3u; ++axis) {
-        count += (case_index ^ (case_index >> (1u << axis))) & 1u;
+        mask |= ((case_index ^ (case_index >> (1u << axis))) & 1u) << axis;
     }
-    return count;
+    return mask;
+}
+
+uint mc_case_owned_crossings(uint case_index) {
+    return bitCount(mc_case_owned_mask(case_index));
 }
 
 // The crossed edges owned by sample `p` (value `value`) that lie inside the box ending at
