@@ -16,7 +16,8 @@ pub struct BenchArgs {
     /// (meshlets against PMB at every block size: GPU time and stored bytes), time-varying (a
     /// new volume every frame),
     /// stereo (two eyes against one), interval and shell (tet meshes), param (parametric
-    /// objects: SH glyphs) or all.
+    /// objects: SH glyphs), growth (every technique's time against pixels and data size) or
+    /// all.
     scenario: String,
     /// Append JSON lines here.
     #[arg(long)]

@@ -5,6 +5,7 @@
 mod basic;
 mod extraction;
 mod frames;
+mod growth;
 mod interval;
 mod iso;
 mod param;
@@ -34,6 +35,7 @@ pub const SCENARIOS: &[&str] = &[
     "interval",
     "shell",
     "param",
+    "growth",
 ];
 
 /// What the scenarios measure beyond their own built-in data.
@@ -101,6 +103,7 @@ pub fn run(gpu: &Gpu, name: &str, config: &BenchConfig, sink: &mut dyn RecordSin
         "interval" => interval::interval(gpu, config, plan, sink),
         "shell" => shell::shell(gpu, config, plan, sink),
         "param" => param::param(gpu, config, plan, sink),
+        "growth" => growth::growth(gpu, config, plan, sink),
         _ => Err(Error::Invalid(format!(
             "unknown scenario '{name}'; choose one of {} or all",
             SCENARIOS.join(", ")

@@ -1,0 +1,99 @@
+//! `tessera bench growth`: every technique measured along both ladders (image pixels and data
+//! size), each record carrying the sizes the plots put on their axes.
+
+mod common;
+use common::*;
+use serde_json::Value;
+use std::collections::{BTreeMap, BTreeSet};
+
+#[test]
+fn growth_measures_every_technique_along_both_ladders() {
+    let dir = scratch("bench_growth");
+    let json = dir.join("growth.jsonl");
+    let o = tessera(&[
+        "--validation",
+        "bench",
+        "growth",
+        "--quick",
+        "--frames",
+        "2",
+        "--warmup",
+        "1",
+        "--json",
+        json.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "bench failed: {}", stderr(&o));
+    let records: Vec<Value> = std::fs::read_to_string(&json)
+        .unwrap()
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    // Per (unit, technique, ladder): the (data size, pixels) points measured.
+    let mut points: BTreeMap<(String, String, String), BTreeSet<(u64, u64)>> = BTreeMap::new();
+    for r in &records {
+        assert_eq!(r["scenario"], "growth");
+        let counts = r["counts"].as_object().unwrap();
+        let unit = ["voxels", "tets", "glyphs"]
+            .into_iter()
+            .find(|u| counts.contains_key(*u))
+            .unwrap_or_else(|| panic!("no data size in {r}"));
+        let (w, h) = (r["width"].as_u64().unwrap(), r["height"].as_u64().unwrap());
+        assert_eq!(counts["pixels"].as_f64().unwrap() as u64, w * h, "{r}");
+        let stages = r["stages"].as_array().unwrap();
+        assert!(
+            stages
+                .iter()
+                .all(|s| s["median_ms"].as_f64().unwrap() > 0.0),
+            "{r}"
+        );
+        let key = (
+            unit.to_string(),
+            r["technique"].as_str().unwrap().to_string(),
+            r["variant"].as_str().unwrap().to_string(),
+        );
+        points
+            .entry(key)
+            .or_default()
+            .insert((counts[unit].as_f64().unwrap() as u64, w * h));
+    }
+    // The quick ladders: two datasets per family, two image sizes (128x72, 256x144); the
+    // pixel ladder on the middle (second) dataset, the data ladder at the middle size.
+    let families = [
+        (
+            "voxels",
+            &["raymarch", "direct", "meshlets", "pmb"][..],
+            [24u64.pow(3), 40u64.pow(3)],
+        ),
+        (
+            "tets",
+            &["interval", "shell"][..],
+            [6 * 2u64.pow(3), 6 * 3u64.pow(3)],
+        ),
+        (
+            "glyphs",
+            &["param-points", "param-tess", "sh-raytrace"][..],
+            [4, 9],
+        ),
+    ];
+    let (small, large) = (128 * 72, 256 * 144);
+    for (unit, techniques, [first, second]) in families {
+        for technique in techniques {
+            let at = |ladder: &str| {
+                points
+                    .get(&(unit.to_string(), technique.to_string(), ladder.to_string()))
+                    .cloned()
+                    .unwrap_or_default()
+            };
+            assert_eq!(
+                at("pixels"),
+                BTreeSet::from([(second, small), (second, large)]),
+                "{technique}: pixel ladder"
+            );
+            assert_eq!(
+                at("data"),
+                BTreeSet::from([(first, large), (second, large)]),
+                "{technique}: data ladder"
+            );
+        }
+    }
+}
