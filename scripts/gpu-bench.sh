@@ -1,19 +1,71 @@
 #!/usr/bin/env bash
-# Runs the benchmark set of docs/BENCHMARKS.md on a GPU machine: device facts, then each
-# scenario appended as JSON lines to $1/bench.jsonl, with a table per scenario on stdout.
-# Usage: scripts/gpu-bench.sh OUT_DIR [TESSERA_BINARY]
+# Runs the benchmark set of docs/BENCHMARKS.md on a GPU machine with the settling warm-up and
+# `--repeat` (cells whose medians move by more than 3 % between the runs are listed): device
+# facts, then each scenario appended as JSON lines to OUT/bench.jsonl (its printed table in
+# OUT/SCENARIO.txt), then the plots (when matplotlib is there) and a one-line-per-cell summary.
+# The set is split in two parts that each fit a 10-minute command; no part = both.
+# Usage: scripts/gpu-bench.sh OUT_DIR [TESSERA_BINARY] [volumes|meshes]
+# Environment: REPEAT (default 2), FRAMES (default 50), SCANS (a folder holding ch2.nii.gz),
+# EXTRA (more flags for every scenario, e.g. --quick for a smoke run on a CPU driver).
 set -uo pipefail
 out=${1:?output folder}
 bin=${2:-target/release/tessera}
+part=${3:-all}
+repeat=${REPEAT:-2}
+frames=${FRAMES:-50}
+read -r -a extra <<< "${EXTRA:-}"
 mkdir -p "$out"
 if ! "$bin" info >/dev/null 2>&1 && [ -f /usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json ]; then
   export VK_DRIVER_FILES=/usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json
 fi
-"$bin" info | tee "$out/info.txt"
+"$bin" info > "$out/info.txt"
 "$bin" info --json > "$out/info.json"
 nvidia-smi --query-gpu=name,driver_version,memory.total,clocks.max.sm --format=csv > "$out/nvidia-smi.csv" 2>&1
-date -u +%Y-%m-%dT%H:%M:%SZ > "$out/date.txt"
-for scenario in pipeline-throughput raymarch minmax-build; do
-  echo "== $scenario"
-  timeout 300 "$bin" bench "$scenario" --json "$out/bench.jsonl" 2>&1 | tee "$out/$scenario.txt"
-done
+date -u +%Y-%m-%dT%H:%M:%SZ >> "$out/date.txt"
+
+# One scenario: NAME SECONDS ARGS…; its exit status is kept in OUT/status.txt.
+run() {
+  local name=$1 limit=$2
+  shift 2
+  local start=$SECONDS
+  timeout "$limit" "$bin" bench "$@" "${extra[@]}" --repeat "$repeat" --json "$out/bench.jsonl" \
+    > "$out/$name.txt" 2>&1
+  local status=$?
+  echo "$name exit $status after $((SECONDS - start)) s" | tee -a "$out/status.txt"
+  grep -A30 "moved by more than" "$out/$name.txt" | head -20
+}
+
+if [ "$part" = all ] || [ "$part" = volumes ]; then
+  run pipeline-throughput 60 pipeline-throughput --frames "$frames"
+  run raymarch 60 raymarch --frames "$frames"
+  run minmax-build 60 minmax-build --frames "$frames"
+  run isosurface 120 isosurface --frames "$frames"
+  run iso-sweep 120 iso-sweep --sizes 3840x2160 --frames "$frames"
+  run extraction 90 extraction --paths compute --frames "$frames"
+  if [ -n "${SCANS:-}" ] && [ -f "$SCANS/ch2.nii.gz" ]; then
+    run extraction-ch2 40 extraction --paths compute --data "$SCANS/ch2.nii.gz" --frames "$frames"
+  fi
+  run time-varying 60 time-varying --frames 30
+  run stereo 60 stereo --frames 30
+fi
+if [ "$part" = all ] || [ "$part" = meshes ]; then
+  run growth 150 growth --frames 30
+  run interval 150 interval --paths compute --frames 20 --warmup 3 --max-warmup 40
+  run shell 150 shell --frames 40 --warmup 10 --max-warmup 60
+  run param 120 param --frames 30
+fi
+
+python3 "$(dirname "$0")/plot_bench.py" "$out" "$out/bench.jsonl" 2>/dev/null \
+  || echo "(no plots: matplotlib missing)"
+python3 - "$out/bench.jsonl" <<'PY'
+import json, sys
+for line in open(sys.argv[1]):
+    r = json.loads(line)
+    if r.get("repeat", 0):
+        continue
+    stages = {s["stage"]: s["median_ms"] for s in r["stages"]}
+    frame = stages.get("frame", r["stages"][-1]["median_ms"])
+    size = f'{r["width"]}x{r["height"]}' if r["width"] else "-"
+    print(f'{r["scenario"][:12]:12} {r["technique"][:12]:12} {r["path"][:8]:8} '
+          f'{r.get("variant", "")[:18]:18} {r["dataset"][:28]:28} {size:9} {frame:9.3f} ms')
+PY
