@@ -90,7 +90,7 @@ fn isosurface_structs(t: &mut Table) {
     use crate::iso::direct::compute_cull::HzbTestParams;
     use crate::iso::direct::stereo::StereoViews;
     use crate::iso::direct::DirectParams;
-    use crate::iso::minmax::{block_defines, BlockParams, GroupParams, ReduceParams};
+    use crate::iso::minmax::{block_defines, rows_defines, BlockParams, GroupParams, ReduceParams};
     use crate::iso::raymarch::RaymarchParams;
     let u8_defines = crate::config::marching_cubes_defines(ScalarType::U8, Default::default());
     let raymarch = compile(
@@ -170,6 +170,15 @@ fn isosurface_structs(t: &mut Table) {
     );
     t.push_constants::<BlockParams>(
         &blocks,
+        "BlockParams",
+        host!(BlockParams, volume_dims, block_dims),
+    );
+    let rows = compile(
+        &builtin_shader!("iso/minmax/minmax_rows.comp.glsl"),
+        &rows_defines(ScalarType::U16),
+    );
+    t.push_constants::<BlockParams>(
+        &rows,
         "BlockParams",
         host!(BlockParams, volume_dims, block_dims),
     );

@@ -4,13 +4,14 @@ mod common;
 
 use common::{assert_clean, assert_images_match, gpu};
 use tessera::gpu_volume::GpuVolume;
-use tessera::iso::minmax::{LevelZeroPass, MinMaxBuilder, MinMaxOctreeGpu};
+use tessera::iso::minmax::{samples_buffer_size, LevelZeroPass, MinMaxBuilder, MinMaxOctreeGpu};
 use tessera::iso::raymarch::Raymarch;
 use tessera::shaders;
 use tessera::target::Target;
 use tessera_data::minmax::MinMaxOctree;
 use tessera_data::procedural::{generate, ProceduralKind};
 use tessera_data::{raycast, IsoValue, OrbitCamera, Samples, ScalarType, Volume};
+use tessera_gpu::vk;
 
 const POISON: u32 = u32::MAX;
 
@@ -82,6 +83,48 @@ fn every_level_zero_pass_gives_the_cpu_octree() {
                 volume.name()
             );
         }
+        // Level 0 from a buffer of the samples: odd row lengths start rows mid-word.
+        let builder = MinMaxBuilder::new(&gpu, &compiler, volume.scalar_type()).unwrap();
+        let mut words = volume.bytes().to_vec();
+        words.resize(
+            samples_buffer_size(volume.scalar_type(), volume.dims()) as usize,
+            0xAB,
+        );
+        let samples = gpu
+            .upload_buffer("samples", &words, vk::BufferUsageFlags::STORAGE_BUFFER)
+            .unwrap();
+        let octree = MinMaxOctreeGpu::allocate(&gpu, volume.dims()).unwrap();
+        gpu.submit("poison", |rec| rec.fill_buffer(&octree.nodes, POISON))
+            .unwrap();
+        let mut recorded = Ok(());
+        gpu.submit("build from samples", |rec| {
+            recorded = builder.record_from_samples(rec, &samples, volume.dims(), &octree)
+        })
+        .unwrap();
+        recorded.unwrap();
+        assert_eq!(
+            octree.read(&gpu).unwrap(),
+            cpu,
+            "from samples, {}",
+            volume.name()
+        );
+        // A buffer short of the volume is refused.
+        let short = gpu
+            .upload_buffer(
+                "short",
+                &words[..words.len() - 4],
+                vk::BufferUsageFlags::STORAGE_BUFFER,
+            )
+            .unwrap();
+        let mut refused = Ok(());
+        gpu.submit("refused", |rec| {
+            refused = builder.record_from_samples(rec, &short, volume.dims(), &octree)
+        })
+        .unwrap();
+        assert!(refused
+            .unwrap_err()
+            .to_string()
+            .contains("samples buffer holds"));
     }
     assert_clean(&gpu);
 }

@@ -5,7 +5,7 @@
 use super::frames::{settle_after_upload, time_mono};
 use super::{time_frames, BenchConfig, BenchRecord, FramePlan, RecordSink};
 use crate::error::Result;
-use crate::iso::minmax::{LevelZeroPass, MinMaxBuilder};
+use crate::iso::minmax::{samples_buffer_size, LevelZeroPass, MinMaxBuilder};
 use crate::iso::raymarch::Raymarch;
 use crate::renderer::{self, RendererOptions, Technique};
 use tessera_data::minmax::MinMaxOctree;
@@ -148,19 +148,32 @@ pub(super) fn minmax_build(
         let usage = vk::BufferUsageFlags::TRANSFER_SRC
             | vk::BufferUsageFlags::TRANSFER_DST
             | vk::BufferUsageFlags::STORAGE_BUFFER;
-        let src = gpu.upload_buffer("copy source", volume.bytes(), usage)?;
+        // Padded to whole words: the octree's row pass reads the same buffer.
+        let mut padded = volume.bytes().to_vec();
+        padded.resize(samples_buffer_size(scalar, volume.dims()) as usize, 0);
+        let src = gpu.upload_buffer("copy source", &padded, usage)?;
+        drop(padded);
+        let dims = volume.dims();
         let dst = gpu.create_buffer("copy destination", bytes, usage, MemoryLocation::GpuOnly)?;
         drop(volume);
         // The compute copy moves whole 16-byte words: the volume's bytes rounded down.
         let compute_bytes = bytes / 16 * 16;
         let mut recorded = Ok(());
         let grouped = MinMaxBuilder::with_pass(gpu, &compiler, scalar, LevelZeroPass::Grouped)?;
-        let stages = time_frames(gpu, plan, 4, |rec, timer| {
+        let stages = time_frames(gpu, plan, 5, |rec, timer| {
             timer.scope(rec, "octree-build", |rec| rm.record_build(rec, &prepared));
             rec.barrier();
             timer.scope(rec, "octree-build-grouped", |rec| {
                 grouped.record(rec, &prepared.volume, &prepared.octree)
             });
+            rec.barrier();
+            let from_samples = timer.scope(rec, "octree-build-rows", |rec| {
+                rm.builder()
+                    .record_from_samples(rec, &src, dims, &prepared.octree)
+            });
+            if recorded.is_ok() {
+                recorded = from_samples;
+            }
             rec.barrier();
             timer.scope(rec, "copy", |rec| rec.copy_buffer(&src, &dst, bytes));
             rec.barrier();
@@ -185,6 +198,15 @@ pub(super) fn minmax_build(
                 2.0 * bytes as f64 / copy / 1e6,
             );
             r.counts.insert("build_over_copy".into(), build / copy);
+        }
+        if let (Some(rows), Some(copy)) = (
+            r.median_ms("octree-build-rows"),
+            r.median_ms("compute-copy"),
+        ) {
+            r.counts
+                .insert("rows_build_read_gb_per_s".into(), bytes as f64 / rows / 1e6);
+            r.counts
+                .insert("rows_build_rate_of_compute_copy".into(), copy / rows);
         }
         if let Some(grouped) = r.median_ms("octree-build-grouped") {
             r.counts.insert(

@@ -2,8 +2,11 @@
 //!
 //! Level 0 holds one (min, max) per block of 8×8×4 cells, computed in a single pass over the
 //! volume, by one workgroup per block or ([`LevelZeroPass::Grouped`]) one per 2×2×2 blocks that
-//! also writes level 1; each further level is the 2×2×2 max-reduction of the one below, up to a
-//! single root. The CPU twin is `tessera_data::minmax`.
+//! also writes level 1; or, where the samples are at hand in a buffer
+//! ([`MinMaxBuilder::record_from_samples`]), by row walks over that buffer, which read it
+//! in whole cache lines rather than one texel per fetch. Each further level is the 2×2×2
+//! max-reduction of the one below, up to a single root. The CPU twin is
+//! `tessera_data::minmax`.
 
 use crate::builtin_shader;
 use crate::config::volume_defines;
@@ -105,9 +108,11 @@ impl MinMaxOctreeGpu {
     }
 }
 
-/// The two compute pipelines that build the octree for volumes of one scalar type.
+/// The compute pipelines that build the octree for volumes of one scalar type.
 pub struct MinMaxBuilder {
     blocks: Pipeline,
+    /// Level 0 from a buffer of the samples (`minmax_rows.comp.glsl`).
+    rows: Pipeline,
     reduce: Pipeline,
     scalar: ScalarType,
     pass: LevelZeroPass,
@@ -119,6 +124,17 @@ pub(crate) fn block_defines(scalar: ScalarType, subgroups: bool) -> Vec<(String,
     defines.push((
         "SUBGROUP_ARITHMETIC".into(),
         u32::from(subgroups).to_string(),
+    ));
+    defines
+}
+
+/// Defines of the buffer pass: the block size and how samples are packed in 32-bit words.
+pub(crate) fn rows_defines(scalar: ScalarType) -> Vec<(String, String)> {
+    let mut defines = crate::config::common_defines();
+    defines.push(("SAMPLE_BYTES".into(), scalar.size_bytes().to_string()));
+    defines.push((
+        "SAMPLE_FLOAT".into(),
+        u32::from(scalar == ScalarType::F32).to_string(),
     ));
     defines
 }
@@ -148,7 +164,16 @@ impl MinMaxBuilder {
             }
         };
         let reduce = compiler.compile(&builtin_shader!("minmax_reduce.comp.glsl"), &defines)?;
+        let rows = compiler.compile(
+            &builtin_shader!("minmax_rows.comp.glsl"),
+            &rows_defines(scalar),
+        )?;
         Ok(MinMaxBuilder {
+            rows: gpu.compute_pipeline(
+                "minmax rows",
+                &rows,
+                &[Slot::StorageBuffer, Slot::StorageBuffer],
+            )?,
             blocks: gpu.compute_pipeline(
                 "minmax blocks",
                 &blocks,
@@ -200,6 +225,57 @@ impl MinMaxBuilder {
                 2
             }
         };
+        self.record_levels(rec, octree, first_reduced);
+    }
+
+    /// Records the build of every level of `octree` from `samples`, a buffer of a volume of
+    /// `dims` samples of this builder's type, packed x fastest and padded to whole 32-bit
+    /// words (as [`samples_buffer_size`] sizes it).
+    pub fn record_from_samples(
+        &self,
+        rec: &Recorder,
+        samples: &Buffer,
+        dims: [u32; 3],
+        octree: &MinMaxOctreeGpu,
+    ) -> Result<()> {
+        let needed = samples_buffer_size(self.scalar, dims);
+        // The shader numbers samples with 32-bit integers.
+        if needed > u64::from(u32::MAX) {
+            return Err(crate::error::Error::Invalid(format!(
+                "a {}x{}x{} {} volume is too large to build its octree from one buffer",
+                dims[0],
+                dims[1],
+                dims[2],
+                self.scalar.name()
+            )));
+        }
+        if samples.size < needed {
+            return Err(crate::error::Error::Invalid(format!(
+                "the samples buffer holds {} bytes; a {}x{}x{} {} volume needs {needed}",
+                samples.size,
+                dims[0],
+                dims[1],
+                dims[2],
+                self.scalar.name()
+            )));
+        }
+        let d0 = octree.level_dims[0];
+        let params = BlockParams {
+            volume_dims: [dims[0], dims[1], dims[2], 0],
+            block_dims: [d0[0], d0[1], d0[2], 0],
+        };
+        rec.dispatch_groups(
+            &self.rows,
+            &[Binding::Buffer(samples), Binding::Buffer(&octree.nodes)],
+            bytemuck::bytes_of(&params),
+            [d0[0].div_ceil(32), d0[1], d0[2]],
+        );
+        self.record_levels(rec, octree, 1);
+        Ok(())
+    }
+
+    /// Records levels `first_reduced..` of `octree`, each from the one below.
+    fn record_levels(&self, rec: &Recorder, octree: &MinMaxOctreeGpu, first_reduced: usize) {
         for level in first_reduced..octree.level_dims.len() {
             rec.barrier();
             let c = octree.level_dims[level - 1];
@@ -216,4 +292,11 @@ impl MinMaxBuilder {
             );
         }
     }
+}
+
+/// Bytes of a buffer that holds a volume's samples for
+/// [`MinMaxBuilder::record_from_samples`]: the samples, rounded up to whole 32-bit words.
+pub fn samples_buffer_size(scalar: ScalarType, dims: [u32; 3]) -> u64 {
+    let bytes = dims.iter().map(|&d| u64::from(d)).product::<u64>() * scalar.size_bytes() as u64;
+    bytes.div_ceil(4) * 4
 }

@@ -68,6 +68,11 @@ impl Raymarch {
     }
 
     /// Records the octree build alone (for timing it).
+    /// The octree builder, for builds from other sources than the prepared volume's texture.
+    pub fn builder(&self) -> &MinMaxBuilder {
+        &self.builder
+    }
+
     pub fn record_build(&self, rec: &Recorder, prepared: &PreparedVolume) {
         self.builder.record(rec, &prepared.volume, &prepared.octree);
     }
