@@ -3,8 +3,8 @@
 # `--repeat` (cells whose medians move by more than 3 % between the runs are listed): device
 # facts, then each scenario appended as JSON lines to OUT/bench.jsonl (its printed table in
 # OUT/SCENARIO.txt), then the plots (when matplotlib is there) and a one-line-per-cell summary.
-# The set is split in two parts that each fit a 10-minute command; no part = both.
-# Usage: scripts/gpu-bench.sh OUT_DIR [TESSERA_BINARY] [volumes|meshes]
+# The set is split in three parts that each fit a 10-minute command; no part = all three.
+# Usage: scripts/gpu-bench.sh OUT_DIR [TESSERA_BINARY] [volumes|surfaces|meshes]
 # Environment: REPEAT (default 2), FRAMES (default 50), SCANS (a folder holding ch2.nii.gz),
 # EXTRA (more flags for every scenario, e.g. --quick for a smoke run on a CPU driver).
 set -uo pipefail
@@ -39,14 +39,16 @@ if [ "$part" = all ] || [ "$part" = volumes ]; then
   run pipeline-throughput 60 pipeline-throughput --frames "$frames"
   run raymarch 60 raymarch --frames "$frames"
   run minmax-build 60 minmax-build --frames "$frames"
-  run isosurface 120 isosurface --frames "$frames"
-  run iso-sweep 120 iso-sweep --sizes 3840x2160 --frames "$frames"
+  run isosurface 150 isosurface --frames "$frames"
+  run time-varying 90 time-varying --frames 30
+fi
+if [ "$part" = all ] || [ "$part" = surfaces ]; then
+  run iso-sweep 150 iso-sweep --sizes 3840x2160 --frames "$frames"
   run extraction 90 extraction --paths compute --frames "$frames"
   if [ -n "${SCANS:-}" ] && [ -f "$SCANS/ch2.nii.gz" ]; then
     run extraction-ch2 40 extraction --paths compute --data "$SCANS/ch2.nii.gz" --frames "$frames"
   fi
-  run time-varying 60 time-varying --frames 30
-  run stereo 60 stereo --frames 30
+  run stereo 90 stereo --frames 30
 fi
 if [ "$part" = all ] || [ "$part" = meshes ]; then
   run growth 150 growth --frames 30
