@@ -83,6 +83,10 @@ const COMMON: &[(&str, &str)] = &[
         include_str!("iso/meshlets/subblock.glsl"),
     ),
     (
+        "iso/meshlets/scan.glsl",
+        include_str!("iso/meshlets/scan.glsl"),
+    ),
+    (
         "iso/meshlets/analysis.glsl",
         include_str!("iso/meshlets/analysis.glsl"),
     ),

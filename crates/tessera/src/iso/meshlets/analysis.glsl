@@ -3,31 +3,25 @@
 // evenly among its invocations): the partition into subblocks that each fit a meshlet, exactly
 // as tessera_data::meshlets::partition makes it, and the block's reservation in the output
 // buffers. Writes `payload` (declared by the includer: task payload or shared memory).
-// Sums are shared-memory atomics and one invocation's loops, so no subgroup size is
-// assumed. Needs iso/meshlets/{params,buffers,payload,samples,subblock}.glsl and the marching-cubes
-// headers (common/mc_edges.glsl among them).
+// The block's totals and where each invocation's occupied cells go come from one prefix sum
+// over the invocations (iso/meshlets/scan.glsl); per-eighth sums are shared-memory atomics.
+// Needs iso/meshlets/{params,buffers,payload,samples,subblock,scan}.glsl and the
+// marching-cubes headers (common/mc_edges.glsl among them).
 
-// Per eighth: occupied cells, their triangles, the crossed edges they own, which of its cells
-// are occupied (bit k: code 8 e + k); summed over the eighth's invocations with atomics.
+// Per eighth: occupied cells, their triangles and the crossed edges they own; summed over the
+// eighth's invocations with atomics (the partition of a block that does not fit whole).
 shared uint s_eighth_cells[MESHLET_EIGHTHS];
 shared uint s_eighth_triangles[MESHLET_EIGHTHS];
 shared uint s_eighth_core[MESHLET_EIGHTHS];
-shared uint s_eighth_occupied[MESHLET_EIGHTHS];
 // Crossed padding edges of the eighth's own box, and its invocations' shares of those of its
-// quarter's box and of the block's box (the sum over a quarter's or the block's eighths is
-// that box's count).
+// quarter's box (the sum over a quarter's eighths is that box's count).
 shared uint s_eighth_padding[MESHLET_EIGHTHS];
 shared uint s_quarter_padding[MESHLET_EIGHTHS];
-shared uint s_block_padding[MESHLET_EIGHTHS];
-// Whether the whole block fits one meshlet (then its quarters' and eighths' padding is not
-// needed); uniform across the workgroup once written.
-shared bool s_block_fits;
-// The whole block's vertices (core and padding), triangles and occupied cells.
-shared uvec3 s_block_counts;
-// Exclusive prefix of s_eighth_cells: where each eighth's cells start in `payload.cells`.
+// Where each eighth's occupied cells start in the block's list of them.
 shared uint s_first_cell[MESHLET_EIGHTHS];
+// The Morton codes of the block's occupied cells in order.
 shared uint s_codes[BLOCK_X * BLOCK_Y * BLOCK_Z];
-#ifdef MESHLET_ROWS_FROM_ANALYSIS
+#ifdef MESHLET_ANALYSIS_IN_WORKGROUP
 // Per Morton code of an occupied cell: its table row (bits 0-15) and case (bits 16-23), for
 // an extraction in the same workgroup, which then need not classify the cell again.
 shared uint s_code_rows[BLOCK_X * BLOCK_Y * BLOCK_Z];
@@ -77,10 +71,8 @@ void meshlet_analyse(uint listed) {
         s_eighth_cells[me] = 0u;
         s_eighth_triangles[me] = 0u;
         s_eighth_core[me] = 0u;
-        s_eighth_occupied[me] = 0u;
         s_eighth_padding[me] = 0u;
         s_quarter_padding[me] = 0u;
-        s_block_padding[me] = 0u;
     }
     // Ends with a barrier: the sums above start at zero for everyone.
     meshlet_load_samples(block_origin,
@@ -111,31 +103,37 @@ void meshlet_analyse(uint listed) {
         uint row = mc_row_of_corners(corners, case_index, iso);
         triangles += mc_tri_count(row);
         core += mc_case_owned_crossings(case_index);
-#ifdef MESHLET_ROWS_FROM_ANALYSIS
+#ifdef MESHLET_ANALYSIS_IN_WORKGROUP
         s_code_rows[eighth + k] = row | case_index << 16;
 #endif
     }
     atomicAdd(s_eighth_cells[e], cells);
     atomicAdd(s_eighth_triangles[e], triangles);
     atomicAdd(s_eighth_core[e], core);
-    atomicOr(s_eighth_occupied[e], occupied_mask);
     analysed_block_padding = meshlet_padding_share(block_origin, 0u, BLOCK_X * BLOCK_Y * BLOCK_Z,
                                                    me, MESHLET_WORKGROUP, iso);
-    atomicAdd(s_block_padding[e], analysed_block_padding);
-    barrier();
-    // Most blocks fit one meshlet whole; only the others need their quarters' and eighths'
-    // padding (counted for eighths with occupied cells only, the partition's rule).
-    if (me == 0u) {
-        uvec3 block = uvec3(0u);
-        for (uint i = 0u; i < MESHLET_EIGHTHS; ++i) {
-            block += uvec3(s_eighth_core[i] + s_block_padding[i], s_eighth_triangles[i],
-                           s_eighth_cells[i]);
-        }
-        s_block_counts = block;
-        s_block_fits = meshlet_fits(block.x, block.y, block.z);
+    // Invocations hold their eighth's cells in Morton order, so the prefix of the occupied
+    // cells is where this invocation's go in the block's list; the totals are the whole
+    // block's vertices (core and padding), triangles and occupied cells.
+    uvec3 block;
+    uvec3 before = meshlet_scan_counts(uvec3(cells, triangles, core + analysed_block_padding),
+                                       block);
+    uvec3 block_counts = block.zyx;
+    if (part == 0u) {
+        s_first_cell[e] = before.x;
     }
-    barrier();
-    if (!s_block_fits) {
+    uint at = before.x;
+    for (uint k = first_k; k < first_k + CELLS_PER_INVOCATION; ++k) {
+        if ((occupied_mask & (1u << k)) != 0u) {
+            s_codes[at] = eighth + k;
+            at += 1u;
+        }
+    }
+    // Most blocks fit one meshlet whole; only the others need their quarters' and eighths'
+    // padding (counted for eighths with occupied cells only, the partition's rule). The
+    // totals are the same in every invocation, so the branch is uniform.
+    bool block_fits = meshlet_fits(block_counts.x, block_counts.y, block_counts.z);
+    if (!block_fits) {
         const uint QUARTER_CELLS = EIGHTHS_PER_QUARTER * MESHLET_EIGHTH_CELLS;
         const uint QUARTER_INVOCATIONS = MESHLET_WORKGROUP / 4u;
         atomicAdd(s_eighth_padding[e], meshlet_padding_share(block_origin, eighth,
@@ -143,23 +141,19 @@ void meshlet_analyse(uint listed) {
         atomicAdd(s_quarter_padding[e], meshlet_padding_share(block_origin,
             (me / QUARTER_INVOCATIONS) * QUARTER_CELLS, QUARTER_CELLS, me % QUARTER_INVOCATIONS,
             QUARTER_INVOCATIONS, iso));
-        barrier();
     }
+    barrier();
 
     if (me == 0u) {
-        uint total = 0u;
-        for (uint i = 0u; i < MESHLET_EIGHTHS; ++i) {
-            s_first_cell[i] = total;
-            total += s_eighth_cells[i];
-        }
+        uint total = block_counts.z;
         uint n = 0u;
         uint vertex_cursor = 0u;
         uint triangle_cursor = 0u;
         if (total == 0u) {
             // The block's range holds iso, yet no cell has a corner below and one above.
-        } else if (s_block_fits) {
+        } else if (block_fits) {
             meshlet_add_subblock(n, vertex_cursor, triangle_cursor, 0u, BLOCK_X * BLOCK_Y * BLOCK_Z,
-                                 s_block_counts.x, s_block_counts.y, 0u, total);
+                                 block_counts.x, block_counts.y, 0u, total);
         } else {
             for (uint q = 0u; q < MESHLET_EIGHTHS; q += EIGHTHS_PER_QUARTER) {
                 uint quarter_v = 0u;
@@ -213,20 +207,13 @@ void meshlet_analyse(uint listed) {
         }
         block_meshlets[listed] = uvec2(payload.base_meshlet, n);
     }
-    barrier();
-
-    // The occupied cells' codes in order, packed four to a word.
-    uint at = s_first_cell[e] + bitCount(s_eighth_occupied[e] & ((1u << first_k) - 1u));
-    for (uint k = first_k; k < first_k + CELLS_PER_INVOCATION; ++k) {
-        if ((occupied_mask & (1u << k)) != 0u) {
-            s_codes[at] = eighth + k;
-            at += 1u;
-        }
-    }
-    barrier();
+#ifndef MESHLET_ANALYSIS_IN_WORKGROUP
+    // The mesh workgroups read the occupied cells' codes from the payload, four to a word;
+    // an extraction in this workgroup reads s_codes itself.
     for (uint w = me; w < BLOCK_X * BLOCK_Y * BLOCK_Z / 4u; w += MESHLET_WORKGROUP) {
         payload.cells[w] = (s_codes[4u * w] & 255u) | (s_codes[4u * w + 1u] & 255u) << 8
             | (s_codes[4u * w + 2u] & 255u) << 16 | (s_codes[4u * w + 3u] & 255u) << 24;
     }
+#endif
     barrier();
 }

@@ -1,12 +1,12 @@
 #version 460
 // Compute path of the meshlet extraction: the task stage's region analysis and the mesh
 // stage's extraction of each subblock, one after the other, in one workgroup per occupied
-// block; the payload lives in shared memory, and so do the cells' table rows the analysis
-// found, which the extraction reuses.
+// block; the payload lives in shared memory, and the extraction reads the analysis's list of
+// occupied cells and their table rows from shared memory too.
 #if MESHLET_SUBGROUP_SCAN
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #endif
-#define MESHLET_ROWS_FROM_ANALYSIS
+#define MESHLET_ANALYSIS_IN_WORKGROUP
 #include "common/volume.glsl"
 #include "common/exact.glsl"
 #include "common/mc_tables.glsl"
@@ -19,6 +19,7 @@
 #include "iso/meshlets/payload.glsl"
 #include "iso/meshlets/samples.glsl"
 #include "iso/meshlets/subblock.glsl"
+#include "iso/meshlets/scan.glsl"
 
 layout(local_size_x = MESHLET_WORKGROUP) in;
 shared MeshletPayload payload;

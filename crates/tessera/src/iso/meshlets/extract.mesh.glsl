@@ -15,6 +15,7 @@
 #include "iso/meshlets/payload.glsl"
 #include "iso/meshlets/samples.glsl"
 #include "iso/meshlets/subblock.glsl"
+#include "iso/meshlets/scan.glsl"
 
 layout(local_size_x = MESHLET_WORKGROUP) in;
 layout(triangles, max_vertices = 3, max_primitives = 1) out;

@@ -24,68 +24,20 @@ shared uint s_cell_rows[MESHLET_MAX_OCCUPIED_CELLS];
 shared uint s_aabb_min[3];
 shared uint s_aabb_max[3];
 
+// The Morton code of the block's `i`-th occupied cell: from the analysis's list where it ran
+// in this workgroup, else from the payload, four to a word.
 uint meshlet_cell_code(uint i) {
+#ifdef MESHLET_ANALYSIS_IN_WORKGROUP
+    return s_codes[i];
+#else
     return (payload.cells[i >> 2] >> ((i & 3u) * 8u)) & 255u;
+#endif
 }
 
 uint meshlet_point_slot(uvec3 p, uvec3 lo, uvec3 points) {
     uvec3 d = p - lo;
     return (d.z * points.y + d.y) * points.x + d.x;
 }
-
-// Exclusive prefixes over the workgroup's invocations (in invocation order) of each one's
-// `own` counts (core vertices, padding vertices, triangles), and their totals. Call from
-// uniform control flow; the shared memory it uses is free again when it returns.
-#if MESHLET_SUBGROUP_SCAN
-// Each subgroup's sums; a subgroup has at least one invocation.
-shared uvec3 s_subgroup_sums[MESHLET_WORKGROUP];
-
-// Subgroup scans, then each invocation adds the sums of the subgroups before its own: two
-// barriers instead of the shared-memory scan's 2 log2(MESHLET_WORKGROUP).
-uvec3 meshlet_scan_counts(uvec3 own, out uvec3 totals) {
-    // The order is the invocations' only where subgroups hold consecutive invocations, as
-    // every driver lays out a one-dimensional workgroup; anything else is reported rather
-    // than numbered otherwise than the CPU reference.
-    if (gl_LocalInvocationIndex != gl_SubgroupID * gl_SubgroupSize + gl_SubgroupInvocationID) {
-        atomicOr(counters.overflow, MESHLET_OVERFLOW_MISMATCH);
-    }
-    uvec3 below = subgroupExclusiveAdd(own);
-    uvec3 sum = subgroupAdd(own);
-    if (subgroupElect()) {
-        s_subgroup_sums[gl_SubgroupID] = sum;
-    }
-    barrier();
-    totals = uvec3(0u);
-    for (uint g = 0u; g < gl_NumSubgroups; ++g) {
-        uvec3 sums = s_subgroup_sums[g];
-        below += g < gl_SubgroupID ? sums : uvec3(0u);
-        totals += sums;
-    }
-    barrier();
-    return below;
-}
-#else
-shared uvec3 s_scanned[MESHLET_WORKGROUP];
-
-// A Hillis-Steele scan in shared memory: log2(MESHLET_WORKGROUP) rounds, each invocation
-// adding the entry an offset below its own; no subgroup operations.
-uvec3 meshlet_scan_counts(uvec3 own, out uvec3 totals) {
-    uint me = gl_LocalInvocationIndex;
-    uvec3 inclusive = own;
-    s_scanned[me] = own;
-    barrier();
-    for (uint offset = 1u; offset < MESHLET_WORKGROUP; offset *= 2u) {
-        uvec3 below = me >= offset ? s_scanned[me - offset] : uvec3(0u);
-        barrier();
-        inclusive += below;
-        s_scanned[me] = inclusive;
-        barrier();
-    }
-    totals = s_scanned[MESHLET_WORKGROUP - 1u];
-    barrier();
-    return inclusive - own;
-}
-#endif
 
 // `block_samples_held`: the workgroup already holds the samples of the block's box (the
 // compute path, after the analysis); otherwise it loads its subblock's. Uniform across the
@@ -118,7 +70,7 @@ void meshlet_extract(uint s, bool block_samples_held) {
     uint cell_first = me * MESHLET_CELLS_PER_EXTRACTOR;
     uint cell_end = clamp(cell_count, cell_first, cell_first + MESHLET_CELLS_PER_EXTRACTOR);
     for (uint c = cell_first; c < cell_end; ++c) {
-#ifdef MESHLET_ROWS_FROM_ANALYSIS
+#ifdef MESHLET_ANALYSIS_IN_WORKGROUP
         uint cached = s_code_rows[meshlet_cell_code(first_cell + c)];
         uint row = cached & 0xffffu;
         uint case_index = cached >> 16;
