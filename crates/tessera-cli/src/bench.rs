@@ -56,6 +56,10 @@ pub struct BenchArgs {
     /// Image sizes to measure, in this order (default 1280x720,1920x1080,3840x2160).
     #[arg(long, value_delimiter = ',', value_parser = crate::data::parse_size)]
     pub(crate) sizes: Vec<(u32, u32)>,
+    /// `extraction` also times each extractor with stages left out (filtering only, analysis
+    /// only, no vertex arithmetic): what each stage costs, for performance work.
+    #[arg(long)]
+    ablations: bool,
 }
 
 fn parse_path(text: &str) -> std::result::Result<Path, String> {
@@ -183,6 +187,7 @@ pub fn run(options: &GpuOptions, args: &BenchArgs) -> Result<()> {
         raw: args.volume.raw_options(),
         paths: args.paths.clone(),
         sizes: args.sizes.clone(),
+        ablations: args.ablations,
     };
     for repeat in 0..args.repeat {
         if args.repeat > 1 {

@@ -19,6 +19,10 @@ const COMMON: &[(&str, &str)] = &[
         include_str!("shaders/common/exact.glsl"),
     ),
     (
+        "common/ablation.glsl",
+        include_str!("shaders/common/ablation.glsl"),
+    ),
+    (
         "common/mc_cell.glsl",
         include_str!("shaders/common/mc_cell.glsl"),
     ),

@@ -6,6 +6,7 @@
 use super::basic::{bench_volumes, make_volume};
 use super::{time_frames, BenchConfig, BenchRecord, FramePlan, RecordSink};
 use crate::error::Result;
+use crate::iso::ablation::Ablation;
 use crate::iso::meshlets::{ExtractionPath, MeshletExtractor};
 use crate::iso::minmax::MinMaxBuilder;
 use crate::iso::pmb::PmbExtractor;
@@ -64,6 +65,25 @@ pub(super) fn extraction(
                 best_pmb = Some((best_ms.min(ms), best_bytes.min(bytes)));
             }
             sink.emit(&r)?;
+            // The ablated extractions write into the buffers the whole one grew.
+            for ablation in config
+                .ablations
+                .then_some(Ablation::PMB)
+                .unwrap_or_default()
+            {
+                let ablated = PmbExtractor::ablated(gpu, &compiler, scalar, rule, size, ablation)?;
+                let stages = time_frames(gpu, plan, 1, |rec, timer| {
+                    timer.scope(rec, "extraction", |rec| {
+                        ablated.record(rec, &prepared, iso, &out)
+                    });
+                })?;
+                let cell = Cell {
+                    technique: "pmb",
+                    path: "compute",
+                    dataset: &name,
+                };
+                sink.emit(&cell.ablated(gpu, &size.name(), ablation, plan, stages))?;
+            }
         }
         for &(path, path_name) in &paths {
             let ex = MeshletExtractor::new(gpu, &compiler, scalar, rule, path)?;
@@ -94,7 +114,58 @@ pub(super) fn extraction(
                 );
             }
             sink.emit(&r)?;
+            for ablation in config
+                .ablations
+                .then_some(Ablation::MESHLETS)
+                .unwrap_or_default()
+            {
+                let ablated =
+                    MeshletExtractor::ablated(gpu, &compiler, scalar, rule, path, ablation)?;
+                let mut recorded = Ok(());
+                let stages = time_frames(gpu, plan, 1, |rec, timer| {
+                    let result = timer.scope(rec, "extraction", |rec| {
+                        ablated.record(rec, &prepared, iso, &out)
+                    });
+                    recorded = recorded.clone().and(result.map_err(|e| e.to_string()));
+                })?;
+                recorded.map_err(crate::error::Error::Invalid)?;
+                let cell = Cell {
+                    technique: "meshlets",
+                    path: path_name,
+                    dataset: &name,
+                };
+                sink.emit(&cell.ablated(gpu, "", ablation, plan, stages))?;
+            }
         }
     }
     Ok(())
+}
+
+/// Which extraction an ablated record belongs to.
+struct Cell<'a> {
+    technique: &'a str,
+    path: &'a str,
+    dataset: &'a str,
+}
+
+impl Cell<'_> {
+    /// The record of `stages` timed with `ablation`; its variant names the ablation after
+    /// `variant` (PMB's block size).
+    fn ablated(
+        &self,
+        gpu: &Gpu,
+        variant: &str,
+        ablation: Ablation,
+        plan: FramePlan,
+        stages: Vec<super::StageStats>,
+    ) -> BenchRecord {
+        let mut r = BenchRecord::new(gpu, "extraction", self.technique, self.path, self.dataset);
+        r.variant = if variant.is_empty() {
+            format!("ablation: {}", ablation.name())
+        } else {
+            format!("{variant}, ablation: {}", ablation.name())
+        };
+        (r.warmup, r.frames, r.stages) = (plan.warmup, plan.frames, stages);
+        r
+    }
 }

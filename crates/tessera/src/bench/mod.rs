@@ -56,6 +56,9 @@ pub struct BenchConfig {
     pub paths: Vec<Path>,
     /// Image sizes to measure, in this order (empty: each scenario's own).
     pub sizes: Vec<(u32, u32)>,
+    /// `extraction` also times each extractor with stages left out
+    /// ([`crate::iso::ablation::Ablation`]), for performance work.
+    pub ablations: bool,
 }
 
 impl Default for BenchConfig {
@@ -68,6 +71,7 @@ impl Default for BenchConfig {
             raw: RawOptions::default(),
             paths: Vec::new(),
             sizes: Vec::new(),
+            ablations: false,
         }
     }
 }

@@ -1,5 +1,6 @@
 //! Isosurface techniques over regular volumes (papers C and D and their references).
 
+pub mod ablation;
 pub mod attempts;
 pub mod direct;
 pub mod meshlet_draw;

@@ -8,6 +8,7 @@
 #endif
 #define MESHLET_ANALYSIS_IN_WORKGROUP
 #include "common/volume.glsl"
+#include "common/ablation.glsl"
 #include "common/exact.glsl"
 #include "common/mc_tables.glsl"
 #include "common/mc_cell.glsl"
@@ -33,8 +34,10 @@ void main() {
         return;  // the last row of a 2-D grid; uniform across the workgroup
     }
     meshlet_analyse(listed);
+#if EXTRACTION_ABLATION != ABLATION_ANALYSIS_ONLY
     for (uint s = 0u; s < payload.subblock_count; ++s) {
         meshlet_extract(s, true);
         barrier();
     }
+#endif
 }

@@ -4,6 +4,7 @@
 // emitted for the rasterizer.
 #extension GL_EXT_mesh_shader : require
 #include "common/volume.glsl"
+#include "common/ablation.glsl"
 #include "common/exact.glsl"
 #include "common/mc_tables.glsl"
 #include "common/mc_cell.glsl"

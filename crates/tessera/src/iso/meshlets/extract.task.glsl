@@ -3,6 +3,7 @@
 // analysis of one occupied block, one mesh workgroup per subblock of its partition.
 #extension GL_EXT_mesh_shader : require
 #include "common/volume.glsl"
+#include "common/ablation.glsl"
 #include "common/exact.glsl"
 #include "common/mc_tables.glsl"
 #include "common/mc_cell.glsl"
@@ -31,5 +32,8 @@ void main() {
     if (listed_block) {
         meshlet_analyse(listed);
     }
+#if EXTRACTION_ABLATION == ABLATION_ANALYSIS_ONLY
+    listed_block = false;
+#endif
     EmitMeshTasksEXT(listed_block ? payload.subblock_count : 0u, 1u, 1u);
 }

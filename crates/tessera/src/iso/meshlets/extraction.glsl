@@ -147,7 +147,12 @@ void meshlet_extract(uint s, bool block_samples_held) {
             if (local < vertex_count) {
                 vec3 position;
                 vec3 normal;
+#if EXTRACTION_ABLATION == ABLATION_NO_VERTEX_ARITHMETIC
+                position = vec3(p);
+                normal = vec3(0.0, 0.0, 1.0);
+#else
                 meshlet_edge_vertex(p, axis, iso, position, normal);
+#endif
                 uint v = first_vertex + local;
                 for (uint a = 0u; a < 3u; ++a) {
                     positions[3u * v + a] = position[a];

@@ -34,6 +34,7 @@ pub use buffers::{
 use crate::builtin_shader;
 use crate::config::meshlet_defines;
 use crate::error::{Error, Result};
+use crate::iso::ablation::Ablation;
 use crate::iso::attempts::extract_with_retries;
 use crate::iso::direct::block_list;
 use crate::iso::PreparedVolume;
@@ -116,6 +117,7 @@ pub struct MeshletExtractor {
     scalar: ScalarType,
     /// Workgroups one dispatch may launch along x on this device.
     max_groups_x: u32,
+    ablation: Ablation,
 }
 
 impl MeshletExtractor {
@@ -128,6 +130,19 @@ impl MeshletExtractor {
         rule: AmbiguityRule,
         path: ExtractionPath,
     ) -> Result<MeshletExtractor> {
+        Self::ablated(gpu, compiler, scalar, rule, path, Ablation::None)
+    }
+
+    /// [`Self::new`] with a stage left out, for performance work: what it writes is not a
+    /// surface.
+    pub fn ablated(
+        gpu: &Gpu,
+        compiler: &ShaderCompiler,
+        scalar: ScalarType,
+        rule: AmbiguityRule,
+        path: ExtractionPath,
+        ablation: Ablation,
+    ) -> Result<MeshletExtractor> {
         if path == ExtractionPath::MeshShaders
             && !(gpu.caps().mesh_shader && gpu.caps().task_shader)
         {
@@ -136,7 +151,8 @@ impl MeshletExtractor {
                 what: "task and mesh shaders (VK_EXT_mesh_shader)".into(),
             }));
         }
-        let defines = meshlet_defines(scalar, rule, path, gpu.caps().subgroup_arithmetic);
+        let mut defines = meshlet_defines(scalar, rule, path, gpu.caps().subgroup_arithmetic);
+        defines.push(ablation.define());
         let occupied = compiler.compile(&builtin_shader!("occupied.comp.glsl"), &defines)?;
         let producer = match path {
             ExtractionPath::Compute => {
@@ -184,6 +200,7 @@ impl MeshletExtractor {
             producer,
             scalar,
             max_groups_x: gpu.caps().max_compute_workgroup_count[0],
+            ablation,
         })
     }
 
@@ -240,6 +257,9 @@ impl MeshletExtractor {
             bx * by * bz,
             self.max_groups_x,
         );
+        if self.ablation == Ablation::FilteringOnly {
+            return Ok(());
+        }
         let bindings = [
             Binding::Texture {
                 image: &prepared.volume.texture,

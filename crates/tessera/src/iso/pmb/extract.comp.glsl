@@ -14,6 +14,7 @@
 // and extracts again.
 #extension GL_EXT_shader_16bit_storage : require
 #include "common/volume.glsl"
+#include "common/ablation.glsl"
 #include "common/exact.glsl"
 #include "common/mc_tables.glsl"
 #include "common/mc_cell.glsl"
@@ -134,7 +135,12 @@ void main() {
             uint axis = findLSB(owned);
             vec3 position;
             vec3 normal;
+#if EXTRACTION_ABLATION == ABLATION_NO_VERTEX_ARITHMETIC
+            position = vec3(p);
+            normal = vec3(0.0, 0.0, 1.0);
+#else
             mc_exact_edge_vertex(volume_tex, p, axis, iso, dims, position, normal);
+#endif
             uint v = s_reserved[0] + local;
             for (uint a = 0u; a < 3u; ++a) {
                 positions[3u * v + a] = position[a];

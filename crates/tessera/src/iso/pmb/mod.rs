@@ -18,6 +18,7 @@ pub use tessera_data::pmb::{PmbBlock, PmbBlockSize, PmbMesh};
 use crate::builtin_shader;
 use crate::config::pmb_defines;
 use crate::error::{Error, Result};
+use crate::iso::ablation::Ablation;
 use crate::iso::attempts::{extract_with_retries, Extraction};
 use crate::iso::direct::block_list;
 use crate::iso::PreparedVolume;
@@ -61,6 +62,7 @@ pub struct PmbExtractor {
     block_size: PmbBlockSize,
     /// Workgroups one dispatch may launch along x on this device.
     max_groups_x: u32,
+    ablation: Ablation,
 }
 
 impl PmbExtractor {
@@ -72,7 +74,26 @@ impl PmbExtractor {
         rule: AmbiguityRule,
         block_size: PmbBlockSize,
     ) -> Result<PmbExtractor> {
-        let defines = pmb_defines(scalar, rule, block_size);
+        Self::ablated(gpu, compiler, scalar, rule, block_size, Ablation::None)
+    }
+
+    /// [`Self::new`] with a stage left out, for performance work: what it writes is not a
+    /// surface. PMB has no region analysis to keep alone.
+    pub fn ablated(
+        gpu: &Gpu,
+        compiler: &ShaderCompiler,
+        scalar: ScalarType,
+        rule: AmbiguityRule,
+        block_size: PmbBlockSize,
+        ablation: Ablation,
+    ) -> Result<PmbExtractor> {
+        if ablation == Ablation::AnalysisOnly {
+            return Err(Error::Invalid(
+                "PMB has no region analysis to time alone".into(),
+            ));
+        }
+        let mut defines = pmb_defines(scalar, rule, block_size);
+        defines.push(ablation.define());
         let occupied = compiler.compile(&builtin_shader!("occupied.comp.glsl"), &defines)?;
         let extract = compiler.compile(&builtin_shader!("extract.comp.glsl"), &defines)?;
         Ok(PmbExtractor {
@@ -86,6 +107,7 @@ impl PmbExtractor {
             scalar,
             block_size,
             max_groups_x: gpu.caps().max_compute_workgroup_count[0],
+            ablation,
         })
     }
 
@@ -138,6 +160,9 @@ impl PmbExtractor {
             bx * by * bz,
             self.max_groups_x,
         );
+        if self.ablation == Ablation::FilteringOnly {
+            return;
+        }
         rec.dispatch_indirect(
             &self.extract,
             &[

@@ -1,0 +1,48 @@
+//! Stages left out of an extraction, for performance work: timing an extraction with and
+//! without a stage says what the stage costs where no profiler reads the GPU's counters. What
+//! an ablated extraction writes is not a surface; only `tessera bench extraction --ablations`
+//! runs them.
+
+/// A stage left out (or made trivial).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Ablation {
+    /// The whole extraction.
+    #[default]
+    None,
+    /// Occupied-block filtering and compaction only, no extraction dispatch.
+    FilteringOnly,
+    /// The meshlets' region analysis without the extraction of its subblocks.
+    AnalysisOnly,
+    /// Every step, but each vertex placed at its edge's start with a fixed normal instead of
+    /// the exact interpolation and the gradients at both ends.
+    NoVertexArithmetic,
+}
+
+impl Ablation {
+    /// The ablations worth timing for the meshlet extraction and for PMB.
+    pub const MESHLETS: [Ablation; 3] = [
+        Ablation::FilteringOnly,
+        Ablation::AnalysisOnly,
+        Ablation::NoVertexArithmetic,
+    ];
+    pub const PMB: [Ablation; 2] = [Ablation::FilteringOnly, Ablation::NoVertexArithmetic];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Ablation::None => "whole",
+            Ablation::FilteringOnly => "filtering only",
+            Ablation::AnalysisOnly => "analysis only",
+            Ablation::NoVertexArithmetic => "no vertex arithmetic",
+        }
+    }
+
+    /// The `EXTRACTION_ABLATION` define the extraction shaders read (`common/ablation.glsl`).
+    pub(crate) fn define(self) -> (String, String) {
+        let code = match self {
+            Ablation::None | Ablation::FilteringOnly => 0,
+            Ablation::AnalysisOnly => 1,
+            Ablation::NoVertexArithmetic => 2,
+        };
+        ("EXTRACTION_ABLATION".into(), code.to_string())
+    }
+}
