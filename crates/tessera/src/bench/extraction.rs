@@ -66,11 +66,11 @@ pub(super) fn extraction(
             }
             sink.emit(&r)?;
             // The ablated extractions write into the buffers the whole one grew.
-            for ablation in config
-                .ablations
-                .then_some(Ablation::PMB)
-                .unwrap_or_default()
-            {
+            for &ablation in if config.ablations {
+                &Ablation::PMB[..]
+            } else {
+                &[]
+            } {
                 let ablated = PmbExtractor::ablated(gpu, &compiler, scalar, rule, size, ablation)?;
                 let stages = time_frames(gpu, plan, 1, |rec, timer| {
                     timer.scope(rec, "extraction", |rec| {
@@ -114,11 +114,11 @@ pub(super) fn extraction(
                 );
             }
             sink.emit(&r)?;
-            for ablation in config
-                .ablations
-                .then_some(Ablation::MESHLETS)
-                .unwrap_or_default()
-            {
+            for &ablation in if config.ablations {
+                &Ablation::MESHLETS[..]
+            } else {
+                &[]
+            } {
                 let ablated =
                     MeshletExtractor::ablated(gpu, &compiler, scalar, rule, path, ablation)?;
                 let mut recorded = Ok(());
