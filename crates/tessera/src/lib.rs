@@ -14,6 +14,7 @@ pub mod path;
 pub mod raster;
 pub mod renderer;
 pub mod report;
+pub mod scan;
 pub mod shaders;
 pub mod target;
 pub mod tet;

@@ -1,0 +1,41 @@
+#version 460
+// Exclusive prefix sum of the first `count` words of a buffer, in place, by one workgroup: each
+// invocation sums a run of consecutive words, a shared-memory scan of the runs' sums gives each
+// run its start, and each invocation writes its run's prefixes. Meant for counts of some
+// hundred thousand words at most (e.g. one per screen tile), where one workgroup suffices.
+
+layout(local_size_x = SCAN_WORKGROUP) in;
+
+layout(binding = 0) buffer Values { uint values[]; };
+
+layout(push_constant) uniform ScanParams {
+    uint count;
+} params;
+
+shared uint run_sums[SCAN_WORKGROUP];
+
+void main() {
+    uint i = gl_LocalInvocationIndex;
+    uint run = (params.count + uint(SCAN_WORKGROUP) - 1u) / uint(SCAN_WORKGROUP);
+    uint begin = min(i * run, params.count);
+    uint end = min(begin + run, params.count);
+    uint sum = 0u;
+    for (uint k = begin; k < end; ++k) {
+        sum += values[k];
+    }
+    run_sums[i] = sum;
+    barrier();
+    // Hillis–Steele inclusive scan of the runs' sums.
+    for (uint d = 1u; d < uint(SCAN_WORKGROUP); d <<= 1) {
+        uint add = i >= d ? run_sums[i - d] : 0u;
+        barrier();
+        run_sums[i] += add;
+        barrier();
+    }
+    uint prefix = run_sums[i] - sum;
+    for (uint k = begin; k < end; ++k) {
+        uint value = values[k];
+        values[k] = prefix;
+        prefix += value;
+    }
+}

@@ -1,0 +1,71 @@
+#version 460
+// Binned compute path of interval shading, first pass: one invocation per tet makes its
+// proxies (tet/interval/proxy.glsl), reserves one entry per screen tile its pixel rectangle
+// touches and counts itself into each tile. A tet whose entries do not fit is drawn at once by
+// the per-tet path (tet/interval/tet_draw.glsl, global atomics), so no tet is ever lost; the
+// host grows the entries for the next frame from the reserved total.
+#extension GL_EXT_shader_atomic_float : require
+#if INTEGRAND == INTEGRAND_SDF
+#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+#extension GL_EXT_shader_atomic_int64 : require
+#endif
+
+layout(local_size_x = 64) in;
+
+#include "tet/interval/buffers.glsl"
+#include "tet/interval/params.glsl"
+#include "tet/interval/compute_buffers.glsl"
+#include "tet/interval/bin_buffers.glsl"
+#include "tet/interval/proxy.glsl"
+#include "tet/interval/length.glsl"
+#include "tet/interval/table.glsl"
+#include "tet/interval/integrand.glsl"
+#if INTEGRAND == INTEGRAND_SDF
+#include "tet/interval/sdf.glsl"
+#endif
+#include "tet/interval/pixel_value.glsl"
+#include "tet/interval/splat.glsl"
+#include "tet/interval/tet_draw.glsl"
+
+void main() {
+    // Workgroups spread over x and y past 65,535 (tessera_gpu::spread_groups).
+    uint tet = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * 64u + gl_LocalInvocationIndex;
+    if (tet >= params.counts.x) {
+        return;
+    }
+    Proxy proxies[3];
+    bool clipped;
+    uint n = tet_proxies(tet, proxies, clipped);
+    if (clipped) {
+        atomicAdd(stats[STAT_CLIPPED], 1u);
+    }
+    uvec2 first;
+    uvec2 last;
+    if (!proxy_pixel_rect(proxies, n, first, last)) {
+        return;
+    }
+    uvec2 first_tile = first / uint(TILE);
+    uvec2 tiles = last / uint(TILE) - first_tile + 1u;
+    uint count = tiles.x * tiles.y;
+    uint base = atomicAdd(bin_entry_count, count);
+    uint capacity = uint(bin_entries.length());
+    bool fits = bins_hold_screen() && base + count <= capacity && base + count >= base;
+    if (!fits) {
+        // The scatter pass skips the part of the reservation that lies inside the buffer.
+        for (uint e = base; e < min(base + count, capacity); ++e) {
+            bin_entries[e] = uvec2(NO_TET, 0u);
+        }
+        atomicAdd(stats[STAT_UNBINNED], 1u);
+        draw_tet(tet, proxies, n, first, last);
+        return;
+    }
+    uint columns = bin_grid().x;
+    uint e = base;
+    for (uint y = 0u; y < tiles.y; ++y) {
+        for (uint x = 0u; x < tiles.x; ++x) {
+            uint tile = (first_tile.y + y) * columns + first_tile.x + x;
+            atomicAdd(tile_bins[tile], 1u);
+            bin_entries[e++] = uvec2(tet, tile);
+        }
+    }
+}
