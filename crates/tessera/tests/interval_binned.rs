@@ -1,18 +1,22 @@
 //! The binned compute path of interval shading beyond what `tests/interval.rs` holds every
 //! variant to (there the binned scheme meets the exact references, with lists too small and
 //! too few tile counters too): lists that overflowed grow for the next frame, which then bins
-//! every tet and draws the same image.
+//! every tet and draws the same image; sorted lists give the same sums every frame; a tile
+//! holding more tets than it sorts still draws them all.
 
 mod common;
 
 use common::{assert_clean, gpu, skip};
 use tessera::path::Path;
 use tessera::shaders;
+use tessera::tet::interval::binned::BIN_SORT_CAPACITY;
 use tessera::tet::interval::{
     BinCapacity, ComputeScheme, GpuTetMesh, Interval, IntervalFrame, IntervalOptions,
 };
-use tessera_data::tet::procedural::sphere_mesh;
+use tessera_data::tet::procedural::{box_mesh, sphere_mesh};
+use tessera_data::tet::TetMesh;
 use tessera_data::OrbitCamera;
+use tessera_gpu::Gpu;
 
 /// Every pixel of `a` within a relative 1e-4 of `b` (the sums' order differs); returns how
 /// many pixels hold something.
@@ -82,5 +86,71 @@ fn overflowing_lists_grow_and_the_next_frame_bins_every_tet() {
     let covered = assert_same_values("overflowed frame", &first, &per_tet);
     assert_same_values("grown frame", &second, &per_tet);
     assert!(covered > (w * h / 4) as usize, "{covered} pixels covered");
+    assert_clean(&gpu);
+}
+
+fn binned_options() -> IntervalOptions {
+    IntervalOptions {
+        compute_scheme: ComputeScheme::Binned,
+        ..IntervalOptions::new(Path::Compute)
+    }
+}
+
+/// Frames of `mesh` seen from `distance`: per tet, then binned twice.
+fn per_tet_and_binned_twice(
+    gpu: &Gpu,
+    mesh: &TetMesh,
+    distance: f32,
+    (w, h): (u32, u32),
+) -> [IntervalFrame; 3] {
+    let compiler = shaders::compiler();
+    let gpu_mesh = GpuTetMesh::upload(gpu, mesh).unwrap();
+    let cam = OrbitCamera {
+        azimuth_deg: -30.0,
+        elevation_deg: 25.0,
+        distance,
+        ..OrbitCamera::default()
+    };
+    let per_tet = Interval::new(gpu, &compiler, &IntervalOptions::new(Path::Compute)).unwrap();
+    let binned = Interval::new(gpu, &compiler, &binned_options()).unwrap();
+    let render = |interval: &Interval| {
+        let target = interval.target(gpu, w, h).unwrap();
+        interval.render(gpu, &gpu_mesh, &target, &cam).unwrap()
+    };
+    [render(&per_tet), render(&binned), render(&binned)]
+}
+
+#[test]
+fn sorted_lists_give_the_same_sums_every_frame() {
+    let gpu = gpu();
+    if !gpu.caps().buffer_float32_atomic_add {
+        skip("", "no float atomics for the compute path");
+        return;
+    }
+    // From inside, so that tiles hold tets of every size, clipped ones too; enough entries
+    // that the scatter's order varies from frame to frame (unsorted, the frames differ).
+    let [per_tet, first, second] = per_tet_and_binned_twice(&gpu, &box_mesh(8), 0.3, (64, 48));
+    assert_eq!(first.unbinned, 0);
+    assert!(first.clipped_near > 0);
+    assert_eq!(first.values, second.values, "two binned frames differ");
+    let covered = assert_same_values("binned against per tet", &first, &per_tet);
+    assert_eq!(covered, first.values.len(), "the eye is inside the box");
+    assert_clean(&gpu);
+}
+
+#[test]
+fn a_tile_holding_more_tets_than_it_sorts_draws_them_all() {
+    let gpu = gpu();
+    if !gpu.caps().buffer_float32_atomic_add {
+        skip("", "no float atomics for the compute path");
+        return;
+    }
+    // 3,072 tets on one 16 × 16 tile.
+    let mesh = box_mesh(8);
+    assert!(mesh.tets.len() > BIN_SORT_CAPACITY as usize);
+    let [per_tet, binned, _] = per_tet_and_binned_twice(&gpu, &mesh, 2.4, (16, 16));
+    assert_eq!(binned.unbinned, 0);
+    let covered = assert_same_values("binned against per tet", &binned, &per_tet);
+    assert!(covered > 100, "{covered} pixels covered");
     assert_clean(&gpu);
 }

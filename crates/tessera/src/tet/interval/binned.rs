@@ -13,6 +13,10 @@ use tessera_gpu::{vk, Binding, Buffer, Gpu, MemoryLocation, Pipeline, Recorder, 
 
 /// Tets whose proxies a tile's workgroup makes at once into shared memory (3 proxies each).
 pub const BIN_BATCH: u32 = 32;
+/// Longest list a tile sorts by tet id (in shared memory, 4 bytes each; a power of two), so
+/// that its sums are the same from frame to frame; longer lists keep the scatter's order.
+pub const BIN_SORT_CAPACITY: u32 = 2048;
+const _: () = assert!(BIN_SORT_CAPACITY.is_power_of_two());
 /// Entries per workgroup of the counting and scatter passes.
 const ENTRIES_PER_WORKGROUP: u32 = 64;
 
@@ -97,10 +101,13 @@ pub struct TetBins {
     buffers: BinBuffers,
 }
 
-/// The compute defines, and the binned passes' batch.
+/// The compute defines, and the binned passes' batch and sorting capacity.
 pub(crate) fn binned_defines(defines: &[(String, String)]) -> Vec<(String, String)> {
     let mut defines = defines.to_vec();
-    defines.push(("BIN_BATCH".into(), BIN_BATCH.to_string()));
+    defines.extend([
+        ("BIN_BATCH".into(), BIN_BATCH.to_string()),
+        ("BIN_SORT_CAPACITY".into(), BIN_SORT_CAPACITY.to_string()),
+    ]);
     defines
 }
 

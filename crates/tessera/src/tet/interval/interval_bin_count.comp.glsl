@@ -27,27 +27,44 @@ layout(local_size_x = 64) in;
 #include "tet/interval/splat.glsl"
 #include "tet/interval/tet_draw.glsl"
 
+// The workgroup reserves its tets' entries with one atomic add (a per-tet add on one counter
+// would serialize millions of tets).
+shared uint group_entries;
+shared uint group_base;
+
 void main() {
     // Workgroups spread over x and y past 65,535 (tessera_gpu::spread_groups).
     uint tet = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * 64u + gl_LocalInvocationIndex;
-    if (tet >= params.counts.x) {
-        return;
-    }
     Proxy proxies[3];
-    bool clipped;
-    uint n = tet_proxies(tet, proxies, clipped);
-    if (clipped) {
-        atomicAdd(stats[STAT_CLIPPED], 1u);
+    uint n = 0u;
+    if (tet < params.counts.x) {
+        bool clipped;
+        n = tet_proxies(tet, proxies, clipped);
+        if (clipped) {
+            atomicAdd(stats[STAT_CLIPPED], 1u);
+        }
     }
-    uvec2 first;
-    uvec2 last;
-    if (!proxy_pixel_rect(proxies, n, first, last)) {
+    uvec2 first = uvec2(0u);
+    uvec2 last = uvec2(0u);
+    bool on_screen = n > 0u && proxy_pixel_rect(proxies, n, first, last);
+    uvec2 first_tile = first / uint(TILE);
+    uvec2 tiles = on_screen ? last / uint(TILE) - first_tile + 1u : uvec2(0u);
+    uint count = tiles.x * tiles.y;
+    // Barriers in uniform control flow: every invocation reaches them.
+    if (gl_LocalInvocationIndex == 0u) {
+        group_entries = 0u;
+    }
+    barrier();
+    uint offset = atomicAdd(group_entries, count);
+    barrier();
+    if (gl_LocalInvocationIndex == 0u) {
+        group_base = atomicAdd(bin_entry_count, group_entries);
+    }
+    barrier();
+    if (!on_screen) {
         return;
     }
-    uvec2 first_tile = first / uint(TILE);
-    uvec2 tiles = last / uint(TILE) - first_tile + 1u;
-    uint count = tiles.x * tiles.y;
-    uint base = atomicAdd(bin_entry_count, count);
+    uint base = group_base + offset;
     uint capacity = uint(bin_entries.length());
     bool fits = bins_hold_screen() && base + count <= capacity && base + count >= base;
     if (!fits) {

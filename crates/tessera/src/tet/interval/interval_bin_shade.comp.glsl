@@ -1,9 +1,12 @@
 #version 460
 // Binned compute path of interval shading, last pass: one workgroup per screen tile, one
-// invocation per pixel, walks the tile's list of tets. BIN_BATCH invocations make a batch of
-// tets' proxies into shared memory; every invocation then evaluates them at its pixel centre
-// exactly as the per-tet passes do (splat.glsl) and combines the values in a register. Each
-// pixel is written once, onto what the per-tet path drew of the tets the lists had no room for.
+// invocation per pixel, walks the tile's list of tets. A list of up to BIN_SORT_CAPACITY tets
+// is first sorted by tet id in shared memory, so that the sums do not depend on the order the
+// scatter's atomics left (longer lists keep it). BIN_BATCH invocations make a batch of tets'
+// proxies and pixel rectangles into shared memory; every invocation then evaluates them at its
+// pixel centre exactly as the per-tet passes do (splat.glsl) and combines the values in a
+// register. Each pixel is written once, onto what the per-tet path drew of the tets the lists
+// had no room for.
 #if INTEGRAND == INTEGRAND_SDF
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_EXT_shader_atomic_int64 : require
@@ -25,10 +28,42 @@ layout(local_size_x = TILE, local_size_y = TILE) in;
 #endif
 #include "tet/interval/pixel_value.glsl"
 #include "tet/interval/splat.glsl"
+#include "tet/interval/tet_draw.glsl"
 
+shared uint tile_tets[BIN_SORT_CAPACITY];
 shared Proxy batch_proxies[BIN_BATCH * 3];
 shared uint batch_proxy_count[BIN_BATCH];
 shared uint batch_tet[BIN_BATCH];
+// The pixels the tet's proxies may cover (first.xy, last.xy), as the per-tet passes bound them.
+shared uvec4 batch_rect[BIN_BATCH];
+
+const uint INVOCATIONS = uint(TILE * TILE);
+
+// Sorts the first `count` (at most BIN_SORT_CAPACITY) entries of `tile_tets` in place: a bitonic
+// sort over the next power of two, padded with the largest id.
+void sort_tile_tets(uint count) {
+    uint padded = count <= 1u ? 1u : 1u << (findMSB(count - 1u) + 1);
+    for (uint i = gl_LocalInvocationIndex + count; i < padded; i += INVOCATIONS) {
+        tile_tets[i] = NO_TET;
+    }
+    barrier();
+    for (uint k = 2u; k <= padded; k <<= 1) {
+        for (uint j = k >> 1; j > 0u; j >>= 1) {
+            for (uint i = gl_LocalInvocationIndex; i < padded; i += INVOCATIONS) {
+                uint l = i ^ j;
+                if (l > i) {
+                    uint a = tile_tets[i];
+                    uint b = tile_tets[l];
+                    if ((a > b) == ((i & k) == 0u)) {
+                        tile_tets[i] = b;
+                        tile_tets[l] = a;
+                    }
+                }
+            }
+            barrier();
+        }
+    }
+}
 
 // Adds `value` to what the per-tet path left at `pixel`: nothing else writes it in this pass.
 void store_pixel(uint pixel, PixelValue value) {
@@ -61,20 +96,38 @@ void main() {
     vec2 ndc = pixel_ndc(pixel);
     PixelValue value = empty_pixel_value();
     uint local = gl_LocalInvocationIndex;
+    // Uniform per workgroup, as are the loop bounds below: the barriers are reached by all.
+    bool sorted = end - start <= uint(BIN_SORT_CAPACITY);
+    if (sorted) {
+        for (uint i = local; i < end - start; i += INVOCATIONS) {
+            tile_tets[i] = bin_list[start + i];
+        }
+        sort_tile_tets(end - start);
+    }
     for (uint batch = start; batch < end; batch += uint(BIN_BATCH)) {
         uint count = min(end - batch, uint(BIN_BATCH));
         if (local < count) {
-            uint tet = bin_list[batch + local];
+            uint tet = sorted ? tile_tets[batch - start + local] : bin_list[batch + local];
             Proxy proxies[3];
             bool clipped;
-            batch_proxy_count[local] = tet_proxies(tet, proxies, clipped);
+            uint n = tet_proxies(tet, proxies, clipped);
+            uvec2 first;
+            uvec2 last;
+            // Listed tets have a rectangle on screen (the counting pass found it alike).
+            proxy_pixel_rect(proxies, n, first, last);
+            batch_proxy_count[local] = n;
             for (uint k = 0u; k < 3u; ++k) {
                 batch_proxies[local * 3u + k] = proxies[k];
             }
             batch_tet[local] = tet;
+            batch_rect[local] = uvec4(first, last);
         }
         barrier();
         for (uint i = 0u; i < count && on_screen; ++i) {
+            uvec4 rect = batch_rect[i];
+            if (any(lessThan(pixel, rect.xy)) || any(greaterThan(pixel, rect.zw))) {
+                continue;
+            }
             for (uint k = 0u; k < batch_proxy_count[i]; ++k) {
                 vec4 attrs;
                 if (proxy_attrs_at(batch_proxies[i * 3u + k], pixel, attrs)) {
