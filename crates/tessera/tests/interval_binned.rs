@@ -2,7 +2,8 @@
 //! variant to (there the binned scheme meets the exact references, with lists too small and
 //! too few tile counters too): lists that overflowed grow for the next frame, which then bins
 //! every tet and draws the same image; sorted lists give the same sums every frame; a tile
-//! holding more tets than it sorts still draws them all.
+//! holding more tets than it sorts still draws them all; a tet is listed in the tiles its
+//! proxies touch, not every tile of its rectangle.
 
 mod common;
 
@@ -60,9 +61,10 @@ fn overflowing_lists_grow_and_the_next_frame_bins_every_tet() {
     };
     let per_tet =
         render(&Interval::new(&gpu, &compiler, &IntervalOptions::new(Path::Compute)).unwrap());
+    // Too few entries, and too few tile counters for the screen's 4 × 3 tiles.
     let small = BinCapacity {
         entries: 16,
-        ..BinCapacity::default()
+        tiles: 3,
     };
     let mut binned = Interval::new(
         &gpu,
@@ -75,10 +77,14 @@ fn overflowing_lists_grow_and_the_next_frame_bins_every_tet() {
     )
     .unwrap();
     let first = render(&binned);
-    assert!(first.unbinned > 0, "16 entries must not hold the sphere");
+    assert!(
+        first.unbinned > 0,
+        "the small bins must not hold the sphere"
+    );
     assert!(binned.grow_buffers(&gpu, (w, h)).unwrap());
     let grown = binned.bin_capacity().unwrap();
     assert!(grown.entries > small.entries, "{grown:?}");
+    assert!(grown.tiles >= 12, "{grown:?}");
     let second = render(&binned);
     assert_eq!(second.unbinned, 0, "the grown lists hold every tet");
     assert!(!binned.grow_buffers(&gpu, (w, h)).unwrap());
@@ -152,5 +158,42 @@ fn a_tile_holding_more_tets_than_it_sorts_draws_them_all() {
     assert_eq!(binned.unbinned, 0);
     let covered = assert_same_values("binned against per tet", &binned, &per_tet);
     assert!(covered > 100, "{covered} pixels covered");
+    assert_clean(&gpu);
+}
+
+#[test]
+fn a_tet_is_listed_in_the_tiles_its_proxies_touch() {
+    let gpu = gpu();
+    if !gpu.caps().buffer_float32_atomic_add {
+        skip("", "no float atomics for the compute path");
+        return;
+    }
+    // One tet whose projection is a triangle (`tests/interval.rs`'s case 1): about half of
+    // its bounding rectangle.
+    let vertices = vec![
+        [-1.0, -1.0, 0.0],
+        [1.0, -1.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.1, -0.2, 1.0],
+    ];
+    let mesh = TetMesh::new(vertices, vec![[0, 1, 2, 3]]);
+    let (w, h) = (96, 96);
+    let [per_tet, binned, _] = per_tet_and_binned_twice(&gpu, &mesh, 2.5, (w, h));
+    assert_same_values("binned against per tet", &binned, &per_tet);
+    // The tiles holding a covered pixel, and those of the covered pixels' bounding rectangle.
+    let tile = |i: usize| ((i as u32 % w) / 16, (i as u32 / w) / 16);
+    let touched: std::collections::BTreeSet<(u32, u32)> = (0..per_tet.values.len())
+        .filter(|&i| per_tet.values[i][0] > 0.0)
+        .map(tile)
+        .collect();
+    let (xs, ys): (Vec<u32>, Vec<u32>) = touched.iter().copied().unzip();
+    let span = |v: &[u32]| v.iter().max().unwrap() - v.iter().min().unwrap() + 1;
+    let rectangle = span(&xs) * span(&ys);
+    let entries = binned.bin_entries as usize;
+    assert!(
+        entries >= touched.len() && entries < rectangle as usize,
+        "{entries} entries: {} tiles touched, {rectangle} in the rectangle",
+        touched.len()
+    );
     assert_clean(&gpu);
 }

@@ -192,6 +192,7 @@ impl Renderer for IntervalRenderer {
                 ("tiled_tets", u64::from(counts.tiled)),
                 ("overflowed_tets", u64::from(counts.overflowed)),
                 ("unbinned_tets", u64::from(counts.unbinned)),
+                ("bin_entries", u64::from(counts.bin_entries)),
             ]
             .into(),
             ..FrameStats::default()

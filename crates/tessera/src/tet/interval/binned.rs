@@ -203,11 +203,16 @@ impl TetBins {
         rec.barrier();
     }
 
+    /// The (tet, tile) entries the last frame reserved, those that did not fit included.
+    pub fn read_reserved(&self, gpu: &Gpu) -> Result<u32> {
+        Ok(tessera_gpu::timing::read_words(gpu, &self.reserved)?[0])
+    }
+
     /// Replaces the bins by larger ones when the last frame, of a `width` × `height` image,
     /// reserved more than they hold; whether it did. The frame itself was complete: the
     /// per-tet passes drew what did not fit.
     pub fn grow_for(&mut self, gpu: &Gpu, (width, height): (u32, u32)) -> Result<bool> {
-        let reserved = tessera_gpu::timing::read_words(gpu, &self.reserved)?[0];
+        let reserved = self.read_reserved(gpu)?;
         let [columns, rows] = tile_grid(width, height);
         let capacity = self.buffers.capacity;
         let grown = capacity.grown_to(reserved, columns.saturating_mul(rows));

@@ -166,6 +166,13 @@ impl IntervalCompute {
         self.bins.as_ref().map(TetBins::capacity)
     }
 
+    /// The binned variant's (tet, tile) entries of the last frame (0 for the per-tet variant).
+    pub fn bin_entries(&self, gpu: &Gpu) -> Result<u32> {
+        self.bins
+            .as_ref()
+            .map_or(Ok(0), |bins| bins.read_reserved(gpu))
+    }
+
     /// Grows the binned variant's lists when the last frame, of a `width` × `height` image,
     /// overflowed them; whether it did.
     pub fn grow_bins(&mut self, gpu: &Gpu, size: (u32, u32)) -> Result<bool> {

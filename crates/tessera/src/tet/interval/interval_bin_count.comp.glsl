@@ -1,7 +1,7 @@
 #version 460
 // Binned compute path of interval shading, first pass: one invocation per tet makes its
-// proxies (tet/interval/proxy.glsl), reserves one entry per screen tile its pixel rectangle
-// touches and counts itself into each tile. A tet whose entries do not fit is drawn at once by
+// proxies (tet/interval/proxy.glsl), reserves one entry per screen tile of its pixel rectangle
+// that its proxies may touch and counts itself into each such tile. A tet whose entries do not fit is drawn at once by
 // the per-tet path (tet/interval/tet_draw.glsl, global atomics), so no tet is ever lost; the
 // host grows the entries for the next frame from the reserved total.
 #extension GL_EXT_shader_atomic_float : require
@@ -27,6 +27,42 @@ layout(local_size_x = 64) in;
 #include "tet/interval/splat.glsl"
 #include "tet/interval/tet_draw.glsl"
 
+// Whether `proxy` may cover a pixel centre inside lo..hi: false only where one edge of its
+// silhouette (a convex polygon around the inner vertex) has the whole box strictly on its outer
+// side. Edges through the inner vertex decide nothing (conservative).
+bool proxy_may_touch(Proxy proxy, vec2 lo, vec2 hi) {
+    uint s = proxy.silhouette;
+    if (s == 0u) {
+        return false;
+    }
+    vec2 centre = to_screen(proxy.p[s]);
+    for (uint j = 0u; j < s; ++j) {
+        vec2 a = to_screen(proxy.p[j]);
+        vec2 b = to_screen(proxy.p[j + 1u == s ? 0u : j + 1u]);
+        float inner = edge_at(a, b, centre);
+        vec4 corners = vec4(edge_at(a, b, lo), edge_at(a, b, vec2(hi.x, lo.y)),
+                            edge_at(a, b, vec2(lo.x, hi.y)), edge_at(a, b, hi));
+        if ((inner > 0.0 && all(lessThan(corners, vec4(0.0)))) ||
+            (inner < 0.0 && all(greaterThan(corners, vec4(0.0))))) {
+            return false;
+        }
+    }
+    return true;
+}
+
+// Whether any of the `n` proxies may cover a pixel centre of `tile`. The box of its centres is
+// grown by a pixel, so that rounding never drops a tile a proxy covers.
+bool tile_touched(Proxy proxies[3], uint n, uvec2 tile) {
+    vec2 lo = vec2(tile * uint(TILE)) - 0.5;
+    vec2 hi = vec2(tile * uint(TILE)) + float(TILE) + 0.5;
+    for (uint k = 0u; k < n; ++k) {
+        if (proxy_may_touch(proxies[k], lo, hi)) {
+            return true;
+        }
+    }
+    return false;
+}
+
 // The workgroup reserves its tets' entries with one atomic add (a per-tet add on one counter
 // would serialize millions of tets).
 shared uint group_entries;
@@ -49,7 +85,12 @@ void main() {
     bool on_screen = n > 0u && proxy_pixel_rect(proxies, n, first, last);
     uvec2 first_tile = first / uint(TILE);
     uvec2 tiles = on_screen ? last / uint(TILE) - first_tile + 1u : uvec2(0u);
-    uint count = tiles.x * tiles.y;
+    uint count = 0u;
+    for (uint y = 0u; y < tiles.y; ++y) {
+        for (uint x = 0u; x < tiles.x; ++x) {
+            count += tile_touched(proxies, n, first_tile + uvec2(x, y)) ? 1u : 0u;
+        }
+    }
     // Barriers in uniform control flow: every invocation reaches them.
     if (gl_LocalInvocationIndex == 0u) {
         group_entries = 0u;
@@ -80,9 +121,11 @@ void main() {
     uint e = base;
     for (uint y = 0u; y < tiles.y; ++y) {
         for (uint x = 0u; x < tiles.x; ++x) {
-            uint tile = (first_tile.y + y) * columns + first_tile.x + x;
-            atomicAdd(tile_bins[tile], 1u);
-            bin_entries[e++] = uvec2(tet, tile);
+            if (tile_touched(proxies, n, first_tile + uvec2(x, y))) {
+                uint tile = (first_tile.y + y) * columns + first_tile.x + x;
+                atomicAdd(tile_bins[tile], 1u);
+                bin_entries[e++] = uvec2(tet, tile);
+            }
         }
     }
 }

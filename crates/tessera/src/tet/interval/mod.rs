@@ -193,6 +193,9 @@ pub struct IntervalCounts {
     pub overflowed: u32,
     /// Binned compute path: tets drawn per tet because the bins were full.
     pub unbinned: u32,
+    /// Binned compute path: (tet, tile) entries the tets reserved, those that did not fit
+    /// included.
+    pub bin_entries: u32,
 }
 
 /// One frame's accumulation, its GPU time and what the passes counted.
@@ -209,6 +212,9 @@ pub struct IntervalFrame {
     pub overflowed: u32,
     /// Binned compute path: tets drawn per tet because the bins were full.
     pub unbinned: u32,
+    /// Binned compute path: (tet, tile) entries the tets reserved, those that did not fit
+    /// included.
+    pub bin_entries: u32,
 }
 
 enum Renderer {
@@ -394,6 +400,10 @@ impl Interval {
             tiled: stats[1].min(self.options.tile_capacity.tets),
             overflowed: stats[2],
             unbinned: stats[3],
+            bin_entries: match &self.renderer {
+                Renderer::Compute(c) => c.bin_entries(gpu)?,
+                Renderer::Graphics(_) => 0,
+            },
         })
     }
 
@@ -471,6 +481,7 @@ impl Interval {
             tiled: counts.tiled,
             overflowed: counts.overflowed,
             unbinned: counts.unbinned,
+            bin_entries: counts.bin_entries,
         })
     }
 
