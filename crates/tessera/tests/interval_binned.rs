@@ -3,14 +3,14 @@
 //! too few tile counters too): lists that overflowed grow for the next frame, which then bins
 //! every tet and draws the same image; sorted lists give the same sums every frame; a tile
 //! holding more tets than it sorts still draws them all; a tet is listed in the tiles its
-//! proxies touch, not every tile of its rectangle.
+//! proxies touch, not every tile of its rectangle, unless that is large.
 
 mod common;
 
 use common::{assert_clean, gpu, skip};
 use tessera::path::Path;
 use tessera::shaders;
-use tessera::tet::interval::binned::BIN_SORT_CAPACITY;
+use tessera::tet::interval::binned::{BIN_SORT_CAPACITY, BIN_TESTED_TILES};
 use tessera::tet::interval::{
     BinCapacity, ComputeScheme, GpuTetMesh, Interval, IntervalFrame, IntervalOptions,
 };
@@ -161,15 +161,16 @@ fn a_tile_holding_more_tets_than_it_sorts_draws_them_all() {
     assert_clean(&gpu);
 }
 
-#[test]
-fn a_tet_is_listed_in_the_tiles_its_proxies_touch() {
+/// One tet whose projection is a triangle (`tests/interval.rs`'s case 1), about half of its
+/// bounding rectangle, seen from `distance` on a `size` × `size` image: checks the binned frame
+/// against the per-tet one and returns the entries listed, the tiles holding a covered pixel
+/// and those of the covered pixels' bounding rectangle.
+fn one_tet_listed(distance: f32, size: u32) -> Option<(usize, usize, usize)> {
     let gpu = gpu();
     if !gpu.caps().buffer_float32_atomic_add {
         skip("", "no float atomics for the compute path");
-        return;
+        return None;
     }
-    // One tet whose projection is a triangle (`tests/interval.rs`'s case 1): about half of
-    // its bounding rectangle.
     let vertices = vec![
         [-1.0, -1.0, 0.0],
         [1.0, -1.0, 0.0],
@@ -177,23 +178,40 @@ fn a_tet_is_listed_in_the_tiles_its_proxies_touch() {
         [0.1, -0.2, 1.0],
     ];
     let mesh = TetMesh::new(vertices, vec![[0, 1, 2, 3]]);
-    let (w, h) = (96, 96);
-    let [per_tet, binned, _] = per_tet_and_binned_twice(&gpu, &mesh, 2.5, (w, h));
+    let [per_tet, binned, _] = per_tet_and_binned_twice(&gpu, &mesh, distance, (size, size));
     assert_same_values("binned against per tet", &binned, &per_tet);
-    // The tiles holding a covered pixel, and those of the covered pixels' bounding rectangle.
-    let tile = |i: usize| ((i as u32 % w) / 16, (i as u32 / w) / 16);
+    let tile = |i: usize| ((i as u32 % size) / 16, (i as u32 / size) / 16);
     let touched: std::collections::BTreeSet<(u32, u32)> = (0..per_tet.values.len())
         .filter(|&i| per_tet.values[i][0] > 0.0)
         .map(tile)
         .collect();
     let (xs, ys): (Vec<u32>, Vec<u32>) = touched.iter().copied().unzip();
     let span = |v: &[u32]| v.iter().max().unwrap() - v.iter().min().unwrap() + 1;
-    let rectangle = span(&xs) * span(&ys);
-    let entries = binned.bin_entries as usize;
-    assert!(
-        entries >= touched.len() && entries < rectangle as usize,
-        "{entries} entries: {} tiles touched, {rectangle} in the rectangle",
-        touched.len()
-    );
+    let rectangle = (span(&xs) * span(&ys)) as usize;
     assert_clean(&gpu);
+    Some((binned.bin_entries as usize, touched.len(), rectangle))
+}
+
+#[test]
+fn a_tet_is_listed_in_the_tiles_its_proxies_touch() {
+    let Some((entries, touched, rectangle)) = one_tet_listed(2.5, 96) else {
+        return;
+    };
+    assert!(
+        entries >= touched && entries < rectangle,
+        "{entries} entries: {touched} tiles touched, {rectangle} in the rectangle"
+    );
+}
+
+#[test]
+fn a_tet_spanning_many_tiles_is_listed_in_its_whole_rectangle() {
+    // More tiles than the counting pass tests one by one.
+    let Some((entries, touched, rectangle)) = one_tet_listed(1.6, 192) else {
+        return;
+    };
+    assert!(rectangle > BIN_TESTED_TILES as usize, "{rectangle} tiles");
+    assert!(
+        entries >= rectangle && entries > touched,
+        "{entries} entries: {touched} tiles touched, {rectangle} in the rectangle"
+    );
 }

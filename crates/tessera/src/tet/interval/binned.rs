@@ -9,7 +9,9 @@ use crate::builtin_shader;
 use crate::error::Result;
 use crate::raster::{create_counts_buffer, IndirectArgs};
 use crate::scan::ExclusiveScan;
-use tessera_gpu::{vk, Binding, Buffer, Gpu, MemoryLocation, Pipeline, Recorder, ShaderCompiler};
+use tessera_gpu::{
+    vk, Binding, Buffer, Gpu, MemoryLocation, Pipeline, Recorder, ShaderCompiler, Slot,
+};
 
 /// Tets whose proxies a tile's workgroup makes at once into shared memory (3 proxies each).
 pub const BIN_BATCH: u32 = 32;
@@ -17,6 +19,10 @@ pub const BIN_BATCH: u32 = 32;
 /// that its sums are the same from frame to frame; longer lists keep the scatter's order.
 pub const BIN_SORT_CAPACITY: u32 = 2048;
 const _: () = assert!(BIN_SORT_CAPACITY.is_power_of_two());
+/// Largest pixel rectangle, in tiles, whose tiles the counting pass tests against the tet's
+/// proxies; a larger one is listed whole, since one invocation walks it (a tet clipped near
+/// the eye may span the screen, and the shade pass skips pixels outside its proxies anyway).
+pub const BIN_TESTED_TILES: u32 = 64;
 /// Entries per workgroup of the counting and scatter passes.
 const ENTRIES_PER_WORKGROUP: u32 = 64;
 
@@ -101,12 +107,13 @@ pub struct TetBins {
     buffers: BinBuffers,
 }
 
-/// The compute defines, and the binned passes' batch and sorting capacity.
+/// The compute defines, and the binned passes' sizes.
 pub(crate) fn binned_defines(defines: &[(String, String)]) -> Vec<(String, String)> {
     let mut defines = defines.to_vec();
     defines.extend([
         ("BIN_BATCH".into(), BIN_BATCH.to_string()),
         ("BIN_SORT_CAPACITY".into(), BIN_SORT_CAPACITY.to_string()),
+        ("BIN_TESTED_TILES".into(), BIN_TESTED_TILES.to_string()),
     ]);
     defines
 }
@@ -118,12 +125,12 @@ impl TetBins {
         gpu: &Gpu,
         compiler: &ShaderCompiler,
         defines: &[(String, String)],
-        slots: &[tessera_gpu::Slot],
+        slots: &[Slot],
         capacity: BinCapacity,
     ) -> Result<TetBins> {
         let defines = binned_defines(defines);
         let mut slots = slots.to_vec();
-        slots.extend([tessera_gpu::Slot::StorageBuffer; 4]);
+        slots.extend([Slot::StorageBuffer; 4]);
         let pipeline = |name: &str, spirv| gpu.compute_pipeline(name, &spirv, &slots);
         let count = compiler.compile(&builtin_shader!("interval_bin_count.comp.glsl"), &defines)?;
         let scatter =
@@ -164,7 +171,6 @@ impl TetBins {
     /// Counts the tets into the tiles of a `width` × `height` image (drawing those that do
     /// not fit per tet, over `bindings`), scans and scatters them into the lists; `groups`
     /// covers the tets at 64 per workgroup. Ends with a barrier.
-    #[allow(clippy::too_many_arguments)]
     pub fn record_binning(
         &self,
         rec: &Recorder,

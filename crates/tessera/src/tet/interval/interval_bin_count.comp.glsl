@@ -1,7 +1,9 @@
 #version 460
 // Binned compute path of interval shading, first pass: one invocation per tet makes its
 // proxies (tet/interval/proxy.glsl), reserves one entry per screen tile of its pixel rectangle
-// that its proxies may touch and counts itself into each such tile. A tet whose entries do not fit is drawn at once by
+// that its proxies may touch (every tile of the rectangle where that holds more than
+// BIN_TESTED_TILES tiles, or where a proxy corner lies far off screen) and counts itself into
+// each such tile. A tet whose entries do not fit is drawn at once by
 // the per-tet path (tet/interval/tet_draw.glsl, global atomics), so no tet is ever lost; the
 // host grows the entries for the next frame from the reserved total.
 #extension GL_EXT_shader_atomic_float : require
@@ -63,6 +65,27 @@ bool tile_touched(Proxy proxies[3], uint n, uvec2 tile) {
     return false;
 }
 
+// Whether every proxy corner lies within a screen's size of the screen: there the tile test's
+// rounding stays far below its margin (a clipped tet's corners may lie very far out).
+bool proxies_near_screen(Proxy proxies[3], uint n) {
+    vec2 size = vec2(params.counts.yz);
+    for (uint k = 0u; k < n; ++k) {
+        for (uint j = 0u; j <= proxies[k].silhouette && proxies[k].silhouette > 0u; ++j) {
+            vec2 s = to_screen(proxies[k].p[j]);
+            if (any(lessThan(s, -size)) || any(greaterThan(s, 2.0 * size))) {
+                return false;
+            }
+        }
+    }
+    return true;
+}
+
+// Whether the entry for `tile` is made: one of the proxies may touch it, or the tiles are not
+// tested.
+bool listed(bool tested, Proxy proxies[3], uint n, uvec2 tile) {
+    return !tested || tile_touched(proxies, n, tile);
+}
+
 // The workgroup reserves its tets' entries with one atomic add (a per-tet add on one counter
 // would serialize millions of tets).
 shared uint group_entries;
@@ -85,8 +108,10 @@ void main() {
     bool on_screen = n > 0u && proxy_pixel_rect(proxies, n, first, last);
     uvec2 first_tile = first / uint(TILE);
     uvec2 tiles = on_screen ? last / uint(TILE) - first_tile + 1u : uvec2(0u);
-    uint count = 0u;
-    for (uint y = 0u; y < tiles.y; ++y) {
+    // A large rectangle is listed whole: one invocation walks it, so the walk must be cheap.
+    bool tested = tiles.x * tiles.y <= uint(BIN_TESTED_TILES) && proxies_near_screen(proxies, n);
+    uint count = tested ? 0u : tiles.x * tiles.y;
+    for (uint y = 0u; y < tiles.y && tested; ++y) {
         for (uint x = 0u; x < tiles.x; ++x) {
             count += tile_touched(proxies, n, first_tile + uvec2(x, y)) ? 1u : 0u;
         }
@@ -121,7 +146,7 @@ void main() {
     uint e = base;
     for (uint y = 0u; y < tiles.y; ++y) {
         for (uint x = 0u; x < tiles.x; ++x) {
-            if (tile_touched(proxies, n, first_tile + uvec2(x, y))) {
+            if (listed(tested, proxies, n, first_tile + uvec2(x, y))) {
                 uint tile = (first_tile.y + y) * columns + first_tile.x + x;
                 atomicAdd(tile_bins[tile], 1u);
                 bin_entries[e++] = uvec2(tet, tile);
