@@ -1,5 +1,5 @@
 //! The GPU's exclusive prefix sum (`tessera::scan`) against the CPU's, for counts below, at and
-//! above one run per invocation.
+//! above one word per invocation, with runs of whole groups of four words and with a rest.
 
 mod common;
 
@@ -12,7 +12,7 @@ use tessera_gpu::vk;
 fn exclusive_scan_matches_the_cpu_and_leaves_the_rest() {
     let gpu = gpu();
     let scan = ExclusiveScan::new(&gpu, &shaders::compiler()).unwrap();
-    for count in [1u32, 200, 256, 257, 5003] {
+    for count in [1u32, 200, 256, 257, 1100, 5003] {
         // Three more words than scanned: they must stay as they are.
         let values: Vec<u32> = (0..count + 3).map(|i| (i * 7919) % 13).collect();
         let buffer = gpu

@@ -20,7 +20,14 @@ void main() {
     uint begin = min(i * run, params.count);
     uint end = min(begin + run, params.count);
     uint sum = 0u;
-    for (uint k = begin; k < end; ++k) {
+    uint k = begin;
+    // Four loads in flight before their sum needs them: the run's words are read one by one,
+    // so their latency, not bandwidth, bounds this loop.
+    for (; k + 4u <= end; k += 4u) {
+        uvec4 four = uvec4(values[k], values[k + 1u], values[k + 2u], values[k + 3u]);
+        sum += four.x + four.y + four.z + four.w;
+    }
+    for (; k < end; ++k) {
         sum += values[k];
     }
     run_sums[i] = sum;
@@ -33,7 +40,7 @@ void main() {
         barrier();
     }
     uint prefix = run_sums[i] - sum;
-    for (uint k = begin; k < end; ++k) {
+    for (k = begin; k < end; ++k) {
         uint value = values[k];
         values[k] = prefix;
         prefix += value;
