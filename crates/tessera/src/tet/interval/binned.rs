@@ -23,8 +23,8 @@ const _: () = assert!(BIN_SORT_CAPACITY.is_power_of_two());
 /// proxies; a larger one is listed whole, since one invocation walks it (a tet clipped near
 /// the eye may span the screen, and the shade pass skips pixels outside its proxies anyway).
 pub const BIN_TESTED_TILES: u32 = 64;
-/// Entries per workgroup of the counting and scatter passes.
-const ENTRIES_PER_WORKGROUP: u32 = 64;
+/// Entries per workgroup of the scatter pass.
+const BIN_SCATTER_WORKGROUP: u32 = 64;
 
 /// How much room the bins have; tets beyond it are drawn by the per-tet passes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -114,6 +114,10 @@ pub(crate) fn binned_defines(defines: &[(String, String)]) -> Vec<(String, Strin
         ("BIN_BATCH".into(), BIN_BATCH.to_string()),
         ("BIN_SORT_CAPACITY".into(), BIN_SORT_CAPACITY.to_string()),
         ("BIN_TESTED_TILES".into(), BIN_TESTED_TILES.to_string()),
+        (
+            "BIN_SCATTER_WORKGROUP".into(),
+            BIN_SCATTER_WORKGROUP.to_string(),
+        ),
     ]);
     defines
 }
@@ -170,7 +174,7 @@ impl TetBins {
 
     /// Counts the tets into the tiles of a `width` × `height` image (drawing those that do
     /// not fit per tet, over `bindings`), scans and scatters them into the lists; `groups`
-    /// covers the tets at 64 per workgroup. Ends with a barrier.
+    /// covers the tets at `TETS_PER_WORKGROUP` per workgroup. Ends with a barrier.
     pub fn record_binning(
         &self,
         rec: &Recorder,
@@ -186,7 +190,7 @@ impl TetBins {
         let [columns, rows] = tile_grid(width, height);
         let tiles = (columns * rows).min(self.buffers.capacity.tiles);
         self.scan.record(rec, &self.buffers.tile_bins, tiles);
-        indirect.record(rec, &self.reserved, ENTRIES_PER_WORKGROUP);
+        indirect.record(rec, &self.reserved, BIN_SCATTER_WORKGROUP);
         rec.dispatch_indirect(&self.scatter, &all, push, &self.reserved, 4);
         rec.barrier();
     }

@@ -16,7 +16,7 @@ use tessera_gpu::{
     vk, Binding, Buffer, Gpu, MemoryLocation, Pipeline, Recorder, ShaderCompiler, Slot,
 };
 
-/// Tets per workgroup of `interval_raster.comp.glsl`.
+/// Tets per workgroup of `interval_raster.comp.glsl` and `interval_bin_count.comp.glsl`.
 const TETS_PER_WORKGROUP: u32 = 64;
 /// Side of a tile in pixels (`TILE` in the shaders): one invocation per pixel.
 pub const TILE: u32 = 16;
@@ -59,6 +59,7 @@ pub(crate) fn compute_defines(
     let mut defines = defines.to_vec();
     defines.extend([
         ("TILE".into(), TILE.to_string()),
+        ("TETS_PER_WORKGROUP".into(), TETS_PER_WORKGROUP.to_string()),
         ("TILED_CAPACITY".into(), format!("{}u", capacity.tets)),
         ("TILE_CAPACITY".into(), format!("{}u", capacity.tiles)),
     ]);

@@ -3,16 +3,16 @@
 // proxies (tet/interval/proxy.glsl), reserves one entry per screen tile of its pixel rectangle
 // that its proxies may touch (every tile of the rectangle where that holds more than
 // BIN_TESTED_TILES tiles, or where a proxy corner lies far off screen) and counts itself into
-// each such tile. A tet whose entries do not fit is drawn at once by
-// the per-tet path (tet/interval/tet_draw.glsl, global atomics), so no tet is ever lost; the
-// host grows the entries for the next frame from the reserved total.
+// each such tile. A tet whose entries do not fit is drawn at once by the per-tet path
+// (tet/interval/tet_draw.glsl, global atomics), so no tet is ever lost; the host grows the
+// entries for the next frame from the reserved total.
 #extension GL_EXT_shader_atomic_float : require
 #if INTEGRAND == INTEGRAND_SDF
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_EXT_shader_atomic_int64 : require
 #endif
 
-layout(local_size_x = 64) in;
+layout(local_size_x = TETS_PER_WORKGROUP) in;
 
 #include "tet/interval/buffers.glsl"
 #include "tet/interval/params.glsl"
@@ -93,7 +93,7 @@ shared uint group_base;
 
 void main() {
     // Workgroups spread over x and y past 65,535 (tessera_gpu::spread_groups).
-    uint tet = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * 64u + gl_LocalInvocationIndex;
+    uint tet = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * uint(TETS_PER_WORKGROUP) + gl_LocalInvocationIndex;
     Proxy proxies[3];
     uint n = 0u;
     if (tet < params.counts.x) {

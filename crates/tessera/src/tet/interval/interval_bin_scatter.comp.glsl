@@ -6,7 +6,7 @@
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #endif
 
-layout(local_size_x = 64) in;
+layout(local_size_x = BIN_SCATTER_WORKGROUP) in;
 
 #include "tet/interval/buffers.glsl"
 #include "tet/interval/params.glsl"
@@ -15,7 +15,7 @@ layout(local_size_x = 64) in;
 
 void main() {
     // Workgroups on a 2-D grid past the device's row limit (IndirectArgs).
-    uint e = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * 64u + gl_LocalInvocationIndex;
+    uint e = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * uint(BIN_SCATTER_WORKGROUP) + gl_LocalInvocationIndex;
     if (e >= min(bin_entry_count, uint(bin_entries.length()))) {
         return;
     }

@@ -8,7 +8,7 @@
 #extension GL_EXT_shader_atomic_int64 : require
 #endif
 
-layout(local_size_x = 64) in;
+layout(local_size_x = TETS_PER_WORKGROUP) in;
 
 #include "tet/interval/buffers.glsl"
 #include "tet/interval/params.glsl"
@@ -26,7 +26,7 @@ layout(local_size_x = 64) in;
 
 void main() {
     // Workgroups spread over x and y past 65,535 (tessera_gpu::spread_groups).
-    uint tet = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * 64u + gl_LocalInvocationIndex;
+    uint tet = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * uint(TETS_PER_WORKGROUP) + gl_LocalInvocationIndex;
     if (tet >= params.counts.x) {
         return;
     }
