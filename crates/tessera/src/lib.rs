@@ -3,6 +3,7 @@
 //! `tessera_gpu`.
 
 pub mod bench;
+pub mod capacity;
 pub mod config;
 pub mod error;
 pub mod gpu_volume;

@@ -49,13 +49,7 @@ impl BinCapacity {
     /// Room for `entries` pairs and `tiles` tiles with a quarter of headroom (the rule every
     /// growing buffer of the crate follows), never less than now.
     fn grown_to(self, entries: u32, tiles: u32) -> BinCapacity {
-        let grow = |now: u32, needed: u32| {
-            if needed <= now {
-                now
-            } else {
-                needed.saturating_add(needed / 4)
-            }
-        };
+        let grow = crate::capacity::grown_capacity;
         BinCapacity {
             entries: grow(self.entries, entries),
             tiles: grow(self.tiles, tiles),
