@@ -65,7 +65,8 @@ void sort_tile_tets(uint count) {
     }
 }
 
-// Adds `value` to what the per-tet path left at `pixel`: nothing else writes it in this pass.
+// Combines `value` with what the per-tet path left at `pixel` (added, or the larger or nearer
+// kept): nothing else writes the pixel in this pass, so no atomics.
 void store_pixel(uint pixel, PixelValue value) {
 #if INTEGRAND == INTEGRAND_SDF
     frame[pixel * 2u] = combine_pixel_values(frame[pixel * 2u], value);
