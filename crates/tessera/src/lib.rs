@@ -3,6 +3,7 @@
 //! `tessera_gpu`.
 
 pub mod bench;
+pub mod capacity;
 pub mod config;
 pub mod error;
 pub mod gpu_volume;
@@ -14,6 +15,7 @@ pub mod path;
 pub mod raster;
 pub mod renderer;
 pub mod report;
+pub mod scan;
 pub mod shaders;
 pub mod target;
 pub mod tet;

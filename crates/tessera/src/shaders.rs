@@ -150,6 +150,18 @@ const COMMON: &[(&str, &str)] = &[
         "tet/interval/sdf.glsl",
         include_str!("tet/interval/sdf.glsl"),
     ),
+    (
+        "tet/interval/pixel_value.glsl",
+        include_str!("tet/interval/pixel_value.glsl"),
+    ),
+    (
+        "tet/interval/tet_draw.glsl",
+        include_str!("tet/interval/tet_draw.glsl"),
+    ),
+    (
+        "tet/interval/bin_buffers.glsl",
+        include_str!("tet/interval/bin_buffers.glsl"),
+    ),
     ("raster/hzb.glsl", include_str!("raster/hzb.glsl")),
     ("raster/hzb_test.glsl", include_str!("raster/hzb_test.glsl")),
     (

@@ -8,7 +8,8 @@ use common::{assert_clean, gpu, skip};
 use tessera::path::Path;
 use tessera::shaders;
 use tessera::tet::interval::{
-    GpuTetMesh, Integrand, Interval, IntervalFrame, IntervalOptions, TileCapacity,
+    BinCapacity, ComputeScheme, GpuTetMesh, Integrand, Interval, IntervalFrame, IntervalOptions,
+    TileCapacity,
 };
 use tessera_data::tet::optical::{edge_mask, optical_depth};
 use tessera_data::tet::procedural::{box_mesh, deform, sphere_mesh};
@@ -40,18 +41,81 @@ fn paths(gpu: &Gpu) -> Vec<Path> {
     paths
 }
 
-/// The default options of every path, plus on request the variants that exercise the
-/// compute path's tile pass (every tet tiled; tile buffers too small, so some tets fall back
-/// to single invocations) and one tet per mesh workgroup.
-fn variants(gpu: &Gpu, integrand: &Integrand, all: bool) -> Vec<(String, IntervalOptions)> {
+/// The default options of every path, and the compute path's binned scheme.
+fn defaults(gpu: &Gpu) -> Vec<(String, IntervalOptions)> {
     let mut out = Vec::new();
     for path in paths(gpu) {
+        out.push((path.name().to_string(), IntervalOptions::new(path)));
+        if path == Path::Compute {
+            out.push((
+                "compute, binned".into(),
+                IntervalOptions {
+                    compute_scheme: ComputeScheme::Binned,
+                    ..IntervalOptions::new(path)
+                },
+            ));
+        }
+    }
+    out
+}
+
+/// The binned scheme with lists too small for the view (tets beyond them drawn per tet, every
+/// one of those through the tile pass), and with fewer tile counters than the screen has
+/// tiles (every tet drawn per tet).
+fn binned_overflow_variants(base: &IntervalOptions) -> Vec<(String, IntervalOptions)> {
+    let binned = IntervalOptions {
+        compute_scheme: ComputeScheme::Binned,
+        ..base.clone()
+    };
+    vec![
+        (
+            "compute, binned, lists full".into(),
+            IntervalOptions {
+                bin_capacity: BinCapacity {
+                    entries: 5,
+                    ..BinCapacity::default()
+                },
+                ..binned.clone()
+            },
+        ),
+        (
+            "compute, binned, lists full, all tiled".into(),
+            IntervalOptions {
+                inline_pixel_limit: Some(0),
+                bin_capacity: BinCapacity {
+                    entries: 5,
+                    ..BinCapacity::default()
+                },
+                ..binned.clone()
+            },
+        ),
+        (
+            "compute, binned, screen beyond the tile counters".into(),
+            IntervalOptions {
+                bin_capacity: BinCapacity {
+                    tiles: 3,
+                    ..BinCapacity::default()
+                },
+                ..binned
+            },
+        ),
+    ]
+}
+
+/// The defaults ([`defaults`]), plus on request the variants that exercise the compute path's
+/// tile pass (every tet tiled; tile buffers too small, so some tets fall back to single
+/// invocations), the binned scheme's overflow and one tet per mesh workgroup.
+fn variants(gpu: &Gpu, integrand: &Integrand, all: bool) -> Vec<(String, IntervalOptions)> {
+    let mut out = Vec::new();
+    for (name, options) in defaults(gpu) {
         let base = IntervalOptions {
             integrand: integrand.clone(),
-            ..IntervalOptions::new(path)
+            ..options
         };
-        out.push((path.name().to_string(), base.clone()));
-        if !all {
+        let path = base.path;
+        let per_tet = base.compute_scheme == ComputeScheme::PerTet;
+        out.push((name, base.clone()));
+        if !all || !per_tet {
             continue;
         }
         match path {
@@ -75,9 +139,10 @@ fn variants(gpu: &Gpu, integrand: &Integrand, all: bool) -> Vec<(String, Interva
                     IntervalOptions {
                         inline_pixel_limit: Some(0),
                         tile_capacity: TileCapacity { tets: 3, tiles: 8 },
-                        ..base
+                        ..base.clone()
                     },
                 ));
+                out.extend(binned_overflow_variants(&base));
             }
         }
     }
@@ -112,7 +177,20 @@ fn assert_variants_match(
         let label = format!("{name} ({variant})");
         let snap = common::interval::snap_px(gpu, options.path);
         covered = compare(&label, &frame, expected, w, snap);
-        if options.path == Path::Compute && options.inline_pixel_limit == Some(0) {
+        // Tets reach the per-tet passes in the binned scheme only where its lists are full.
+        let binned = options.compute_scheme == ComputeScheme::Binned;
+        let lists_full = binned && {
+            let capacity = options.bin_capacity;
+            capacity.entries < 10 || capacity.tiles < 10
+        };
+        assert_eq!(
+            frame.unbinned > 0,
+            lists_full,
+            "{label}: {} tets drawn unbinned",
+            frame.unbinned
+        );
+        let per_tet = !binned || lists_full;
+        if options.path == Path::Compute && options.inline_pixel_limit == Some(0) && per_tet {
             assert!(frame.tiled > 0, "{label}: no tet reached the tile pass");
             let full = options.tile_capacity.tets < 10;
             assert_eq!(
@@ -280,8 +358,8 @@ fn beer_lambert_post_pass_matches_cpu_composite() {
     let (w, h) = (72, 56);
     let cam = camera(20.0, 10.0, 2.0);
     let background = [1.0, 0.95, 0.85];
-    for path in paths(&gpu) {
-        let interval = Interval::new(&gpu, &compiler, &IntervalOptions::new(path)).unwrap();
+    for (name, options) in defaults(&gpu) {
+        let interval = Interval::new(&gpu, &compiler, &options).unwrap();
         let target = interval.target(&gpu, w, h).unwrap();
         let depth = interval.render(&gpu, &gpu_mesh, &target, &cam).unwrap();
         let (image, _ms) = interval
@@ -291,8 +369,7 @@ fn beer_lambert_post_pass_matches_cpu_composite() {
         let diff = image.compare(&expected, 1);
         assert!(
             diff.fraction_within >= 0.999,
-            "{}: {} pixels differ",
-            path.name(),
+            "{name}: {} pixels differ",
             diff.pixels_outside
         );
         let darkened = image
@@ -441,13 +518,13 @@ fn maximum_post_pass_shows_the_table_colour() {
     let table = IntegrandTable::new(&tf, ScalarMode::Maximum, 1.0, 64);
     let gpu_mesh = GpuTetMesh::upload(&gpu, &mesh).unwrap();
     let background = [0.1, 0.1, 0.1];
-    for path in paths(&gpu) {
+    for (name, options) in defaults(&gpu) {
         let options = IntervalOptions {
             integrand: Integrand::Scalar {
                 mode: ScalarMode::Maximum,
                 table: table.clone(),
             },
-            ..IntervalOptions::new(path)
+            ..options
         };
         let interval = Interval::new(&gpu, &compiler, &options).unwrap();
         let target = interval.target(&gpu, w, h).unwrap();
@@ -468,15 +545,13 @@ fn maximum_post_pass_shows_the_table_colour() {
         let diff = image.compare(&expected, 1);
         assert!(
             diff.fraction_within >= 0.999,
-            "{}: {} pixels differ",
-            path.name(),
+            "{name}: {} pixels differ",
             diff.pixels_outside
         );
         let distinct: std::collections::HashSet<u32> = image.pixels.iter().copied().collect();
         assert!(
             distinct.len() > 20,
-            "{}: the colour must vary with the maximum",
-            path.name()
+            "{name}: the colour must vary with the maximum"
         );
     }
     assert_clean(&gpu);
@@ -503,13 +578,13 @@ fn asteroid_field_matches_the_cpu_sphere_tracer() {
             "the view must show asteroids ({hit_count} pixels)"
         );
         let gpu_mesh = GpuTetMesh::upload_asteroids(&gpu, &mesh).unwrap();
-        for path in paths(&gpu) {
-            if path == Path::Compute && !gpu.caps().buffer_int64_atomics {
+        for (name, options) in defaults(&gpu) {
+            if options.path == Path::Compute && !gpu.caps().buffer_int64_atomics {
                 continue;
             }
             let options = IntervalOptions {
                 integrand: Integrand::Asteroids,
-                ..IntervalOptions::new(path)
+                ..options
             };
             let interval = Interval::new(&gpu, &compiler, &options).unwrap();
             let (image, _) = interval
@@ -520,16 +595,14 @@ fn asteroid_field_matches_the_cpu_sphere_tracer() {
             let iou = silhouette_iou(&covered, &hits);
             assert!(
                 iou >= 0.99,
-                "{} at {}: silhouette IoU {iou}",
-                path.name(),
+                "{name} at {}: silhouette IoU {iou}",
                 cam.distance
             );
             let both: Vec<bool> = covered.iter().zip(&hits).map(|(a, b)| *a && *b).collect();
             let diff = image.compare_where(&expected, &both, 4);
             assert!(
                 diff.fraction_within >= 0.98,
-                "{} at {}: {} of the shared pixels differ by more than 4/255",
-                path.name(),
+                "{name} at {}: {} of the shared pixels differ by more than 4/255",
                 cam.distance,
                 diff.pixels_outside
             );

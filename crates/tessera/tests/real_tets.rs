@@ -9,7 +9,7 @@ use common::{assert_clean, gpu, skip};
 use std::path::PathBuf;
 use tessera::path::Path;
 use tessera::shaders;
-use tessera::tet::interval::{GpuTetMesh, Integrand, Interval, IntervalOptions};
+use tessera::tet::interval::{ComputeScheme, GpuTetMesh, Integrand, Interval, IntervalOptions};
 use tessera_data::tet::optical::{edge_mask, optical_depth};
 use tessera_data::tet::scalar_integral::{integrate_scalar, normalized_scalars};
 use tessera_data::tet::{load_tet_mesh, TetMesh};
@@ -143,11 +143,12 @@ fn bunny_renders_like_the_reference_on_every_path() {
     let gpu_mesh = GpuTetMesh::upload(&gpu, &mesh).unwrap();
     let support = tessera::tet::interval::path_support(gpu.caps());
     let paths = [
-        (Path::Graphics, support.graphics),
-        (Path::Compute, support.compute),
+        (Path::Graphics, ComputeScheme::PerTet, support.graphics),
+        (Path::Compute, ComputeScheme::PerTet, support.compute),
+        (Path::Compute, ComputeScheme::Binned, support.compute),
     ];
     let mut compared_any = false;
-    for (path, supported) in paths {
+    for (path, scheme, supported) in paths {
         if !supported {
             continue;
         }
@@ -163,8 +164,10 @@ fn bunny_renders_like_the_reference_on_every_path() {
         ] {
             let options = IntervalOptions {
                 integrand,
+                compute_scheme: scheme,
                 ..IntervalOptions::new(path)
             };
+            let name = format!("{} ({})", path.name(), scheme.name());
             let interval = Interval::new(&gpu, &compiler, &options).unwrap();
             let target = interval.target(&gpu, w, h).unwrap();
             let frame = interval.render(&gpu, &gpu_mesh, &target, &cam).unwrap();
@@ -172,7 +175,7 @@ fn bunny_renders_like_the_reference_on_every_path() {
             // graphics path may miss by its snapping in up to 1 % of the values.
             let outliers = if path == Path::Graphics { 0.01 } else { 0.0 };
             let (_, inside) = common::interval::assert_mostly_close(
-                path.name(),
+                &name,
                 &frame.values,
                 reference,
                 &edges,
@@ -181,11 +184,7 @@ fn bunny_renders_like_the_reference_on_every_path() {
                 outliers,
             );
             // A dense mesh leaves few pixels away from every projected edge; some must be.
-            assert!(
-                inside > 100,
-                "{}: {inside} pixels compared inside",
-                path.name()
-            );
+            assert!(inside > 100, "{name}: {inside} pixels compared inside");
             compared_any = true;
         }
     }

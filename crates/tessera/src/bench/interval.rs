@@ -1,12 +1,12 @@
 //! Tetrahedral-mesh benchmark scenarios: interval shading through the front door, one
-//! renderer per variant (path, tets per workgroup, tile limit, integrand).
+//! renderer per variant (path, tets per workgroup, tile limit, compute scheme, integrand).
 
 use super::frames::time_mono;
 use super::{BenchConfig, BenchRecord, FramePlan, RecordSink};
 use crate::error::Result;
 use crate::path::{Path, PathChoice};
 use crate::renderer::{self, IntervalTuning, Renderer, RendererOptions, Technique};
-use crate::tet::interval::path_support;
+use crate::tet::interval::{path_support, ComputeScheme};
 use std::collections::BTreeMap;
 use tessera_data::scene::{Appearance, DataKind, Dataset, IntegrandChoice, LoadOptions};
 use tessera_data::transfer::ScalarMode;
@@ -101,8 +101,19 @@ fn variants(gpu: &Gpu, wanted: &[Path], view: &str, scalar: bool, small: bool) -
             };
             out.push(Variant::new(Path::Compute, tuning, integrand, label));
         }
+        out.push(binned(integrand, &format!("{kind}, binned")));
     }
     out
+}
+
+/// The compute path's binned scheme (its tile limit the automatic one, for the tets its lists
+/// have no room for).
+fn binned(integrand: IntegrandChoice, label: &str) -> Variant {
+    let tuning = IntervalTuning {
+        compute_scheme: ComputeScheme::Binned,
+        ..IntervalTuning::default()
+    };
+    Variant::new(Path::Compute, tuning, integrand, label.to_string())
 }
 
 /// Interval shading of procedural tet boxes of about 61 k, 959 k and 2.4 M tets (the sizes of
@@ -241,6 +252,7 @@ impl MeshBench<'_> {
                 integrand,
                 label,
             ));
+            all.push(binned(integrand, "asteroids, binned"));
         }
         for variant in &all {
             let mut r = interval_renderer(gpu, variant, data)?;

@@ -178,14 +178,21 @@ impl Renderer for IntervalRenderer {
     fn finish_frame(&mut self, gpu: &Gpu) -> Result<FrameOutcome> {
         let pipelines = self
             .pipelines
-            .as_ref()
+            .as_mut()
             .ok_or_else(|| no_data(Technique::Interval))?;
         let counts = pipelines.read_counts(gpu)?;
+        // The frame is complete (the per-tet passes drew what the binned lists had no room
+        // for); the lists grow for the next one.
+        if let Some(accumulation) = &self.accumulation {
+            pipelines.grow_buffers(gpu, (accumulation.width, accumulation.height))?;
+        }
         self.stats = FrameStats {
             tets_clipped: Some(u64::from(counts.clipped_near)),
             details: [
                 ("tiled_tets", u64::from(counts.tiled)),
                 ("overflowed_tets", u64::from(counts.overflowed)),
+                ("unbinned_tets", u64::from(counts.unbinned)),
+                ("bin_entries", u64::from(counts.bin_entries)),
             ]
             .into(),
             ..FrameStats::default()

@@ -114,7 +114,7 @@ impl SurfaceFrame {
     /// path when they did not fit the list, which then grows (at the next `prepare`).
     pub(super) fn grow_for(&mut self, path: Path, triangles: u32) -> bool {
         if path == Path::Compute && triangles > self.capacity {
-            self.capacity = triangles.saturating_add(triangles / 4);
+            self.capacity = crate::capacity::grown_capacity(self.capacity, triangles);
             return true;
         }
         false

@@ -59,13 +59,7 @@ impl MeshletCapacity {
     /// Room for `counters`' totals with a quarter of headroom (the rule every growing buffer
     /// of the crate follows), never less than now.
     fn grown_to(self, counters: &MeshletCounters) -> MeshletCapacity {
-        let grow = |now: u32, needed: u32| {
-            if needed <= now {
-                now
-            } else {
-                needed.saturating_add(needed / 4)
-            }
-        };
+        let grow = crate::capacity::grown_capacity;
         MeshletCapacity::new(
             grow(self.meshlets, counters.meshlets),
             grow(self.vertices, counters.vertices),

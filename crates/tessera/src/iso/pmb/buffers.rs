@@ -51,13 +51,7 @@ impl PmbCapacity {
     /// Room for `counters`' totals with a quarter of headroom (the rule every growing buffer
     /// of the crate follows), never less than now.
     fn grown_to(self, counters: &PmbCounters) -> PmbCapacity {
-        let grow = |now: u32, needed: u32| {
-            if needed <= now {
-                now
-            } else {
-                needed.saturating_add(needed / 4)
-            }
-        };
+        let grow = crate::capacity::grown_capacity;
         PmbCapacity::new(
             grow(self.vertices, counters.vertices),
             grow(self.triangles, counters.triangles),

@@ -2,10 +2,13 @@
 //! compute invocations that add their pixels' integrands with float atomics. Small tets are
 //! drawn by one invocation each; a tet whose screen rectangle exceeds a pixel limit is split
 //! into 16 × 16-pixel tiles drawn by one workgroup each (indirect dispatch), so that the huge
-//! proxies near an eye inside the mesh spread over the GPU.
+//! proxies near an eye inside the mesh spread over the GPU. The binned variant
+//! ([`super::binned`]) draws through per-tile lists instead and leaves these passes only the
+//! tets its lists have no room for.
 
+use super::binned::{BinCapacity, TetBins};
 use super::mesh::GpuTetMesh;
-use super::IntervalParams;
+use super::{ComputeScheme, IntervalParams};
 use crate::builtin_shader;
 use crate::error::{Error, Result};
 use crate::raster::{create_counts_buffer, IndirectArgs};
@@ -13,7 +16,7 @@ use tessera_gpu::{
     vk, Binding, Buffer, Gpu, MemoryLocation, Pipeline, Recorder, ShaderCompiler, Slot,
 };
 
-/// Tets per workgroup of `interval_raster.comp.glsl`.
+/// Tets per workgroup of `interval_raster.comp.glsl` and `interval_bin_count.comp.glsl`.
 const TETS_PER_WORKGROUP: u32 = 64;
 /// Side of a tile in pixels (`TILE` in the shaders): one invocation per pixel.
 pub const TILE: u32 = 16;
@@ -44,6 +47,8 @@ pub struct IntervalCompute {
     tile_owner: Buffer,
     tile_count: Buffer,
     max_groups_x: u32,
+    /// The binned variant's lists; `None` for the per-tet variant.
+    bins: Option<TetBins>,
 }
 
 /// The interval defines, and the tile pass's sizes.
@@ -54,6 +59,7 @@ pub(crate) fn compute_defines(
     let mut defines = defines.to_vec();
     defines.extend([
         ("TILE".into(), TILE.to_string()),
+        ("TETS_PER_WORKGROUP".into(), TETS_PER_WORKGROUP.to_string()),
         ("TILED_CAPACITY".into(), format!("{}u", capacity.tets)),
         ("TILE_CAPACITY".into(), format!("{}u", capacity.tiles)),
     ]);
@@ -66,6 +72,8 @@ impl IntervalCompute {
         compiler: &ShaderCompiler,
         defines: &[(String, String)],
         capacity: TileCapacity,
+        scheme: ComputeScheme,
+        bin_capacity: BinCapacity,
     ) -> Result<IntervalCompute> {
         if !gpu.caps().buffer_float32_atomic_add {
             return Err(Error::Invalid(format!(
@@ -93,7 +101,14 @@ impl IntervalCompute {
             storage,
             MemoryLocation::GpuOnly,
         )?;
+        let bins = match scheme {
+            ComputeScheme::PerTet => None,
+            ComputeScheme::Binned => {
+                Some(TetBins::new(gpu, compiler, &defines, &slots, bin_capacity)?)
+            }
+        };
         Ok(IntervalCompute {
+            bins,
             raster,
             tiles,
             indirect: IndirectArgs::new(gpu, compiler)?,
@@ -124,16 +139,47 @@ impl IntervalCompute {
         ]);
         rec.fill_buffer(target, clear);
         rec.fill_buffer(&self.tile_count, 0);
+        if let Some(bins) = &self.bins {
+            bins.record_clear(rec);
+        }
         rec.barrier();
         let groups = tessera_gpu::spread_groups(
             mesh.tet_count.div_ceil(TETS_PER_WORKGROUP),
             self.max_groups_x,
         );
         let push = bytemuck::bytes_of(params);
-        rec.dispatch_groups(&self.raster, &bindings, push, groups);
+        let size = (params.counts[1], params.counts[2]);
+        match &self.bins {
+            None => rec.dispatch_groups(&self.raster, &bindings, push, groups),
+            Some(bins) => bins.record_binning(rec, &bindings, push, groups, &self.indirect, size),
+        }
         rec.barrier();
         self.indirect.record(rec, &self.tile_count, 1);
         rec.dispatch_indirect(&self.tiles, &bindings, push, &self.tile_count, 4);
         rec.barrier();
+        if let Some(bins) = &self.bins {
+            bins.record_shade(rec, &bindings, push, size);
+        }
+    }
+
+    /// The binned variant's capacity (`None` for the per-tet variant).
+    pub fn bin_capacity(&self) -> Option<BinCapacity> {
+        self.bins.as_ref().map(TetBins::capacity)
+    }
+
+    /// The binned variant's (tet, tile) entries of the last frame (0 for the per-tet variant).
+    pub fn bin_entries(&self, gpu: &Gpu) -> Result<u32> {
+        self.bins
+            .as_ref()
+            .map_or(Ok(0), |bins| bins.read_reserved(gpu))
+    }
+
+    /// Grows the binned variant's lists when the last frame, of a `width` × `height` image,
+    /// overflowed them; whether it did.
+    pub fn grow_bins(&mut self, gpu: &Gpu, size: (u32, u32)) -> Result<bool> {
+        match &mut self.bins {
+            Some(bins) => bins.grow_for(gpu, size),
+            None => Ok(false),
+        }
     }
 }

@@ -20,6 +20,7 @@ layout(local_size_x = TILE, local_size_y = TILE) in;
 #if INTEGRAND == INTEGRAND_SDF
 #include "tet/interval/sdf.glsl"
 #endif
+#include "tet/interval/pixel_value.glsl"
 #include "tet/interval/splat.glsl"
 
 shared Proxy tet_proxy[3];

@@ -10,14 +10,18 @@
 //! recovers the scalar where its ray enters and leaves the tet without fetching the tet again.
 //!
 //! Two paths ([`Path`]): the paper's mesh shader + rasterizer + blending ([`graphics`]), and a
-//! compute rasterization of the same proxies with float atomics ([`compute`]). Tets crossing
-//! the near plane are clipped into 1 or 3 tets, so the camera may be inside the mesh.
+//! compute rasterization of the same proxies, in two variants ([`ComputeScheme`]): per tet with
+//! float atomics ([`compute`]), or binned into per-tile lists shaded one workgroup per tile
+//! ([`binned`]). Tets crossing the near plane are clipped into 1 or 3 tets, so the camera may be
+//! inside the mesh.
 
+pub mod binned;
 pub mod composite;
 pub mod compute;
 pub mod graphics;
 pub mod mesh;
 
+pub use binned::BinCapacity;
 pub use compute::TileCapacity;
 pub use mesh::{GpuTetMesh, OpticalTarget};
 
@@ -99,6 +103,28 @@ impl Integrand {
     }
 }
 
+/// How the compute path adds the tets' pixels into the image.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum ComputeScheme {
+    /// One invocation per tet adds its pixels with global float atomics; tets above the pixel
+    /// limit go to the tile pass ([`compute`]).
+    #[default]
+    PerTet,
+    /// Tets binned into per-tile lists of 16 × 16-pixel screen tiles, one workgroup per tile
+    /// combining its tets in registers and writing each pixel once ([`binned`]). Not the
+    /// default: it has not been measured against the per-tet scheme yet.
+    Binned,
+}
+
+impl ComputeScheme {
+    pub fn name(self) -> &'static str {
+        match self {
+            ComputeScheme::PerTet => "per tet",
+            ComputeScheme::Binned => "binned",
+        }
+    }
+}
+
 #[derive(Clone, Debug)]
 pub struct IntervalOptions {
     pub path: Path,
@@ -109,6 +135,10 @@ pub struct IntervalOptions {
     /// picks it from the mesh and image ([`auto_inline_limit`]).
     pub inline_pixel_limit: Option<u32>,
     pub tile_capacity: TileCapacity,
+    /// Compute path: per tet or binned.
+    pub compute_scheme: ComputeScheme,
+    /// Binned compute path: the lists' first capacity (they grow, see [`Interval::grow_buffers`]).
+    pub bin_capacity: BinCapacity,
 }
 
 /// The settings of interval shading that trade speed between meshes and views, without
@@ -117,8 +147,11 @@ pub struct IntervalOptions {
 pub struct IntervalTuning {
     /// Graphics path: tets per mesh workgroup (1 to 16).
     pub tets_per_workgroup: u32,
-    /// Compute path: the tile pass's pixel limit (`None`: automatic).
+    /// Compute path: the tile pass's pixel limit (`None`: automatic); in the binned scheme it
+    /// applies to the tets the lists have no room for.
     pub inline_pixel_limit: Option<u32>,
+    /// Compute path: per tet or binned.
+    pub compute_scheme: ComputeScheme,
 }
 
 impl Default for IntervalTuning {
@@ -126,6 +159,7 @@ impl Default for IntervalTuning {
         IntervalTuning {
             tets_per_workgroup: graphics::MAX_TETS_PER_WORKGROUP,
             inline_pixel_limit: None,
+            compute_scheme: ComputeScheme::PerTet,
         }
     }
 }
@@ -142,6 +176,8 @@ impl IntervalOptions {
             tets_per_workgroup: tuning.tets_per_workgroup,
             inline_pixel_limit: tuning.inline_pixel_limit,
             tile_capacity: TileCapacity::default(),
+            compute_scheme: tuning.compute_scheme,
+            bin_capacity: BinCapacity::default(),
         }
     }
 }
@@ -155,6 +191,11 @@ pub struct IntervalCounts {
     /// the tile buffers were full.
     pub tiled: u32,
     pub overflowed: u32,
+    /// Binned compute path: tets drawn per tet because the bins were full.
+    pub unbinned: u32,
+    /// Binned compute path: (tet, tile) entries the tets reserved, those that did not fit
+    /// included.
+    pub bin_entries: u32,
 }
 
 /// One frame's accumulation, its GPU time and what the passes counted.
@@ -169,6 +210,11 @@ pub struct IntervalFrame {
     /// the tile buffers were full.
     pub tiled: u32,
     pub overflowed: u32,
+    /// Binned compute path: tets drawn per tet because the bins were full.
+    pub unbinned: u32,
+    /// Binned compute path: (tet, tile) entries the tets reserved, those that did not fit
+    /// included.
+    pub bin_entries: u32,
 }
 
 enum Renderer {
@@ -241,6 +287,8 @@ impl Interval {
                 compiler,
                 &defines,
                 options.tile_capacity,
+                options.compute_scheme,
+                options.bin_capacity,
             )?)),
         };
         let composite = Composite::new(gpu, compiler, &defines, options.path)?;
@@ -272,6 +320,7 @@ impl Interval {
             ("STAT_CLIPPED".into(), "0".into()),
             ("STAT_TILED".into(), "1".into()),
             ("STAT_OVERFLOW".into(), "2".into()),
+            ("STAT_UNBINNED".into(), "3".into()),
         ]);
         defines.extend(crate::config::asteroid_defines());
         defines
@@ -350,7 +399,30 @@ impl Interval {
             clipped_near: stats[0],
             tiled: stats[1].min(self.options.tile_capacity.tets),
             overflowed: stats[2],
+            unbinned: stats[3],
+            bin_entries: match &self.renderer {
+                Renderer::Compute(c) => c.bin_entries(gpu)?,
+                Renderer::Graphics(_) => 0,
+            },
         })
+    }
+
+    /// Grows the buffers the last frame, of a `width` × `height` image, overflowed, for the
+    /// next frame (the binned compute path's lists: the frame itself drew what did not fit per
+    /// tet); whether any grew.
+    pub fn grow_buffers(&mut self, gpu: &Gpu, size: (u32, u32)) -> Result<bool> {
+        match &mut self.renderer {
+            Renderer::Compute(c) => c.grow_bins(gpu, size),
+            Renderer::Graphics(_) => Ok(false),
+        }
+    }
+
+    /// The binned compute path's current capacity (`None` on the other variants).
+    pub fn bin_capacity(&self) -> Option<BinCapacity> {
+        match &self.renderer {
+            Renderer::Compute(c) => c.bin_capacity(),
+            Renderer::Graphics(_) => None,
+        }
     }
 
     /// Records one frame into `target` (cleared first).
@@ -408,6 +480,8 @@ impl Interval {
             clipped_near: counts.clipped_near,
             tiled: counts.tiled,
             overflowed: counts.overflowed,
+            unbinned: counts.unbinned,
+            bin_entries: counts.bin_entries,
         })
     }
 

@@ -1,8 +1,8 @@
 // The compute path's pixel work: which proxy triangle owns a pixel centre (the top-left rule,
-// as the hardware rasterizer decides it), and adding the integrand there with atomics — or,
-// for INTEGRAND_SDF, tracing the tet's asteroid and keeping the nearest hit with a 64-bit
-// atomic minimum of depth and colour. Needs buffers.glsl, params.glsl, proxy.glsl, length.glsl,
-// integrand.glsl (and sdf.glsl for INTEGRAND_SDF) and compute_buffers.glsl.
+// as the hardware rasterizer decides it), and adding the tet's value there (pixel_value.glsl)
+// with atomics — for INTEGRAND_SDF a 64-bit atomic minimum of depth and colour. Needs
+// buffers.glsl, params.glsl, proxy.glsl, length.glsl, integrand.glsl (and sdf.glsl for
+// INTEGRAND_SDF), compute_buffers.glsl and pixel_value.glsl.
 
 float edge_at(vec2 a, vec2 b, vec2 p) {
     return (b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x);
@@ -44,10 +44,10 @@ bool covers(vec2 s0, vec2 s1, vec2 s2, vec2 p, out vec3 weights) {
     return true;
 }
 
+#if INTEGRAND != INTEGRAND_SDF
 void accumulate(uint pixel, vec3 value) {
     uint i = pixel * 4u;
-#if INTEGRAND == INTEGRAND_SDF
-#elif INTEGRAND == INTEGRAND_MAXIMUM
+#if INTEGRAND == INTEGRAND_MAXIMUM
     // Non-negative floats order as their bits do.
     atomicMax(optical[i + 0u], floatBitsToUint(value.x));
     atomicMax(optical[i + 1u], floatBitsToUint(value.y));
@@ -57,26 +57,32 @@ void accumulate(uint pixel, vec3 value) {
     atomicAdd(optical[i + 2u], value.z);
 #endif
 }
+#endif
 
 void pixel_work(uint tet, uint pixel, vec4 attrs, vec2 ndc) {
+    PixelValue value = tet_pixel_value(tet, attrs, ndc);
 #if INTEGRAND == INTEGRAND_SDF
-    vec4 hit = asteroid_hit(tet, attrs, ndc);
-    if (hit.w >= 0.0) {
-        // Depth in the high word: non-negative floats order as their bits do.
-        uint64_t value = (uint64_t(floatBitsToUint(hit.w)) << 32) | uint64_t(packUnorm4x8(vec4(hit.rgb, 1.0)));
+    if (value != NO_HIT) {
         atomicMin(frame[pixel * 2u], value);
     }
 #else
-    accumulate(pixel, integrand(attrs, ndc, absorption[tet].rgb));
+    accumulate(pixel, value);
 #endif
 }
 
-// The pixel work of tet `tet` at `pixel` where one of its proxy's triangles owns the pixel
-// centre. The triangles of one proxy tile its silhouette, so at most one does.
-void shade_pixel(Proxy proxy, uvec2 pixel, uint tet) {
+// The pixel centre's normalized device coordinates.
+vec2 pixel_ndc(uvec2 pixel) {
+    vec2 p = vec2(pixel) + 0.5;
+    return p / (0.5 * vec2(params.counts.yz)) - 1.0;
+}
+
+// Whether one of the proxy's triangles owns the pixel centre, and the attributes interpolated
+// there. The triangles of one proxy tile its silhouette, so at most one does.
+bool proxy_attrs_at(Proxy proxy, uvec2 pixel, out vec4 attrs) {
+    attrs = vec4(0.0);
     uint s = proxy.silhouette;
     if (s == 0u) {
-        return;
+        return false;
     }
     vec2 p = vec2(pixel) + 0.5;
     vec2 centre = to_screen(proxy.p[s]);
@@ -84,10 +90,18 @@ void shade_pixel(Proxy proxy, uvec2 pixel, uint tet) {
         uint k = j + 1u == s ? 0u : j + 1u;
         vec3 w;
         if (covers(to_screen(proxy.p[j]), to_screen(proxy.p[k]), centre, p, w)) {
-            vec4 attrs = w.x * proxy.attrs[j] + w.y * proxy.attrs[k] + w.z * proxy.attrs[s];
-            vec2 ndc = p / (0.5 * vec2(params.counts.yz)) - 1.0;
-            pixel_work(tet, pixel.y * params.counts.y + pixel.x, attrs, ndc);
-            return;
+            attrs = w.x * proxy.attrs[j] + w.y * proxy.attrs[k] + w.z * proxy.attrs[s];
+            return true;
         }
+    }
+    return false;
+}
+
+// The pixel work of tet `tet` at `pixel` where one of its proxy's triangles owns the pixel
+// centre.
+void shade_pixel(Proxy proxy, uvec2 pixel, uint tet) {
+    vec4 attrs;
+    if (proxy_attrs_at(proxy, pixel, attrs)) {
+        pixel_work(tet, pixel.y * params.counts.y + pixel.x, attrs, pixel_ndc(pixel));
     }
 }

@@ -1,0 +1,73 @@
+// The compute path's per-tet drawing, shared by its first pass (interval_raster.comp.glsl) and
+// the binned path's counting pass (interval_bin_count.comp.glsl), which draws this way the tets
+// its lists have no room for. A tet whose screen rectangle holds at most `params.counts.w`
+// pixels is drawn by the calling invocation, pixel by pixel; a larger one is handed to the tile
+// pass (interval_tiles.comp.glsl) as TILE × TILE-pixel tiles, one workgroup each, so that the
+// few huge proxies near the eye do not leave one invocation walking a whole screen. Where the
+// tile buffers are full, the tet is drawn by the invocation after all (slowly, but correctly).
+// Needs splat.glsl and what it needs.
+
+// Hands the tet to the tile pass; false when the buffers are full.
+bool hand_to_tiles(uint tet, uvec2 first, uvec2 last) {
+    uvec2 tiles = (last - first) / uint(TILE) + 1u;
+    uint count = tiles.x * tiles.y;
+    uint slot = atomicAdd(stats[STAT_TILED], 1u);
+    if (slot >= TILED_CAPACITY) {
+        return false;
+    }
+    uint first_tile = atomicAdd(tile_count, count);
+    uint end = min(first_tile + count, uint(TILE_CAPACITY));
+    bool fits = first_tile + count <= TILE_CAPACITY && first_tile + count >= first_tile;
+    uint owner = fits ? slot : NO_TET;
+    for (uint t = first_tile; t < end; ++t) {
+        tile_owner[t] = owner;
+    }
+    if (fits) {
+        tiled_tets[slot] = uvec4(tet, first_tile, first.x | (first.y << 16), tiles.x);
+    }
+    return fits;
+}
+
+// The first and last pixel whose centres the proxies' screen rectangle holds; false when it
+// holds none on screen.
+bool proxy_pixel_rect(Proxy proxies[3], uint n, out uvec2 first, out uvec2 last) {
+    vec2 lo = vec2(1e30);
+    vec2 hi = vec2(-1e30);
+    for (uint k = 0u; k < n; ++k) {
+        for (uint j = 0u; j <= proxies[k].silhouette && proxies[k].silhouette > 0u; ++j) {
+            vec2 s = to_screen(proxies[k].p[j]);
+            lo = min(lo, s);
+            hi = max(hi, s);
+        }
+    }
+    vec2 size = vec2(params.counts.yz);
+    vec2 first_f = max(ceil(lo - 0.5), vec2(0.0));
+    vec2 last_f = min(floor(hi - 0.5), size - 1.0);
+    first = uvec2(0u);
+    last = uvec2(0u);
+    if (any(greaterThan(first_f, last_f))) {
+        return false;
+    }
+    first = uvec2(first_f);
+    last = uvec2(last_f);
+    return true;
+}
+
+// Draws tet `tet` (its `n` proxies, their pixel rectangle first..last) here or through the
+// tile pass.
+void draw_tet(uint tet, Proxy proxies[3], uint n, uvec2 first, uvec2 last) {
+    uvec2 extent = last - first + 1u;
+    if (extent.x * extent.y > params.counts.w) {
+        if (hand_to_tiles(tet, first, last)) {
+            return;
+        }
+        atomicAdd(stats[STAT_OVERFLOW], 1u);
+    }
+    for (uint y = first.y; y <= last.y; ++y) {
+        for (uint x = first.x; x <= last.x; ++x) {
+            for (uint k = 0u; k < n; ++k) {
+                shade_pixel(proxies[k], uvec2(x, y), tet);
+            }
+        }
+    }
+}
