@@ -12,6 +12,10 @@ pub enum GpuError {
         call: &'static str,
         result: vk::Result,
     },
+    /// `VK_ERROR_SURFACE_LOST_KHR`: the window went away (closed by a person or the window
+    /// system) while its swapchain was in use; a viewer ends rather than fails.
+    #[error("{call} failed: the window's surface is gone (the window was closed)")]
+    SurfaceLost { call: &'static str },
     #[error("no Vulkan device found; install a GPU driver or mesa-vulkan-drivers (lavapipe)")]
     NoDevice,
     #[error("device index {index} does not exist: {count} device(s) found (see `tessera info`)")]
@@ -77,7 +81,17 @@ pub(crate) trait VkContext<T> {
 
 impl<T> VkContext<T> for std::result::Result<T, vk::Result> {
     fn call(self, call: &'static str) -> Result<T> {
-        self.map_err(|result| GpuError::Vulkan { call, result })
+        self.map_err(|result| GpuError::of_call(call, result))
+    }
+}
+
+impl GpuError {
+    /// The error of Vulkan call `call` that returned `result`.
+    pub fn of_call(call: &'static str, result: vk::Result) -> GpuError {
+        match result {
+            vk::Result::ERROR_SURFACE_LOST_KHR => GpuError::SurfaceLost { call },
+            result => GpuError::Vulkan { call, result },
+        }
     }
 }
 
@@ -95,5 +109,19 @@ mod tests {
         let text = e.to_string();
         assert!(text.contains("5000 texels") && text.contains("2048 texels per axis"));
         assert!(!text.contains("bytes"), "{text}");
+    }
+
+    #[test]
+    fn a_lost_surface_is_told_apart_from_other_failures() {
+        let lost: Result<()> = Err(vk::Result::ERROR_SURFACE_LOST_KHR).call("vkQueuePresentKHR");
+        assert!(matches!(
+            lost,
+            Err(GpuError::SurfaceLost {
+                call: "vkQueuePresentKHR"
+            })
+        ));
+        assert!(lost.unwrap_err().to_string().contains("window was closed"));
+        let other: Result<()> = Err(vk::Result::ERROR_DEVICE_LOST).call("vkQueueSubmit");
+        assert!(matches!(other, Err(GpuError::Vulkan { .. })));
     }
 }

@@ -238,12 +238,7 @@ impl Swapchain {
         let index = match acquired {
             Ok((index, _suboptimal)) => index,
             Err(vk::Result::ERROR_OUT_OF_DATE_KHR) => return Ok(None),
-            Err(result) => {
-                return Err(GpuError::Vulkan {
-                    call: "vkAcquireNextImageKHR",
-                    result,
-                })
-            }
+            Err(result) => return Err(GpuError::of_call("vkAcquireNextImageKHR", result)),
         };
         // SAFETY: the fence was handed to the acquire above, which signals it.
         unsafe {
@@ -276,10 +271,7 @@ impl Swapchain {
         match unsafe { self.loader.queue_present(gpu.queue, &info) } {
             Ok(false) => Ok(true),
             Ok(true) | Err(vk::Result::ERROR_OUT_OF_DATE_KHR) => Ok(false),
-            Err(result) => Err(GpuError::Vulkan {
-                call: "vkQueuePresentKHR",
-                result,
-            }),
+            Err(result) => Err(GpuError::of_call("vkQueuePresentKHR", result)),
         }
     }
 

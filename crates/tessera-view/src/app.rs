@@ -254,11 +254,12 @@ impl ApplicationHandler for App {
                 w.presenter.invalidate();
                 w.window.request_redraw();
             }
-            WindowEvent::RedrawRequested => {
-                if let Err(e) = self.redraw(event_loop) {
-                    self.fail(event_loop, e);
-                }
-            }
+            WindowEvent::RedrawRequested => match self.redraw(event_loop) {
+                // The window went away before its close reached us: the person closed it.
+                Err(ViewError::Gpu(tessera_gpu::GpuError::SurfaceLost { .. })) => event_loop.exit(),
+                Err(e) => self.fail(event_loop, e),
+                Ok(()) => {}
+            },
             _ => {}
         }
     }
