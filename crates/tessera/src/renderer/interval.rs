@@ -166,9 +166,7 @@ impl Renderer for IntervalRenderer {
             return Err(no_data(Technique::Interval));
         };
         let params = pipelines.params_for_view(&data.mesh, view);
-        let recorded = timer.scope(rec, "interval", |rec| {
-            pipelines.record(rec, &data.mesh, accumulation, &params)
-        });
+        let recorded = pipelines.record(rec, &data.mesh, accumulation, &params, Some(timer));
         timer.scope(rec, "composite", |rec| {
             pipelines.record_composite(rec, accumulation, target, self.background)
         });

@@ -13,7 +13,7 @@ use crate::builtin_shader;
 use crate::error::{Error, Result};
 use crate::raster::{create_counts_buffer, IndirectArgs};
 use tessera_gpu::{
-    vk, Binding, Buffer, Gpu, MemoryLocation, Pipeline, Recorder, ShaderCompiler, Slot,
+    vk, Binding, Buffer, Gpu, MemoryLocation, Pipeline, Recorder, ShaderCompiler, Slot, Timer,
 };
 
 /// Tets per workgroup of `interval_raster.comp.glsl` and `interval_bin_count.comp.glsl`.
@@ -120,7 +120,11 @@ impl IntervalCompute {
     }
 
     /// Records one frame into `target` (cleared to words of `clear` first); `common` are the
-    /// technique's first bindings (`buffers.glsl`).
+    /// technique's first bindings (`buffers.glsl`). With a `timer`, the frame is one scope,
+    /// `interval`, or for the binned scheme two: `binning` (clearing, counting, scanning and
+    /// scattering; tets the lists cannot hold drawn there) and `interval` (the tile pass and
+    /// the per-tile shading).
+    #[allow(clippy::too_many_arguments)]
     pub fn record(
         &self,
         rec: &Recorder,
@@ -129,6 +133,7 @@ impl IntervalCompute {
         target: &Buffer,
         params: &IntervalParams,
         clear: u32,
+        timer: Option<&mut Timer>,
     ) {
         let mut bindings = common.to_vec();
         bindings.extend([
@@ -137,6 +142,39 @@ impl IntervalCompute {
             Binding::Buffer(&self.tile_owner),
             Binding::Buffer(&self.tile_count),
         ]);
+        let frame = FramePasses {
+            bindings: &bindings,
+            push: bytemuck::bytes_of(params),
+            size: (params.counts[1], params.counts[2]),
+        };
+        let first = |rec: &Recorder| self.record_first_pass(rec, mesh, &frame, target, clear);
+        let rest = |rec: &Recorder| self.record_tiles_and_shading(rec, &frame);
+        match (timer, self.bins.is_some()) {
+            (None, _) => {
+                first(rec);
+                rest(rec);
+            }
+            (Some(t), false) => t.scope(rec, "interval", |rec| {
+                first(rec);
+                rest(rec);
+            }),
+            (Some(t), true) => {
+                t.scope(rec, "binning", first);
+                t.scope(rec, "interval", rest);
+            }
+        }
+    }
+
+    /// Clears the frame and runs the per-tet pass, or the binned scheme's counting, scan and
+    /// scatter.
+    fn record_first_pass(
+        &self,
+        rec: &Recorder,
+        mesh: &GpuTetMesh,
+        frame: &FramePasses,
+        target: &Buffer,
+        clear: u32,
+    ) {
         rec.fill_buffer(target, clear);
         rec.fill_buffer(&self.tile_count, 0);
         if let Some(bins) = &self.bins {
@@ -147,18 +185,27 @@ impl IntervalCompute {
             mesh.tet_count.div_ceil(TETS_PER_WORKGROUP),
             self.max_groups_x,
         );
-        let push = bytemuck::bytes_of(params);
-        let size = (params.counts[1], params.counts[2]);
         match &self.bins {
-            None => rec.dispatch_groups(&self.raster, &bindings, push, groups),
-            Some(bins) => bins.record_binning(rec, &bindings, push, groups, &self.indirect, size),
+            None => rec.dispatch_groups(&self.raster, frame.bindings, frame.push, groups),
+            Some(bins) => bins.record_binning(
+                rec,
+                frame.bindings,
+                frame.push,
+                groups,
+                &self.indirect,
+                frame.size,
+            ),
         }
         rec.barrier();
+    }
+
+    /// The tile pass of the tets handed to it, then the binned scheme's per-tile shading.
+    fn record_tiles_and_shading(&self, rec: &Recorder, frame: &FramePasses) {
         self.indirect.record(rec, &self.tile_count, 1);
-        rec.dispatch_indirect(&self.tiles, &bindings, push, &self.tile_count, 4);
+        rec.dispatch_indirect(&self.tiles, frame.bindings, frame.push, &self.tile_count, 4);
         rec.barrier();
         if let Some(bins) = &self.bins {
-            bins.record_shade(rec, &bindings, push, size);
+            bins.record_shade(rec, frame.bindings, frame.push, frame.size);
         }
     }
 
@@ -182,4 +229,12 @@ impl IntervalCompute {
             None => Ok(false),
         }
     }
+}
+
+/// What every pass of one compute frame binds and pushes.
+struct FramePasses<'a> {
+    bindings: &'a [Binding<'a>],
+    push: &'a [u8],
+    /// The frame's pixels.
+    size: (u32, u32),
 }

@@ -425,13 +425,16 @@ impl Interval {
         }
     }
 
-    /// Records one frame into `target` (cleared first).
+    /// Records one frame into `target` (cleared first). With a `timer`, the frame is timed as
+    /// `interval`, or on the binned compute scheme as `binning` and `interval`
+    /// ([`compute::IntervalCompute::record`]).
     pub fn record(
         &self,
         rec: &Recorder,
         mesh: &GpuTetMesh,
         target: &OpticalTarget,
         params: &IntervalParams,
+        timer: Option<&mut Timer>,
     ) -> Result<()> {
         let common = [
             Binding::Buffer(&mesh.vertices),
@@ -444,7 +447,13 @@ impl Interval {
         rec.barrier();
         match (&self.renderer, &target.store) {
             (Renderer::Graphics(g), OpticalStore::Image { image, depth, .. }) => {
-                g.record(rec, mesh, &common, (image, depth.as_deref()), params)
+                let draw = |rec: &Recorder| {
+                    g.record(rec, mesh, &common, (image, depth.as_deref()), params)
+                };
+                match timer {
+                    Some(t) => t.scope(rec, "interval", draw),
+                    None => draw(rec),
+                }
             }
             (Renderer::Compute(c), OpticalStore::Buffer(buffer)) => {
                 // The asteroid field keeps a minimum: empty pixels start at all ones.
@@ -452,7 +461,7 @@ impl Interval {
                     Integrand::Asteroids => u32::MAX,
                     _ => 0,
                 };
-                c.record(rec, mesh, &common, buffer, params, clear);
+                c.record(rec, mesh, &common, buffer, params, clear, timer);
                 Ok(())
             }
             _ => Err(Error::Invalid(
@@ -471,7 +480,7 @@ impl Interval {
     ) -> Result<IntervalFrame> {
         let params = self.params(mesh, camera, target.width, target.height);
         let gpu_ms = tessera_gpu::timing::time_once(gpu, "interval shading", |rec| {
-            self.record(rec, mesh, target, &params)
+            self.record(rec, mesh, target, &params, None)
         })?;
         let counts = self.read_counts(gpu)?;
         Ok(IntervalFrame {
@@ -517,7 +526,7 @@ impl Interval {
                 let mut drawn = Ok(());
                 let submitted = gpu.submit("interval shading image", |rec| {
                     drawn = timer.scope(rec, "interval", |rec| {
-                        let r = self.record(rec, mesh, &target, &params);
+                        let r = self.record(rec, mesh, &target, &params, None);
                         self.record_composite(rec, &target, &pixels, background);
                         r
                     });
