@@ -146,6 +146,8 @@ pub fn pmb_defines(
     scalar: ScalarType,
     rule: AmbiguityRule,
     block_size: crate::iso::pmb::PmbBlockSize,
+    workgroup: u32,
+    subgroup_arithmetic: bool,
 ) -> Vec<(String, String)> {
     let mut d = marching_cubes_defines(scalar, rule);
     let [x, y, z] = block_size.cells();
@@ -153,10 +155,15 @@ pub fn pmb_defines(
         ("PMB_BLOCK_X", x),
         ("PMB_BLOCK_Y", y),
         ("PMB_BLOCK_Z", z),
-        ("PMB_WORKGROUP", crate::iso::pmb::WORKGROUP_SIZE),
+        ("PMB_WORKGROUP", workgroup),
     ] {
         d.push((name.into(), format!("{value}u")));
     }
+    // A preprocessor condition: a plain 0 or 1.
+    d.push((
+        "PMB_SUBGROUP_SCAN".into(),
+        u32::from(subgroup_arithmetic).to_string(),
+    ));
     d
 }
 

@@ -255,8 +255,13 @@ fn meshlet_draw_structs(t: &mut Table) {
 fn pmb_structs(t: &mut Table) {
     use crate::iso::pmb::{PmbCounters, PmbParams};
     use tessera_data::pmb::{PmbBlock, PmbBlockSize};
-    let defines =
-        crate::config::pmb_defines(ScalarType::U8, Default::default(), PmbBlockSize::B884);
+    let defines = crate::config::pmb_defines(
+        ScalarType::U8,
+        Default::default(),
+        PmbBlockSize::B884,
+        128,
+        true,
+    );
     let extract = compile(&builtin_shader!("iso/pmb/extract.comp.glsl"), &defines);
     #[rustfmt::skip]
     t.push_constants::<PmbParams>(&extract, "PmbParams", host!(PmbParams, volume_dims,

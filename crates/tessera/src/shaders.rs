@@ -23,6 +23,10 @@ const COMMON: &[(&str, &str)] = &[
         include_str!("shaders/common/ablation.glsl"),
     ),
     (
+        "common/workgroup_scan.glsl",
+        include_str!("shaders/common/workgroup_scan.glsl"),
+    ),
+    (
         "common/mc_cell.glsl",
         include_str!("shaders/common/mc_cell.glsl"),
     ),

@@ -11,7 +11,10 @@ use common::volumes::{extraction_volumes, poison_pmb as poison, prepare};
 use common::{assert_clean, assert_same_triangles, checkerboard, gpu};
 use glam::Vec3;
 use std::collections::BTreeMap;
-use tessera::iso::pmb::{GpuPmb, PmbBlockSize, PmbCapacity, PmbCounters, PmbExtractor, PmbMesh};
+use tessera::iso::pmb::{
+    GpuPmb, PmbBlockSize, PmbCapacity, PmbCounters, PmbExtractor, PmbInvocations, PmbMesh,
+    PmbTuning,
+};
 use tessera::iso::PreparedVolume;
 use tessera::shaders;
 use tessera_data::marching_cubes::{marching_cubes_with, AmbiguityRule};
@@ -31,6 +34,23 @@ fn extractor(
     size: PmbBlockSize,
 ) -> PmbExtractor {
     PmbExtractor::new(gpu, &shaders::compiler(), scalar, rule, size).unwrap()
+}
+
+/// An extractor with one invocation per sample of the block's box (Liu et al.'s layout).
+fn one_per_sample(gpu: &Gpu, rule: AmbiguityRule, size: PmbBlockSize) -> PmbExtractor {
+    let tuning = PmbTuning {
+        invocations: PmbInvocations::OnePerSample,
+        ..PmbTuning::default()
+    };
+    PmbExtractor::tuned(
+        gpu,
+        &shaders::compiler(),
+        ScalarType::F32,
+        rule,
+        size,
+        tuning,
+    )
+    .unwrap()
 }
 
 /// Extracts into poisoned buffers of `capacity`, growing them if needed.
@@ -224,11 +244,17 @@ fn pmb_triangles_equal_marching_cubes_for_every_block_size() {
     ];
     for (rule, sizes) in runs {
         for &size in sizes {
-            let ex = extractor(&gpu, ScalarType::F32, rule, size);
-            for (k, (volume, iso)) in cases.iter().enumerate() {
-                let mesh = check_volume(&gpu, &ex, volume, *iso, rule);
-                if k == full {
-                    assert_whole_blocks_full(&mesh, volume, size);
+            let mut extractors = vec![extractor(&gpu, ScalarType::F32, rule, size)];
+            // Both layouts of the invocations, at every size, under one rule.
+            if rule == AmbiguityRule::AsymptoticDecider {
+                extractors.push(one_per_sample(&gpu, rule, size));
+            }
+            for ex in &extractors {
+                for (k, (volume, iso)) in cases.iter().enumerate() {
+                    let mesh = check_volume(&gpu, ex, volume, *iso, rule);
+                    if k == full {
+                        assert_whole_blocks_full(&mesh, volume, size);
+                    }
                 }
             }
         }

@@ -7,12 +7,16 @@
 // look their vertices up in shared memory, so the block's index run has 16-bit indices and
 // no vertex twice.
 //
-// Invocations take runs of consecutive samples rather than one sample each, so the workgroup
-// stays within the 128 invocations every device accepts (an 8×8×8 block's box has 729).
+// By default invocations take runs of consecutive samples rather than one sample each, so the
+// workgroup stays within the 128 invocations every device accepts (an 8×8×8 block's box has
+// 729); with PMB_WORKGROUP = the box's samples, each takes one, as Liu et al. launch it.
 // A block reserves its output with one atomic per total; a reservation that passes the
 // capacities writes nothing, while the totals keep counting, so the host grows the buffers
 // and extracts again.
 #extension GL_EXT_shader_16bit_storage : require
+#if PMB_SUBGROUP_SCAN
+#extension GL_KHR_shader_subgroup_arithmetic : require
+#endif
 #include "common/volume.glsl"
 #include "common/ablation.glsl"
 #include "common/exact.glsl"
@@ -43,22 +47,14 @@ shared uint s_point_edges[PMB_BOX_POINTS];
 // Per sample: the table row of the core cell whose minimum corner it is, PMB_NO_ROW where
 // that is no occupied core cell.
 shared uint s_point_row[PMB_BOX_POINTS];
-// Per invocation: its run's vertices and triangles, then their exclusive prefixes.
-shared uint s_vertices[PMB_WORKGROUP];
-shared uint s_triangles[PMB_WORKGROUP];
 // The block's first vertex and first triangle in the output; whether it fits.
 shared uint s_reserved[3];
 
-// Exclusive prefix of `counts` in place; returns the total. One invocation runs it.
-uint pmb_scan(inout uint counts[PMB_WORKGROUP]) {
-    uint total = 0u;
-    for (uint i = 0u; i < PMB_WORKGROUP; ++i) {
-        uint c = counts[i];
-        counts[i] = total;
-        total += c;
-    }
-    return total;
-}
+// The runs' prefix sums: any order of the prefixes among the invocations gives each vertex
+// and triangle of the block one slot, so the scan's order is not checked.
+#define WORKGROUP_SCAN_SIZE PMB_WORKGROUP
+#define WORKGROUP_SCAN_SUBGROUPS PMB_SUBGROUP_SCAN
+#include "common/workgroup_scan.glsl"
 
 void main() {
     uint listed = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
@@ -93,13 +89,11 @@ void main() {
         s_point_edges[j] = owned;
         s_point_row[j] = row;
     }
-    s_vertices[me] = vertices;
-    s_triangles[me] = triangles;
-    barrier();
-
+    uvec3 totals;
+    uvec3 before = workgroup_exclusive_scan(uvec3(vertices, triangles, 0u), totals);
     if (me == 0u) {
-        uint vertex_total = pmb_scan(s_vertices);
-        uint triangle_total = pmb_scan(s_triangles);
+        uint vertex_total = totals.x;
+        uint triangle_total = totals.y;
         s_reserved[2] = 0u;
         if (triangle_total > 0u) {
             uint first_vertex = atomicAdd(counters.vertices, vertex_total);
@@ -124,7 +118,7 @@ void main() {
     }
 
     // Vertices: each run numbers its samples' edges from its prefix.
-    uint local = s_vertices[me];
+    uint local = before.x;
     for (uint j = run_first; j < run_end; ++j) {
         uint owned = s_point_edges[j];
         s_point_edges[j] = owned | local << 3;
@@ -153,7 +147,7 @@ void main() {
 
     // Triangles: each edge's vertex is its owner's first plus the owner's crossed edges
     // along the axes before it.
-    uint index = 3u * (s_reserved[1] + s_triangles[me]);
+    uint index = 3u * (s_reserved[1] + before.y);
     for (uint j = run_first; j < run_end; ++j) {
         uint row = s_point_row[j];
         if (row == PMB_NO_ROW) {

@@ -5,8 +5,9 @@
 //! The block size is fixed per pipeline ([`PmbBlockSize`]); the format read back is
 //! `tessera_data::pmb`'s.
 //!
-//! Changes from the paper: invocations take runs of a block's samples instead of one each
-//! (see `extract.comp.glsl`), and the output is reserved per block with atomics, growing the
+//! Changes from the paper: by default invocations take runs of a block's samples instead of
+//! one each ([`PmbInvocations`]; see `extract.comp.glsl`), the counts' prefix sums use
+//! subgroup arithmetic where the device has it, and the output is reserved per block with atomics, growing the
 //! buffers and extracting again when it does not fit, as the meshlet extraction does, rather
 //! than sized conservatively up front.
 
@@ -27,8 +28,42 @@ use tessera_data::mc_ambiguity::AmbiguityRule;
 use tessera_data::ScalarType;
 use tessera_gpu::{Binding, Gpu, Pipeline, Recorder, ShaderCompiler, Slot};
 
-/// Invocations of an extraction workgroup (`PMB_WORKGROUP`): what every Vulkan device accepts.
-pub const WORKGROUP_SIZE: u32 = 128;
+/// How a PMB workgroup's invocations share its block's samples.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum PmbInvocations {
+    /// 128 invocations (what every Vulkan device accepts), each taking a run of consecutive
+    /// samples of the block's closed box.
+    #[default]
+    Runs,
+    /// One invocation per sample of the block's closed box, as Liu et al.'s supplementary
+    /// pseudocode launches it (and paper C's reference with it): up to 729 for 8×8×8 blocks.
+    OnePerSample,
+}
+
+impl PmbInvocations {
+    /// Invocations per workgroup for blocks of `size` (`PMB_WORKGROUP`).
+    pub fn workgroup_size(self, size: PmbBlockSize) -> u32 {
+        match self {
+            PmbInvocations::Runs => 128,
+            PmbInvocations::OnePerSample => size.cells().iter().map(|c| c + 1).product(),
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            PmbInvocations::Runs => "runs of samples",
+            PmbInvocations::OnePerSample => "one invocation per sample",
+        }
+    }
+}
+
+/// How an extractor is built beyond its block size: the invocations' layout, and for
+/// performance work a stage left out.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct PmbTuning {
+    pub invocations: PmbInvocations,
+    pub ablation: Ablation,
+}
 
 /// Push constants of both PMB passes (`params.glsl`).
 #[repr(C)]
@@ -74,26 +109,50 @@ impl PmbExtractor {
         rule: AmbiguityRule,
         block_size: PmbBlockSize,
     ) -> Result<PmbExtractor> {
-        Self::ablated(gpu, compiler, scalar, rule, block_size, Ablation::None)
+        Self::tuned(
+            gpu,
+            compiler,
+            scalar,
+            rule,
+            block_size,
+            PmbTuning::default(),
+        )
     }
 
-    /// [`Self::new`] with a stage left out, for performance work: what it writes is not a
-    /// surface. PMB has no region analysis to keep alone.
-    pub fn ablated(
+    /// [`Self::new`] with its invocations laid out as `tuning` says; an ablated extractor
+    /// (for performance work) writes no surface. PMB has no region analysis to keep alone.
+    pub fn tuned(
         gpu: &Gpu,
         compiler: &ShaderCompiler,
         scalar: ScalarType,
         rule: AmbiguityRule,
         block_size: PmbBlockSize,
-        ablation: Ablation,
+        tuning: PmbTuning,
     ) -> Result<PmbExtractor> {
-        if ablation == Ablation::AnalysisOnly {
+        if tuning.ablation == Ablation::AnalysisOnly {
             return Err(Error::Invalid(
                 "PMB has no region analysis to time alone".into(),
             ));
         }
-        let mut defines = pmb_defines(scalar, rule, block_size);
-        defines.push(ablation.define());
+        let caps = gpu.caps();
+        let workgroup = tuning.invocations.workgroup_size(block_size);
+        if workgroup > caps.max_compute_workgroup_invocations {
+            return Err(Error::Gpu(tessera_gpu::GpuError::Unsupported {
+                device: caps.device_name.clone(),
+                what: format!(
+                    "{workgroup} invocations per workgroup (PMB {})",
+                    block_size.name()
+                ),
+            }));
+        }
+        let mut defines = pmb_defines(
+            scalar,
+            rule,
+            block_size,
+            workgroup,
+            caps.subgroup_arithmetic,
+        );
+        defines.push(tuning.ablation.define());
         let occupied = compiler.compile(&builtin_shader!("occupied.comp.glsl"), &defines)?;
         let extract = compiler.compile(&builtin_shader!("extract.comp.glsl"), &defines)?;
         Ok(PmbExtractor {
@@ -106,8 +165,8 @@ impl PmbExtractor {
             extract: gpu.compute_pipeline("PMB extraction", &extract, &EXTRACT_SLOTS)?,
             scalar,
             block_size,
-            max_groups_x: gpu.caps().max_compute_workgroup_count[0],
-            ablation,
+            max_groups_x: caps.max_compute_workgroup_count[0],
+            ablation: tuning.ablation,
         })
     }
 
