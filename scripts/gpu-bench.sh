@@ -3,8 +3,8 @@
 # `--repeat` (cells whose medians move by more than 3 % between the runs are listed): device
 # facts, then each scenario appended as JSON lines to OUT/bench.jsonl (its printed table in
 # OUT/SCENARIO.txt), then the plots (when matplotlib is there) and a one-line-per-cell summary.
-# The set is split in three parts that each fit a 10-minute command; no part = all three.
-# Usage: scripts/gpu-bench.sh OUT_DIR [TESSERA_BINARY] [volumes|surfaces|meshes]
+# The set is split in four parts that each fit a 10-minute command; no part = all four.
+# Usage: scripts/gpu-bench.sh OUT_DIR [TESSERA_BINARY] [volumes|surfaces|meshes|growth]
 # Environment: REPEAT (default 2), FRAMES (default 50), SCANS (a folder holding ch2.nii.gz),
 # EXTRA (more flags for every scenario, e.g. --quick for a smoke run on a CPU driver).
 set -uo pipefail
@@ -51,10 +51,12 @@ if [ "$part" = all ] || [ "$part" = surfaces ]; then
   run stereo 90 stereo --frames 30
 fi
 if [ "$part" = all ] || [ "$part" = meshes ]; then
-  run growth 150 growth --frames 30
   run interval 150 interval --paths compute --frames 20 --warmup 3 --max-warmup 40
   run shell 150 shell --frames 40 --warmup 10 --max-warmup 60
   run param 120 param --frames 30
+fi
+if [ "$part" = all ] || [ "$part" = growth ]; then
+  run growth 400 growth --frames 30
 fi
 
 python3 "$(dirname "$0")/plot_bench.py" "$out" "$out/bench.jsonl" 2>/dev/null \
