@@ -26,14 +26,7 @@ void main() {
     // Workgroups spread over x and y past 65,535 (tessera_gpu::spread_groups).
     uint tet = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * GROUP + me;
     Proxy proxies[3];
-    uint proxy_count = 0u;
-    if (tet < params.counts.x) {
-        bool clipped;
-        proxy_count = tet_proxies(tet, proxies, clipped);
-        if (clipped) {
-            atomicAdd(stats[STAT_CLIPPED], 1u);
-        }
-    }
+    uint proxy_count = first_tet_proxies(tet, proxies);
     uint vertex_count = 0u;
     uint primitive_count = 0u;
     for (uint k = 0u; k < proxy_count; ++k) {

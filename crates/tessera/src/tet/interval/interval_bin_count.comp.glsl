@@ -95,14 +95,7 @@ void main() {
     // Workgroups spread over x and y past 65,535 (tessera_gpu::spread_groups).
     uint tet = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * uint(TETS_PER_WORKGROUP) + gl_LocalInvocationIndex;
     Proxy proxies[3];
-    uint n = 0u;
-    if (tet < params.counts.x) {
-        bool clipped;
-        n = tet_proxies(tet, proxies, clipped);
-        if (clipped) {
-            atomicAdd(stats[STAT_CLIPPED], 1u);
-        }
-    }
+    uint n = first_tet_proxies(tet, proxies);
     uvec2 first = uvec2(0u);
     uvec2 last = uvec2(0u);
     bool on_screen = n > 0u && proxy_pixel_rect(proxies, n, first, last);

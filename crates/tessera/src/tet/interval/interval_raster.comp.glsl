@@ -27,15 +27,8 @@ layout(local_size_x = TETS_PER_WORKGROUP) in;
 void main() {
     // Workgroups spread over x and y past 65,535 (tessera_gpu::spread_groups).
     uint tet = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * uint(TETS_PER_WORKGROUP) + gl_LocalInvocationIndex;
-    if (tet >= params.counts.x) {
-        return;
-    }
     Proxy proxies[3];
-    bool clipped;
-    uint n = tet_proxies(tet, proxies, clipped);
-    if (clipped) {
-        atomicAdd(stats[STAT_CLIPPED], 1u);
-    }
+    uint n = first_tet_proxies(tet, proxies);
     uvec2 first;
     uvec2 last;
     if (proxy_pixel_rect(proxies, n, first, last)) {

@@ -195,3 +195,17 @@ uint tet_proxies(uint tet, out Proxy proxies[3], out bool clipped) {
     }
     return proxy_count;
 }
+
+// tet_proxies in the pass that makes each tet's proxies first in a frame: counts a tet the
+// near plane clipped in stats[STAT_CLIPPED]; no proxies past the mesh's tets.
+uint first_tet_proxies(uint tet, out Proxy proxies[3]) {
+    if (tet >= params.counts.x) {
+        return 0u;
+    }
+    bool clipped;
+    uint n = tet_proxies(tet, proxies, clipped);
+    if (clipped) {
+        atomicAdd(stats[STAT_CLIPPED], 1u);
+    }
+    return n;
+}
