@@ -61,7 +61,7 @@ fn growth_measures_every_technique_along_both_ladders() {
     let families = [
         (
             "voxels",
-            &["raymarch", "direct", "meshlets", "pmb"][..],
+            &["raymarch", "direct", "meshlets", "pmb", "offline"][..],
             [24u64.pow(3), 40u64.pow(3)],
         ),
         (

@@ -25,7 +25,12 @@ const VOLUME_TECHNIQUES: &[Technique] = &[
     Technique::Direct,
     Technique::Meshlets,
     Technique::Pmb,
+    Technique::Offline,
 ];
+
+/// Volumes past this many voxels skip `offline`: its meshlets are made on the CPU (marching
+/// cubes, then meshoptimizer), minutes for a 1024³ surface, and its draw is what is timed.
+const OFFLINE_MAX_VOXELS: f64 = 512.0 * 512.0 * 512.0;
 const TET_TECHNIQUES: &[Technique] = &[Technique::Interval, Technique::Shell];
 const PARAM_TECHNIQUES: &[Technique] = &[
     Technique::ParamPoints,
@@ -113,6 +118,13 @@ pub(super) fn growth(
                 vec![(data_image, "data")]
             };
             for &technique in ladder.techniques {
+                if technique == Technique::Offline && data_size(&data) > OFFLINE_MAX_VOXELS {
+                    sink.note(&format!(
+                        "growth: offline skipped on {} (its meshlets are built on the CPU)",
+                        data.name()
+                    ));
+                    continue;
+                }
                 let mut r = growth_renderer(gpu, technique, &data, config)?;
                 settle_after_upload(gpu, r.as_mut(), config.quick)?;
                 for &(size, ladder_name) in &cells {
