@@ -60,10 +60,23 @@ pub fn local_size(words: &[u32]) -> Option<[u32; 3]> {
 
 /// Member names and byte offsets of the struct type called `type_name`, in member order.
 pub fn struct_offsets(words: &[u32], type_name: &str) -> Option<Vec<(String, u32)>> {
-    let id = instructions(words).find_map(|(op, args)| {
-        (op == OP_NAME && args.len() >= 2 && literal_string(&args[1..]) == type_name)
-            .then(|| args[0])
-    })?;
+    // A struct a function also returns or takes by value has a second, undecorated copy of
+    // the same name; the one laid out in memory is the one with offsets.
+    let ids: Vec<u32> = instructions(words)
+        .filter(|(op, args)| {
+            *op == OP_NAME && args.len() >= 2 && literal_string(&args[1..]) == type_name
+        })
+        .map(|(_, args)| args[0])
+        .collect();
+    let layouts: Vec<Vec<(String, u32)>> =
+        ids.iter().map(|&id| member_offsets(words, id)).collect();
+    let first = layouts.first()?.clone();
+    Some(layouts.into_iter().find(|l| !l.is_empty()).unwrap_or(first))
+}
+
+/// The (member name, offset) pairs of struct `id`, in member order; empty where the struct
+/// has no offsets (a copy used only in functions).
+fn member_offsets(words: &[u32], id: u32) -> Vec<(String, u32)> {
     let mut names = std::collections::BTreeMap::new();
     let mut offsets = std::collections::BTreeMap::new();
     for (op, args) in instructions(words) {
@@ -76,12 +89,10 @@ pub fn struct_offsets(words: &[u32], type_name: &str) -> Option<Vec<(String, u32
             offsets.insert(args[1], args[3]);
         }
     }
-    Some(
-        offsets
-            .into_iter()
-            .map(|(member, offset)| (names.get(&member).cloned().unwrap_or_default(), offset))
-            .collect(),
-    )
+    offsets
+        .into_iter()
+        .map(|(member, offset)| (names.get(&member).cloned().unwrap_or_default(), offset))
+        .collect()
 }
 
 /// How many copies of the functions whose debug name starts with `name` (glslang names a

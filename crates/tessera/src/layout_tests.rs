@@ -225,8 +225,8 @@ fn meshlet_structs(t: &mut Table) {
         );
     }
     #[rustfmt::skip]
-    t.buffer(&extract, "Meshlet", host!(Meshlet, vertex_offset, vertex_count, triangle_offset,
-        triangle_count, aabb_min, aabb_max, block_origin, subblock_origin, subblock_size));
+    t.buffer(&extract, "Meshlet", host!(Meshlet, vertex_offset, triangle_offset, counts,
+        aabb_min, aabb_max, subblock));
     t.buffer(
         &extract,
         "MeshletCounters",

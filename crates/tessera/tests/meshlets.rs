@@ -71,7 +71,7 @@ fn capacity_for(reference: &MeshletMesh) -> MeshletCapacity {
     let triangles = reference
         .meshlets
         .iter()
-        .map(|m| m.triangle_count.next_multiple_of(4))
+        .map(|m| m.triangle_count().next_multiple_of(4))
         .sum();
     MeshletCapacity::new(
         reference.meshlets.len() as u32,
@@ -138,7 +138,7 @@ fn assert_block_meshlets(what: &str, gpu: &Gpu, volume: &Volume, iso: f32, out: 
         let b = [block % nx, block / nx % ny, block / (nx * ny)];
         let origin: [u32; 3] = std::array::from_fn(|a| b[a] * BLOCK_CELLS[a]);
         for m in &mesh.meshlets[first as usize..(first + count) as usize] {
-            assert_eq!(m.block_origin, origin, "{what}: block {block}'s meshlets");
+            assert_eq!(m.block_origin(), origin, "{what}: block {block}'s meshlets");
         }
         covered += count;
     }
@@ -206,7 +206,10 @@ fn compute_meshlets_split_fully_occupied_blocks() {
     let volume = checkerboard([19, 10, 9]);
     for rule in RULES {
         let cpu_mesh = extract_meshlets(&volume, 0.5, rule).unwrap();
-        assert!(cpu_mesh.meshlets.iter().any(|m| m.subblock_size == [2; 3]));
+        assert!(cpu_mesh
+            .meshlets
+            .iter()
+            .any(|m| m.subblock_size() == [2; 3]));
         let ex = extractors(&gpu, ScalarType::F32, rule, &[ExtractionPath::Compute]);
         check_volume(&gpu, &ex, &volume, 0.5, rule);
     }

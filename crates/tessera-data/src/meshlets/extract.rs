@@ -11,7 +11,7 @@
 use crate::error::{DataError, Result};
 use crate::marching_cubes::{edge_vertex, AmbiguityRule};
 use crate::mc_tables::{mc_tables, CORNER_OFFSETS, EDGE_AXIS, EDGE_CORNERS};
-use crate::meshlets::format::{bounds, Meshlet, MeshletMesh};
+use crate::meshlets::format::{bounds, Meshlet, MeshletMesh, MAX_CELLS_PER_AXIS};
 use crate::meshlets::partition::partition_block;
 use crate::meshlets::subblock::{cell_box, edge_values, SubblockSurface};
 use crate::minmax::{MinMaxOctree, BLOCK_CELLS};
@@ -25,6 +25,7 @@ pub fn extract_meshlets(volume: &Volume, iso: f32, rule: AmbiguityRule) -> Resul
     if nx < 2 || ny < 2 || nz < 2 {
         return Ok(mesh);
     }
+    check_meshlet_dims(volume.name(), volume.dims())?;
     let grid = MinMaxOctree::build(volume);
     for block in grid.occupied_blocks(iso) {
         let block_origin = std::array::from_fn(|a| block[a] * BLOCK_CELLS[a]);
@@ -33,6 +34,19 @@ pub fn extract_meshlets(volume: &Volume, iso: f32, rule: AmbiguityRule) -> Resul
         }
     }
     Ok(mesh)
+}
+
+/// Refuses a volume of more cells along an axis than a [`Meshlet`] can place
+/// ([`MAX_CELLS_PER_AXIS`]).
+pub fn check_meshlet_dims(name: &str, dims: [u32; 3]) -> Result<()> {
+    match dims.iter().find(|&&d| d > MAX_CELLS_PER_AXIS) {
+        Some(d) => Err(DataError::Invalid(format!(
+            "{name}: {} cells along an axis; meshlets place subblocks in volumes of at most \
+             {MAX_CELLS_PER_AXIS} cells per axis",
+            d - 1
+        ))),
+        None => Ok(()),
+    }
 }
 
 /// [`extract_meshlets`] in physical units, placed as
@@ -100,17 +114,15 @@ fn append_meshlet(
     }
     let vertices = &mesh.positions[vertex_offset as usize..];
     let (aabb_min, aabb_max) = bounds(vertices);
-    mesh.meshlets.push(Meshlet {
+    mesh.meshlets.push(Meshlet::new(
         vertex_offset,
-        vertex_count: surface.vertex_count(),
+        surface.vertex_count(),
         triangle_offset,
-        triangle_count: surface.triangle_count,
-        aabb_min,
-        aabb_max,
-        block_origin: surface.subblock.block_origin,
-        subblock_origin: surface.subblock.origin(),
-        subblock_size: surface.subblock.size(),
-    });
+        surface.triangle_count,
+        (aabb_min, aabb_max),
+        surface.subblock.origin(),
+        surface.subblock.size(),
+    ));
     Ok(())
 }
 

@@ -98,7 +98,7 @@ fn meshlets_hold_the_marching_cubes_triangles() {
             );
             let meshlets = extract_meshlets(&volume, iso, rule).unwrap();
             assert_same_surface(&meshlets, &reference, &what);
-            sizes.extend(meshlets.meshlets.iter().map(|m| m.subblock_size));
+            sizes.extend(meshlets.meshlets.iter().map(|m| m.subblock_size()));
         }
     }
     for size in [[8, 8, 4], [4, 4, 4], [2, 2, 2]] {
@@ -124,12 +124,14 @@ fn meshlets_keep_within_their_subblocks() {
     for (volume, iso) in volumes().into_iter().take(2) {
         let meshlets = extract_meshlets(&volume, iso, AmbiguityRule::default()).unwrap();
         for m in &meshlets.meshlets {
+            let (origin, size) = (m.subblock_origin(), m.subblock_size());
             for a in 0..3 {
-                let lo = m.subblock_origin[a] as f32;
-                let hi = (m.subblock_origin[a] + m.subblock_size[a]) as f32;
+                let lo = origin[a] as f32;
+                let hi = (origin[a] + size[a]) as f32;
                 assert!(lo <= m.aabb_min[a] && m.aabb_max[a] <= hi, "{m:?}");
-                assert_eq!(m.block_origin[a] % [8, 8, 4][a], 0);
-                assert!(m.subblock_origin[a] >= m.block_origin[a]);
+                assert_eq!(m.block_origin()[a] % [8, 8, 4][a], 0);
+                // A subblock lies in one block.
+                assert!(origin[a] + size[a] <= m.block_origin()[a] + [8, 8, 4][a]);
             }
         }
     }
@@ -157,7 +159,10 @@ fn a_fully_occupied_volume_matches_too() {
         let reference = marching_cubes_with(&volume, 0.5, rule);
         assert_same_surface(&meshlets, &reference, &format!("checkerboard ({rule:?})"));
         // Whole blocks must go down to 2×2×2; those cut short may fit at 4×4×4.
-        assert!(meshlets.meshlets.iter().any(|m| m.subblock_size == [2; 3]));
+        assert!(meshlets
+            .meshlets
+            .iter()
+            .any(|m| m.subblock_size() == [2; 3]));
     }
 }
 
@@ -211,7 +216,7 @@ fn origin_order_undoes_block_order_and_triangle_gaps() {
         };
         for m in reference.meshlets.iter().rev() {
             let start = 3 * m.triangle_offset as usize;
-            let indices = &reference.local_indices[start..start + 3 * m.triangle_count as usize];
+            let indices = &reference.local_indices[start..start + 3 * m.triangle_count() as usize];
             let mut moved = *m;
             moved.triangle_offset = scrambled.triangle_count() as u32 + 1;
             scrambled.local_indices.extend_from_slice(&[0, 0, 0]);
@@ -235,7 +240,7 @@ fn origin_order_undoes_block_order_and_triangle_gaps() {
 fn origin_order_refuses_ranges_outside_the_arrays() {
     let (volume, iso) = volumes().swap_remove(0);
     let mut mesh = extract_meshlets(&volume, iso, AmbiguityRule::default()).unwrap();
-    mesh.meshlets[0].vertex_count += mesh.positions.len() as u32;
+    mesh.meshlets[0].vertex_offset += mesh.positions.len() as u32;
     let error = mesh.in_origin_order().unwrap_err().to_string();
     assert!(error.contains("outside the arrays"), "{error}");
 }

@@ -6,19 +6,19 @@
 //! | bytes | content |
 //! |---|---|
 //! | 8 | magic `TSMSHLT1` |
-//! | 4 | `u32` meshlet record size in bytes (76) |
+//! | 4 | `u32` meshlet record size in bytes (44) |
 //! | 4 | `u32` meshlet count `M` |
 //! | 4 | `u32` vertex count `V` |
 //! | 4 | `u32` triangle count `T` |
 //! | 4 | `f32` isovalue, in the volume's sample units |
 //! | 4 | `u32` flags: bit 0 set when positions are physical (spacing and placement applied), clear for grid units |
-//! | 76·M | meshlets: `u32` vertex offset, vertex count, triangle offset, triangle count; `f32` AABB min xyz, max xyz; `u32` block origin xyz, subblock origin xyz, subblock size xyz |
+//! | 44·M | meshlets ([`Meshlet`]): `u32` vertex offset, triangle offset, counts (vertices in bits 0–15, triangles in bits 16–31); `f32` AABB min xyz, max xyz; `u32` subblock minimum cell x \| y << 16, then z \| size x << 16 \| size y << 20 \| size z << 24 |
 //! | 12·V | `f32` positions xyz |
 //! | 12·V | `f32` normals xyz |
 //! | 3·T | `u8` local indices, three per triangle, into the meshlet's vertex range |
 //!
-//! In numpy: `np.frombuffer(data, np.uint32, 19 * M, 32).reshape(M, 19)` for the records
-//! (columns 4–9 viewed as `float32`), then positions, normals and indices at the offsets the
+//! In numpy: `np.frombuffer(data, np.uint32, 11 * M, 32).reshape(M, 11)` for the records
+//! (columns 3–8 viewed as `float32`), then positions, normals and indices at the offsets the
 //! table gives.
 
 use std::io::{self, Write};
@@ -28,9 +28,9 @@ use crate::meshlets::format::{Meshlet, MeshletMesh};
 
 const MAGIC: &[u8; 8] = b"TSMSHLT1";
 const HEADER_BYTES: usize = 32;
-/// Size of one meshlet record: nineteen 4-byte fields.
+/// Size of one meshlet record: eleven 4-byte words.
 pub const MESHLET_RECORD_BYTES: usize = std::mem::size_of::<Meshlet>();
-const _: () = assert!(MESHLET_RECORD_BYTES == 76);
+const _: () = assert!(MESHLET_RECORD_BYTES == 44);
 const FLAG_PHYSICAL: u32 = 1;
 
 /// Where a meshlet file's positions live.

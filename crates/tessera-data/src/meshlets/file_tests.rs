@@ -30,13 +30,12 @@ fn a_meshlet_file_reads_back_equal_and_has_the_documented_size() {
     let m = &file.mesh;
     assert_eq!(
         bytes.len(),
-        32 + 76 * m.meshlets.len() + 24 * m.positions.len() + m.local_indices.len()
+        32 + 44 * m.meshlets.len() + 24 * m.positions.len() + m.local_indices.len()
     );
-    // The first record's vertex count sits at bytes 36..40, as the layout table says.
-    assert_eq!(
-        u32::from_le_bytes(bytes[36..40].try_into().unwrap()),
-        m.meshlets[0].vertex_count
-    );
+    // The first record's counts sit at bytes 40..44, as the layout table says.
+    let counts = u32::from_le_bytes(bytes[40..44].try_into().unwrap());
+    assert_eq!(counts & 0xffff, m.meshlets[0].vertex_count());
+    assert_eq!(counts >> 16, m.meshlets[0].triangle_count());
     let read = read_meshlet_file(Path::new("s.tsm"), &bytes).unwrap();
     assert_eq!(read, file);
 }

@@ -17,29 +17,88 @@ pub const MAX_TRIANGLES: u32 = 254;
 /// `C`): it bounds the task-to-mesh payload and the cells each invocation walks.
 pub const MAX_OCCUPIED_CELLS: u32 = 128;
 
+/// Cells per axis of the largest volume whose meshlets [`Meshlet`] can describe: a subblock's
+/// minimum cell is stored in 16 bits per axis.
+pub const MAX_CELLS_PER_AXIS: u32 = 1 << 16;
+
 /// One meshlet: a range of [`MeshletMesh::positions`] / [`MeshletMesh::normals`] and a range
-/// of triangles in [`MeshletMesh::local_indices`], with its bounds.
+/// of triangles in [`MeshletMesh::local_indices`], with its bounds, in 44 bytes.
 ///
-/// `#[repr(C)]` of 4-byte fields, so a slice of them is plain bytes for an upload.
+/// `#[repr(C)]` of 4-byte fields, so a slice of them is plain bytes for an upload; the counts
+/// and the subblock are packed (read them with the methods).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct Meshlet {
     /// First vertex in the mesh's vertex arrays.
     pub vertex_offset: u32,
-    pub vertex_count: u32,
     /// First triangle; its local indices start at `3 * triangle_offset`.
     pub triangle_offset: u32,
-    pub triangle_count: u32,
+    /// Vertex count (bits 0–15) and triangle count (bits 16–31).
+    pub counts: u32,
     /// Bounds of the meshlet's vertices (the explicit AABB).
     pub aabb_min: [f32; 3],
     pub aabb_max: [f32; 3],
-    /// Minimum cell of the 8×8×4 block the meshlet was extracted from, in cells.
-    pub block_origin: [u32; 3],
-    /// Minimum cell and size in cells of the subblock it was extracted from (8×8×4, 4×4×4 or
-    /// 2×2×2, not clipped to the volume): the implicit AABB. A size of zero says the meshlet
-    /// has no cell box (the offline reference's meshlets).
-    pub subblock_origin: [u32; 3],
-    pub subblock_size: [u32; 3],
+    /// The subblock it was extracted from (8×8×4, 4×4×4 or 2×2×2 cells, not clipped to the
+    /// volume: the implicit AABB): its minimum cell x | y << 16 and z | size x << 16 |
+    /// size y << 20 | size z << 24. A size of zero says the meshlet has no cell box (the
+    /// offline reference's meshlets).
+    pub subblock: [u32; 2],
+}
+
+impl Meshlet {
+    /// A meshlet from its parts; counts past 16 bits, origins past [`MAX_CELLS_PER_AXIS`] and
+    /// sizes past 15 do not fit (callers check their volume first).
+    pub fn new(
+        vertex_offset: u32,
+        vertex_count: u32,
+        triangle_offset: u32,
+        triangle_count: u32,
+        (aabb_min, aabb_max): ([f32; 3], [f32; 3]),
+        subblock_origin: [u32; 3],
+        subblock_size: [u32; 3],
+    ) -> Meshlet {
+        debug_assert!(vertex_count < 1 << 16 && triangle_count < 1 << 16);
+        debug_assert!(subblock_origin.iter().all(|&c| c < MAX_CELLS_PER_AXIS));
+        debug_assert!(subblock_size.iter().all(|&c| c < 16));
+        let [x, y, z] = subblock_origin;
+        let [sx, sy, sz] = subblock_size;
+        Meshlet {
+            vertex_offset,
+            triangle_offset,
+            counts: vertex_count | triangle_count << 16,
+            aabb_min,
+            aabb_max,
+            subblock: [x | y << 16, z | sx << 16 | sy << 20 | sz << 24],
+        }
+    }
+
+    pub fn vertex_count(&self) -> u32 {
+        self.counts & 0xffff
+    }
+
+    pub fn triangle_count(&self) -> u32 {
+        self.counts >> 16
+    }
+
+    /// Minimum cell of the subblock it was extracted from.
+    pub fn subblock_origin(&self) -> [u32; 3] {
+        [
+            self.subblock[0] & 0xffff,
+            self.subblock[0] >> 16,
+            self.subblock[1] & 0xffff,
+        ]
+    }
+
+    /// Size in cells of the subblock it was extracted from; zero for meshlets without a box.
+    pub fn subblock_size(&self) -> [u32; 3] {
+        [16, 20, 24].map(|shift| (self.subblock[1] >> shift) & 15)
+    }
+
+    /// Minimum cell of the 8×8×4 block the subblock lies in.
+    pub fn block_origin(&self) -> [u32; 3] {
+        let origin = self.subblock_origin();
+        std::array::from_fn(|a| origin[a] - origin[a] % crate::minmax::BLOCK_CELLS[a])
+    }
 }
 
 /// An isosurface as meshlets. Triangles face the way [`crate::marching_cubes`]'s do.
@@ -114,7 +173,7 @@ impl MeshletMesh {
         self.meshlets.iter().flat_map(move |m| {
             let indices = range(
                 m.triangle_offset,
-                m.triangle_count,
+                m.triangle_count(),
                 3,
                 self.local_indices.len(),
             )
@@ -123,7 +182,7 @@ impl MeshletMesh {
                 let global = |i: u8| {
                     let v = m.vertex_offset.checked_add(u32::from(i))?;
                     let inside =
-                        u32::from(i) < m.vertex_count && (v as usize) < self.positions.len();
+                        u32::from(i) < m.vertex_count() && (v as usize) < self.positions.len();
                     inside.then_some(v)
                 };
                 Some([global(t[0])?, global(t[1])?, global(t[2])?])
@@ -175,18 +234,19 @@ impl MeshletMesh {
     }
 
     fn check_meshlet(&self, m: &Meshlet, producer: bool) -> std::result::Result<(), String> {
-        if m.vertex_count > MAX_VERTICES || m.triangle_count > MAX_TRIANGLES {
+        if m.vertex_count() > MAX_VERTICES || m.triangle_count() > MAX_TRIANGLES {
             return Err(format!(
                 "{} vertices and {} triangles exceed the limits {MAX_VERTICES} and \
                  {MAX_TRIANGLES}",
-                m.vertex_count, m.triangle_count
+                m.vertex_count(),
+                m.triangle_count()
             ));
         }
-        let vertices = range(m.vertex_offset, m.vertex_count, 1, self.positions.len())
+        let vertices = range(m.vertex_offset, m.vertex_count(), 1, self.positions.len())
             .ok_or_else(|| "vertex range outside the vertex arrays".to_string())?;
         let indices = range(
             m.triangle_offset,
-            m.triangle_count,
+            m.triangle_count(),
             3,
             self.local_indices.len(),
         )
@@ -195,7 +255,7 @@ impl MeshletMesh {
         for &i in &self.local_indices[indices] {
             let slot = used
                 .get_mut(usize::from(i))
-                .ok_or_else(|| format!("local index {i} of {} vertices", m.vertex_count))?;
+                .ok_or_else(|| format!("local index {i} of {} vertices", m.vertex_count()))?;
             *slot = true;
         }
         if let Some(i) = used.iter().position(|u| !u) {
@@ -227,13 +287,13 @@ impl MeshletMesh {
     pub fn in_origin_order(&self) -> Result<MeshletMesh> {
         let mut order: Vec<&Meshlet> = self.meshlets.iter().collect();
         let zyx = |p: [u32; 3]| [p[2], p[1], p[0]];
-        order.sort_by_key(|m| (zyx(m.block_origin), zyx(m.subblock_origin)));
+        order.sort_by_key(|m| (zyx(m.block_origin()), zyx(m.subblock_origin())));
         let mut out = MeshletMesh::default();
         for m in order {
-            let vertices = range(m.vertex_offset, m.vertex_count, 1, self.positions.len());
+            let vertices = range(m.vertex_offset, m.vertex_count(), 1, self.positions.len());
             let indices = range(
                 m.triangle_offset,
-                m.triangle_count,
+                m.triangle_count(),
                 3,
                 self.local_indices.len(),
             );
@@ -241,7 +301,8 @@ impl MeshletMesh {
                 return Err(DataError::Invalid(format!(
                     "meshlet mesh: the meshlet of block {:?}, subblock {:?} reaches outside \
                      the arrays",
-                    m.block_origin, m.subblock_origin
+                    m.block_origin(),
+                    m.subblock_origin()
                 )));
             };
             let mut moved = *m;
@@ -276,7 +337,7 @@ impl MeshletMesh {
         }
         for m in &mut self.meshlets {
             let start = m.vertex_offset as usize;
-            let end = start + m.vertex_count as usize;
+            let end = start + m.vertex_count() as usize;
             if let Some(vertices) = self.positions.get(start..end) {
                 (m.aabb_min, m.aabb_max) = bounds(vertices);
             }

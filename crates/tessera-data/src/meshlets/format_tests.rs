@@ -11,17 +11,15 @@ fn quad() -> MeshletMesh {
         ],
         normals: vec![[0.0, 0.0, 1.0]; 4],
         local_indices: vec![0, 1, 2, 0, 2, 3],
-        meshlets: vec![Meshlet {
-            vertex_offset: 0,
-            vertex_count: 4,
-            triangle_offset: 0,
-            triangle_count: 2,
-            aabb_min: [0.0; 3],
-            aabb_max: [1.0, 1.0, 0.0],
-            block_origin: [0; 3],
-            subblock_origin: [0; 3],
-            subblock_size: [2; 3],
-        }],
+        meshlets: vec![Meshlet::new(
+            0,
+            4,
+            0,
+            2,
+            ([0.0; 3], [1.0, 1.0, 0.0]),
+            [0; 3],
+            [2; 3],
+        )],
     }
 }
 
@@ -55,7 +53,7 @@ fn validation_names_each_broken_rule() {
         }),
         ("whole number of triangles", |m| m.local_indices.push(0)),
         ("exceed the limits", |m| {
-            m.meshlets[0].triangle_count = MAX_TRIANGLES + 1;
+            m.meshlets[0].counts = 4 | (MAX_TRIANGLES + 1) << 16;
         }),
         ("vertex range outside", |m| m.meshlets[0].vertex_offset = 1),
         ("triangle range outside", |m| {
@@ -82,7 +80,7 @@ fn broken_triangles_are_skipped_not_a_panic() {
     m.local_indices[5] = 200;
     assert_eq!(m.triangles().count(), 1);
     assert_eq!(m.to_triangle_mesh().triangle_count(), 1);
-    m.meshlets[0].triangle_count = 1000;
+    m.meshlets[0].counts = 4 | 1000 << 16;
     assert_eq!(m.triangles().count(), 0);
 }
 
@@ -98,7 +96,8 @@ fn moving_scales_bounds_and_a_mirror_keeps_facing() {
     let [a, b, c] = flat.triangles[0].map(|i| flat.positions[i as usize]);
     assert!((b - a).cross(c - a).dot(flat.normals[0]) > 0.0);
     assert_eq!(
-        m.meshlets[0].subblock_size, [2; 3],
+        m.meshlets[0].subblock_size(),
+        [2; 3],
         "cell boxes stay in cells"
     );
 }

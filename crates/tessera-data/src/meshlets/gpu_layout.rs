@@ -8,7 +8,7 @@
 //! | buffer | content |
 //! |---|---|
 //! | `counters` | `uint meshlets, vertices, triangles, overflow`: totals reserved with `atomicAdd`; the totals keep counting past the capacities, `overflow` gets bit 0, and the host grows the buffers and extracts again (never a silent truncation); bit 1 says an extraction counted otherwise than its analysis (a defect, reported as an error) |
-//! | `meshlets` | [`super::Meshlet`] as declared (`#[repr(C)]`, 19 words, stride 76 bytes): in GLSL with `float[3]`/`uint[3]` members, never `vec3`, whose std430 alignment of 16 would pad it |
+//! | `meshlets` | [`super::Meshlet`] as declared (`#[repr(C)]`, 11 words, stride 44 bytes): in GLSL with `float[3]`/`uint[2]` members, never `vec3`, whose std430 alignment of 16 would pad it |
 //! | `positions`, `normals` | `float[]`, three per vertex, as `Vec<[f32; 3]>` |
 //! | `local_indices` | `uint[]` holding the bytes of [`super::MeshletMesh::local_indices`] |
 //! | `block_meshlets` | per entry of the compacted occupied-block list: `uint first_meshlet, meshlet_count`, for culling a block's meshlets by its implicit box at once |

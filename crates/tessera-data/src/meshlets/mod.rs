@@ -22,9 +22,11 @@ pub mod offline;
 pub mod partition;
 pub mod subblock;
 
-pub use extract::{extract_meshlets, extract_meshlets_physical};
+pub use extract::{check_meshlet_dims, extract_meshlets, extract_meshlets_physical};
 pub use file::{read_meshlet_file, write_meshlet_file, MeshletFile, MeshletUnits};
-pub use format::{Meshlet, MeshletMesh, MAX_OCCUPIED_CELLS, MAX_TRIANGLES, MAX_VERTICES};
+pub use format::{
+    Meshlet, MeshletMesh, MAX_CELLS_PER_AXIS, MAX_OCCUPIED_CELLS, MAX_TRIANGLES, MAX_VERTICES,
+};
 pub use offline::offline_meshlets;
 
 #[cfg(test)]

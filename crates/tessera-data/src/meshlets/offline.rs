@@ -58,17 +58,15 @@ pub fn offline_meshlets(mesh: &TriangleMesh) -> Result<MeshletMesh> {
         }
         out.local_indices.extend_from_slice(cluster.triangles);
         let (aabb_min, aabb_max) = bounds(&out.positions[vertex_offset as usize..]);
-        out.meshlets.push(Meshlet {
+        out.meshlets.push(Meshlet::new(
             vertex_offset,
-            vertex_count: cluster.vertices.len() as u32,
+            cluster.vertices.len() as u32,
             triangle_offset,
-            triangle_count: (cluster.triangles.len() / 3) as u32,
-            aabb_min,
-            aabb_max,
-            block_origin: [0; 3],
-            subblock_origin: [0; 3],
-            subblock_size: [0; 3],
-        });
+            (cluster.triangles.len() / 3) as u32,
+            (aabb_min, aabb_max),
+            [0; 3],
+            [0; 3],
+        ));
     }
     Ok(out)
 }

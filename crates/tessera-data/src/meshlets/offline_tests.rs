@@ -28,8 +28,8 @@ fn offline_meshlets_cover_the_marching_cubes_triangles() {
             assert!(meshlets
                 .meshlets
                 .iter()
-                .all(|m| m.vertex_count <= MAX_VERTICES && m.triangle_count <= MAX_TRIANGLES));
-            assert!(meshlets.meshlets.iter().any(|m| m.vertex_count > 100));
+                .all(|m| m.vertex_count() <= MAX_VERTICES && m.triangle_count() <= MAX_TRIANGLES));
+            assert!(meshlets.meshlets.iter().any(|m| m.vertex_count() > 100));
         }
     }
 }

@@ -42,9 +42,10 @@ uint meshlet_group() {
 bool meshlet_box(Meshlet m, out vec3 lo, out vec3 hi) {
     lo = vec3(m.aabb_min[0], m.aabb_min[1], m.aabb_min[2]);
     hi = vec3(m.aabb_max[0], m.aabb_max[1], m.aabb_max[2]);
-    if (params.bounds == MESHLET_BOUNDS_IMPLICIT && m.subblock_size[0] != 0u) {
-        lo = vec3(m.subblock_origin[0], m.subblock_origin[1], m.subblock_origin[2]);
-        hi = lo + vec3(m.subblock_size[0], m.subblock_size[1], m.subblock_size[2]);
+    uvec3 size = meshlet_subblock_size(m);
+    if (params.bounds == MESHLET_BOUNDS_IMPLICIT && size.x != 0u) {
+        lo = vec3(meshlet_subblock_origin(m));
+        hi = lo + vec3(size);
     }
     return params.bounds != MESHLET_BOUNDS_NONE;
 }

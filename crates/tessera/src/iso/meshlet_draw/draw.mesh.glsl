@@ -15,22 +15,24 @@ layout(location = 1) out vec3 position_world[];
 
 void main() {
     Meshlet m = meshlets[payload.meshlet_ids[gl_WorkGroupID.x]];
-    SetMeshOutputsEXT(m.vertex_count, m.triangle_count);
+    uint vertex_count = meshlet_vertex_count(m);
+    uint triangle_count = meshlet_triangle_count(m);
+    SetMeshOutputsEXT(vertex_count, triangle_count);
     uint me = gl_LocalInvocationIndex;
-    for (uint v = me; v < m.vertex_count; v += 32u) {
+    for (uint v = me; v < vertex_count; v += 32u) {
         SurfaceCorner c = surface_corner(meshlet_position(m.vertex_offset + v),
                                          meshlet_normal(m.vertex_offset + v));
         gl_MeshVerticesEXT[v].gl_Position = c.clip;
         normal_world[v] = c.normal_world;
         position_world[v] = c.position_world;
     }
-    for (uint t = me; t < m.triangle_count; t += 32u) {
+    for (uint t = me; t < triangle_count; t += 32u) {
         uint first = 3u * (m.triangle_offset + t);
         gl_PrimitiveTriangleIndicesEXT[t] = uvec3(meshlet_local_index(first),
                                                   meshlet_local_index(first + 1u),
                                                   meshlet_local_index(first + 2u));
     }
     if (me == 0u) {
-        atomicAdd(triangles_drawn, m.triangle_count);
+        atomicAdd(triangles_drawn, triangle_count);
     }
 }

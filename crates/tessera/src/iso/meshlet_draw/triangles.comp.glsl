@@ -68,10 +68,10 @@ void main() {
     }
     uint me = gl_LocalInvocationIndex;
     if (me == 0u) {
-        uint first = atomicAdd(triangles_drawn, m.triangle_count);
+        uint first = atomicAdd(triangles_drawn, meshlet_triangle_count(m));
         atomicAdd(meshlets_drawn, 1u);
         base = first;
-        kept = reserve_list_slots(first, m.triangle_count);
+        kept = reserve_list_slots(first, meshlet_triangle_count(m));
     }
     barrier();
     for (uint t = me; t < kept; t += 32u) {

@@ -194,9 +194,7 @@ void meshlet_extract(uint s, bool block_samples_held) {
     if (me == 0u) {
         vec3 lo_all = uintBitsToFloat(uvec3(s_aabb_min[0], s_aabb_min[1], s_aabb_min[2]));
         vec3 hi_all = uintBitsToFloat(uvec3(s_aabb_max[0], s_aabb_max[1], s_aabb_max[2]));
-        meshlets[payload.base_meshlet + s] = Meshlet(first_vertex, vertex_count, first_triangle,
-            triangle_count, float[3](lo_all.x, lo_all.y, lo_all.z),
-            float[3](hi_all.x, hi_all.y, hi_all.z), uint[3](block_origin.x, block_origin.y,
-            block_origin.z), uint[3](lo.x, lo.y, lo.z), uint[3](size.x, size.y, size.z));
+        meshlets[payload.base_meshlet + s] = meshlet_new(first_vertex, vertex_count,
+            first_triangle, triangle_count, lo_all, hi_all, lo, size);
     }
 }

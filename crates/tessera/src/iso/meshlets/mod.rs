@@ -40,7 +40,7 @@ use crate::iso::direct::block_list;
 use crate::iso::PreparedVolume;
 use bytemuck::{Pod, Zeroable};
 use tessera_data::mc_ambiguity::AmbiguityRule;
-use tessera_data::meshlets::MeshletMesh;
+use tessera_data::meshlets::{check_meshlet_dims, MeshletMesh};
 use tessera_data::ScalarType;
 use tessera_gpu::{
     vk, Binding, Gpu, GpuError, Image, Pipeline, Recorder, RenderTargets, ShaderCompiler, Slot,
@@ -243,6 +243,7 @@ impl MeshletExtractor {
         iso: f32,
         out: &GpuMeshlets,
     ) -> Result<()> {
+        check_meshlet_dims("the volume", prepared.volume.dims)?;
         let params = Self::params(prepared, iso, out);
         let push = bytemuck::bytes_of(&params);
         rec.fill_buffer(&out.counters, 0);
@@ -350,7 +351,8 @@ impl MeshletExtractor {
     }
 
     fn check(&self, prepared: &PreparedVolume) -> Result<()> {
-        prepared.require_scalar(self.scalar, "meshlet")
+        prepared.require_scalar(self.scalar, "meshlet")?;
+        Ok(check_meshlet_dims("the volume", prepared.volume.dims)?)
     }
 }
 
