@@ -39,7 +39,10 @@ pub fn extract_meshlets(volume: &Volume, iso: f32, rule: AmbiguityRule) -> Resul
 /// Refuses a volume of more cells along an axis than a [`Meshlet`] can place
 /// ([`MAX_CELLS_PER_AXIS`]).
 pub fn check_meshlet_dims(name: &str, dims: [u32; 3]) -> Result<()> {
-    match dims.iter().find(|&&d| d > MAX_CELLS_PER_AXIS) {
+    match dims
+        .iter()
+        .find(|&&d| d.saturating_sub(1) > MAX_CELLS_PER_AXIS)
+    {
         Some(d) => Err(DataError::Invalid(format!(
             "{name}: {} cells along an axis; meshlets place subblocks in volumes of at most \
              {MAX_CELLS_PER_AXIS} cells per axis",

@@ -101,3 +101,35 @@ fn moving_scales_bounds_and_a_mirror_keeps_facing() {
         "cell boxes stay in cells"
     );
 }
+
+#[test]
+fn packed_fields_read_back_what_was_packed() {
+    let m = Meshlet::new(
+        7,
+        MAX_VERTICES,
+        9,
+        MAX_TRIANGLES,
+        ([0.0; 3], [1.0; 3]),
+        [65535, 1234, 40000],
+        [8, 4, 2],
+    );
+    assert_eq!(
+        (m.vertex_count(), m.triangle_count()),
+        (MAX_VERTICES, MAX_TRIANGLES)
+    );
+    assert_eq!(m.subblock_origin(), [65535, 1234, 40000]);
+    assert_eq!(m.subblock_size(), [8, 4, 2]);
+    assert_eq!(m.block_origin(), [65528, 1232, 40000]);
+    assert_eq!(std::mem::size_of::<Meshlet>(), 44);
+}
+
+#[test]
+fn volumes_too_wide_for_the_packed_subblock_are_refused() {
+    use crate::meshlets::check_meshlet_dims;
+    assert!(check_meshlet_dims("v", [MAX_CELLS_PER_AXIS + 1, 2, 2]).is_ok());
+    let e = check_meshlet_dims("wide.raw", [2, MAX_CELLS_PER_AXIS + 2, 2]).unwrap_err();
+    assert!(
+        e.to_string().contains("wide.raw") && e.to_string().contains("65537 cells"),
+        "{e}"
+    );
+}
