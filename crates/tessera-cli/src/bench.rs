@@ -56,8 +56,7 @@ pub struct BenchArgs {
     /// Image sizes to measure, in this order (default 1280x720,1920x1080,3840x2160).
     #[arg(long, value_delimiter = ',', value_parser = crate::data::parse_size)]
     pub(crate) sizes: Vec<(u32, u32)>,
-    /// `extraction` also times each extractor with stages left out (filtering only, analysis
-    /// only, no vertex arithmetic): what each stage costs, for performance work.
+    /// `extraction` also times each extractor with stages left out, to place its time.
     #[arg(long)]
     ablations: bool,
 }

@@ -1,6 +1,16 @@
-//! Holding interval shading's per-pixel values to the CPU reference.
+//! Holding interval shading's per-pixel values to the CPU reference: the variants of each
+//! path the tests run, and the comparison of a frame with the reference.
 
+use super::{assert_clean, gpu, skip};
 use tessera::path::Path;
+use tessera::shaders;
+use tessera::tet::interval::{
+    BinCapacity, ComputeScheme, GpuTetMesh, Integrand, Interval, IntervalFrame, IntervalOptions,
+    TileCapacity,
+};
+use tessera_data::tet::optical::{edge_mask, optical_depth};
+use tessera_data::tet::TetMesh;
+use tessera_data::OrbitCamera;
 use tessera_gpu::Gpu;
 
 /// How far the path's rasterizer may move a proxy's corners, in pixels: the graphics path
@@ -92,4 +102,259 @@ pub fn assert_mostly_close(
         3 * compared
     );
     (compared, covered)
+}
+
+pub fn camera(az: f32, el: f32, distance: f32) -> OrbitCamera {
+    OrbitCamera {
+        azimuth_deg: az,
+        elevation_deg: el,
+        distance,
+        ..OrbitCamera::default()
+    }
+}
+
+/// The paths this device runs: the mesh-shader path where it has mesh shaders, the compute
+/// path where it has float atomics.
+pub fn paths(gpu: &Gpu) -> Vec<Path> {
+    let mut paths = Vec::new();
+    if gpu.caps().mesh_shader {
+        paths.push(Path::Graphics);
+    }
+    if gpu.caps().buffer_float32_atomic_add {
+        paths.push(Path::Compute);
+    }
+    paths
+}
+
+/// The default options of every path, and the compute path's binned scheme.
+pub fn defaults(gpu: &Gpu) -> Vec<(String, IntervalOptions)> {
+    let mut out = Vec::new();
+    for path in paths(gpu) {
+        out.push((path.name().to_string(), IntervalOptions::new(path)));
+        if path == Path::Compute {
+            out.push((
+                "compute, binned".into(),
+                IntervalOptions {
+                    compute_scheme: ComputeScheme::Binned,
+                    ..IntervalOptions::new(path)
+                },
+            ));
+        }
+    }
+    out
+}
+
+/// The binned scheme with lists too small for the view (tets beyond them drawn per tet, every
+/// one of those through the tile pass), and with fewer tile counters than the screen has
+/// tiles (every tet drawn per tet).
+pub fn binned_overflow_variants(base: &IntervalOptions) -> Vec<(String, IntervalOptions)> {
+    let binned = IntervalOptions {
+        compute_scheme: ComputeScheme::Binned,
+        ..base.clone()
+    };
+    vec![
+        (
+            "compute, binned, lists full".into(),
+            IntervalOptions {
+                bin_capacity: BinCapacity {
+                    entries: 5,
+                    ..BinCapacity::default()
+                },
+                ..binned.clone()
+            },
+        ),
+        (
+            "compute, binned, lists full, all tiled".into(),
+            IntervalOptions {
+                inline_pixel_limit: Some(0),
+                bin_capacity: BinCapacity {
+                    entries: 5,
+                    ..BinCapacity::default()
+                },
+                ..binned.clone()
+            },
+        ),
+        (
+            "compute, binned, screen beyond the tile counters".into(),
+            IntervalOptions {
+                bin_capacity: BinCapacity {
+                    tiles: 3,
+                    ..BinCapacity::default()
+                },
+                ..binned
+            },
+        ),
+    ]
+}
+
+/// The defaults ([`defaults`]), plus on request the variants that exercise the compute path's
+/// tile pass (every tet tiled; tile buffers too small, so some tets fall back to single
+/// invocations), the binned scheme's overflow and one tet per mesh workgroup.
+pub fn variants(gpu: &Gpu, integrand: &Integrand, all: bool) -> Vec<(String, IntervalOptions)> {
+    let mut out = Vec::new();
+    for (name, options) in defaults(gpu) {
+        let base = IntervalOptions {
+            integrand: integrand.clone(),
+            ..options
+        };
+        let path = base.path;
+        let per_tet = base.compute_scheme == ComputeScheme::PerTet;
+        out.push((name, base.clone()));
+        if !all || !per_tet {
+            continue;
+        }
+        match path {
+            Path::Graphics => out.push((
+                "graphics, 1 tet per workgroup".into(),
+                IntervalOptions {
+                    tets_per_workgroup: 1,
+                    ..base
+                },
+            )),
+            Path::Compute => {
+                out.push((
+                    "compute, all tiled".into(),
+                    IntervalOptions {
+                        inline_pixel_limit: Some(0),
+                        ..base.clone()
+                    },
+                ));
+                out.push((
+                    "compute, tile buffers full".into(),
+                    IntervalOptions {
+                        inline_pixel_limit: Some(0),
+                        tile_capacity: TileCapacity { tets: 3, tiles: 8 },
+                        ..base.clone()
+                    },
+                ));
+                out.extend(binned_overflow_variants(&base));
+            }
+        }
+    }
+    out
+}
+
+/// What a view should give: the CPU reference per pixel, the pixels near projected edges (left
+/// out), and whether tets cross the near plane.
+pub struct Expected<'a> {
+    pub reference: &'a [[f32; 3]],
+    pub edges: &'a [bool],
+    pub clipped: bool,
+}
+
+/// Renders `mesh` with each variant and holds every pixel away from projected edges to the
+/// reference; returns how many of those pixels the mesh covers.
+pub fn assert_variants_match(
+    gpu: &Gpu,
+    name: &str,
+    gpu_mesh: &GpuTetMesh,
+    variants: &[(String, IntervalOptions)],
+    cam: &OrbitCamera,
+    (w, h): (u32, u32),
+    expected: &Expected,
+) -> usize {
+    let compiler = shaders::compiler();
+    let mut covered = 0;
+    for (variant, options) in variants {
+        let interval = Interval::new(gpu, &compiler, options).unwrap();
+        let target = interval.target(gpu, w, h).unwrap();
+        let frame = interval.render(gpu, gpu_mesh, &target, cam).unwrap();
+        let label = format!("{name} ({variant})");
+        let snap = snap_px(gpu, options.path);
+        covered = compare(&label, &frame, expected, w, snap);
+        // Tets reach the per-tet passes in the binned scheme only where its lists are full.
+        let binned = options.compute_scheme == ComputeScheme::Binned;
+        let lists_full = binned && {
+            let capacity = options.bin_capacity;
+            capacity.entries < 10 || capacity.tiles < 10
+        };
+        assert_eq!(
+            frame.unbinned > 0,
+            lists_full,
+            "{label}: {} tets drawn unbinned",
+            frame.unbinned
+        );
+        let per_tet = !binned || lists_full;
+        if options.path == Path::Compute && options.inline_pixel_limit == Some(0) && per_tet {
+            assert!(frame.tiled > 0, "{label}: no tet reached the tile pass");
+            let full = options.tile_capacity.tets < 10;
+            assert_eq!(
+                frame.overflowed > 0,
+                full,
+                "{label}: {} overflowed",
+                frame.overflowed
+            );
+        }
+    }
+    assert_clean(gpu);
+    covered
+}
+
+/// Renders `mesh`'s per-tet optical depth on every path and holds every pixel away from
+/// projected edges to the CPU reference: relative error at most 1e-3 (absolute 1e-5 where the
+/// depth is tiny).
+pub fn assert_matches_reference(
+    name: &str,
+    mesh: &TetMesh,
+    cam: &OrbitCamera,
+    (w, h): (u32, u32),
+    clipped: bool,
+    all_variants: bool,
+) -> usize {
+    let gpu = gpu();
+    let variants = variants(&gpu, &Integrand::TetAbsorption, all_variants);
+    if variants.is_empty() {
+        let reason = format!(
+            "{} has neither mesh shaders nor float atomics",
+            gpu.caps().device_name
+        );
+        skip("", &reason);
+        return 0;
+    }
+    let gpu_mesh = GpuTetMesh::upload(&gpu, mesh).unwrap();
+    let reference = optical_depth(mesh, cam, w, h);
+    let edges = edge_mask(mesh, cam, w, h, 1.0);
+    assert_variants_match(
+        &gpu,
+        name,
+        &gpu_mesh,
+        &variants,
+        cam,
+        (w, h),
+        &Expected {
+            reference: &reference,
+            edges: &edges,
+            clipped,
+        },
+    )
+}
+
+/// Every pixel away from projected edges within tolerance of the reference
+/// ([`assert_close`]); returns how many of them the mesh covers.
+pub fn compare(
+    name: &str,
+    frame: &IntervalFrame,
+    expected: &Expected,
+    w: u32,
+    snap_px: f32,
+) -> usize {
+    assert_eq!(
+        frame.clipped_near > 0,
+        expected.clipped,
+        "{name}: {} tets clipped at the near plane",
+        frame.clipped_near
+    );
+    let (compared, covered) = assert_close(
+        name,
+        &frame.values,
+        expected.reference,
+        expected.edges,
+        w,
+        snap_px,
+    );
+    assert!(
+        compared > expected.reference.len() / 4,
+        "{name}: only {compared} pixels away from edges"
+    );
+    covered
 }
