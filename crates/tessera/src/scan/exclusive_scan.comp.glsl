@@ -1,8 +1,9 @@
 #version 460
 // Exclusive prefix sum of the first `count` words of a buffer, in place, by one workgroup: each
-// invocation sums a run of consecutive words, a shared-memory scan of the runs' sums gives each
-// run its start, and each invocation writes its run's prefixes. Meant for counts of some
-// hundred thousand words at most (e.g. one per screen tile), where one workgroup suffices.
+// invocation sums a run of consecutive words, a scan of the runs' sums over the workgroup
+// (common/workgroup_scan.glsl) gives each run its start, and each invocation writes its run's
+// prefixes. Meant for counts of some hundred thousand words at most (e.g. one per screen
+// tile), where one workgroup suffices.
 
 layout(local_size_x = SCAN_WORKGROUP) in;
 
@@ -12,7 +13,9 @@ layout(push_constant) uniform ScanParams {
     uint count;
 } params;
 
-shared uint run_sums[SCAN_WORKGROUP];
+#define WORKGROUP_SCAN_SIZE SCAN_WORKGROUP
+#define WORKGROUP_SCAN_SUBGROUPS 0
+#include "common/workgroup_scan.glsl"
 
 void main() {
     uint i = gl_LocalInvocationIndex;
@@ -30,16 +33,9 @@ void main() {
     for (; k < end; ++k) {
         sum += values[k];
     }
-    run_sums[i] = sum;
-    barrier();
-    // Hillis–Steele inclusive scan of the runs' sums.
-    for (uint d = 1u; d < uint(SCAN_WORKGROUP); d <<= 1) {
-        uint add = i >= d ? run_sums[i - d] : 0u;
-        barrier();
-        run_sums[i] += add;
-        barrier();
-    }
-    uint prefix = run_sums[i] - sum;
+    // Where each run starts: the prefix of the runs' sums (the scan's other counts unused).
+    uvec3 totals;
+    uint prefix = workgroup_exclusive_scan(uvec3(sum, 0u, 0u), totals).x;
     for (k = begin; k < end; ++k) {
         uint value = values[k];
         values[k] = prefix;
