@@ -11,6 +11,11 @@ set -uo pipefail
 out=${1:?output folder}
 bin=${2:-target/release/tessera}
 part=${3:-all}
+case $part in
+  all | volumes | surfaces | meshes | growth) ;;
+  *) echo "gpu-bench.sh: unknown part '$part' (volumes, surfaces, meshes, growth or none)" >&2; exit 2 ;;
+esac
+[ -x "$bin" ] || { echo "gpu-bench.sh: no tessera binary at $bin" >&2; exit 2; }
 repeat=${REPEAT:-2}
 frames=${FRAMES:-50}
 read -r -a extra <<< "${EXTRA:-}"
