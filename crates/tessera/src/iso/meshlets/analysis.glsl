@@ -9,7 +9,7 @@
 // marching-cubes headers (common/mc_edges.glsl among them).
 
 // Per eighth: occupied cells, their triangles and the crossed edges they own; summed over the
-// eighth's invocations with atomics (the partition of a block that does not fit whole).
+// eighth's invocations with atomics, only for a block that does not fit whole (its partition).
 shared uint s_eighth_cells[MESHLET_EIGHTHS];
 shared uint s_eighth_triangles[MESHLET_EIGHTHS];
 shared uint s_eighth_core[MESHLET_EIGHTHS];
@@ -107,9 +107,6 @@ void meshlet_analyse(uint listed) {
         s_code_rows[eighth + k] = row | case_index << 16;
 #endif
     }
-    atomicAdd(s_eighth_cells[e], cells);
-    atomicAdd(s_eighth_triangles[e], triangles);
-    atomicAdd(s_eighth_core[e], core);
     analysed_block_padding = meshlet_padding_share(block_origin, 0u, BLOCK_X * BLOCK_Y * BLOCK_Z,
                                                    me, MESHLET_WORKGROUP, iso);
     // Invocations hold their eighth's cells in Morton order, so the prefix of the occupied
@@ -134,6 +131,9 @@ void meshlet_analyse(uint listed) {
     // totals are the same in every invocation, so the branch is uniform.
     bool block_fits = meshlet_fits(block_counts.x, block_counts.y, block_counts.z);
     if (!block_fits) {
+        atomicAdd(s_eighth_cells[e], cells);
+        atomicAdd(s_eighth_triangles[e], triangles);
+        atomicAdd(s_eighth_core[e], core);
         const uint QUARTER_CELLS = EIGHTHS_PER_QUARTER * MESHLET_EIGHTH_CELLS;
         const uint QUARTER_INVOCATIONS = MESHLET_WORKGROUP / 4u;
         atomicAdd(s_eighth_padding[e], meshlet_padding_share(block_origin, eighth,
