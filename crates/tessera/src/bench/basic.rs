@@ -5,7 +5,7 @@
 use super::frames::{settle_after_upload, time_mono};
 use super::{time_frames, BenchConfig, BenchRecord, FramePlan, RecordSink};
 use crate::error::Result;
-use crate::iso::minmax::{samples_buffer_size, LevelZeroPass, MinMaxBuilder};
+use crate::iso::minmax::{upload_samples, LevelZeroPass, MinMaxBuilder};
 use crate::iso::raymarch::Raymarch;
 use crate::renderer::{self, RendererOptions, Technique};
 use tessera_data::minmax::MinMaxOctree;
@@ -148,11 +148,8 @@ pub(super) fn minmax_build(
         let usage = vk::BufferUsageFlags::TRANSFER_SRC
             | vk::BufferUsageFlags::TRANSFER_DST
             | vk::BufferUsageFlags::STORAGE_BUFFER;
-        // Padded to whole words: the octree's row pass reads the same buffer.
-        let mut padded = volume.bytes().to_vec();
-        padded.resize(samples_buffer_size(scalar, volume.dims()) as usize, 0);
-        let src = gpu.upload_buffer("copy source", &padded, usage)?;
-        drop(padded);
+        // The octree's row pass reads the same buffer.
+        let src = upload_samples(gpu, &volume, usage)?;
         let dims = volume.dims();
         let dst = gpu.create_buffer("copy destination", bytes, usage, MemoryLocation::GpuOnly)?;
         drop(volume);

@@ -8,7 +8,7 @@ use super::{BenchConfig, RecordSink};
 use crate::error::{Error, Result};
 use crate::iso::direct::compute::{ComputeTarget, DirectCompute};
 use crate::iso::direct::{Direct, RasterTarget};
-use crate::iso::minmax::samples_buffer_size;
+use crate::iso::minmax::upload_samples;
 use crate::iso::raymarch::Raymarch;
 use crate::iso::PreparedVolume;
 use crate::path::PathChoice;
@@ -315,17 +315,8 @@ pub fn time_varying(
         let dims = steps[0].dims();
         let resident: Vec<_> = steps
             .iter()
-            .map(|v| {
-                let mut words = v.bytes().to_vec();
-                words.resize(samples_buffer_size(scalar, dims) as usize, 0);
-                gpu.upload_buffer(
-                    v.name(),
-                    &words,
-                    tessera_gpu::vk::BufferUsageFlags::STORAGE_BUFFER
-                        | tessera_gpu::vk::BufferUsageFlags::TRANSFER_SRC,
-                )
-            })
-            .collect::<std::result::Result<_, _>>()?;
+            .map(|v| upload_samples(gpu, v, tessera_gpu::vk::BufferUsageFlags::TRANSFER_SRC))
+            .collect::<Result<_>>()?;
         let isos: Vec<f32> = steps
             .iter()
             .map(|v| v.iso_to_texel(IsoValue::Normalized(config.iso_fraction)))

@@ -14,7 +14,7 @@ use crate::error::Result;
 use crate::gpu_volume::GpuVolume;
 use bytemuck::{Pod, Zeroable};
 use tessera_data::minmax::level_dims;
-use tessera_data::ScalarType;
+use tessera_data::{ScalarType, Volume};
 use tessera_gpu::{
     vk, Binding, Buffer, Gpu, MemoryLocation, Pipeline, Recorder, ShaderCompiler, Slot,
 };
@@ -292,6 +292,21 @@ impl MinMaxBuilder {
             );
         }
     }
+}
+
+/// A device buffer of `volume`'s samples as [`MinMaxBuilder::record_from_samples`] reads them
+/// (padded to whole words), usable also as `usage` says (e.g. a copy source).
+pub fn upload_samples(gpu: &Gpu, volume: &Volume, usage: vk::BufferUsageFlags) -> Result<Buffer> {
+    let mut words = volume.bytes().to_vec();
+    words.resize(
+        samples_buffer_size(volume.scalar_type(), volume.dims()) as usize,
+        0,
+    );
+    Ok(gpu.upload_buffer(
+        &format!("{} samples", volume.name()),
+        &words,
+        usage | vk::BufferUsageFlags::STORAGE_BUFFER,
+    )?)
 }
 
 /// Bytes of a buffer that holds a volume's samples for
