@@ -25,6 +25,14 @@ shared uint s_codes[BLOCK_X * BLOCK_Y * BLOCK_Z];
 // Per Morton code of an occupied cell: its table row (bits 0-15) and case (bits 16-23), for
 // an extraction in the same workgroup, which then need not classify the cell again.
 shared uint s_code_rows[BLOCK_X * BLOCK_Y * BLOCK_Z];
+// This invocation's part of the analysis, for an extraction in the same workgroup of a block
+// that fits one meshlet whole: the invocation's occupied cells are entries analysed_first_cell
+// .. + analysed_cells of the block's list, and the analysis's prefix sums and totals of core
+// vertices, padding vertices and triangles number the meshlet as its own counting would.
+uint analysed_first_cell;
+uint analysed_cells;
+uvec3 analysed_prefix;
+uvec3 analysed_totals;
 #endif
 
 const uint EIGHTHS_PER_QUARTER = MESHLET_EIGHTHS / 4u;
@@ -107,19 +115,31 @@ void meshlet_analyse(uint listed) {
         s_code_rows[eighth + k] = row | case_index << 16;
 #endif
     }
-    analysed_block_padding = meshlet_padding_share(block_origin, 0u, BLOCK_X * BLOCK_Y * BLOCK_Z,
-                                                   me, MESHLET_WORKGROUP, iso);
+    // The block box's points split among the invocations as the extraction of a whole-block
+    // subblock splits them, so that extraction may number its padding vertices from this.
+    uint block_padding = meshlet_padding_share(block_origin, 0u, BLOCK_X * BLOCK_Y * BLOCK_Z,
+                                               me, MESHLET_WORKGROUP, iso);
     // Invocations hold their eighth's cells in Morton order, so the prefix of the occupied
     // cells is where this invocation's go in the block's list; the totals are the whole
     // block's vertices (core and padding), triangles and occupied cells.
+    // Cells and triangles share a word: a block has at most 256 cells and 1280 triangles.
     uvec3 block;
-    uvec3 before = meshlet_scan_counts(uvec3(cells, triangles, core + analysed_block_padding),
+    uvec3 before = meshlet_scan_counts(uvec3(cells | triangles << 16, core, block_padding),
                                        block);
-    uvec3 block_counts = block.zyx;
+    uint block_triangles = block.x >> 16;
+    // Vertices (core and padding), triangles, occupied cells.
+    uvec3 block_counts = uvec3(block.y + block.z, block_triangles, block.x & 0xffffu);
+    uint cells_before = before.x & 0xffffu;
+#ifdef MESHLET_ANALYSIS_IN_WORKGROUP
+    analysed_first_cell = cells_before;
+    analysed_cells = cells;
+    analysed_prefix = uvec3(before.y, before.z, before.x >> 16);
+    analysed_totals = uvec3(block.y, block.z, block_triangles);
+#endif
     if (part == 0u) {
-        s_first_cell[e] = before.x;
+        s_first_cell[e] = cells_before;
     }
-    uint at = before.x;
+    uint at = cells_before;
     for (uint k = first_k; k < first_k + CELLS_PER_INVOCATION; ++k) {
         if ((occupied_mask & (1u << k)) != 0u) {
             s_codes[at] = eighth + k;

@@ -33,6 +33,8 @@ void main() {
     if (listed >= block_header.count) {
         return;  // the last row of a 2-D grid; uniform across the workgroup
     }
+    // The analysis's barriers publish the cleared outputs to the first extraction.
+    meshlet_clear_outputs();
     meshlet_analyse(listed);
 #if EXTRACTION_ABLATION != ABLATION_ANALYSIS_ONLY
     for (uint s = 0u; s < payload.subblock_count; ++s) {

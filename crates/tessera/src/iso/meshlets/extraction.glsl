@@ -16,9 +16,11 @@ const uint MESHLET_INDEX_WORDS = (MESHLET_MAX_TRIANGLES + 3u) / 4u * 3u;
 // one (bits 0-15) and its owned crossings (bits 16-18: x, y, z edge).
 shared uint s_point_vertices[MESHLET_BOX_POINTS];
 shared uint s_index_words[MESHLET_INDEX_WORDS];
+#ifndef MESHLET_ANALYSIS_IN_WORKGROUP
 // Per occupied cell of the subblock: its table row (bits 0-15) and owned crossed edges
 // (bits 16-18: x, y, z).
 shared uint s_cell_rows[MESHLET_MAX_OCCUPIED_CELLS];
+#endif
 // The meshlet's AABB as float bits: positions are grid coordinates, never negative, so their
 // bits order as their values and integer atomics find the extremes.
 shared uint s_aabb_min[3];
@@ -32,6 +34,29 @@ uint meshlet_cell_code(uint i) {
 #else
     return (payload.cells[i >> 2] >> ((i & 3u) * 8u)) & 255u;
 #endif
+}
+
+// Entry `c` of the subblock's occupied cells (its list starts at `first_cell` of the block's):
+// its table row (bits 0-15) and owned crossed edges (bits 16-18: x, y, z), from the analysis
+// where it ran in this workgroup, else as the counting pass stored it.
+uint meshlet_cell_entry(uint first_cell, uint c) {
+#ifdef MESHLET_ANALYSIS_IN_WORKGROUP
+    uint cached = s_code_rows[meshlet_cell_code(first_cell + c)];
+    return (cached & 0xffffu) | mc_case_owned_mask(cached >> 16) << 16;
+#else
+    return s_cell_rows[c];
+#endif
+}
+
+// Clears the subblock's packed indices and bounds; they are read after the next barrier.
+void meshlet_clear_outputs() {
+    for (uint w = gl_LocalInvocationIndex; w < MESHLET_INDEX_WORDS; w += MESHLET_WORKGROUP) {
+        s_index_words[w] = 0u;
+    }
+    if (gl_LocalInvocationIndex < 3u) {
+        s_aabb_min[gl_LocalInvocationIndex] = 0x7f800000u;  // +inf
+        s_aabb_max[gl_LocalInvocationIndex] = 0u;
+    }
 }
 
 uint meshlet_point_slot(uvec3 p, uvec3 lo, uvec3 points) {
@@ -64,50 +89,57 @@ void meshlet_extract(uint s, bool block_samples_held) {
     uint padding_first = min(me * padding_share, box_points);
     uint padding_end = min(padding_first + padding_share, box_points);
 
-    // Counts: each invocation takes a run of cells and a run of box points.
-    uint core = 0u;
-    uint triangles = 0u;
-    uint cell_first = me * MESHLET_CELLS_PER_EXTRACTOR;
-    uint cell_end = clamp(cell_count, cell_first, cell_first + MESHLET_CELLS_PER_EXTRACTOR);
-    for (uint c = cell_first; c < cell_end; ++c) {
-#ifdef MESHLET_ANALYSIS_IN_WORKGROUP
-        uint cached = s_code_rows[meshlet_cell_code(first_cell + c)];
-        uint row = cached & 0xffffu;
-        uint case_index = cached >> 16;
-#else
-        uvec3 cell = block_origin + meshlet_cell_of_code(meshlet_cell_code(first_cell + c));
-        float corners[8];
-        meshlet_cell_corners(cell, corners);
-        uint case_index = mc_case_of_corners(corners, iso);
-        uint row = mc_row_of_corners(corners, case_index, iso);
-#endif
-        uint owned = mc_case_owned_mask(case_index);
-        s_cell_rows[c] = row | owned << 16;
-        triangles += mc_tri_count(row);
-        core += bitCount(owned);
-    }
-    // The compute path analysed this block in this workgroup: a whole-block subblock's share
-    // is counted already.
-    bool whole_block_analysed = block_samples_held && code_count == BLOCK_X * BLOCK_Y * BLOCK_Z;
-    uint padding = whole_block_analysed
-        ? analysed_block_padding
-        : meshlet_padding_crossings(lo, hi, padding_first, padding_end, iso);
-    for (uint w = me; w < MESHLET_INDEX_WORDS; w += MESHLET_WORKGROUP) {
-        s_index_words[w] = 0u;
-    }
-    if (me < 3u) {
-        s_aabb_min[me] = 0x7f800000u;  // +inf
-        s_aabb_max[me] = 0u;
-    }
-    // Its barriers also publish the words and bounds just cleared.
+    // A block that fits one meshlet whole was counted by the analysis in this workgroup, its
+    // cells and box points split among the invocations as the extraction may split them; the
+    // includer cleared the outputs before the analysis, whose barriers published that.
+    uint cell_first;
+    uint cell_end;
+    uvec3 first;
     uvec3 totals;
-    uvec3 first = meshlet_scan_counts(uvec3(core, padding, triangles), totals);
+#ifdef MESHLET_ANALYSIS_IN_WORKGROUP
+    bool whole_block_analysed = block_samples_held && code_count == BLOCK_X * BLOCK_Y * BLOCK_Z;
+#else
+    const bool whole_block_analysed = false;
+#endif
+    if (whole_block_analysed) {
+#ifdef MESHLET_ANALYSIS_IN_WORKGROUP
+        cell_first = analysed_first_cell;
+        cell_end = cell_first + analysed_cells;
+        first = analysed_prefix;
+        totals = analysed_totals;
+#endif
+    } else {
+        // Counts: each invocation takes a run of cells and a run of box points.
+        uint core = 0u;
+        uint triangles = 0u;
+        cell_first = me * MESHLET_CELLS_PER_EXTRACTOR;
+        cell_end = clamp(cell_count, cell_first, cell_first + MESHLET_CELLS_PER_EXTRACTOR);
+        for (uint c = cell_first; c < cell_end; ++c) {
+#ifdef MESHLET_ANALYSIS_IN_WORKGROUP
+            uint entry = meshlet_cell_entry(first_cell, c);
+#else
+            uvec3 cell = block_origin + meshlet_cell_of_code(meshlet_cell_code(first_cell + c));
+            float corners[8];
+            meshlet_cell_corners(cell, corners);
+            uint case_index = mc_case_of_corners(corners, iso);
+            uint entry = mc_row_of_corners(corners, case_index, iso)
+                | mc_case_owned_mask(case_index) << 16;
+            s_cell_rows[c] = entry;
+#endif
+            triangles += mc_tri_count(entry & 0xffffu);
+            core += bitCount(entry >> 16);
+        }
+        uint padding = meshlet_padding_crossings(lo, hi, padding_first, padding_end, iso);
+        meshlet_clear_outputs();
+        // Its barriers also publish the words and bounds just cleared.
+        first = meshlet_scan_counts(uvec3(core, padding, triangles), totals);
+        uint expected = sub.counts;
+        if (me == 0u && (totals.x + totals.y != (expected & 0xffffu) || totals.z != expected >> 16)) {
+            atomicOr(counters.overflow, MESHLET_OVERFLOW_MISMATCH);
+        }
+    }
     uint core_total = totals.x;
     uint vertices = core_total + totals.y;
-    uint expected = sub.counts;
-    if (me == 0u && (vertices != (expected & 0xffffu) || totals.z != expected >> 16)) {
-        atomicOr(counters.overflow, MESHLET_OVERFLOW_MISMATCH);
-    }
     uint vertex_count = min(vertices, MESHLET_MAX_VERTICES);
     uint triangle_count = min(totals.z, MESHLET_MAX_TRIANGLES);
     uint first_vertex = payload.base_vertex + (sub.offsets & 0xffffu);
@@ -136,7 +168,8 @@ void meshlet_extract(uint s, bool block_samples_held) {
             }
         }
         // A core cell lies inside the box: its case says which of its edges cross.
-        uint owned = core ? s_cell_rows[cell_first + i] >> 16 : meshlet_owned_crossings(p, hi, iso);
+        uint owned = core ? meshlet_cell_entry(first_cell, cell_first + i) >> 16
+                          : meshlet_owned_crossings(p, hi, iso);
         if (owned != 0u) {
             s_point_vertices[meshlet_point_slot(p, lo, points)] = local | owned << 16;
         }
@@ -174,7 +207,7 @@ void meshlet_extract(uint s, bool block_samples_held) {
     uint t = 3u * first.z;  // the local index at hand
     for (uint c = cell_first; c < cell_end; ++c) {
         uvec3 cell = block_origin + meshlet_cell_of_code(meshlet_cell_code(first_cell + c));
-        uint row = s_cell_rows[c] & 0xffffu;
+        uint row = meshlet_cell_entry(first_cell, c) & 0xffffu;
         for (uint i = 0u; i < 3u * mc_tri_count(row); ++i, ++t) {
             uvec3 p;
             uint axis;

@@ -9,12 +9,6 @@ uvec3 meshlet_cell_of_code(uint code) {
                  ((code >> 2) & 1u) | ((code >> 4) & 2u));
 }
 
-// This invocation's share of the block box's padding crossings, as the region analysis
-// counted it (meshlet_padding_share); the extraction of a subblock that is the whole block
-// splits the box's points among the invocations the same way, so where one workgroup runs
-// both (the compute path) it takes this count instead of counting again.
-uint analysed_block_padding;
-
 uvec3 meshlet_block_origin(uint block_id) {
     uvec3 d = params.block_dims;
     uvec3 block = uvec3(block_id % d.x, (block_id / d.x) % d.y, block_id / (d.x * d.y));
