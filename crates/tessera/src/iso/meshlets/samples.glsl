@@ -13,16 +13,25 @@ const uint MESHLET_SAMPLES_Z = BLOCK_Z + 3u;
 shared float s_samples[MESHLET_SAMPLES_X * MESHLET_SAMPLES_Y * MESHLET_SAMPLES_Z];
 
 // Where the held samples start in the volume (the apron may start at -1) and how many there
-// are per axis; the same in every invocation.
+// are per axis; the same in every invocation. The compute path only ever holds a whole
+// block's box, so there the size is a constant (the box at the volume's far faces held
+// whole too, its samples past the volume clamped like the apron's): indexing and the load's
+// divisions then take constants.
 ivec3 held_first;
+#ifdef MESHLET_ANALYSIS_IN_WORKGROUP
+const uvec3 held_size = uvec3(MESHLET_SAMPLES_X, MESHLET_SAMPLES_Y, MESHLET_SAMPLES_Z);
+#else
 uvec3 held_size;
+#endif
 
 // Loads the samples of the box lo ..= hi and its apron; apron samples outside the volume hold
 // its nearest border sample and are never read as values. Call from uniform control flow:
 // ends with a barrier.
 void meshlet_load_samples(uvec3 lo, uvec3 hi) {
     held_first = ivec3(lo) - 1;
+#ifndef MESHLET_ANALYSIS_IN_WORKGROUP
     held_size = hi - lo + 3u;
+#endif
     uint count = held_size.x * held_size.y * held_size.z;
     ivec3 last = ivec3(params.volume_dims) - 1;
     for (uint i = gl_LocalInvocationIndex; i < count; i += MESHLET_WORKGROUP) {
