@@ -147,8 +147,9 @@ void meshlet_analyse(uint listed) {
         }
     }
     // Most blocks fit one meshlet whole; only the others need their quarters' and eighths'
-    // padding (counted for eighths with occupied cells only, the partition's rule). The
-    // totals are the same in every invocation, so the branch is uniform.
+    // padding (counted for eighths with occupied cells only, the partition's rule), and a
+    // barrier before one invocation partitions from those sums. The totals are the same in
+    // every invocation, so the branch is uniform.
     bool block_fits = meshlet_fits(block_counts.x, block_counts.y, block_counts.z);
     if (!block_fits) {
         atomicAdd(s_eighth_cells[e], cells);
@@ -161,8 +162,8 @@ void meshlet_analyse(uint listed) {
         atomicAdd(s_quarter_padding[e], meshlet_padding_share(block_origin,
             (me / QUARTER_INVOCATIONS) * QUARTER_CELLS, QUARTER_CELLS, me % QUARTER_INVOCATIONS,
             QUARTER_INVOCATIONS, iso));
+        barrier();
     }
-    barrier();
 
     if (me == 0u) {
         uint total = block_counts.z;
@@ -229,7 +230,11 @@ void meshlet_analyse(uint listed) {
     }
 #ifndef MESHLET_ANALYSIS_IN_WORKGROUP
     // The mesh workgroups read the occupied cells' codes from the payload, four to a word;
-    // an extraction in this workgroup reads s_codes itself.
+    // an extraction in this workgroup reads s_codes itself. The codes need a barrier first,
+    // which a block that does not fit had before its partition.
+    if (block_fits) {
+        barrier();
+    }
     for (uint w = me; w < BLOCK_X * BLOCK_Y * BLOCK_Z / 4u; w += MESHLET_WORKGROUP) {
         payload.cells[w] = (s_codes[4u * w] & 255u) | (s_codes[4u * w + 1u] & 255u) << 8
             | (s_codes[4u * w + 2u] & 255u) << 16 | (s_codes[4u * w + 3u] & 255u) << 24;

@@ -38,8 +38,10 @@ void main() {
     meshlet_analyse(listed);
 #if EXTRACTION_ABLATION != ABLATION_ANALYSIS_ONLY
     for (uint s = 0u; s < payload.subblock_count; ++s) {
+        if (s > 0u) {
+            barrier();  // the previous subblock's shared outputs are read out
+        }
         meshlet_extract(s, true);
-        barrier();
     }
 #endif
 }
