@@ -3,9 +3,9 @@
 // (tessera_data::meshlets::subblock): vertices of the crossed edges owned by the occupied
 // cells, then of those owned by padding points; triangles by cell, each cell's in table order.
 // Each sample of the subblock's closed box keeps, in shared memory, the crossed edges it owns
-// and the local number of the first one's vertex, so triangles find theirs without search. Needs the marching-cubes headers,
-// common/mc_vertex.glsl, common/mc_edges.glsl and iso/meshlets/{params,buffers,payload,
-// samples,subblock}.glsl.
+// and the local number of the first one's vertex, so triangles find theirs without search.
+// Needs the marching-cubes headers, common/mc_vertex.glsl, common/mc_edges.glsl and
+// iso/meshlets/{params,buffers,payload,samples,subblock}.glsl.
 
 const uint MESHLET_CELLS_PER_EXTRACTOR = MESHLET_MAX_OCCUPIED_CELLS / MESHLET_WORKGROUP;
 // Samples of the largest box: a block's cells plus one on each axis.
@@ -16,6 +16,9 @@ const uint MESHLET_INDEX_WORDS = (MESHLET_MAX_TRIANGLES + 3u) / 4u * 3u;
 // one (bits 0-15) and its owned crossings (bits 16-18: x, y, z edge).
 shared uint s_point_vertices[MESHLET_BOX_POINTS];
 shared uint s_index_words[MESHLET_INDEX_WORDS];
+// Per vertex of the meshlet, its edge: the start sample relative to the box's minimum (4 bits
+// per axis) and the axis (bits 12-13).
+shared uint s_vertex_edges[MESHLET_MAX_VERTICES];
 #ifndef MESHLET_ANALYSIS_IN_WORKGROUP
 // Per occupied cell of the subblock: its table row (bits 0-15) and owned crossed edges
 // (bits 16-18: x, y, z).
@@ -146,9 +149,9 @@ void meshlet_extract(uint s, bool block_samples_held) {
     uint first_triangle = payload.base_triangle + (sub.offsets >> 16);
 
     // Vertices, numbered in the reference's order: this invocation's cells, then its run of
-    // box points (one loop, so the vertex arithmetic is compiled once).
-    vec3 lo_bound = vec3(uintBitsToFloat(0x7f800000u));
-    vec3 hi_bound = vec3(0.0);
+    // box points. Numbering only records each vertex's edge; the vertex arithmetic then takes
+    // one vertex per invocation, balanced whatever the cells' crossings, and with few values
+    // live beside it.
     uint cell_items = cell_end - cell_first;
     uint items = cell_items + (padding_end - padding_first);
     uint local = first.x;
@@ -170,38 +173,44 @@ void meshlet_extract(uint s, bool block_samples_held) {
         // A core cell lies inside the box: its case says which of its edges cross.
         uint owned = core ? meshlet_cell_entry(first_cell, cell_first + i) >> 16
                           : meshlet_owned_crossings(p, hi, iso);
-        if (owned != 0u) {
-            s_point_vertices[meshlet_point_slot(p, lo, points)] = local | owned << 16;
+        if (owned == 0u) {
+            continue;
         }
-        for (uint axis = 0u; axis < 3u; ++axis) {
-            if ((owned & (1u << axis)) == 0u) {
-                continue;
-            }
+        s_point_vertices[meshlet_point_slot(p, lo, points)] = local | owned << 16;
+        uvec3 d = p - lo;
+        for (; owned != 0u; owned &= owned - 1u, ++local) {
             if (local < vertex_count) {
-                vec3 position;
-                vec3 normal;
-#if EXTRACTION_ABLATION == ABLATION_NO_VERTEX_ARITHMETIC
-                position = vec3(p);
-                normal = vec3(0.0, 0.0, 1.0);
-#else
-                meshlet_edge_vertex(p, axis, iso, position, normal);
-#endif
-                uint v = first_vertex + local;
-                for (uint a = 0u; a < 3u; ++a) {
-                    positions[3u * v + a] = position[a];
-                    normals[3u * v + a] = normal[a];
-                }
-                lo_bound = min(lo_bound, position);
-                hi_bound = max(hi_bound, position);
+                s_vertex_edges[local] = d.x | d.y << 4 | d.z << 8 | findLSB(owned) << 12;
             }
-            local += 1u;
         }
+    }
+    barrier();
+
+    vec3 lo_bound = vec3(uintBitsToFloat(0x7f800000u));
+    vec3 hi_bound = vec3(0.0);
+    for (uint v = me; v < vertex_count; v += MESHLET_WORKGROUP) {
+        uint edge = s_vertex_edges[v];
+        uvec3 p = lo + uvec3(edge & 15u, (edge >> 4) & 15u, (edge >> 8) & 15u);
+        vec3 position;
+        vec3 normal;
+#if EXTRACTION_ABLATION == ABLATION_NO_VERTEX_ARITHMETIC
+        position = vec3(p);
+        normal = vec3(0.0, 0.0, 1.0);
+#else
+        meshlet_edge_vertex(p, edge >> 12, iso, position, normal);
+#endif
+        uint at = first_vertex + v;
+        for (uint a = 0u; a < 3u; ++a) {
+            positions[3u * at + a] = position[a];
+            normals[3u * at + a] = normal[a];
+        }
+        lo_bound = min(lo_bound, position);
+        hi_bound = max(hi_bound, position);
     }
     for (uint a = 0u; a < 3u; ++a) {
         atomicMin(s_aabb_min[a], floatBitsToUint(lo_bound[a]));
         atomicMax(s_aabb_max[a], floatBitsToUint(hi_bound[a]));
     }
-    barrier();
 
     // Triangles: local indices packed into shared words, then copied out whole.
     uint t = 3u * first.z;  // the local index at hand
