@@ -92,6 +92,7 @@ fn variants(gpu: &Gpu, wanted: &[Path], view: &str, scalar: bool, small: bool) -
         for &limit in limits {
             let tuning = IntervalTuning {
                 inline_pixel_limit: limit,
+                compute_scheme: ComputeScheme::PerTet,
                 ..IntervalTuning::default()
             };
             let label = match limit {
@@ -248,12 +249,11 @@ impl MeshBench<'_> {
         }
         if support.compute && gpu.caps().buffer_int64_atomics {
             let label = "asteroids, automatic tile limit".to_string();
-            all.push(Variant::new(
-                Path::Compute,
-                IntervalTuning::default(),
-                integrand,
-                label,
-            ));
+            let tuning = IntervalTuning {
+                compute_scheme: ComputeScheme::PerTet,
+                ..IntervalTuning::default()
+            };
+            all.push(Variant::new(Path::Compute, tuning, integrand, label));
             all.push(binned(integrand, "asteroids, binned"));
         }
         for variant in &all {

@@ -126,19 +126,22 @@ pub fn paths(gpu: &Gpu) -> Vec<Path> {
     paths
 }
 
-/// The default options of every path, and the compute path's binned scheme.
+/// The default options of every path, the compute path with each of its schemes.
 pub fn defaults(gpu: &Gpu) -> Vec<(String, IntervalOptions)> {
     let mut out = Vec::new();
     for path in paths(gpu) {
-        out.push((path.name().to_string(), IntervalOptions::new(path)));
         if path == Path::Compute {
-            out.push((
-                "compute, binned".into(),
-                IntervalOptions {
-                    compute_scheme: ComputeScheme::Binned,
-                    ..IntervalOptions::new(path)
-                },
-            ));
+            for scheme in [ComputeScheme::PerTet, ComputeScheme::Binned] {
+                out.push((
+                    format!("compute, {}", scheme.name()),
+                    IntervalOptions {
+                        compute_scheme: scheme,
+                        ..IntervalOptions::new(path)
+                    },
+                ));
+            }
+        } else {
+            out.push((path.name().to_string(), IntervalOptions::new(path)));
         }
     }
     out
