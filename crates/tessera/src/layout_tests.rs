@@ -408,7 +408,14 @@ fn parametric_structs(t: &mut Table) {
     t.push_constants::<PrepareParams>(
         &prepare,
         "PrepareParams",
-        host!(PrepareParams, max_groups, entry, capacity, per_group),
+        host!(
+            PrepareParams,
+            max_groups,
+            entry,
+            capacity,
+            per_group,
+            spread_target
+        ),
     );
     // `init` only indexes its buffers, so the first type of each name is the buffer's.
     let init = compile(&builtin_shader!("param/lod_init.comp.glsl"), &lod);

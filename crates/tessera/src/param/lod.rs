@@ -114,7 +114,17 @@ pub struct PrepareParams {
     pub entry: u32,
     pub capacity: u32,
     pub per_group: u32,
+    /// Workgroups the pass should have at least: a list of fewer patches gets up to
+    /// [`MAX_SPREAD`] workgroups per patch along z, which share the patch's tiles (0: one).
+    pub spread_target: u32,
 }
+
+/// Most workgroups one patch of the render list is spread over ([`PrepareParams`]).
+pub const MAX_SPREAD: u32 = 64;
+
+/// Workgroups the point pass should have at least: far more than a GPU holds at once, so a
+/// frame of a few large patches (one glyph filling the screen) still keeps every unit busy.
+const POINT_PASS_GROUPS: u32 = 16384;
 
 /// LOD settings (the CPU's `LodConfig` without the viewport, which comes from the view).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -134,6 +144,7 @@ pub struct LodSettings {
 pub fn lod_defines() -> Vec<(String, String)> {
     let mut defines = scene_defines();
     defines.extend(split_defines());
+    defines.push(("PARAM_MAX_SPREAD".into(), format!("{MAX_SPREAD}u")));
     defines
 }
 
@@ -295,13 +306,21 @@ impl LodStage {
         STATE_HEADER_BYTES + ENTRY_BYTES * u64::from(entry) + 4
     }
 
-    /// Writes list `entry`'s dispatch arguments, `per_group` patches per workgroup.
-    pub(super) fn record_prepare(&self, rec: &Recorder, entry: u32, per_group: u32) {
+    /// Writes list `entry`'s dispatch arguments, `per_group` patches per workgroup, spread
+    /// over more workgroups per patch up to `spread_target` workgroups ([`PrepareParams`]).
+    pub(super) fn record_prepare(
+        &self,
+        rec: &Recorder,
+        entry: u32,
+        per_group: u32,
+        spread_target: u32,
+    ) {
         let params = PrepareParams {
             max_groups: self.max_groups,
             entry,
             capacity: self.settings.capacity,
             per_group,
+            spread_target,
         };
         rec.dispatch_groups(
             &self.prepare,
@@ -358,7 +377,7 @@ impl LodStage {
         );
         rec.barrier();
         for step in 0..s.max_steps {
-            self.record_prepare(rec, 1 + step, 1);
+            self.record_prepare(rec, 1 + step, 1, 0);
             params.step = step;
             params.last = u32::from(step + 1 == s.max_steps);
             let (input, output) = (step as usize % 2, (step as usize + 1) % 2);
@@ -380,7 +399,7 @@ impl LodStage {
             );
             rec.barrier();
         }
-        self.record_prepare(rec, 0, 1);
+        self.record_prepare(rec, 0, 1, POINT_PASS_GROUPS);
     }
 
     /// Fills the patch lists with all-ones words (NaN ranges), so that a slot the passes

@@ -2,7 +2,8 @@
 // POINT-BASED rendering (paper E §4.3): one workgroup per patch to render samples it on a
 // regular (n_u + 1) x (n_v + 1) parameter grid, n = ceil(extent * density) cells per direction
 // (about one sample per pixel of the patch's screen extent at density 1), tile by tile: the 9x9
-// points of an 8x8-cell tile go to shared memory, then each invocation draws one cell.
+// points of an 8x8-cell tile go to shared memory, then each invocation draws one cell. A patch
+// may have several workgroups along z (lod_prepare spreads a short list), which split its tiles.
 //
 // FOOTPRINT_CELL: a cell is drawn as two triangles, every pixel centre inside them (edges
 // widened by EDGE_SLACK pixels so that neighbouring patches' slightly different edges leave no
@@ -108,7 +109,8 @@ void main() {
     uvec2 n = uvec2(clamp(ceil(extent * params.density), vec2(1.0), vec2(float(params.max_side))));
     uvec2 tiles = (n + TILE - 1u) / TILE;
     uint lane = gl_LocalInvocationIndex;
-    for (uint t = 0u; t < tiles.x * tiles.y; ++t) {
+    // The patch's workgroups along z (lod_prepare) take every z-th tile.
+    for (uint t = gl_WorkGroupID.z; t < tiles.x * tiles.y; t += gl_NumWorkGroups.z) {
         uvec2 origin = uvec2(t % tiles.x, t / tiles.x) * TILE;
         for (uint k = lane; k < POINTS; k += TILE * TILE) {
             uvec2 g = origin + uvec2(k % (TILE + 1u), k / (TILE + 1u));
