@@ -2,11 +2,13 @@
 //! 140 × 140 field of order-12 glyphs at several distances (Figures 8–10), at 1920×1080 with and
 //! without 2×2 supersampling, by the point and the tessellation variants and by ray tracing
 //! (Peters et al.); a knitted curtain of 59,690 yarn curves and a seashell (§5.3); the LOD
-//! stage and the drawing timed apart.
+//! stage and the drawing timed apart. `--paths` picks the techniques by the path they take:
+//! tessellation the graphics path, points and ray tracing compute.
 
 use super::{time_frames, BenchRecord, FramePlan};
 use super::{BenchConfig, RecordSink};
 use crate::error::{Error, Result};
+use crate::path::Path;
 use crate::renderer::{self, RendererOptions, Target, Technique};
 use tessera_data::scene::{Dataset, LoadOptions};
 use tessera_data::OrbitCamera;
@@ -24,6 +26,14 @@ pub fn param(
         (1920, 1080)
     };
     let load = |spec: &str| Dataset::load(spec, &LoadOptions::default());
+    let wanted = |techniques: &[Technique]| -> Vec<Technique> {
+        techniques
+            .iter()
+            .copied()
+            .filter(|&t| config.paths.is_empty() || config.paths.contains(&path_of(t)))
+            .collect()
+    };
+    let all = wanted(ALL);
     let orders: &[u32] = if config.quick {
         &[2, 8]
     } else {
@@ -36,7 +46,7 @@ pub fn param(
             distance: 3.0,
             ..OrbitCamera::default()
         };
-        measure(gpu, &scene, &[("single", camera)], ALL, size, plan, sink)?;
+        measure(gpu, &scene, &[("single", camera)], &all, size, plan, sink)?;
     }
     let grid = if config.quick { "20x20" } else { "140x140" };
     let spec = format!("param:sh-glyphs:{grid}:order12");
@@ -48,9 +58,9 @@ pub fn param(
         ..OrbitCamera::default()
     };
     let views = [("far", at(1.2)), ("mid", at(0.5)), ("close", at(0.15))];
-    measure(gpu, &scene, &views, ALL, size, plan, sink)?;
+    measure(gpu, &scene, &views, &all, size, plan, sink)?;
     // Paper E §5.3: a knitted curtain of 235 × 254 loops (59,690 yarn curves), and a seashell.
-    let shapes = [Technique::ParamPoints, Technique::ParamTess];
+    let shapes = wanted(&[Technique::ParamPoints, Technique::ParamTess]);
     let yarn = if config.quick {
         "param:yarn:10x10"
     } else {
@@ -74,6 +84,14 @@ pub fn param(
         plan,
         sink,
     )
+}
+
+/// The path a parametric technique takes.
+fn path_of(technique: Technique) -> Path {
+    match technique {
+        Technique::ParamTess => Path::Graphics,
+        _ => Path::Compute,
+    }
 }
 
 /// Every parametric technique; ray tracing draws SH glyphs only.
