@@ -16,8 +16,10 @@
 //! subgroup has 8 invocations), and the extraction's prefix sums use subgroup arithmetic of
 //! any subgroup size where the device has it; the compute path's workgroups have 128
 //! invocations, four per eighth of a block ([`ExtractionPath::workgroup_size`]), and its
-//! extraction reuses the cells' table rows its analysis found; a block's samples are read
-//! once into shared memory (`samples.glsl`); the meshlet limits and the partition are
+//! extraction reuses the cells' table rows its analysis found (and, for a block that fits one
+//! meshlet whole, the analysis's counts and prefix sums); each vertex is computed by its own
+//! invocation after numbering; a block's samples are read once into shared memory
+//! (`samples.glsl`); the meshlet limits and the partition are
 //! `tessera_data::meshlets`'s, whose CPU reference the output equals bit for bit once both are
 //! sorted by block and subblock. A block whose reservation passes the buffers' capacity
 //! writes nothing; the totals keep counting, so the host grows the buffers and extracts again.
