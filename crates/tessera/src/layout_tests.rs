@@ -90,7 +90,7 @@ fn isosurface_structs(t: &mut Table) {
     use crate::iso::direct::compute_cull::HzbTestParams;
     use crate::iso::direct::stereo::StereoViews;
     use crate::iso::direct::DirectParams;
-    use crate::iso::minmax::{block_defines, rows_defines, BlockParams, GroupParams, ReduceParams};
+    use crate::iso::minmax::{block_defines, rows_defines, BlockParams, GroupParams, LevelsParams};
     use crate::iso::raymarch::RaymarchParams;
     let u8_defines = crate::config::marching_cubes_defines(ScalarType::U8, Default::default());
     let raymarch = compile(
@@ -191,11 +191,15 @@ fn isosurface_structs(t: &mut Table) {
         "GroupParams",
         host!(GroupParams, volume_dims, block_dims, parent_dims),
     );
-    let reduce = compile(
-        &builtin_shader!("iso/minmax/minmax_reduce.comp.glsl"),
+    let levels = compile(
+        &builtin_shader!("iso/minmax/minmax_levels.comp.glsl"),
         &volume_defines(ScalarType::U16),
     );
-    t.push_constants::<ReduceParams>(&reduce, "ReduceParams", host!(ReduceParams, child, parent));
+    t.push_constants::<LevelsParams>(
+        &levels,
+        "LevelsParams",
+        host!(LevelsParams, child_level, level_count),
+    );
 }
 
 fn meshlet_structs(t: &mut Table) {

@@ -5,8 +5,8 @@
 //! also writes level 1; or, where the samples are at hand in a buffer
 //! ([`MinMaxBuilder::record_from_samples`]), by row walks over that buffer, which read it
 //! in whole cache lines rather than one texel per fetch. Each further level is the 2×2×2
-//! max-reduction of the one below, up to a single root. The CPU twin is
-//! `tessera_data::minmax`.
+//! max-reduction of the one below, up to a single root, three levels per pass
+//! (`minmax_levels.comp.glsl`). The CPU twin is `tessera_data::minmax`.
 
 use crate::builtin_shader;
 use crate::config::volume_defines;
@@ -48,10 +48,14 @@ pub enum LevelZeroPass {
 
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
-pub struct ReduceParams {
-    pub child: [u32; 4],
-    pub parent: [u32; 4],
+pub struct LevelsParams {
+    /// The level read; the three above it are written (those the octree has).
+    pub child_level: u32,
+    pub level_count: u32,
 }
+
+/// Levels one pass of `minmax_levels.comp.glsl` writes.
+const LEVELS_PER_PASS: usize = 3;
 
 /// The octree's storage: all levels' (min, max) pairs in one buffer, level 0 first, plus a
 /// table of (nodes per axis, first node) per level.
@@ -113,7 +117,8 @@ pub struct MinMaxBuilder {
     blocks: Pipeline,
     /// Level 0 from a buffer of the samples (`minmax_rows.comp.glsl`).
     rows: Pipeline,
-    reduce: Pipeline,
+    /// Three levels from the one below (`minmax_levels.comp.glsl`).
+    levels: Pipeline,
     scalar: ScalarType,
     pass: LevelZeroPass,
 }
@@ -163,7 +168,7 @@ impl MinMaxBuilder {
                 compiler.compile(&builtin_shader!("minmax_groups.comp.glsl"), &defines)?
             }
         };
-        let reduce = compiler.compile(&builtin_shader!("minmax_reduce.comp.glsl"), &defines)?;
+        let levels = compiler.compile(&builtin_shader!("minmax_levels.comp.glsl"), &defines)?;
         let rows = compiler.compile(
             &builtin_shader!("minmax_rows.comp.glsl"),
             &rows_defines(scalar),
@@ -179,7 +184,7 @@ impl MinMaxBuilder {
                 &blocks,
                 &[Slot::Texture, Slot::StorageBuffer],
             )?,
-            reduce: gpu.compute_pipeline("minmax reduce", &reduce, &[Slot::StorageBuffer])?,
+            levels: gpu.compute_pipeline("minmax levels", &levels, &[Slot::StorageBuffer; 2])?,
             scalar,
             pass,
         })
@@ -274,21 +279,24 @@ impl MinMaxBuilder {
         Ok(())
     }
 
-    /// Records levels `first_reduced..` of `octree`, each from the one below.
+    /// Records levels `first_reduced..` of `octree`, three per pass, each from the one below.
     fn record_levels(&self, rec: &Recorder, octree: &MinMaxOctreeGpu, first_reduced: usize) {
-        for level in first_reduced..octree.level_dims.len() {
+        let level_count = octree.level_dims.len();
+        for child in (first_reduced - 1..level_count - 1).step_by(LEVELS_PER_PASS) {
             rec.barrier();
-            let c = octree.level_dims[level - 1];
-            let p = octree.level_dims[level];
-            let params = ReduceParams {
-                child: [c[0], c[1], c[2], octree.level_offsets[level - 1]],
-                parent: [p[0], p[1], p[2], octree.level_offsets[level]],
+            let parent = octree.level_dims[child + 1];
+            let params = LevelsParams {
+                child_level: child as u32,
+                level_count: level_count as u32,
             };
-            rec.dispatch(
-                &self.reduce,
-                &[Binding::Buffer(&octree.nodes)],
+            rec.dispatch_groups(
+                &self.levels,
+                &[
+                    Binding::Buffer(&octree.nodes),
+                    Binding::Buffer(&octree.levels),
+                ],
                 bytemuck::bytes_of(&params),
-                p,
+                parent.map(|n| n.div_ceil(4)),
             );
         }
     }
