@@ -45,6 +45,12 @@ const uint MAX_TRIANGLE_PIXELS = 4096u;
 
 shared vec3 s_point[POINTS];  // pixel x, y, depth (depth < 0: unusable)
 shared vec2 s_uv[POINTS];
+// SH glyphs: a tile's points share TILE + 1 polar angles (u, one per column) and as many
+// azimuths (v, one per row). The polar sums per order a (sh_polar_sums) of each column and
+// cos / sin(a v) of each row are made once per tile, so a point's radius takes 2(L + 1)
+// products instead of the whole recurrence.
+shared vec2 s_polar_sums[(TILE + 1u) * SH_TABLE_WIDTH];  // [column][a]
+shared vec2 s_azimuth[(TILE + 1u) * SH_TABLE_WIDTH];     // cos, sin of a v: [row][a]
 
 float grid_param(vec2 r, uint i, uint n) {
     return i == 0u ? r.x : (i == n ? r.y : r.x + (r.y - r.x) * (float(i) / float(n)));
@@ -99,6 +105,44 @@ void draw_triangle(uint object, uint ia, uint ib, uint ic) {
     }
 }
 
+// Fills the SH tables of the tile at `origin` for glyph `o`; the caller's barrier publishes them.
+void glyph_tables(ParamObject o, Patch p, uvec2 origin, uvec2 n) {
+    uint lane = gl_LocalInvocationIndex;
+    uint orders = o.order + 1u;
+    for (uint item = lane; item < (TILE + 1u) * orders; item += TILE * TILE) {
+        uint column = item % (TILE + 1u);
+        uint a = item / (TILE + 1u);
+        if (origin.x + column <= n.x) {
+            float u = grid_param(p.u, origin.x + column, n.x);
+            s_polar_sums[column * SH_TABLE_WIDTH + a] = sh_polar_sums(o.params, o.order, a, u);
+        }
+    }
+    if (lane <= TILE && origin.y + lane <= n.y) {
+        float v = grid_param(p.v, origin.y + lane, n.y);
+        float s1 = sin(v);
+        float c1 = cos(v);
+        vec2 cs = vec2(1.0, 0.0);
+        for (uint a = 0u; a < orders; ++a) {
+            if (a > 0u) {
+                cs = vec2(cs.x * c1 - cs.y * s1, cs.y * c1 + cs.x * s1);
+            }
+            s_azimuth[lane * SH_TABLE_WIDTH + a] = cs;
+        }
+    }
+}
+
+// The world position of glyph `object` at the tile's point in `column` and `row`.
+vec3 glyph_world_position(uint object, ParamObject o, uint column, uint row, float u, float v) {
+    uint basis = (o.flags >> PARAM_BASIS_SHIFT) & 3u;
+    float r = s_polar_sums[column * SH_TABLE_WIDTH].x;
+    for (uint a = 1u; a <= o.order; ++a) {
+        vec2 cs = s_azimuth[row * SH_TABLE_WIDTH + a];
+        r += dot(sh_weights(a, basis, cs.x, cs.y), s_polar_sums[column * SH_TABLE_WIDTH + a]);
+    }
+    float radius = clamp(r * o.radius_map.x + o.radius_map.y, o.radius_map.z, o.radius_map.w);
+    return param_to_world(object, param_sphere(u, v) * radius);
+}
+
 void main() {
     uint index = param_group_index();
     if (index >= min(entries[0].count, params.render_capacity)) {
@@ -109,19 +153,28 @@ void main() {
     uvec2 n = uvec2(clamp(ceil(extent * params.density), vec2(1.0), vec2(float(params.max_side))));
     uvec2 tiles = (n + TILE - 1u) / TILE;
     uint lane = gl_LocalInvocationIndex;
+    ParamObject o = param_objects[p.object];
+    bool glyph = o.kind == PARAM_KIND_SH_GLYPH;  // uniform over the workgroup
     // The patch's workgroups along z (lod_prepare) take every z-th tile.
     for (uint t = gl_WorkGroupID.z; t < tiles.x * tiles.y; t += gl_NumWorkGroups.z) {
         uvec2 origin = uvec2(t % tiles.x, t / tiles.x) * TILE;
+        if (glyph) {
+            glyph_tables(o, p, origin, n);
+            barrier();
+        }
         for (uint k = lane; k < POINTS; k += TILE * TILE) {
-            uvec2 g = origin + uvec2(k % (TILE + 1u), k / (TILE + 1u));
+            uvec2 column_row = uvec2(k % (TILE + 1u), k / (TILE + 1u));
+            uvec2 g = origin + column_row;
             if (any(greaterThan(g, n))) {
                 continue;
             }
             float u = grid_param(p.u, g.x, n.x);
             float v = grid_param(p.v, g.y, n.y);
+            vec3 world = glyph ? glyph_world_position(p.object, o, column_row.x, column_row.y, u, v)
+                               : param_world_position(p.object, u, v);
             vec2 pixel;
             float depth;
-            bool front = param_project(params.world_to_clip, params.viewport, param_world_position(p.object, u, v), pixel, depth);
+            bool front = param_project(params.world_to_clip, params.viewport, world, pixel, depth);
             bool usable = front && !any(isnan(pixel)) && depth >= 0.0 && depth < 1.0;
             s_point[k] = vec3(pixel, usable ? depth : -1.0);
             s_uv[k] = vec2(u, v);

@@ -13,15 +13,40 @@
 
 #include "param/scene.glsl"
 
+// The weights of K_l^a in the m = +a and m = -a functions (a > 0) at the azimuth phi with
+// cos(a phi) = cm and sin(a phi) = sm (module table in sh.rs).
+vec2 sh_weights(uint a, uint basis, float cm, float sm) {
+    bool tournier = basis >= SH_TOURNIER_LEGACY;
+    bool legacy = basis == SH_DESCOTEAUX_LEGACY || basis == SH_TOURNIER_LEGACY;
+    float scale = (tournier && legacy) ? 1.0 : sqrt(2.0);
+    float w_pos = tournier ? scale * cm : scale * sm;
+    float w_neg = tournier ? scale * sm : scale * cm;
+    if (!tournier && !legacy && (a & 1u) == 1u) {
+        w_neg = -w_neg;
+    }
+    return vec2(w_pos, w_neg);
+}
+
+// K_l^a from K_{l-1}^a (cur) and K_{l-2}^a (prev), x = cos theta; l > a.
+void sh_next(uint a, uint l, float x, inout float prev, inout float cur) {
+    uint row = a * SH_TABLE_WIDTH;
+    if (l == a + 1u) {
+        prev = cur;
+        cur = sh_recurrence[row + l].x * x * cur;
+    } else {
+        vec2 ab = sh_recurrence[row + l];
+        float next = ab.x * (x * cur - ab.y * prev);
+        prev = cur;
+        cur = next;
+    }
+}
+
 // sum_j c_j Y_j(theta, phi) for the order-`order` coefficients starting at param_values[first].
 float sh_evaluate(uint first, uint order, uint basis, float theta, float phi) {
     float s = sin(theta);
     float x = cos(theta);
     float s1 = sin(phi);
     float c1 = cos(phi);
-    bool tournier = basis >= SH_TOURNIER_LEGACY;
-    bool legacy = basis == SH_DESCOTEAUX_LEGACY || basis == SH_TOURNIER_LEGACY;
-    float scale = (tournier && legacy) ? 1.0 : sqrt(2.0);
     float cm = 1.0;    // cos(a phi)
     float sm = 0.0;    // sin(a phi)
     float spow = 1.0;  // sin^a theta
@@ -33,36 +58,50 @@ float sh_evaluate(uint first, uint order, uint basis, float theta, float phi) {
             cm = c;
             spow *= s;
         }
-        // Weights of K_l^a in the m = +a and m = -a functions (module table in sh.rs).
-        float w_pos = tournier ? scale * cm : scale * sm;
-        float w_neg = tournier ? scale * sm : scale * cm;
-        if (!tournier && !legacy && (a & 1u) == 1u) {
-            w_neg = -w_neg;
-        }
-        uint row = a * SH_TABLE_WIDTH;
+        vec2 w = sh_weights(a, basis, cm, sm);
         float prev = 0.0;
-        float cur = sh_recurrence[row + a].x * spow;
+        float cur = sh_recurrence[a * SH_TABLE_WIDTH + a].x * spow;
         for (uint l = a; l <= order; ++l) {
-            if (l == a + 1u) {
-                prev = cur;
-                cur = sh_recurrence[row + l].x * x * cur;
-            } else if (l > a + 1u) {
-                vec2 ab = sh_recurrence[row + l];
-                float next = ab.x * (x * cur - ab.y * prev);
-                prev = cur;
-                cur = next;
+            if (l > a) {
+                sh_next(a, l, x, prev, cur);
             }
             if ((l & 1u) == 0u) {
                 uint centre = first + l * (l + 1u) / 2u;  // index of (l, m = 0)
                 if (a == 0u) {
                     sum += param_values[centre] * cur;
                 } else {
-                    sum += param_values[centre + a] * (w_pos * cur) + param_values[centre - a] * (w_neg * cur);
+                    sum += param_values[centre + a] * (w.x * cur) + param_values[centre - a] * (w.y * cur);
                 }
             }
         }
     }
     return sum;
+}
+
+// For one a, the polar half of sh_evaluate: sums over the even l of the m = +a and m = -a
+// coefficients times K_l^a(theta) (for a = 0 both the m = 0 sum), so that at any azimuth
+// the SH sum is the a = 0 sum plus, per a, sh_weights . these sums. Rounds differently from
+// sh_evaluate (the products are summed per a first); for passes held to a tolerance.
+vec2 sh_polar_sums(uint first, uint order, uint a, float theta) {
+    float s = sin(theta);
+    float spow = 1.0;
+    for (uint i = 0u; i < a; ++i) {
+        spow *= s;
+    }
+    float x = cos(theta);
+    float prev = 0.0;
+    float cur = sh_recurrence[a * SH_TABLE_WIDTH + a].x * spow;
+    vec2 sums = vec2(0.0);
+    for (uint l = a; l <= order; ++l) {
+        if (l > a) {
+            sh_next(a, l, x, prev, cur);
+        }
+        if ((l & 1u) == 0u) {
+            uint centre = first + l * (l + 1u) / 2u;
+            sums += vec2(param_values[centre + a], param_values[centre - a]) * cur;
+        }
+    }
+    return sums;
 }
 
 #endif
