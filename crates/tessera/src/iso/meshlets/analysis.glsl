@@ -25,6 +25,8 @@ shared uint s_codes[BLOCK_X * BLOCK_Y * BLOCK_Z];
 // Per Morton code of an occupied cell: its table row (bits 0-15) and case (bits 16-23), for
 // an extraction in the same workgroup, which then need not classify the cell again.
 shared uint s_code_rows[BLOCK_X * BLOCK_Y * BLOCK_Z];
+#endif
+#ifdef MESHLET_FITTING_BLOCKS_ONLY
 // This invocation's part of the analysis, for an extraction in the same workgroup of a block
 // that fits one meshlet whole: the invocation's occupied cells are entries analysed_first_cell
 // .. + analysed_cells of the block's list, and the analysis's prefix sums and totals of core
@@ -130,7 +132,7 @@ void meshlet_analyse(uint listed) {
     // Vertices (core and padding), triangles, occupied cells.
     uvec3 block_counts = uvec3(block.y + block.z, block_triangles, block.x & 0xffffu);
     uint cells_before = before.x & 0xffffu;
-#ifdef MESHLET_ANALYSIS_IN_WORKGROUP
+#ifdef MESHLET_FITTING_BLOCKS_ONLY
     analysed_first_cell = cells_before;
     analysed_cells = cells;
     analysed_prefix = uvec3(before.y, before.z, before.x >> 16);
@@ -151,6 +153,17 @@ void meshlet_analyse(uint listed) {
     // barrier before one invocation partitions from those sums. The totals are the same in
     // every invocation, so the branch is uniform.
     bool block_fits = meshlet_fits(block_counts.x, block_counts.y, block_counts.z);
+#ifdef MESHLET_FITTING_BLOCKS_ONLY
+    if (!block_fits) {
+        // Left to the split pass, which analyses the block again.
+        if (me == 0u) {
+            split_blocks[atomicAdd(split_header.count, 1u)] = listed;
+            payload.subblock_count = 0u;
+        }
+        barrier();
+        return;
+    }
+#else
     if (!block_fits) {
         atomicAdd(s_eighth_cells[e], cells);
         atomicAdd(s_eighth_triangles[e], triangles);
@@ -164,6 +177,7 @@ void meshlet_analyse(uint listed) {
             QUARTER_INVOCATIONS, iso));
         barrier();
     }
+#endif
 
     if (me == 0u) {
         uint total = block_counts.z;
@@ -176,6 +190,7 @@ void meshlet_analyse(uint listed) {
             meshlet_add_subblock(n, vertex_cursor, triangle_cursor, 0u, BLOCK_X * BLOCK_Y * BLOCK_Z,
                                  block_counts.x, block_counts.y, 0u, total);
         } else {
+#ifndef MESHLET_FITTING_BLOCKS_ONLY
             for (uint q = 0u; q < MESHLET_EIGHTHS; q += EIGHTHS_PER_QUARTER) {
                 uint quarter_v = 0u;
                 uint quarter_t = 0u;
@@ -207,6 +222,7 @@ void meshlet_analyse(uint listed) {
                     }
                 }
             }
+#endif
         }
         payload.block = listed;
         payload.subblock_count = n;

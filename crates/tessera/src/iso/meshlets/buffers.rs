@@ -87,6 +87,9 @@ pub struct GpuMeshlets {
     /// Occupied blocks (`block_list.glsl` layout), one entry per block whose range holds
     /// the isovalue.
     pub blocks: Buffer,
+    /// Entries of `blocks` whose block does not fit one meshlet whole (`block_list.glsl`
+    /// layout): the compute path's second pass partitions them.
+    pub split_blocks: Buffer,
     pub counters: Buffer,
     pub meshlets: Buffer,
     pub positions: Buffer,
@@ -121,6 +124,7 @@ impl GpuMeshlets {
         );
         Ok(GpuMeshlets {
             blocks: block_list::create(gpu, "meshlet occupied blocks", block_capacity.into())?,
+            split_blocks: block_list::create(gpu, "meshlet split blocks", block_capacity.into())?,
             counters: output("meshlet counters", size_of::<MeshletCounters>() as u64)?,
             meshlets: output("meshlets", m * size_of::<Meshlet>() as u64)?,
             positions: output("meshlet positions", v * 12)?,

@@ -99,19 +99,20 @@ void meshlet_extract(uint s, bool block_samples_held) {
     uint cell_end;
     uvec3 first;
     uvec3 totals;
-#ifdef MESHLET_ANALYSIS_IN_WORKGROUP
-    bool whole_block_analysed = block_samples_held && code_count == BLOCK_X * BLOCK_Y * BLOCK_Z;
+#ifdef MESHLET_FITTING_BLOCKS_ONLY
+    const bool whole_block_analysed = true;  // the compute path's pass over blocks that fit
 #else
-    const bool whole_block_analysed = false;
+    const bool whole_block_analysed = false;  // subblocks of split blocks, or the mesh path
 #endif
     if (whole_block_analysed) {
-#ifdef MESHLET_ANALYSIS_IN_WORKGROUP
+#ifdef MESHLET_FITTING_BLOCKS_ONLY
         cell_first = analysed_first_cell;
         cell_end = cell_first + analysed_cells;
         first = analysed_prefix;
         totals = analysed_totals;
 #endif
     } else {
+#ifndef MESHLET_FITTING_BLOCKS_ONLY
         // Counts: each invocation takes a run of cells and a run of box points.
         uint core = 0u;
         uint triangles = 0u;
@@ -140,6 +141,7 @@ void meshlet_extract(uint s, bool block_samples_held) {
         if (me == 0u && (totals.x + totals.y != (expected & 0xffffu) || totals.z != expected >> 16)) {
             atomicOr(counters.overflow, MESHLET_OVERFLOW_MISMATCH);
         }
+#endif
     }
     uint core_total = totals.x;
     uint vertices = core_total + totals.y;

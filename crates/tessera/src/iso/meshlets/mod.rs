@@ -102,8 +102,23 @@ const EXTRACT_SLOTS: [Slot; 8] = [
     Slot::StorageBuffer,
 ];
 
+/// The compute passes' slots: the extraction's, then the list of blocks that do not fit.
+const COMPUTE_SLOTS: [Slot; 9] = [
+    Slot::Texture,
+    Slot::StorageBuffer,
+    Slot::StorageBuffer,
+    Slot::StorageBuffer,
+    Slot::StorageBuffer,
+    Slot::StorageBuffer,
+    Slot::StorageBuffer,
+    Slot::StorageBuffer,
+    Slot::StorageBuffer,
+];
+
 enum Producer {
-    Compute(Pipeline),
+    /// The pass over every occupied block, which extracts those that fit one meshlet whole,
+    /// and the pass over the others (`extract.comp.glsl`, MESHLET_SPLIT_PASS 0 and 1).
+    Compute { fits: Pipeline, split: Pipeline },
     /// The task/mesh pipeline and the 1×1 attachment its (empty) rendering needs.
     MeshShaders {
         pipeline: Pipeline,
@@ -158,12 +173,17 @@ impl MeshletExtractor {
         let occupied = compiler.compile(&builtin_shader!("occupied.comp.glsl"), &defines)?;
         let producer = match path {
             ExtractionPath::Compute => {
-                let extract = compiler.compile(&builtin_shader!("extract.comp.glsl"), &defines)?;
-                Producer::Compute(gpu.compute_pipeline(
-                    "meshlet extraction",
-                    &extract,
-                    &EXTRACT_SLOTS,
-                )?)
+                let pass = |split: bool, name: &str| -> Result<Pipeline> {
+                    let mut defines = defines.clone();
+                    defines.push(("MESHLET_SPLIT_PASS".into(), u32::from(split).to_string()));
+                    let spirv =
+                        compiler.compile(&builtin_shader!("extract.comp.glsl"), &defines)?;
+                    Ok(gpu.compute_pipeline(name, &spirv, &COMPUTE_SLOTS)?)
+                };
+                Producer::Compute {
+                    fits: pass(false, "meshlet extraction")?,
+                    split: pass(true, "meshlet extraction of split blocks")?,
+                }
             }
             ExtractionPath::MeshShaders => {
                 let task = compiler.compile(&builtin_shader!("extract.task.glsl"), &defines)?;
@@ -209,7 +229,7 @@ impl MeshletExtractor {
     /// Which pipeline produces the meshlets.
     pub fn path(&self) -> ExtractionPath {
         match self.producer {
-            Producer::Compute(_) => ExtractionPath::Compute,
+            Producer::Compute { .. } => ExtractionPath::Compute,
             Producer::MeshShaders { .. } => ExtractionPath::MeshShaders,
         }
     }
@@ -249,6 +269,14 @@ impl MeshletExtractor {
         let params = Self::params(prepared, iso, out);
         let push = bytemuck::bytes_of(&params);
         rec.fill_buffer(&out.counters, 0);
+        // Emptied before the block list's reset, whose barrier covers both.
+        rec.update_buffer(
+            &out.split_blocks,
+            bytemuck::bytes_of(&block_list::BlockListHeader {
+                count: 0,
+                args: [0, 1, 1],
+            }),
+        );
         let [bx, by, bz] = params.block_dims;
         block_list::record_occupied(
             rec,
@@ -277,12 +305,18 @@ impl MeshletExtractor {
             Binding::Buffer(&out.block_meshlets),
         ];
         match &self.producer {
-            Producer::Compute(pipeline) => {
+            Producer::Compute { fits, split } => {
+                let mut bindings = bindings.to_vec();
+                bindings.push(Binding::Buffer(&out.split_blocks));
+                rec.dispatch_indirect(fits, &bindings, push, &out.blocks, block_list::ARGS_OFFSET);
+                rec.barrier();
+                block_list::record_args(rec, &self.block_args, &out.split_blocks);
+                rec.barrier();
                 rec.dispatch_indirect(
-                    pipeline,
+                    split,
                     &bindings,
                     push,
-                    &out.blocks,
+                    &out.split_blocks,
                     block_list::ARGS_OFFSET,
                 );
             }
