@@ -10,7 +10,9 @@
 //!   the partition to one mesh workgroup per subblock in its payload; the pipeline draws
 //!   nothing.
 //! * [`ExtractionPath::Compute`]: one compute workgroup per block analyses it and extracts
-//!   its subblocks one after the other, the payload in shared memory.
+//!   its subblocks one after the other, the payload in shared memory; in two passes, blocks
+//!   that fit one meshlet whole first, then the others, listed by the first
+//!   ([`GpuMeshlets::split_blocks`]), so that the first holds no partition code.
 //!
 //! Changes from the paper: the analysis sums over shared memory, not a subgroup (lavapipe's
 //! subgroup has 8 invocations), and the extraction's prefix sums use subgroup arithmetic of
