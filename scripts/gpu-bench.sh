@@ -6,7 +6,8 @@
 # The set is split in four parts that each fit a 10-minute command; no part = all four.
 # Usage: scripts/gpu-bench.sh OUT_DIR [TESSERA_BINARY] [volumes|surfaces|meshes|growth]
 # Environment: REPEAT (default 2), FRAMES (default 50), SCANS (a folder holding ch2.nii.gz),
-# EXTRA (more flags for every scenario, e.g. --quick for a smoke run on a CPU driver).
+# EXTRA (more flags for every scenario, e.g. --quick for a smoke run on a CPU driver), WARM
+# (0: no throw-away run before each scenario).
 set -uo pipefail
 out=${1:?output folder}
 bin=${2:-target/release/tessera}
@@ -28,11 +29,17 @@ fi
 nvidia-smi --query-gpu=name,driver_version,memory.total,clocks.max.sm --format=csv > "$out/nvidia-smi.csv" 2>&1
 date -u +%Y-%m-%dT%H:%M:%SZ >> "$out/date.txt"
 
-# One scenario: NAME SECONDS ARGS…; its exit status is kept in OUT/status.txt.
+# One scenario: NAME SECONDS ARGS…; its exit status is kept in OUT/status.txt. Unless WARM=0,
+# a throw-away --quick run of the scenario comes first: on the H200 the first process to run a
+# freshly built pipeline measured it up to 3.4× slow though its warm-up had settled, and a
+# second process did not (docs/BENCHMARKS.md, run 57).
 run() {
   local name=$1 limit=$2
   shift 2
   local start=$SECONDS
+  if [ "${WARM:-1}" != 0 ]; then
+    timeout 60 "$bin" bench "$@" "${extra[@]}" --quick > /dev/null 2>&1
+  fi
   timeout "$limit" "$bin" bench "$@" "${extra[@]}" --repeat "$repeat" --json "$out/bench.jsonl" \
     > "$out/$name.txt" 2>&1
   local status=$?
