@@ -92,30 +92,17 @@ impl ExtractionPath {
     }
 }
 
-/// The slots of the extraction pipelines, as `buffers.glsl` binds them.
-const EXTRACT_SLOTS: [Slot; 8] = [
-    Slot::Texture,
-    Slot::StorageBuffer,
-    Slot::StorageBuffer,
-    Slot::StorageBuffer,
-    Slot::StorageBuffer,
-    Slot::StorageBuffer,
-    Slot::StorageBuffer,
-    Slot::StorageBuffer,
-];
-
+/// The slots of the extraction pipelines, as `buffers.glsl` binds them: the volume, then
+/// buffers.
+const EXTRACT_SLOTS: [Slot; 8] = texture_then_buffers();
 /// The compute passes' slots: the extraction's, then the list of blocks that do not fit.
-const COMPUTE_SLOTS: [Slot; 9] = [
-    Slot::Texture,
-    Slot::StorageBuffer,
-    Slot::StorageBuffer,
-    Slot::StorageBuffer,
-    Slot::StorageBuffer,
-    Slot::StorageBuffer,
-    Slot::StorageBuffer,
-    Slot::StorageBuffer,
-    Slot::StorageBuffer,
-];
+const COMPUTE_SLOTS: [Slot; 9] = texture_then_buffers();
+
+const fn texture_then_buffers<const N: usize>() -> [Slot; N] {
+    let mut slots = [Slot::StorageBuffer; N];
+    slots[0] = Slot::Texture;
+    slots
+}
 
 enum Producer {
     /// The pass over every occupied block, which extracts those that fit one meshlet whole,
