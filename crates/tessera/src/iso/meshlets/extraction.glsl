@@ -92,57 +92,46 @@ void meshlet_extract(uint s, bool block_samples_held) {
     uint padding_first = min(me * padding_share, box_points);
     uint padding_end = min(padding_first + padding_share, box_points);
 
-    // A block that fits one meshlet whole was counted by the analysis in this workgroup, its
-    // cells and box points split among the invocations as the extraction may split them; the
-    // includer cleared the outputs before the analysis, whose barriers published that.
-    uint cell_first;
-    uint cell_end;
-    uvec3 first;
-    uvec3 totals;
 #ifdef MESHLET_FITTING_BLOCKS_ONLY
-    const bool whole_block_analysed = true;  // the compute path's pass over blocks that fit
+    // The compute path's pass over blocks that fit one meshlet whole: the analysis in this
+    // workgroup counted the block, its cells and box points split among the invocations as
+    // this extraction splits them, and the includer cleared the outputs before the analysis,
+    // whose barriers published that.
+    uint cell_first = analysed_first_cell;
+    uint cell_end = cell_first + analysed_cells;
+    uvec3 first = analysed_prefix;
+    uvec3 totals = analysed_totals;
 #else
-    const bool whole_block_analysed = false;  // subblocks of split blocks, or the mesh path
-#endif
-    if (whole_block_analysed) {
-#ifdef MESHLET_FITTING_BLOCKS_ONLY
-        cell_first = analysed_first_cell;
-        cell_end = cell_first + analysed_cells;
-        first = analysed_prefix;
-        totals = analysed_totals;
-#endif
-    } else {
-#ifndef MESHLET_FITTING_BLOCKS_ONLY
-        // Counts: each invocation takes a run of cells and a run of box points.
-        uint core = 0u;
-        uint triangles = 0u;
-        cell_first = me * MESHLET_CELLS_PER_EXTRACTOR;
-        cell_end = clamp(cell_count, cell_first, cell_first + MESHLET_CELLS_PER_EXTRACTOR);
-        for (uint c = cell_first; c < cell_end; ++c) {
+    // Counts: each invocation takes a run of cells and a run of box points.
+    uint core_vertices = 0u;
+    uint triangles = 0u;
+    uint cell_first = me * MESHLET_CELLS_PER_EXTRACTOR;
+    uint cell_end = clamp(cell_count, cell_first, cell_first + MESHLET_CELLS_PER_EXTRACTOR);
+    for (uint c = cell_first; c < cell_end; ++c) {
 #ifdef MESHLET_ANALYSIS_IN_WORKGROUP
-            uint entry = meshlet_cell_entry(first_cell, c);
+        uint entry = meshlet_cell_entry(first_cell, c);
 #else
-            uvec3 cell = block_origin + meshlet_cell_of_code(meshlet_cell_code(first_cell + c));
-            float corners[8];
-            meshlet_cell_corners(cell, corners);
-            uint case_index = mc_case_of_corners(corners, iso);
-            uint entry = mc_row_of_corners(corners, case_index, iso)
-                | mc_case_owned_mask(case_index) << 16;
-            s_cell_rows[c] = entry;
+        uvec3 cell = block_origin + meshlet_cell_of_code(meshlet_cell_code(first_cell + c));
+        float corners[8];
+        meshlet_cell_corners(cell, corners);
+        uint case_index = mc_case_of_corners(corners, iso);
+        uint entry = mc_row_of_corners(corners, case_index, iso)
+            | mc_case_owned_mask(case_index) << 16;
+        s_cell_rows[c] = entry;
 #endif
-            triangles += mc_tri_count(entry & 0xffffu);
-            core += bitCount(entry >> 16);
-        }
-        uint padding = meshlet_padding_crossings(lo, hi, padding_first, padding_end, iso);
-        meshlet_clear_outputs();
-        // Its barriers also publish the words and bounds just cleared.
-        first = meshlet_scan_counts(uvec3(core, padding, triangles), totals);
-        uint expected = sub.counts;
-        if (me == 0u && (totals.x + totals.y != (expected & 0xffffu) || totals.z != expected >> 16)) {
-            atomicOr(counters.overflow, MESHLET_OVERFLOW_MISMATCH);
-        }
-#endif
+        triangles += mc_tri_count(entry & 0xffffu);
+        core_vertices += bitCount(entry >> 16);
     }
+    uint padding = meshlet_padding_crossings(lo, hi, padding_first, padding_end, iso);
+    meshlet_clear_outputs();
+    // Its barriers also publish the words and bounds just cleared.
+    uvec3 totals;
+    uvec3 first = meshlet_scan_counts(uvec3(core_vertices, padding, triangles), totals);
+    uint expected = sub.counts;
+    if (me == 0u && (totals.x + totals.y != (expected & 0xffffu) || totals.z != expected >> 16)) {
+        atomicOr(counters.overflow, MESHLET_OVERFLOW_MISMATCH);
+    }
+#endif
     uint core_total = totals.x;
     uint vertices = core_total + totals.y;
     uint vertex_count = min(vertices, MESHLET_MAX_VERTICES);
