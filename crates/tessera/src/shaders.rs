@@ -166,6 +166,10 @@ const COMMON: &[(&str, &str)] = &[
         "tet/interval/bin_buffers.glsl",
         include_str!("tet/interval/bin_buffers.glsl"),
     ),
+    (
+        "tet/interval/pixel_passes.glsl",
+        include_str!("tet/interval/pixel_passes.glsl"),
+    ),
     ("raster/hzb.glsl", include_str!("raster/hzb.glsl")),
     ("raster/hzb_test.glsl", include_str!("raster/hzb_test.glsl")),
     (

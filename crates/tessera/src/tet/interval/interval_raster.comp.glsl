@@ -10,18 +10,7 @@
 
 layout(local_size_x = TETS_PER_WORKGROUP) in;
 
-#include "tet/interval/buffers.glsl"
-#include "tet/interval/params.glsl"
-#include "tet/interval/compute_buffers.glsl"
-#include "tet/interval/proxy.glsl"
-#include "tet/interval/length.glsl"
-#include "tet/interval/table.glsl"
-#include "tet/interval/integrand.glsl"
-#if INTEGRAND == INTEGRAND_SDF
-#include "tet/interval/sdf.glsl"
-#endif
-#include "tet/interval/pixel_value.glsl"
-#include "tet/interval/splat.glsl"
+#include "tet/interval/pixel_passes.glsl"
 #include "tet/interval/tet_draw.glsl"
 
 void main() {
