@@ -5,8 +5,8 @@
 
 mod common;
 
-use common::interval::{assert_matches_reference, camera, defaults};
-use common::{assert_clean, gpu};
+use common::interval::{assert_matches_reference, defaults};
+use common::{assert_clean, camera, gpu};
 use tessera::shaders;
 use tessera::tet::interval::{GpuTetMesh, Interval};
 use tessera_data::tet::procedural::{box_mesh, deform, sphere_mesh};

@@ -4,8 +4,8 @@
 
 mod common;
 
-use common::interval::{assert_variants_match, camera, defaults, variants, Expected};
-use common::{assert_clean, gpu};
+use common::interval::{assert_variants_match, defaults, variants, Expected};
+use common::{assert_clean, camera, gpu};
 use tessera::path::Path;
 use tessera::shaders;
 use tessera::tet::interval::{GpuTetMesh, Integrand, Interval, IntervalOptions};

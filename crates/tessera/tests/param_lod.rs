@@ -3,6 +3,7 @@
 
 mod common;
 
+use common::camera;
 use common::param::*;
 use common::{assert_clean, gpu};
 use glam::{Vec2, Vec3};

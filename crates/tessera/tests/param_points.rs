@@ -4,6 +4,7 @@
 
 mod common;
 
+use common::camera;
 use common::param::*;
 
 use common::{assert_clean, gpu, out_dir, write_png};

@@ -10,7 +10,8 @@
 
 mod common;
 
-use common::shell::{camera, covered, gpu_image, layouts_and_paths, optics, paths, two_boxes, Rng};
+use common::camera;
+use common::shell::{covered, gpu_image, layouts_and_paths, optics, paths, two_boxes, Rng};
 use common::{assert_images_match, gpu, skip};
 use glam::DVec3;
 use tessera::path::Path;

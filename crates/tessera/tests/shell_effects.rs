@@ -13,7 +13,8 @@
 
 mod common;
 
-use common::shell::{camera, optics, two_boxes};
+use common::camera;
+use common::shell::{optics, two_boxes};
 use common::{assert_clean, assert_images_match, gpu, skip, Need};
 use glam::DVec3;
 use tessera::path::Path;

@@ -104,15 +104,6 @@ pub fn assert_mostly_close(
     (compared, covered)
 }
 
-pub fn camera(az: f32, el: f32, distance: f32) -> OrbitCamera {
-    OrbitCamera {
-        azimuth_deg: az,
-        elevation_deg: el,
-        distance,
-        ..OrbitCamera::default()
-    }
-}
-
 /// The paths this device runs: the mesh-shader path where it has mesh shaders, the compute
 /// path where it has float atomics.
 pub fn paths(gpu: &Gpu) -> Vec<Path> {

@@ -20,6 +20,16 @@ use tessera_gpu::Gpu;
 #[allow(unused_imports)]
 pub use tessera_test::{skip, Need, TestGpu};
 
+/// An orbit camera at `azimuth_deg`, `elevation_deg` and `distance`, the rest default.
+pub fn camera(azimuth_deg: f32, elevation_deg: f32, distance: f32) -> tessera_data::OrbitCamera {
+    tessera_data::OrbitCamera {
+        azimuth_deg,
+        elevation_deg,
+        distance,
+        ..tessera_data::OrbitCamera::default()
+    }
+}
+
 /// Opens the default device with validation; its validation errors fail the test when it is
 /// dropped, after the test's GPU objects.
 pub fn gpu() -> TestGpu {

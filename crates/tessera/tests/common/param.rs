@@ -7,22 +7,13 @@ use tessera_data::image::{coverage_of, silhouette_iou};
 use tessera_data::param::sh::{sh_coefficient_count, sh_index};
 use tessera_data::param::{ParamFunction, RadiusNormalization, ShBasis, ShGlyph};
 use tessera_data::shading::pack_rgba8;
-use tessera_data::{OrbitCamera, RgbaImage};
+use tessera_data::RgbaImage;
 
 /// Whole 1/255 steps, so that the GPU's clear and the CPU's packing agree exactly.
 pub const BACKGROUND: [f32; 3] = [20.0 / 255.0, 20.0 / 255.0, 26.0 / 255.0];
 pub const SIZE: (u32, u32) = (160, 160);
 /// Written into outputs before a pass, so pixels it never wrote are caught.
 pub const POISON: u32 = 0xdead_beef;
-
-pub fn camera(az: f32, el: f32, distance: f32) -> OrbitCamera {
-    OrbitCamera {
-        azimuth_deg: az,
-        elevation_deg: el,
-        distance,
-        ..OrbitCamera::default()
-    }
-}
 
 /// An order-8 glyph with lobes in several directions (descoteaux07, non-legacy, min-max).
 pub fn glyph8() -> ParamFunction {

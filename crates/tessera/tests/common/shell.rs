@@ -61,15 +61,6 @@ impl Rng {
     }
 }
 
-pub fn camera(azimuth_deg: f32, elevation_deg: f32, distance: f32) -> OrbitCamera {
-    OrbitCamera {
-        azimuth_deg,
-        elevation_deg,
-        distance,
-        ..OrbitCamera::default()
-    }
-}
-
 /// A pixel the shader never wrote keeps this (alpha 0x12; written pixels are opaque).
 pub const POISON: u32 = 0x1234_5678;
 
