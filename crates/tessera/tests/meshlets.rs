@@ -6,7 +6,8 @@
 mod common;
 
 use common::volumes::{extraction_volumes, prepare};
-use common::{assert_clean, checkerboard, gpu, Need, TestGpu};
+use common::{assert_clean, assert_vertices_at_edge_starts, checkerboard, gpu, Need, TestGpu};
+use tessera::iso::ablation::Ablation;
 use tessera::iso::meshlets::{
     Extraction, ExtractionPath, GpuMeshlets, MeshletCapacity, MeshletCounters, MeshletExtractor,
 };
@@ -331,5 +332,42 @@ fn mesh_shader_path_is_refused_or_built_by_capability() {
             );
         }
     }
+    assert_clean(&gpu);
+}
+
+#[test]
+fn vertex_ablation_keeps_every_meshlet_and_places_vertices_at_edge_starts() {
+    // The ablation times the extraction without its vertex arithmetic; all else must stay.
+    let gpu = gpu();
+    let (volume, iso) = extraction_volumes().swap_remove(0);
+    let rule = AmbiguityRule::default();
+    let cpu_mesh = extract_meshlets(&volume, iso, rule).unwrap();
+    let prepared = prepare(&gpu, &volume);
+    let ablated = MeshletExtractor::ablated(
+        &gpu,
+        &shaders::compiler(),
+        volume.scalar_type(),
+        rule,
+        ExtractionPath::Compute,
+        Ablation::NoVertexArithmetic,
+    )
+    .unwrap();
+    let (gpu_mesh, _, _) = extract_gpu(&gpu, &ablated, &prepared, iso, capacity_for(&cpu_mesh));
+    let ours = gpu_mesh.in_origin_order().unwrap();
+    let reference = cpu_mesh.in_origin_order().unwrap();
+    assert_eq!(ours.local_indices, reference.local_indices);
+    let counts = |m: &MeshletMesh| -> Vec<_> {
+        m.meshlets
+            .iter()
+            .map(|m| (m.vertex_count(), m.triangle_count(), m.subblock_origin()))
+            .collect()
+    };
+    assert_eq!(counts(&ours), counts(&reference));
+    assert_vertices_at_edge_starts(
+        "meshlets",
+        &ours.positions,
+        &ours.normals,
+        Some(&reference.positions),
+    );
     assert_clean(&gpu);
 }

@@ -8,9 +8,12 @@
 mod common;
 
 use common::volumes::{extraction_volumes, poison_pmb as poison, prepare};
-use common::{assert_clean, assert_same_triangles, checkerboard, gpu};
+use common::{
+    assert_clean, assert_same_triangles, assert_vertices_at_edge_starts, checkerboard, gpu,
+};
 use glam::Vec3;
 use std::collections::BTreeMap;
+use tessera::iso::ablation::Ablation;
 use tessera::iso::pmb::{
     GpuPmb, PmbBlockSize, PmbCapacity, PmbCounters, PmbExtractor, PmbInvocations, PmbMesh,
     PmbTuning,
@@ -341,5 +344,33 @@ fn pipelines_refuse_a_volume_of_another_sample_type() {
         error.contains("uint8") && error.contains("float32"),
         "{error}"
     );
+    assert_clean(&gpu);
+}
+
+#[test]
+fn vertex_ablation_keeps_the_counts_and_places_vertices_at_edge_starts() {
+    let gpu = gpu();
+    let (volume, iso) = extraction_volumes().swap_remove(0);
+    let rule = AmbiguityRule::default();
+    let prepared = prepare(&gpu, &volume);
+    let size = PmbBlockSize::B844;
+    let whole = extractor(&gpu, ScalarType::F32, rule, size);
+    let tuning = PmbTuning {
+        ablation: Ablation::NoVertexArithmetic,
+        ..PmbTuning::default()
+    };
+    let ablated = PmbExtractor::tuned(
+        &gpu,
+        &shaders::compiler(),
+        ScalarType::F32,
+        rule,
+        size,
+        tuning,
+    )
+    .unwrap();
+    let (_, exact) = extract_gpu(&gpu, &whole, &prepared, iso, PmbCapacity::default());
+    let (mesh, out) = extract_gpu(&gpu, &ablated, &prepared, iso, PmbCapacity::default());
+    assert_eq!(out.totals, exact.totals);
+    assert_vertices_at_edge_starts("PMB", &mesh.positions, &mesh.normals, None);
     assert_clean(&gpu);
 }

@@ -165,6 +165,37 @@ pub fn checkerboard(dims: [u32; 3]) -> Volume {
     })
 }
 
+/// The no-vertex-arithmetic ablation's vertices: each at a grid point (its edge's start) with
+/// the normal +z. Where `exact` (the whole extraction's vertices in the same order) is given,
+/// each exact vertex lies on the edge from that start: equal on two axes, at most one sample
+/// further on the third.
+pub fn assert_vertices_at_edge_starts(
+    what: &str,
+    positions: &[[f32; 3]],
+    normals: &[[f32; 3]],
+    exact: Option<&[[f32; 3]]>,
+) {
+    assert!(!positions.is_empty(), "{what}: no vertices");
+    assert!(
+        normals.iter().all(|n| *n == [0.0, 0.0, 1.0]),
+        "{what}: a normal is not the stand-in's"
+    );
+    for (k, p) in positions.iter().enumerate() {
+        assert!(
+            p.iter().all(|c| c.fract() == 0.0),
+            "{what}: vertex {k} at {p:?}"
+        );
+        if let Some(exact) = exact {
+            let e = exact[k];
+            let along: Vec<usize> = (0..3).filter(|&a| e[a] != p[a]).collect();
+            assert!(
+                along.len() <= 1 && along.iter().all(|&a| e[a] > p[a] && e[a] <= p[a] + 1.0),
+                "{what}: vertex {k} at {e:?} is not on an edge from {p:?}"
+            );
+        }
+    }
+}
+
 /// Asserts the two triangle lists are the same multiset: each GPU triangle matches one
 /// unmatched CPU triangle in some cyclic order (orientation kept), every coordinate within `tol`.
 pub fn assert_same_triangles(

@@ -184,12 +184,9 @@ void meshlet_extract(uint s, bool block_samples_held) {
         uvec3 p = lo + uvec3(edge & 15u, (edge >> 4) & 15u, (edge >> 8) & 15u);
         vec3 position;
         vec3 normal;
-#if EXTRACTION_ABLATION == ABLATION_NO_VERTEX_ARITHMETIC
-        position = vec3(p);
-        normal = vec3(0.0, 0.0, 1.0);
-#else
-        meshlet_edge_vertex(p, edge >> 12, iso, position, normal);
-#endif
+        if (!ablation_stands_in_for_vertex(p, position, normal)) {
+            meshlet_edge_vertex(p, edge >> 12, iso, position, normal);
+        }
         uint at = first_vertex + v;
         for (uint a = 0u; a < 3u; ++a) {
             positions[3u * at + a] = position[a];

@@ -129,12 +129,9 @@ void main() {
             uint axis = findLSB(owned);
             vec3 position;
             vec3 normal;
-#if EXTRACTION_ABLATION == ABLATION_NO_VERTEX_ARITHMETIC
-            position = vec3(p);
-            normal = vec3(0.0, 0.0, 1.0);
-#else
-            mc_exact_edge_vertex(volume_tex, p, axis, iso, dims, position, normal);
-#endif
+            if (!ablation_stands_in_for_vertex(p, position, normal)) {
+                mc_exact_edge_vertex(volume_tex, p, axis, iso, dims, position, normal);
+            }
             uint v = s_reserved[0] + local;
             for (uint a = 0u; a < 3u; ++a) {
                 positions[3u * v + a] = position[a];
