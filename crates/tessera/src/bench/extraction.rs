@@ -117,14 +117,19 @@ pub(super) fn extraction(
             let ex = MeshletExtractor::new(gpu, &compiler, scalar, rule, path)?;
             let mut out = ex.buffers(gpu, &prepared, Default::default())?;
             let first = ex.extract_into(gpu, &prepared, iso, &mut out)?;
-            let mut recorded = Ok(());
-            let stages = time_frames(gpu, plan, 1, |rec, timer| {
-                let result = timer.scope(rec, "extraction", |rec| {
-                    ex.record(rec, &prepared, iso, &out)
-                });
-                recorded = recorded.clone().and(result.map_err(|e| e.to_string()));
-            })?;
-            recorded.map_err(crate::error::Error::Invalid)?;
+            // The ablated extractions write into the buffers the whole one grew.
+            let time = |ex: &MeshletExtractor| {
+                let mut recorded = Ok(());
+                let stages = time_frames(gpu, plan, 1, |rec, timer| {
+                    let result = timer.scope(rec, "extraction", |rec| {
+                        ex.record(rec, &prepared, iso, &out)
+                    });
+                    recorded = recorded.clone().and(result.map_err(|e| e.to_string()));
+                })?;
+                recorded.map_err(crate::error::Error::Invalid)?;
+                Ok::<_, crate::error::Error>(stages)
+            };
+            let stages = time(&ex)?;
             let mut r = BenchRecord::new(gpu, "extraction", "meshlets", path_name, &name);
             (r.warmup, r.frames, r.stages) = (plan.warmup, plan.frames, stages);
             let bytes = first.totals.stored_bytes();
@@ -158,14 +163,7 @@ pub(super) fn extraction(
             } {
                 let ablated =
                     MeshletExtractor::ablated(gpu, &compiler, scalar, rule, path, ablation)?;
-                let mut recorded = Ok(());
-                let stages = time_frames(gpu, plan, 1, |rec, timer| {
-                    let result = timer.scope(rec, "extraction", |rec| {
-                        ablated.record(rec, &prepared, iso, &out)
-                    });
-                    recorded = recorded.clone().and(result.map_err(|e| e.to_string()));
-                })?;
-                recorded.map_err(crate::error::Error::Invalid)?;
+                let stages = time(&ablated)?;
                 let cell = Cell {
                     technique: "meshlets",
                     path: path_name,
