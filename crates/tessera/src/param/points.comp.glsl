@@ -47,10 +47,10 @@ shared vec3 s_point[POINTS];  // pixel x, y, depth (depth < 0: unusable)
 shared vec2 s_uv[POINTS];
 // SH glyphs: a tile's points share TILE + 1 polar angles (u, one per column) and as many
 // azimuths (v, one per row). The polar sums per order a (sh_polar_sums) of each column and
-// cos / sin(a v) of each row are made once per tile, so a point's radius takes 2(L + 1)
-// products instead of the whole recurrence.
+// the weights of order a at each row's azimuth (sh_weights) are made once per tile, so a
+// point's radius takes 2(L + 1) products instead of the whole recurrence.
 shared vec2 s_polar_sums[(TILE + 1u) * SH_TABLE_WIDTH];  // [column][a]
-shared vec2 s_azimuth[(TILE + 1u) * SH_TABLE_WIDTH];     // cos, sin of a v: [row][a]
+shared vec2 s_azimuth_weights[(TILE + 1u) * SH_TABLE_WIDTH];  // [row][a]
 
 float grid_param(vec2 r, uint i, uint n) {
     return i == 0u ? r.x : (i == n ? r.y : r.x + (r.y - r.x) * (float(i) / float(n)));
@@ -118,26 +118,24 @@ void glyph_tables(ParamObject o, Patch p, uvec2 origin, uvec2 n) {
         }
     }
     if (lane <= TILE && origin.y + lane <= n.y) {
+        uint basis = (o.flags >> PARAM_BASIS_SHIFT) & 3u;
         float v = grid_param(p.v, origin.y + lane, n.y);
         float s1 = sin(v);
         float c1 = cos(v);
-        vec2 cs = vec2(1.0, 0.0);
-        for (uint a = 0u; a < orders; ++a) {
-            if (a > 0u) {
-                cs = vec2(cs.x * c1 - cs.y * s1, cs.y * c1 + cs.x * s1);
-            }
-            s_azimuth[lane * SH_TABLE_WIDTH + a] = cs;
+        vec2 cs = vec2(1.0, 0.0);  // cos, sin of a v
+        for (uint a = 1u; a < orders; ++a) {
+            cs = vec2(cs.x * c1 - cs.y * s1, cs.y * c1 + cs.x * s1);
+            s_azimuth_weights[lane * SH_TABLE_WIDTH + a] = sh_weights(a, basis, cs.x, cs.y);
         }
     }
 }
 
 // The world position of glyph `object` at the tile's point in `column` and `row`.
 vec3 glyph_world_position(uint object, ParamObject o, uint column, uint row, float u, float v) {
-    uint basis = (o.flags >> PARAM_BASIS_SHIFT) & 3u;
     float r = s_polar_sums[column * SH_TABLE_WIDTH].x;
     for (uint a = 1u; a <= o.order; ++a) {
-        vec2 cs = s_azimuth[row * SH_TABLE_WIDTH + a];
-        r += dot(sh_weights(a, basis, cs.x, cs.y), s_polar_sums[column * SH_TABLE_WIDTH + a]);
+        r += dot(s_azimuth_weights[row * SH_TABLE_WIDTH + a],
+                 s_polar_sums[column * SH_TABLE_WIDTH + a]);
     }
     float radius = clamp(r * o.radius_map.x + o.radius_map.y, o.radius_map.z, o.radius_map.w);
     return param_to_world(object, param_sphere(u, v) * radius);
