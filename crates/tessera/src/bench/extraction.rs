@@ -48,11 +48,15 @@ pub(super) fn extraction(
             let pmb = PmbExtractor::new(gpu, &compiler, scalar, rule, size)?;
             let mut out = pmb.buffers(gpu, &prepared, Default::default())?;
             let first = pmb.extract_into(gpu, &prepared, iso, &mut out)?;
-            let stages = time_frames(gpu, plan, 1, |rec, timer| {
-                timer.scope(rec, "extraction", |rec| {
-                    pmb.record(rec, &prepared, iso, &out)
-                });
-            })?;
+            // Every variant below writes into the buffers this whole extraction grew.
+            let time = |ex: &PmbExtractor| {
+                time_frames(gpu, plan, 1, |rec, timer| {
+                    timer.scope(rec, "extraction", |rec| {
+                        ex.record(rec, &prepared, iso, &out)
+                    });
+                })
+            };
+            let stages = time(&pmb)?;
             let mut r = BenchRecord::new(gpu, "extraction", "pmb", "compute", &name);
             r.variant = size.name();
             (r.warmup, r.frames, r.stages) = (plan.warmup, plan.frames, stages);
@@ -67,7 +71,6 @@ pub(super) fn extraction(
                 best_pmb = Some((best_ms.min(ms), best_bytes.min(bytes)));
             }
             sink.emit(&r)?;
-            // The ablated extractions write into the buffers the whole one grew.
             for &ablation in if config.ablations {
                 &Ablation::PMB[..]
             } else {
@@ -78,11 +81,7 @@ pub(super) fn extraction(
                     ..PmbTuning::default()
                 };
                 let ablated = PmbExtractor::tuned(gpu, &compiler, scalar, rule, size, tuning)?;
-                let stages = time_frames(gpu, plan, 1, |rec, timer| {
-                    timer.scope(rec, "extraction", |rec| {
-                        ablated.record(rec, &prepared, iso, &out)
-                    });
-                })?;
+                let stages = time(&ablated)?;
                 let cell = Cell {
                     technique: "pmb",
                     path: "compute",
@@ -97,11 +96,7 @@ pub(super) fn extraction(
             };
             match PmbExtractor::tuned(gpu, &compiler, scalar, rule, size, tuning) {
                 Ok(per_sample) => {
-                    let stages = time_frames(gpu, plan, 1, |rec, timer| {
-                        timer.scope(rec, "extraction", |rec| {
-                            per_sample.record(rec, &prepared, iso, &out)
-                        });
-                    })?;
+                    let stages = time(&per_sample)?;
                     let mut r = BenchRecord::new(gpu, "extraction", "pmb", "compute", &name);
                     r.variant = format!("{}, {}", size.name(), tuning.invocations.name());
                     (r.warmup, r.frames, r.stages) = (plan.warmup, plan.frames, stages);
