@@ -310,6 +310,7 @@ fn pmb_draw_structs(t: &mut Table) {
 }
 
 fn raster_structs(t: &mut Table) {
+    use crate::raster::hzb::HzbBuildParams;
     use crate::raster::indirect::PrepareParams;
     use crate::raster::{raster_defines, RasterCounts, RasterParams, RasterTriangle};
     let raster = compile(
@@ -332,6 +333,15 @@ fn raster_structs(t: &mut Table) {
         &prepare,
         "PrepareParams",
         host!(PrepareParams, max_groups, group_size),
+    );
+    let hzb = compile(
+        &builtin_shader!("raster/hzb_build.comp.glsl"),
+        &crate::raster::hzb::build_defines(),
+    );
+    t.push_constants::<HzbBuildParams>(
+        &hzb,
+        "HzbBuildParams",
+        host!(HzbBuildParams, size, first_level, level_count),
     );
 }
 

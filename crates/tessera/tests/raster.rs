@@ -6,6 +6,7 @@ mod common;
 use common::raster::{draw, draw_into, rasterizer};
 use common::{assert_clean, gpu};
 use glam::{DVec2, DVec3, Vec4};
+use tessera::raster::hzb::{hzb_bytes, hzb_levels, HzbBuilder};
 use tessera::raster::{
     create_counts_buffer, decode, ComputeRasterizer, RasterCounts, RasterFrame, RasterTriangle,
     EMPTY,
@@ -492,6 +493,105 @@ fn index_base_lets_two_buffers_share_a_frame() {
             "{:?}",
             decode(values[0])
         );
+    }
+    assert_clean(&gpu);
+}
+
+/// The max-depth pyramid as `raster/hzb.glsl` defines it, level by level on the CPU: each texel
+/// the max of its 2×2 sources, the last row or column repeated past the edge.
+fn cpu_pyramid(depths: &[f32], w: u32, h: u32) -> Vec<Vec<f32>> {
+    let mut levels = Vec::new();
+    let (mut src, mut src_dims) = (depths.to_vec(), [w, h]);
+    for dims in hzb_levels(w, h) {
+        let at = |x: u32, y: u32| {
+            src[(y.min(src_dims[1] - 1) * src_dims[0] + x.min(src_dims[0] - 1)) as usize]
+        };
+        let level: Vec<f32> = (0..dims[1])
+            .flat_map(|y| (0..dims[0]).map(move |x| (x, y)))
+            .map(|(x, y)| {
+                let (x, y) = (2 * x, 2 * y);
+                at(x, y)
+                    .max(at(x + 1, y))
+                    .max(at(x, y + 1))
+                    .max(at(x + 1, y + 1))
+            })
+            .collect();
+        (src, src_dims) = (level.clone(), dims);
+        levels.push(level);
+    }
+    levels
+}
+
+#[test]
+fn hzb_pyramid_matches_cpu_levels() {
+    let gpu = gpu();
+    let builder = HzbBuilder::new(&gpu, &tessera::shaders::compiler()).unwrap();
+    let mut rng = Rng(0x5eed_4a2b);
+    // Odd sides, one pixel wide or high, and frames whose pyramids take one, two and three
+    // passes (4200 wide: the second pass's first level spans two workgroups).
+    for (w, h) in [
+        (1, 1),
+        (5, 1),
+        (1, 7),
+        (33, 17),
+        (97, 45),
+        (130, 67),
+        (4200, 3),
+        (300, 200),
+    ] {
+        let n = (w * h) as usize;
+        // Depths in [0, 1) with some pixels empty (the pyramid reads them as 1.0).
+        let depths: Vec<f32> = (0..n)
+            .map(|_| {
+                if rng.next() < 0.1 {
+                    1.0
+                } else {
+                    rng.next() as f32
+                }
+            })
+            .collect();
+        let payload: Vec<u64> = depths
+            .iter()
+            .enumerate()
+            .map(|(i, &d)| {
+                if d == 1.0 {
+                    EMPTY
+                } else {
+                    u64::from(d.to_bits()) << 32 | i as u64
+                }
+            })
+            .collect();
+        let frame = RasterFrame::new(&gpu, w, h).unwrap();
+        gpu.write_buffer(&frame.depth_payload, bytemuck::cast_slice(&payload))
+            .unwrap();
+        let hzb = gpu
+            .create_buffer(
+                "test hzb",
+                hzb_bytes(w, h),
+                vk::BufferUsageFlags::STORAGE_BUFFER
+                    | vk::BufferUsageFlags::TRANSFER_SRC
+                    | vk::BufferUsageFlags::TRANSFER_DST,
+                tessera_gpu::MemoryLocation::GpuOnly,
+            )
+            .unwrap();
+        // Poison: a level the builder skipped would keep it.
+        gpu.submit("poison hzb", |rec| rec.fill_buffer(&hzb, 0x7fc0_0000))
+            .unwrap();
+        gpu.submit("hzb", |rec| builder.record(rec, &frame, &hzb))
+            .unwrap();
+        let got: Vec<f32> = bytemuck::pod_collect_to_vec(&gpu.read_buffer(&hzb).unwrap());
+        let mut offset = 0;
+        for (level, want) in cpu_pyramid(&depths, w, h).iter().enumerate() {
+            let got = &got[offset..offset + want.len()];
+            for (i, (g, e)) in got.iter().zip(want).enumerate() {
+                assert_eq!(
+                    g.to_bits(),
+                    e.to_bits(),
+                    "{w}x{h} level {level} texel {i}: {g} != {e}"
+                );
+            }
+            offset += want.len();
+        }
     }
     assert_clean(&gpu);
 }

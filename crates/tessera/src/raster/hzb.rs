@@ -5,6 +5,7 @@
 use crate::builtin_shader;
 use crate::error::Result;
 use crate::raster::RasterFrame;
+use bytemuck::{Pod, Zeroable};
 use tessera_gpu::{Binding, Buffer, Gpu, Pipeline, Recorder, ShaderCompiler, Slot};
 
 /// The levels of the pyramid of a `width`×`height` frame: texels per axis, level 0 (half
@@ -27,14 +28,35 @@ pub fn hzb_bytes(width: u32, height: u32) -> u64 {
         .sum::<u64>()
 }
 
-/// Builds the pyramid, one dispatch per level.
+/// Invocations per side of a pyramid-building workgroup; each folds a 2×2 of its pass's first
+/// level, so a pass builds `HZB_TILE.ilog2() + 2` levels.
+const HZB_TILE: u32 = 16;
+
+/// Levels one dispatch of the builder makes (the frame's 2×2 → a 32×32 tile → … → 1×1).
+pub const HZB_LEVELS_PER_PASS: usize = HZB_TILE.ilog2() as usize + 2;
+
+pub(crate) fn build_defines() -> Vec<(String, String)> {
+    vec![("HZB_TILE".into(), format!("{HZB_TILE}u"))]
+}
+
+/// Push constants of `hzb_build.comp.glsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub(crate) struct HzbBuildParams {
+    pub(crate) size: [u32; 2],
+    pub(crate) first_level: u32,
+    pub(crate) level_count: u32,
+}
+
+/// Builds the pyramid, [`HZB_LEVELS_PER_PASS`] levels per dispatch (a barrier between
+/// dispatches costs more than the pyramid's small levels do).
 pub struct HzbBuilder {
     pipeline: Pipeline,
 }
 
 impl HzbBuilder {
     pub fn new(gpu: &Gpu, compiler: &ShaderCompiler) -> Result<HzbBuilder> {
-        let spirv = compiler.compile(&builtin_shader!("hzb_build.comp.glsl"), &[])?;
+        let spirv = compiler.compile(&builtin_shader!("hzb_build.comp.glsl"), &build_defines())?;
         Ok(HzbBuilder {
             pipeline: gpu.compute_pipeline("hzb build", &spirv, &[Slot::StorageBuffer; 2])?,
         })
@@ -44,12 +66,20 @@ impl HzbBuilder {
     /// barrier.
     pub fn record(&self, rec: &Recorder, frame: &RasterFrame, hzb: &Buffer) {
         let (w, h) = (frame.width, frame.height);
-        for (level, d) in hzb_levels(w, h).iter().enumerate() {
-            rec.dispatch(
+        let levels = hzb_levels(w, h);
+        let tile = 2 * HZB_TILE;
+        for (pass, dims) in levels.chunks(HZB_LEVELS_PER_PASS).enumerate() {
+            let params = HzbBuildParams {
+                size: [w, h],
+                first_level: (pass * HZB_LEVELS_PER_PASS) as u32,
+                level_count: dims.len() as u32,
+            };
+            let first = dims[0];
+            rec.dispatch_groups(
                 &self.pipeline,
                 &[Binding::Buffer(&frame.depth_payload), Binding::Buffer(hzb)],
-                bytemuck::bytes_of(&[w, h, level as u32, 0]),
-                [d[0], d[1], 1],
+                bytemuck::bytes_of(&params),
+                [first[0].div_ceil(tile), first[1].div_ceil(tile), 1],
             );
             rec.barrier();
         }

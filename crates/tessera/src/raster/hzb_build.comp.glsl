@@ -1,42 +1,90 @@
 #version 460
-// One level of the max-depth pyramid (iso/direct/hzb.glsl): level 0 from the rasterizer's
-// frame, every other level from the one below.
+// Up to ilog2(HZB_TILE) + 2 levels of the max-depth pyramid (raster/hzb.glsl) in one
+// dispatch: each workgroup takes a tile of 2 HZB_TILE × 2 HZB_TILE texels of the pass's first
+// level, made from the level below (or from the rasterizer's frame for level 0), and folds it
+// in shared memory into the HZB_TILE-square, ..., 2×2 and 1×1 texels above it. A texel past a
+// level's edge holds NO_DEPTH, which no depth exceeds, so each texel is the max of its
+// in-range sources: the same value as repeating the last row or column, as the per-level
+// definition does. Max is exact, so the pyramid does not depend on how levels are grouped
+// into passes.
 #include "raster/raster.glsl"
 #include "raster/hzb.glsl"
 
-layout(local_size_x = 8, local_size_y = 8) in;
+// HZB_TILE (a power of two) comes from raster::hzb as a define.
+layout(local_size_x = HZB_TILE, local_size_y = HZB_TILE) in;
 layout(binding = 0) readonly buffer Frame { uvec2 depth_payload[]; };
 layout(binding = 1) buffer Hzb { float hzb[]; };
 
-layout(push_constant) uniform HzbParams {
-    uvec4 size;  // x, y frame width and height; z the level to build
+layout(push_constant) uniform HzbBuildParams {
+    uvec2 size;        // frame width and height in pixels
+    uint first_level;  // the level this pass starts at (its sources are the level below)
+    uint level_count;  // levels this pass builds, 1 ..= ilog2(HZB_TILE) + 2
 } params;
+
+const float NO_DEPTH = -1.0;
+const uint TILE = HZB_TILE;  // invocations per side; each folds a 2×2 of the first level
+shared float s_depth[TILE][TILE];
 
 float pixel_depth(uvec2 p) {
     uvec2 value = depth_payload[p.y * params.size.x + p.x];
     return raster_is_empty(value) ? 1.0 : raster_depth(value);
 }
 
-void main() {
-    uvec2 size = params.size.xy;
-    uint level = params.size.z;
-    uvec2 t = gl_GlobalInvocationID.xy;
-    uvec2 dims = hzb_level_dims(size, level);
+// Texel `t` of the pass's first level from its in-range 2×2 sources, NO_DEPTH past the edge.
+float first_level_texel(uvec2 t, uvec2 dims, uvec2 src_dims, uint src_offset) {
     if (any(greaterThanEqual(t, dims))) {
-        return;
+        return NO_DEPTH;
     }
-    // The 2×2 sources, the last row or column standing in for one past the edge.
-    uvec2 src_dims = level == 0u ? size : hzb_level_dims(size, level - 1u);
-    uvec2 lo = 2u * t;
-    uvec2 hi = min(lo + 1u, src_dims - 1u);
-    float far_depth = 0.0;
-    if (level == 0u) {
-        far_depth = max(max(pixel_depth(lo), pixel_depth(uvec2(hi.x, lo.y))),
-                        max(pixel_depth(uvec2(lo.x, hi.y)), pixel_depth(hi)));
-    } else {
-        uint src = hzb_level_offset(size, level - 1u);
-        far_depth = max(max(hzb[src + lo.y * src_dims.x + lo.x], hzb[src + lo.y * src_dims.x + hi.x]),
-                        max(hzb[src + hi.y * src_dims.x + lo.x], hzb[src + hi.y * src_dims.x + hi.x]));
+    float far_depth = NO_DEPTH;
+    for (uint c = 0u; c < 4u; ++c) {
+        uvec2 s = 2u * t + uvec2(c & 1u, c >> 1);
+        if (all(lessThan(s, src_dims))) {
+            far_depth = max(far_depth, params.first_level == 0u
+                ? pixel_depth(s)
+                : hzb[src_offset + s.y * src_dims.x + s.x]);
+        }
     }
-    hzb[hzb_level_offset(size, level) + t.y * dims.x + t.x] = far_depth;
+    return far_depth;
+}
+
+void store(uint level, uvec2 t, float far_depth) {
+    uvec2 dims = hzb_level_dims(params.size, level);
+    if (all(lessThan(t, dims))) {
+        hzb[hzb_level_offset(params.size, level) + t.y * dims.x + t.x] = far_depth;
+    }
+}
+
+void main() {
+    uvec2 size = params.size;
+    uint first = params.first_level;
+    uvec2 local = gl_LocalInvocationID.xy;
+    uvec2 dims = hzb_level_dims(size, first);
+    uvec2 src_dims = first == 0u ? size : hzb_level_dims(size, first - 1u);
+    uint src_offset = first == 0u ? 0u : hzb_level_offset(size, first - 1u);
+
+    // The first level: a 2×2 of texels per invocation, written out as they are.
+    uvec2 corner = 2u * gl_GlobalInvocationID.xy;
+    float far_depth = NO_DEPTH;
+    for (uint c = 0u; c < 4u; ++c) {
+        uvec2 t = corner + uvec2(c & 1u, c >> 1);
+        float d = first_level_texel(t, dims, src_dims, src_offset);
+        store(first, t, d);
+        far_depth = max(far_depth, d);
+    }
+    // The levels above, halving the tile in shared memory.
+    uint side = TILE;
+    for (uint k = 1u; k < params.level_count; ++k) {
+        if (all(lessThan(local, uvec2(side)))) {
+            store(first + k, gl_WorkGroupID.xy * side + local, far_depth);
+            s_depth[local.y][local.x] = far_depth;
+        }
+        barrier();
+        side /= 2u;
+        if (all(lessThan(local, uvec2(side)))) {
+            uvec2 s = 2u * local;
+            far_depth = max(max(s_depth[s.y][s.x], s_depth[s.y][s.x + 1u]),
+                            max(s_depth[s.y + 1u][s.x], s_depth[s.y + 1u][s.x + 1u]));
+        }
+        barrier();
+    }
 }
