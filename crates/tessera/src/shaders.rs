@@ -186,6 +186,10 @@ const COMMON: &[(&str, &str)] = &[
         include_str!("iso/direct/attributes.glsl"),
     ),
     (
+        "common/indirect_args.glsl",
+        include_str!("shaders/common/indirect_args.glsl"),
+    ),
+    (
         "common/throughput.glsl",
         include_str!("shaders/common/throughput.glsl"),
     ),

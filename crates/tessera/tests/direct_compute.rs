@@ -12,6 +12,7 @@ use tessera::iso::direct::compute::{ComputeTarget, DirectCompute, DirectExtract,
 use tessera::iso::direct::Direct;
 use tessera::iso::minmax::MinMaxBuilder;
 use tessera::iso::PreparedVolume;
+use tessera::raster::RASTER_GROUP_SIZE;
 use tessera::shaders;
 use tessera::target::Target;
 use tessera_data::marching_cubes::marching_cubes;
@@ -64,6 +65,13 @@ fn compute_extraction_equals_cpu_marching_cubes() {
         let counts: Vec<u32> =
             bytemuck::allocation::pod_collect_to_vec(&gpu.read_buffer(&lists.counts).unwrap());
         assert_eq!(counts[0], capacity);
+        // The extraction leaves the raster pass's dispatch arguments for its triangles (none
+        // at all for an empty list).
+        let args = |n: u32| match n {
+            0 => [0, 0, 0],
+            n => [n.div_ceil(RASTER_GROUP_SIZE), 1, 1],
+        };
+        assert_eq!(counts[1..4], args(capacity), "{}", volume.name());
         // World positions back to grid coordinates.
         let frame = tessera_data::GridFrame::new(volume.dims(), volume.spacing());
         let attrs: Vec<f32> =
@@ -97,6 +105,7 @@ fn compute_extraction_equals_cpu_marching_cubes() {
             let counts: Vec<u32> =
                 bytemuck::allocation::pod_collect_to_vec(&gpu.read_buffer(&small.counts).unwrap());
             assert_eq!(counts[0], capacity - 1);
+            assert_eq!(counts[1..4], args(capacity - 1));
         }
     }
     assert_clean(&gpu);

@@ -143,6 +143,12 @@ impl RasterFrame {
         })
     }
 
+    /// Records the fill that empties every pixel, without a barrier: for callers that reset
+    /// other buffers at the same time and end the lot with one barrier.
+    pub fn record_fill_empty(&self, rec: &Recorder) {
+        rec.fill_buffer(&self.depth_payload, u32::MAX);
+    }
+
     pub fn pixel_count(&self) -> usize {
         self.width as usize * self.height as usize
     }
@@ -162,8 +168,14 @@ pub struct ComputeRasterizer {
 }
 
 /// The reference's constants, defined once in tessera_data.
+/// Invocations per workgroup of the raster pass (one triangle each).
+pub const RASTER_GROUP_SIZE: u32 = 64;
+
+/// Defines of the raster pass, and of the passes that write its dispatch arguments as they
+/// fill a triangle list.
 pub(crate) fn raster_defines() -> Vec<(String, String)> {
     vec![
+        ("RASTER_GROUP_SIZE".into(), format!("{RASTER_GROUP_SIZE}u")),
         ("SUBPIXEL_BITS".into(), SUBPIXEL_BITS.to_string()),
         ("MIN_W".into(), format!("{:?}", MIN_W as f32)),
         ("GUARD_BAND".into(), format!("{:?}", GUARD_BAND as f32)),
@@ -199,7 +211,7 @@ impl ComputeRasterizer {
 
     /// Marks every pixel of `frame` empty.
     pub fn record_clear(&self, rec: &Recorder, frame: &RasterFrame) {
-        rec.fill_buffer(&frame.depth_payload, u32::MAX);
+        frame.record_fill_empty(rec);
         rec.barrier();
     }
 

@@ -12,7 +12,7 @@
 #include "common/exact.glsl"
 #include "raster/raster.glsl"
 
-layout(local_size_x = 64) in;
+layout(local_size_x = RASTER_GROUP_SIZE) in;
 layout(binding = 0) readonly buffer Triangles { RasterTriangle triangles[]; };
 layout(binding = 1) readonly buffer Counts {
     uint triangle_count;

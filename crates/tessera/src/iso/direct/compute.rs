@@ -10,7 +10,7 @@ use crate::iso::direct::compute_cull::ComputeCullPipelines;
 use crate::iso::direct::{Direct, DirectParams};
 use crate::iso::minmax::MinMaxBuilder;
 use crate::iso::PreparedVolume;
-use crate::raster::{ComputeRasterizer, RasterFrame, TRIANGLE_BYTES};
+use crate::raster::{raster_defines, ComputeRasterizer, RasterFrame, TRIANGLE_BYTES};
 use crate::target::Target;
 use bytemuck::{Pod, Zeroable};
 use tessera_data::mc_ambiguity::AmbiguityRule;
@@ -99,7 +99,7 @@ impl DirectExtract {
     ) -> Result<DirectExtract> {
         let spirv = compiler.compile(
             &builtin_shader!("extract.comp.glsl"),
-            &marching_cubes_defines(scalar, rule),
+            &[marching_cubes_defines(scalar, rule), raster_defines()].concat(),
         )?;
         let extract = gpu.compute_pipeline(
             "direct extract",
@@ -264,9 +264,12 @@ impl DirectCompute {
         pixels: &Target,
         params: &DirectParams,
     ) {
+        // The frame is emptied with the extraction's counters (one barrier), and the
+        // extraction writes the raster pass's dispatch arguments as it reserves slots.
+        target.frame.record_fill_empty(rec);
         self.extract.record(rec, prepared, &target.lists, params);
         rec.barrier();
-        self.rasterizer.record(
+        self.rasterizer.record_raster(
             rec,
             &target.lists.triangles,
             &target.lists.counts,

@@ -25,6 +25,11 @@
 //!    [`ComputeCullState::reset`]) draws everything in view there.
 //! 5. A **compaction** turns the flags into next frame's pass-A list.
 //!
+//! Every pass that appends to a list or reserves triangles grows the indirect dispatch
+//! arguments of the pass that reads them (`common/indirect_args.glsl`), so no bookkeeping pass
+//! and barrier sits between them: at 3840×2160 the frame is 9 dispatches (23 with a pass per pyramid level and
+//! bookkeeping passes).
+//!
 //! Blocks are never marked visible without owning a pixel, so the pass-A list is exactly the
 //! visible set of the last frame; a block that passes the test but owns no pixel is drawn in
 //! pass B every frame.
@@ -39,6 +44,7 @@ use crate::iso::direct::block_list;
 use crate::iso::direct::compute::{ComputeTarget, TriangleLists};
 use crate::iso::PreparedVolume;
 use crate::raster::hzb::{hzb_bytes, HzbBuilder};
+use crate::raster::raster_defines;
 use bytemuck::{Pod, Zeroable};
 use std::cell::Cell;
 use tessera_data::mc_ambiguity::AmbiguityRule;
@@ -68,7 +74,6 @@ pub(super) fn groups_2d(threads: u32, local: u32, max_x: u32) -> [u32; 3] {
 /// The culling pipelines, built with [`crate::iso::direct::compute::DirectCompute`].
 pub(crate) struct ComputeCullPipelines {
     pub(super) extract_list: Pipeline,
-    pub(super) setup: Pipeline,
     pub(super) hzb: HzbBuilder,
     pub(super) test: Pipeline,
     pub(super) resolve: Pipeline,
@@ -83,7 +88,7 @@ impl ComputeCullPipelines {
         scalar: ScalarType,
         rule: AmbiguityRule,
     ) -> Result<ComputeCullPipelines> {
-        let defines = marching_cubes_defines(scalar, rule);
+        let defines = [marching_cubes_defines(scalar, rule), raster_defines()].concat();
         let with = |name: &str| {
             let mut d = defines.clone();
             d.push((name.into(), "1".into()));
@@ -94,20 +99,17 @@ impl ComputeCullPipelines {
             compiler.compile(&builtin_shader!("extract.comp.glsl"), &with("BLOCK_LIST"))?;
         let resolve =
             compiler.compile(&builtin_shader!("resolve.comp.glsl"), &with("TWO_LISTS"))?;
-        let setup = compiler.compile(&builtin_shader!("hzb_setup.comp.glsl"), &defines)?;
         let test = compiler.compile(&builtin_shader!("hzb_test.comp.glsl"), &defines)?;
         let compact = compiler.compile(&builtin_shader!("hzb_compact.comp.glsl"), &defines)?;
         let extract_slots = [Slot::Texture, sb, sb, sb, sb, sb, sb];
         let extract_list =
             gpu.compute_pipeline("direct extract (block list)", &extract, &extract_slots)?;
-        let setup = gpu.compute_pipeline("hzb cull setup", &setup, &[sb; 4])?;
         let hzb = HzbBuilder::new(gpu, compiler)?;
         let test = gpu.compute_pipeline("hzb test", &test, &[sb; 5])?;
         let resolve = gpu.compute_pipeline("direct resolve (two lists)", &resolve, &[sb; 7])?;
         let compact = gpu.compute_pipeline("hzb compact", &compact, &[sb; 3])?;
         Ok(ComputeCullPipelines {
             extract_list,
-            setup,
             hzb,
             test,
             resolve,
@@ -143,6 +145,10 @@ impl ComputeCullStats {
     }
 }
 
+/// Words of the culling statistics the passes count on the GPU: blocks occupied, drawn in
+/// pass B, visible (`hzb_test.comp.glsl`, `hzb_compact.comp.glsl`).
+const STATS_WORDS: u64 = 3;
+
 /// Per-volume, per-frame-size culling state carried from frame to frame: block flags and
 /// lists, the pyramid, and pass B's triangle lists.
 pub struct ComputeCullState {
@@ -151,7 +157,7 @@ pub struct ComputeCullState {
     /// Pass-A lists, used in turn: one is drawn while the other is rebuilt for next frame.
     pub(super) lists: [Buffer; 2],
     pub(super) new_blocks: Buffer,
-    /// occupied, drawn first, drawn new, visible.
+    /// Blocks occupied, drawn new (pass B), visible (`STATS_WORDS` words).
     pub(super) stats: Buffer,
     /// The extraction's (triangles, blocks classified) of pass A and pass B.
     pub(super) extract_stats: [Buffer; 2],
@@ -184,7 +190,7 @@ impl ComputeCullState {
             ("hzb cull first blocks A", list),
             ("hzb cull first blocks B", list),
             ("hzb cull new blocks", list),
-            ("hzb cull stats", 16),
+            ("hzb cull stats", 4 * STATS_WORDS),
             ("hzb cull extract stats A", 8),
             ("hzb cull extract stats B", 8),
             ("hzb", hzb_bytes(w, h)),
@@ -209,7 +215,7 @@ impl ComputeCullState {
             stats,
             extract_stats: [es_a, es_b],
             hzb,
-            readback: gpu.create_readback("hzb cull stats (host)", 24)?,
+            readback: gpu.create_readback("hzb cull stats (host)", 4 * STATS_WORDS + 12)?,
             new_lists,
             width: w,
             height: h,
@@ -247,14 +253,17 @@ impl ComputeCullState {
         &self.lists[(self.frame.get() + 1) % 2]
     }
 
-    /// Records the copy of the frame's statistics to the host (at the frame's end).
+    /// Records the copy of the frame's statistics to the host (at the frame's end): `stats`,
+    /// then pass A's list length (at the list's start) and each extraction's triangles.
     pub(super) fn record_stats_readback(&self, rec: &Recorder) {
         rec.barrier();
-        self.readback.record_copy(rec, &self.stats, 0, 16);
+        let words = 4 * STATS_WORDS;
+        self.readback.record_copy(rec, &self.stats, 0, words);
+        self.readback.record_copy(rec, self.first(), words, 4);
         self.readback
-            .record_copy(rec, &self.extract_stats[0], 16, 4);
+            .record_copy(rec, &self.extract_stats[0], words + 4, 4);
         self.readback
-            .record_copy(rec, &self.extract_stats[1], 20, 4);
+            .record_copy(rec, &self.extract_stats[1], words + 8, 4);
     }
 
     /// What the last recorded frame did (read after it was submitted): copied to the host at
@@ -266,9 +275,9 @@ impl ComputeCullState {
         }
         ComputeCullStats {
             blocks_occupied: s[0],
-            blocks_drawn_first: s[1],
-            blocks_drawn_new: s[2],
-            blocks_visible: s[3],
+            blocks_drawn_new: s[1],
+            blocks_visible: s[2],
+            blocks_drawn_first: s[3],
             triangles_first: s[4],
             triangles_new: s[5],
         }

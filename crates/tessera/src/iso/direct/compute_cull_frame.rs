@@ -1,11 +1,12 @@
 //! Recording of a culled compute-path frame (see `compute_cull` for the method).
 
 use crate::error::{Error, Result};
+use crate::iso::direct::block_list::{self, BlockListHeader};
 use crate::iso::direct::compute::{ComputeTarget, DirectCompute, ResolveParams, TriangleLists};
 use crate::iso::direct::compute_cull::{
     groups_2d, ComputeCullState, ComputeCullStats, HzbTestParams,
 };
-use crate::iso::direct::{block_list, Direct, DirectParams};
+use crate::iso::direct::{Direct, DirectParams};
 use crate::iso::PreparedVolume;
 use crate::raster::hzb::hzb_levels;
 use crate::target::Target;
@@ -48,20 +49,6 @@ impl DirectCompute {
         }
         let c = &self.cull;
         let (first, next) = (state.first(), state.next());
-        let setup = |rec: &Recorder, mode: u32| {
-            rec.dispatch_groups(
-                &c.setup,
-                &[
-                    Binding::Buffer(first),
-                    Binding::Buffer(&state.new_blocks),
-                    Binding::Buffer(next),
-                    Binding::Buffer(&state.stats),
-                ],
-                bytemuck::bytes_of(&[mode, c.max_groups_x]),
-                [1, 1, 1],
-            );
-            rec.barrier();
-        };
         let volume = Binding::Texture {
             image: &prepared.volume.texture,
             linear: false,
@@ -87,22 +74,30 @@ impl DirectCompute {
             rec.barrier();
         };
 
-        // Pass A: last frame's visible blocks.
+        // Pass A: last frame's visible blocks (their list and its dispatch arguments were
+        // written by last frame's compaction). Every list and count this frame fills starts
+        // empty: the passes that fill them grow their own dispatch arguments.
         let (a, b_lists) = (&target.lists, &state.new_lists);
         let per_block =
             |p: &Pipeline| groups_2d(state.block_count, p.local_size[0], c.max_groups_x);
         stage("cull-pass-a", &|rec| {
-            setup(rec, 0);
-            for buffer in [&a.counts, &b_lists.counts] {
+            let empty = BlockListHeader {
+                count: 0,
+                args: [0, 1, 1],
+            };
+            for list in [&state.new_blocks, next] {
+                rec.update_buffer(list, bytemuck::bytes_of(&empty));
+            }
+            for buffer in [&a.counts, &b_lists.counts, &state.stats] {
                 rec.fill_buffer(buffer, 0);
             }
             state
                 .extract_stats
                 .iter()
                 .for_each(|s| rec.fill_buffer(s, 0));
-            self.rasterizer.record_clear(rec, &target.frame);
+            target.frame.record_fill_empty(rec);
+            rec.barrier();
             extract(rec, a, &state.extract_stats[0], first);
-            self.rasterizer.record_prepare_dispatch(rec, &a.counts);
             self.rasterizer
                 .record_raster(rec, &a.triangles, &a.counts, &target.frame);
         });
@@ -133,13 +128,10 @@ impl DirectCompute {
                 per_block(&c.test),
             );
             rec.barrier();
-            setup(rec, 1);
         });
         // Pass B: blocks that may have come into view, into the same frame.
         stage("cull-pass-b", &|rec| {
             extract(rec, b_lists, &state.extract_stats[1], &state.new_blocks);
-            self.rasterizer
-                .record_prepare_dispatch(rec, &b_lists.counts);
             self.rasterizer.record_raster_with_base(
                 rec,
                 &b_lists.triangles,

@@ -14,14 +14,19 @@
 #include "iso/direct/block_list.glsl"
 #include "iso/direct/attributes.glsl"
 #include "raster/raster.glsl"
+#include "common/indirect_args.glsl"
 
 layout(local_size_x = 32) in;
 layout(binding = 0) uniform VOLUME_SAMPLER volume_tex;
 layout(binding = 1) readonly buffer Nodes { vec2 minmax_nodes[]; };
 layout(binding = 2) writeonly buffer Triangles { RasterTriangle triangles[]; };
 layout(binding = 3) writeonly buffer Attributes { TriangleAttributes attributes[]; };
-// The rasterizer's counts (triangle_count, then its dispatch arguments).
-layout(binding = 4) buffer Counts { uint triangle_count; };
+// The rasterizer's counts: triangle_count, then its dispatch arguments, grown here as slots
+// are reserved (zero before the pass), so the raster pass may follow without a pass between.
+layout(binding = 4) buffer Counts {
+    uint triangle_count;
+    uint raster_dispatch[3];
+};
 // [0] triangles emitted (may exceed the capacity: then the frame is incomplete), [1] blocks
 // that reached classification.
 layout(binding = 5) buffer Stats { uint stats[]; };
@@ -84,7 +89,10 @@ void main() {
         atomicAdd(stats[1], 1u);
         // Slots past the capacity are dropped; the count stays exact (see Stats).
         uint kept = first >= capacity ? 0u : min(wg_total, capacity - first);
-        atomicAdd(triangle_count, kept);
+        if (kept > 0u) {
+            atomicAdd(triangle_count, kept);
+            GROW_INDIRECT_ARGS(raster_dispatch, first + kept, RASTER_GROUP_SIZE);
+        }
         base = first;
     }
     barrier();

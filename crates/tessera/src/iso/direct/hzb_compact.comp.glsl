@@ -4,11 +4,14 @@
 // flags become "drawn first" (bit 1) for next frame's occlusion test.
 #include "raster/hzb.glsl"
 #include "iso/direct/block_list.glsl"
+#include "common/indirect_args.glsl"
 
 layout(local_size_x = 256) in;
 layout(binding = 0) buffer BlockFlags { uint block_flags[]; };
+// Next frame's pass-A list; its dispatch arguments (one workgroup per block) grow here.
 layout(binding = 1) buffer NextBlocks { BlockListHeader next_list; uint next_blocks[]; };
-layout(binding = 2) buffer Stats { uint stats[4]; };
+// [2] blocks visible (owning a pixel)
+layout(binding = 2) buffer Stats { uint stats[]; };
 
 layout(push_constant) uniform CompactParams {
     uint block_count;
@@ -39,9 +42,10 @@ void main() {
     }
     barrier();
     if (me == 0u) {
-        group_base = group_seen > 0u ? atomicAdd(next_list.count, group_seen) : 0u;
         if (group_seen > 0u) {
-            atomicAdd(stats[3], group_seen);
+            group_base = atomicAdd(next_list.count, group_seen);
+            GROW_INDIRECT_ARGS(next_list.args, group_base + group_seen, 1u);
+            atomicAdd(stats[2], group_seen);
         }
     }
     barrier();

@@ -6,14 +6,16 @@
 // max-depth pyramid of the first pass holds a depth at or behind the box's nearest point.
 #include "raster/hzb.glsl"
 #include "iso/direct/block_list.glsl"
+#include "common/indirect_args.glsl"
 
 layout(local_size_x = 256) in;
 layout(binding = 0) readonly buffer Nodes { vec2 minmax_nodes[]; };
 // Bit 1: the block was drawn in the first pass (it was seen last frame).
 layout(binding = 1) readonly buffer BlockFlags { uint block_flags[]; };
 layout(binding = 2) readonly buffer Hzb { float hzb[]; };
+// Pass B's list; its dispatch arguments (one workgroup per block) grow as blocks are listed.
 layout(binding = 3) buffer NewBlocks { BlockListHeader new_list; uint new_blocks[]; };
-// [0] occupied blocks
+// [0] occupied blocks, [1] blocks listed for pass B
 layout(binding = 4) buffer Stats { uint stats[]; };
 
 layout(push_constant) uniform HzbTestParams {
@@ -66,7 +68,11 @@ void main() {
         if (group_occupied > 0u) {
             atomicAdd(stats[0], group_occupied);
         }
-        group_base = group_new > 0u ? atomicAdd(new_list.count, group_new) : 0u;
+        if (group_new > 0u) {
+            group_base = atomicAdd(new_list.count, group_new);
+            GROW_INDIRECT_ARGS(new_list.args, group_base + group_new, 1u);
+            atomicAdd(stats[1], group_new);
+        }
     }
     barrier();
     if (listed) {
