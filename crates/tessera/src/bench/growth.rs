@@ -3,6 +3,7 @@
 //! ladder of datasets of its family at one image size), each technique on the path the device
 //! would pick for it. Records say which ladder they belong to in `variant` ("pixels" or
 //! "data") and carry the data's size as a count ("voxels", "tets" or "glyphs") and "pixels".
+//! `--paths` keeps the techniques whose picked path it lists.
 
 use super::frames::{settle_after_upload, time_mono};
 use super::{BenchConfig, BenchRecord, FramePlan, RecordSink};
@@ -126,6 +127,9 @@ pub(super) fn growth(
                     continue;
                 }
                 let mut r = growth_renderer(gpu, technique, &data, config)?;
+                if !config.paths.is_empty() && !config.paths.contains(&r.path()) {
+                    continue; // `--paths` leaves this technique's path out
+                }
                 settle_after_upload(gpu, r.as_mut(), config.quick)?;
                 for &(size, ladder_name) in &cells {
                     let view = r.view(&OrbitCamera::default(), size)?;
