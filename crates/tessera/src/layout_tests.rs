@@ -101,14 +101,16 @@ fn isosurface_structs(t: &mut Table) {
     t.push_constants::<RaymarchParams>(&raymarch, "RaymarchParams", host!(RaymarchParams, eye,
         isovalue, forward, tan_half_fov_x, right, tan_half_fov_y, up, light, grid_to_world, dims,
         octree_levels, image));
+    let extract_defines =
+        crate::iso::direct::compute::extract_defines(ScalarType::U8, Default::default());
     let extract = compile(
         &builtin_shader!("iso/direct/extract.comp.glsl"),
-        &u8_defines,
+        &extract_defines,
     );
     #[rustfmt::skip]
     t.push_constants::<DirectParams>(&extract, "DirectParams", host!(DirectParams, grid_to_clip,
         eye_world, isovalue, grid_to_world, light, dims, triangle_capacity));
-    let mut list_defines = u8_defines.clone();
+    let mut list_defines = extract_defines.clone();
     list_defines.push(("BLOCK_LIST".into(), "1".into()));
     let extract_list = compile(
         &builtin_shader!("iso/direct/extract.comp.glsl"),

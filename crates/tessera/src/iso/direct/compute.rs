@@ -99,7 +99,7 @@ impl DirectExtract {
     ) -> Result<DirectExtract> {
         let spirv = compiler.compile(
             &builtin_shader!("extract.comp.glsl"),
-            &[marching_cubes_defines(scalar, rule), raster_defines()].concat(),
+            &extract_defines(scalar, rule),
         )?;
         let extract = gpu.compute_pipeline(
             "direct extract",
@@ -161,6 +161,12 @@ impl DirectExtract {
             blocks_classified: s[1],
         })
     }
+}
+
+/// Defines of `extract.comp.glsl`: marching cubes', and the raster pass's, whose dispatch
+/// arguments it writes.
+pub(crate) fn extract_defines(scalar: ScalarType, rule: AmbiguityRule) -> Vec<(String, String)> {
+    [marching_cubes_defines(scalar, rule), raster_defines()].concat()
 }
 
 /// Push constants of `resolve.comp.glsl`.

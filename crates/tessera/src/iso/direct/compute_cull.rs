@@ -38,13 +38,11 @@
 //! [`ComputeCullState`]; the state's statistics say what each pass drew.
 
 use crate::builtin_shader;
-use crate::config::marching_cubes_defines;
 use crate::error::Result;
 use crate::iso::direct::block_list;
-use crate::iso::direct::compute::{ComputeTarget, TriangleLists};
+use crate::iso::direct::compute::{extract_defines, ComputeTarget, TriangleLists};
 use crate::iso::PreparedVolume;
 use crate::raster::hzb::{hzb_bytes, HzbBuilder};
-use crate::raster::raster_defines;
 use bytemuck::{Pod, Zeroable};
 use std::cell::Cell;
 use tessera_data::mc_ambiguity::AmbiguityRule;
@@ -88,7 +86,7 @@ impl ComputeCullPipelines {
         scalar: ScalarType,
         rule: AmbiguityRule,
     ) -> Result<ComputeCullPipelines> {
-        let defines = [marching_cubes_defines(scalar, rule), raster_defines()].concat();
+        let defines = extract_defines(scalar, rule);
         let with = |name: &str| {
             let mut d = defines.clone();
             d.push((name.into(), "1".into()));
