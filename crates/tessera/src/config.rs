@@ -31,6 +31,10 @@ fn vec4(v: [f32; 4]) -> String {
 pub fn common_defines() -> Vec<(String, String)> {
     vec![
         ("BLOCK_X".into(), format!("{}u", BLOCK_CELLS[0])),
+        (
+            "RESOLVE_PIXELS".into(),
+            format!("{}u", crate::raster::RESOLVE_PIXELS),
+        ),
         ("BLOCK_Y".into(), format!("{}u", BLOCK_CELLS[1])),
         ("BLOCK_Z".into(), format!("{}u", BLOCK_CELLS[2])),
         ("STEP".into(), float(STEP)),

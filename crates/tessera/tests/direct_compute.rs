@@ -117,7 +117,6 @@ fn compute_path_images_match_cpu_rasterized_marching_cubes() {
         return;
     };
     let compiler = shaders::compiler();
-    let (w, h) = (120, 96);
     let camera = OrbitCamera {
         azimuth_deg: 50.0,
         elevation_deg: -20.0,
@@ -132,7 +131,8 @@ fn compute_path_images_match_cpu_rasterized_marching_cubes() {
         generate(ProceduralKind::MarschnerLobb, 33, ScalarType::U16).unwrap(),
         generate(ProceduralKind::Turbulence, 29, ScalarType::F32).unwrap(),
     ];
-    for volume in &volumes {
+    // 301 pixels wide: a resolve row of two workgroups, the second cut short.
+    for (volume, (w, h)) in volumes.iter().zip([(120, 96), (301, 110), (120, 96)]) {
         let compute = DirectCompute::new(&gpu, &compiler, volume.scalar_type()).unwrap();
         let builder = MinMaxBuilder::new(&gpu, &compiler, volume.scalar_type()).unwrap();
         let prepared = PreparedVolume::new(&gpu, &builder, volume).unwrap();

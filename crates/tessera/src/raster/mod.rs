@@ -168,6 +168,16 @@ pub struct ComputeRasterizer {
 }
 
 /// The reference's constants, defined once in tessera_data.
+/// Pixels each invocation of a resolve pass (`iso/direct/resolve.comp.glsl`) shades, along
+/// its row.
+pub const RESOLVE_PIXELS: u32 = 4;
+
+/// Workgroups of a resolve pass over a `width`×`height` frame whose workgroups have
+/// `group_size` invocations: one row segment of `RESOLVE_PIXELS × group_size` pixels each.
+pub fn resolve_groups(width: u32, height: u32, group_size: u32) -> [u32; 3] {
+    [width.div_ceil(RESOLVE_PIXELS * group_size), height, 1]
+}
+
 /// Invocations per workgroup of the raster pass (one triangle each).
 pub const RASTER_GROUP_SIZE: u32 = 64;
 

@@ -10,7 +10,9 @@ use crate::iso::direct::compute_cull::ComputeCullPipelines;
 use crate::iso::direct::{Direct, DirectParams};
 use crate::iso::minmax::MinMaxBuilder;
 use crate::iso::PreparedVolume;
-use crate::raster::{raster_defines, ComputeRasterizer, RasterFrame, TRIANGLE_BYTES};
+use crate::raster::{
+    raster_defines, resolve_groups, ComputeRasterizer, RasterFrame, TRIANGLE_BYTES,
+};
 use crate::target::Target;
 use bytemuck::{Pod, Zeroable};
 use tessera_data::mc_ambiguity::AmbiguityRule;
@@ -336,7 +338,7 @@ impl DirectCompute {
             light: params.light,
             size: [target.frame.width, target.frame.height, 0, 0],
         };
-        rec.dispatch(
+        rec.dispatch_groups(
             &self.resolve,
             &[
                 Binding::Buffer(&target.frame.depth_payload),
@@ -345,7 +347,11 @@ impl DirectCompute {
                 Binding::Buffer(&pixels.pixels),
             ],
             bytemuck::bytes_of(&resolve),
-            [target.frame.width, target.frame.height, 1],
+            resolve_groups(
+                target.frame.width,
+                target.frame.height,
+                self.resolve.local_size[0],
+            ),
         );
     }
 

@@ -9,6 +9,7 @@ use crate::iso::direct::compute_cull::{
 use crate::iso::direct::{Direct, DirectParams};
 use crate::iso::PreparedVolume;
 use crate::raster::hzb::hzb_levels;
+use crate::raster::resolve_groups;
 use crate::target::Target;
 use tessera_data::{OrbitCamera, RgbaImage};
 use tessera_gpu::{Binding, Buffer, Gpu, Pipeline, Recorder, Timer};
@@ -148,7 +149,7 @@ impl DirectCompute {
                 light: params.light,
                 size: [w, h, base, 0],
             };
-            rec.dispatch(
+            rec.dispatch_groups(
                 &c.resolve,
                 &[
                     Binding::Buffer(&target.frame.depth_payload),
@@ -160,7 +161,7 @@ impl DirectCompute {
                     Binding::Buffer(&state.flags),
                 ],
                 bytemuck::bytes_of(&resolve),
-                [w, h, 1],
+                resolve_groups(w, h, c.resolve.local_size[0]),
             );
             rec.barrier();
             rec.dispatch_groups(

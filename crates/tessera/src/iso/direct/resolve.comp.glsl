@@ -6,11 +6,16 @@
 // With TWO_LISTS defined (occlusion culling) the frame holds triangles of two lists: indices
 // below params.size.z are the first list's, the rest the second's (drawn with that index base).
 // Each drawn pixel then also flags its triangle's block as seen (bit 0 of the block's flags).
+//
+// A workgroup takes RESOLVE_PIXELS × 64 pixels of one row, invocation i the pixels i, i + 64,
+// ..., so every load of the frame and store of the pixels is contiguous across a workgroup: the
+// pass streams 12 bytes a pixel, and one pixel per invocation in 8×8 tiles read them at a
+// third of the rate a copy reaches. RESOLVE_PIXELS comes from raster::RESOLVE_PIXELS.
 #include "raster/raster.glsl"
 #include "common/shading.glsl"
 #include "iso/direct/attributes.glsl"
 
-layout(local_size_x = 8, local_size_y = 8) in;
+layout(local_size_x = 64) in;
 layout(binding = 0) readonly buffer Frame { uvec2 depth_payload[]; };
 layout(binding = 1) readonly buffer Triangles { RasterTriangle triangles[]; };
 layout(binding = 2) readonly buffer Attributes { TriangleAttributes attributes[]; };
@@ -27,12 +32,7 @@ layout(push_constant) uniform ResolveParams {
     uvec4 size;   // x width, y height, z first index of the second list (TWO_LISTS)
 } params;
 
-void main() {
-    uvec2 pixel = gl_GlobalInvocationID.xy;
-    uvec2 size = params.size.xy;
-    if (any(greaterThanEqual(pixel, size))) {
-        return;
-    }
+void resolve_pixel(uvec2 pixel, uvec2 size) {
     uint i = pixel.y * size.x + pixel.x;
     uvec2 value = depth_payload[i];
     vec4 colour = BACKGROUND;
@@ -62,4 +62,16 @@ void main() {
         colour = vec4(shade_surface(normal, position, params.eye_world.xyz, params.light.xyz), 1.0);
     }
     pixels[i] = packUnorm4x8(colour);
+}
+
+void main() {
+    uvec2 size = params.size.xy;
+    uint y = gl_WorkGroupID.y;
+    uint first = gl_WorkGroupID.x * (RESOLVE_PIXELS * gl_WorkGroupSize.x) + gl_LocalInvocationID.x;
+    for (uint k = 0u; k < RESOLVE_PIXELS; ++k) {
+        uint x = first + k * gl_WorkGroupSize.x;
+        if (x < size.x && y < size.y) {
+            resolve_pixel(uvec2(x, y), size);
+        }
+    }
 }

@@ -8,7 +8,7 @@ use crate::builtin_shader;
 use crate::config::meshlet_draw_defines;
 use crate::error::{Error, Result};
 use crate::iso::direct::compute::{ComputeTarget, ResolveParams};
-use crate::raster::{ComputeRasterizer, RasterFrame};
+use crate::raster::{resolve_groups, ComputeRasterizer, RasterFrame};
 use crate::target::Target;
 use tessera_gpu::{Binding, Gpu, Pipeline, Recorder, ShaderCompiler, Slot};
 
@@ -63,7 +63,7 @@ impl ListResolve {
         self.rasterizer
             .record(rec, &target.lists.triangles, &target.lists.counts, frame);
         let shading = resolve_params(params, frame, 0);
-        rec.dispatch(
+        rec.dispatch_groups(
             &self.resolve,
             &[
                 Binding::Buffer(&frame.depth_payload),
@@ -72,7 +72,7 @@ impl ListResolve {
                 Binding::Buffer(&pixels.pixels),
             ],
             bytemuck::bytes_of(&shading),
-            [frame.width, frame.height, 1],
+            resolve_groups(frame.width, frame.height, self.resolve.local_size[0]),
         );
         rec.barrier();
     }

@@ -24,6 +24,7 @@ use crate::error::{Error, Result};
 use crate::iso::direct::compute::{ComputeTarget, TriangleLists};
 use crate::iso::meshlets::GpuMeshlets;
 use crate::raster::hzb::{hzb_bytes, HzbBuilder};
+use crate::raster::resolve_groups;
 use crate::target::Target;
 use std::cell::Cell;
 use tessera_gpu::{
@@ -248,7 +249,7 @@ impl MeshletDraw {
         pass(&culling.second, second, &occlusion.second_counters, true);
         rasterizer.record_prepare_dispatch(rec, &second.counts);
         rasterizer.record_raster_with_base(rec, &second.triangles, &second.counts, frame, base);
-        rec.dispatch(
+        rec.dispatch_groups(
             &culling.resolve,
             &[
                 Binding::Buffer(&frame.depth_payload),
@@ -260,7 +261,7 @@ impl MeshletDraw {
                 Binding::Buffer(&occlusion.flags),
             ],
             bytemuck::bytes_of(&resolve_params(params, frame, base)),
-            [frame.width, frame.height, 1],
+            resolve_groups(frame.width, frame.height, culling.resolve.local_size[0]),
         );
         rec.barrier();
         self.readback
