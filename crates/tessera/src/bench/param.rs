@@ -1,7 +1,7 @@
 //! Parametric-object benchmark scenarios (paper E §5): one SH glyph of orders 2…12, and a
 //! 140 × 140 field of order-12 glyphs at several distances (Figures 8–10), at 1920×1080 with and
 //! without 2×2 supersampling, by the point and the tessellation variants and by ray tracing
-//! (Peters et al.); a knitted curtain of 59,690 yarn curves and a seashell (§5.3); the LOD
+//! (Peters et al.); 24,000 order-8 glyphs at 1280×720; a knitted curtain of 59,690 yarn curves and a seashell (§5.3); the LOD
 //! stage and the drawing timed apart. `--paths` picks the techniques by the path they take:
 //! tessellation the graphics path, points and ray tracing compute.
 
@@ -59,6 +59,14 @@ pub fn param(
     };
     let views = [("far", at(1.2)), ("mid", at(0.5)), ("close", at(0.15))];
     measure(gpu, &scene, &views, &all, size, plan, sink)?;
+    // 24,000 order-8 glyphs at 1280×720: the size a DIPY viewer's billboard glyphs are
+    // reported at (474 frames a second, 2.1 ms).
+    let (field, small) = if config.quick {
+        ("param:sh-glyphs:16x15:order8", (160, 90))
+    } else {
+        ("param:sh-glyphs:160x150:order8", (1280, 720))
+    };
+    measure(gpu, &load(field)?, &views, &all, small, plan, sink)?;
     // Paper E §5.3: a knitted curtain of 235 × 254 loops (59,690 yarn curves), and a seashell.
     let shapes = wanted(&[Technique::ParamPoints, Technique::ParamTess]);
     let yarn = if config.quick {
