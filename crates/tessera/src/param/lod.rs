@@ -11,10 +11,11 @@
 //!   list: entry 0 the render list, entry `1 + s` the patches step `s` evaluates);
 //! * optionally a capture of every LOD sample (object, u, v, pixel x, y) for tests.
 //!
-//! Passes: clear the state; `lod_init` (one invocation per object); then per step
-//! `lod_prepare` (indirect arguments from the step's count) and `lod_step` dispatched
-//! indirectly, one 64-invocation workgroup per patch; finally `lod_prepare` for the render list,
-//! whose arguments the point pass uses. Lists that overflow drop patches and count them.
+//! Passes: clear the state; `lod_init` (one invocation per object); then per step `lod_step`
+//! dispatched indirectly, one 64-invocation workgroup per patch, from arguments the pass that
+//! filled its list grew as it appended (`common/indirect_args.glsl`: no pass between steps);
+//! finally `lod_prepare` for the render list, whose arguments (spread over workgroups when the
+//! list is short) the point pass uses. Lists that overflow drop patches and count them.
 
 use super::scene::{scene_defines, sh_recurrence_table, GpuParamScene};
 use crate::builtin_shader;
@@ -376,8 +377,8 @@ impl LodStage {
             ),
         );
         rec.barrier();
+        // Each step's list got its dispatch arguments from the pass that filled it.
         for step in 0..s.max_steps {
-            self.record_prepare(rec, 1 + step, 1, 0);
             params.step = step;
             params.last = u32::from(step + 1 == s.max_steps);
             let (input, output) = (step as usize % 2, (step as usize + 1) % 2);

@@ -6,6 +6,7 @@
 #include "param/scene.glsl"
 #include "param/patch.glsl"
 #include "param/lod_params.glsl"
+#include "common/indirect_args.glsl"
 
 layout(local_size_x = 64) in;
 layout(binding = 4, std430) writeonly buffer PatchesOut { Patch patches_out[]; };
@@ -31,6 +32,10 @@ void main() {
     uint count = params.object_count * per_object;
     if (index == 0u) {
         entries[1].count = count;
+        uint stored = min(count, params.eval_capacity);
+        if (stored > 0u) {
+            GROW_INDIRECT_ARGS(entries[1].x, entries[1].y, entries[1].z, stored, 1u);
+        }
         if (count > params.eval_capacity) {
             dropped = count - params.eval_capacity;  // the frame is refused
         }

@@ -16,6 +16,7 @@
 #include "param/view.glsl"
 #include "param/patch.glsl"
 #include "param/lod_params.glsl"
+#include "common/indirect_args.glsl"
 
 layout(local_size_x = 64) in;
 layout(binding = 4, std430) readonly buffer PatchesIn { Patch patches_in[]; };
@@ -121,12 +122,17 @@ float pick(vec4 e, uint which) {
     return which == 0u ? max(e.x, e.y) : (which == 1u ? max(e.z, e.w) : max(max(e.x, e.y), max(e.z, e.w)));
 }
 
-// Appends `n` patches to the list of entry `entry`; returns the first slot.
+// Appends `n` patches to the list of entry `entry`; returns the first slot. A next step's list
+// (entry > 0) gets its dispatch arguments grown here, one workgroup per stored patch; the
+// render list's are made by lod_prepare, which spreads a short list.
 uint reserve(uint entry, uint n, uint capacity) {
     uint base = atomicAdd(entries[entry].count, n);
     uint stored = base >= capacity ? 0u : min(n, capacity - base);
     if (stored < n) {
         atomicAdd(dropped, n - stored);
+    }
+    if (entry > 0u && stored > 0u) {
+        GROW_INDIRECT_ARGS(entries[entry].x, entries[entry].y, entries[entry].z, base + stored, 1u);
     }
     return base;
 }

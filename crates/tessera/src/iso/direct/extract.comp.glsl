@@ -91,7 +91,7 @@ void main() {
         uint kept = first >= capacity ? 0u : min(wg_total, capacity - first);
         if (kept > 0u) {
             atomicAdd(triangle_count, kept);
-            GROW_INDIRECT_ARGS(raster_dispatch, first + kept, RASTER_GROUP_SIZE);
+            GROW_INDIRECT_ARGS3(raster_dispatch, first + kept, RASTER_GROUP_SIZE);
         }
         base = first;
     }

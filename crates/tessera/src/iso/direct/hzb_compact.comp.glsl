@@ -44,7 +44,7 @@ void main() {
     if (me == 0u) {
         if (group_seen > 0u) {
             group_base = atomicAdd(next_list.count, group_seen);
-            GROW_INDIRECT_ARGS(next_list.args, group_base + group_seen, 1u);
+            GROW_INDIRECT_ARGS3(next_list.args, group_base + group_seen, 1u);
             atomicAdd(stats[2], group_seen);
         }
     }

@@ -70,7 +70,7 @@ void main() {
         }
         if (group_new > 0u) {
             group_base = atomicAdd(new_list.count, group_new);
-            GROW_INDIRECT_ARGS(new_list.args, group_base + group_new, 1u);
+            GROW_INDIRECT_ARGS3(new_list.args, group_base + group_new, 1u);
             atomicAdd(stats[1], group_new);
         }
     }
