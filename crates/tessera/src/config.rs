@@ -125,11 +125,12 @@ pub fn meshlet_defines(
 }
 
 /// Defines for the meshlet draw (`iso/meshlet_draw`): the meshlet limits, the task
-/// workgroup's size and the codes of the culling boxes.
+/// workgroup's size and the codes of the culling boxes, and the raster pass's (its compute
+/// path writes that pass's dispatch arguments).
 pub fn meshlet_draw_defines() -> Vec<(String, String)> {
     use crate::iso::meshlet_draw::{MeshletBounds, TASK_SIZE};
     use tessera_data::meshlets::{MAX_TRIANGLES, MAX_VERTICES};
-    let mut d = common_defines();
+    let mut d = [common_defines(), crate::raster::raster_defines()].concat();
     for (name, value) in [
         ("MESHLET_MAX_VERTICES", MAX_VERTICES),
         ("MESHLET_MAX_TRIANGLES", MAX_TRIANGLES),

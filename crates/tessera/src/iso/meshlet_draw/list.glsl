@@ -1,8 +1,11 @@
 // The frame's triangle list a compute-path draw of a stored surface (meshlets, PMB blocks)
 // writes for the shared compute rasterizer, in three bindings from SURFACE_LIST_BINDING (the
 // including shader defines it past its own): clip-space triangles, their shading attributes
-// (iso/direct/attributes.glsl, shaded by direct's resolve) and raster::RasterCounts. Needs
+// (iso/direct/attributes.glsl, shaded by direct's resolve) and raster::RasterCounts, whose
+// dispatch arguments grow as slots are reserved (zero before the pass). Needs
 // raster/raster.glsl, iso/direct/attributes.glsl and iso/meshlet_draw/corner.glsl.
+
+#include "common/indirect_args.glsl"
 
 layout(binding = SURFACE_LIST_BINDING) writeonly buffer Triangles { RasterTriangle triangles[]; };
 layout(binding = SURFACE_LIST_BINDING + 1) writeonly buffer Attributes { TriangleAttributes attributes[]; };
@@ -23,6 +26,9 @@ void write_list_corner(uint slot, uint j, SurfaceCorner c, uint maker) {
 uint reserve_list_slots(uint first, uint count) {
     uint capacity = params.triangle_capacity;
     uint fit = first >= capacity ? 0u : min(count, capacity - first);
-    atomicAdd(triangle_count, fit);
+    if (fit > 0u) {
+        atomicAdd(triangle_count, fit);
+        GROW_INDIRECT_ARGS3(dispatch, first + fit, RASTER_GROUP_SIZE);
+    }
     return fit;
 }

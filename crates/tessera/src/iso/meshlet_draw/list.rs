@@ -50,8 +50,10 @@ impl ListResolve {
         Ok(())
     }
 
-    /// Rasterizes `target`'s list (written and followed by a barrier) and shades it into
-    /// `pixels` as `params` light it.
+    /// Rasterizes `target`'s list (written and followed by a barrier; the pass that wrote it
+    /// grew the raster pass's dispatch arguments, and the frame was emptied with
+    /// [`RasterFrame::record_fill_empty`] before a barrier ahead of that pass) and shades it
+    /// into `pixels` as `params` light it.
     pub fn record(
         &self,
         rec: &Recorder,
@@ -61,7 +63,7 @@ impl ListResolve {
     ) {
         let frame = &target.frame;
         self.rasterizer
-            .record(rec, &target.lists.triangles, &target.lists.counts, frame);
+            .record_raster(rec, &target.lists.triangles, &target.lists.counts, frame);
         let shading = resolve_params(params, frame, 0);
         rec.dispatch_groups(
             &self.resolve,

@@ -242,12 +242,10 @@ impl MeshletDraw {
         rasterizer.record_clear(rec, frame);
         if !forgetting {
             pass(&culling.first, first, &self.counters, false);
-            rasterizer.record_prepare_dispatch(rec, &first.counts);
             rasterizer.record_raster(rec, &first.triangles, &first.counts, frame);
             culling.hzb.record(rec, frame, &occlusion.hzb);
         }
         pass(&culling.second, second, &occlusion.second_counters, true);
-        rasterizer.record_prepare_dispatch(rec, &second.counts);
         rasterizer.record_raster_with_base(rec, &second.triangles, &second.counts, frame, base);
         rec.dispatch_groups(
             &culling.resolve,
