@@ -50,8 +50,7 @@ pub struct BenchArgs {
     pub(crate) data: Option<String>,
     #[command(flatten)]
     volume: crate::data::VolumeArgs,
-    /// Paths for `interval`, `shell`, `extraction`, `param` and `growth` (default: every path
-    /// there).
+    /// Paths for `interval`, `shell`, `extraction`, `param`, `growth` (default: every path there).
     #[arg(long, value_delimiter = ',', value_parser = parse_path)]
     pub(crate) paths: Vec<Path>,
     /// Image sizes to measure, in this order (default 1280x720,1920x1080,3840x2160).
