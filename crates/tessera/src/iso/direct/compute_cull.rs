@@ -5,8 +5,8 @@
 //! A culled frame:
 //! 1. **Pass A** extracts the blocks that owned a pixel last frame (a block list, one workgroup
 //!    per listed block) and rasterizes them into the frame.
-//! 2. A **max-depth pyramid** is built from the frame ([`crate::raster::hzb`]): level 0 at half resolution,
-//!    six levels per dispatch (a workgroup folds a 32×32 tile in shared memory), so two
+//! 2. A **max-depth pyramid** is built from the frame ([`crate::raster::hzb`]): level 0 at half
+//!    resolution, six levels per dispatch (a workgroup folds a 32×32 tile in shared memory), so two
 //!    dispatches at 3840×2160 instead of twelve.
 //! 3. The **occlusion test** visits every block: those whose (min, max) holds the isovalue are
 //!    counted; of those not drawn in pass A, a block is listed for pass B when its cell box
@@ -27,8 +27,8 @@
 //!
 //! Every pass that appends to a list or reserves triangles grows the indirect dispatch
 //! arguments of the pass that reads them (`common/indirect_args.glsl`), so no bookkeeping pass
-//! and barrier sits between them: at 3840×2160 the frame is 9 dispatches (23 with a pass per pyramid level and
-//! bookkeeping passes).
+//! and barrier sits between them: at 3840×2160 the frame is 9 dispatches (23 with a pass per
+//! pyramid level and bookkeeping passes).
 //!
 //! Blocks are never marked visible without owning a pixel, so the pass-A list is exactly the
 //! visible set of the last frame; a block that passes the test but owns no pixel is drawn in
