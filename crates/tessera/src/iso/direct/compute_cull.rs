@@ -6,8 +6,8 @@
 //! 1. **Pass A** extracts the blocks that owned a pixel last frame (a block list, one workgroup
 //!    per listed block) and rasterizes them into the frame.
 //! 2. A **max-depth pyramid** is built from the frame ([`crate::raster::hzb`]): level 0 at half
-//!    resolution, six levels per dispatch (a workgroup folds a 32×32 tile in shared memory), so two
-//!    dispatches at 3840×2160 instead of twelve.
+//!    resolution, six levels per dispatch (a workgroup folds a 32×32 tile in shared memory),
+//!    so two dispatches at 3840×2160 instead of twelve.
 //! 3. The **occlusion test** visits every block: those whose (min, max) holds the isovalue are
 //!    counted; of those not drawn in pass A, a block is listed for pass B when its cell box
 //!    reaches the near plane, or when on the pyramid level where its screen rectangle (a pixel
