@@ -47,10 +47,10 @@ float first_level_texel(uvec2 t, uvec2 dims, uvec2 src_dims, uint src_offset) {
     return far_depth;
 }
 
-void store(uint level, uvec2 t, float far_depth) {
-    uvec2 dims = hzb_level_dims(params.size, level);
+// Texel `t` of the level that starts at `offset` with `dims` texels, if it lies inside.
+void store(uint offset, uvec2 dims, uvec2 t, float far_depth) {
     if (all(lessThan(t, dims))) {
-        hzb[hzb_level_offset(params.size, level) + t.y * dims.x + t.x] = far_depth;
+        hzb[offset + t.y * dims.x + t.x] = far_depth;
     }
 }
 
@@ -58,7 +58,10 @@ void main() {
     uvec2 size = params.size;
     uint first = params.first_level;
     uvec2 local = gl_LocalInvocationID.xy;
+    // Each level's size and start are found once (loops over the levels below) and then
+    // stepped level by level, not recomputed per texel.
     uvec2 dims = hzb_level_dims(size, first);
+    uint offset = hzb_level_offset(size, first);
     uvec2 src_dims = first == 0u ? size : hzb_level_dims(size, first - 1u);
     uint src_offset = first == 0u ? 0u : hzb_level_offset(size, first - 1u);
 
@@ -68,14 +71,16 @@ void main() {
     for (uint c = 0u; c < 4u; ++c) {
         uvec2 t = corner + uvec2(c & 1u, c >> 1);
         float d = first_level_texel(t, dims, src_dims, src_offset);
-        store(first, t, d);
+        store(offset, dims, t, d);
         far_depth = max(far_depth, d);
     }
     // The levels above, halving the tile in shared memory.
     uint side = TILE;
     for (uint k = 1u; k < params.level_count; ++k) {
+        offset += dims.x * dims.y;
+        dims = (dims + 1u) / 2u;
         if (all(lessThan(local, uvec2(side)))) {
-            store(first + k, gl_WorkGroupID.xy * side + local, far_depth);
+            store(offset, dims, gl_WorkGroupID.xy * side + local, far_depth);
             s_depth[local.y][local.x] = far_depth;
         }
         barrier();
