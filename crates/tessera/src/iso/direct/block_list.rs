@@ -20,6 +20,14 @@ pub struct BlockListHeader {
     pub args: [u32; 3],
 }
 
+impl BlockListHeader {
+    /// An empty list: no entries, no workgroups.
+    pub const EMPTY: BlockListHeader = BlockListHeader {
+        count: 0,
+        args: [0, 1, 1],
+    };
+}
+
 /// Byte offset of the indirect arguments in a list buffer.
 pub const ARGS_OFFSET: u64 = offset_of!(BlockListHeader, args) as u64;
 /// Byte offset of the entry count.
@@ -76,11 +84,7 @@ pub fn record_occupied(
     block_count: u32,
     max_groups_x: u32,
 ) {
-    let empty = BlockListHeader {
-        count: 0,
-        args: [0, 1, 1],
-    };
-    rec.update_buffer(list, bytemuck::bytes_of(&empty));
+    rec.update_buffer(list, bytemuck::bytes_of(&BlockListHeader::EMPTY));
     rec.barrier();
     let groups = block_count.div_ceil(occupied.local_size[0]);
     rec.dispatch_groups(

@@ -82,12 +82,8 @@ impl DirectCompute {
         let per_block =
             |p: &Pipeline| groups_2d(state.block_count, p.local_size[0], c.max_groups_x);
         stage("cull-pass-a", &|rec| {
-            let empty = BlockListHeader {
-                count: 0,
-                args: [0, 1, 1],
-            };
             for list in [&state.new_blocks, next] {
-                rec.update_buffer(list, bytemuck::bytes_of(&empty));
+                rec.update_buffer(list, bytemuck::bytes_of(&BlockListHeader::EMPTY));
             }
             for buffer in [&a.counts, &b_lists.counts, &state.stats] {
                 rec.fill_buffer(buffer, 0);

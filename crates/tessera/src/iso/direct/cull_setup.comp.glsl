@@ -3,6 +3,7 @@
 // (counts to zero, indirect y/z to one); mode 1 turns the occupied-region count into the
 // proxy-quad draw's workgroup count; mode 2 turns the block counts into task-draw counts.
 #include "iso/direct/block_list.glsl"
+#include "common/indirect_args.glsl"
 
 layout(local_size_x = 1) in;
 layout(binding = 0) buffer Occupied { BlockListHeader occupied_list; uint occupied[]; };
@@ -20,7 +21,7 @@ void main() {
     } else if (setup.mode == 1u) {
         // Spread over x and y so no axis passes the 65,535 every device accepts.
         uint groups = max((occupied_list.count + QUADS_PER_WORKGROUP - 1u) / QUADS_PER_WORKGROUP, 1u);
-        occupied_list.args[0] = min(groups, 65535u);
+        occupied_list.args[0] = min(groups, INDIRECT_MAX_GROUPS_X);
         occupied_list.args[1] = (groups + occupied_list.args[0] - 1u) / occupied_list.args[0];
     } else {
         new_list.args[0] = new_list.count;

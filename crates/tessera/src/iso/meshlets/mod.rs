@@ -261,10 +261,7 @@ impl MeshletExtractor {
         // Emptied before the block list's reset, whose barrier covers both.
         rec.update_buffer(
             &out.split_blocks,
-            bytemuck::bytes_of(&block_list::BlockListHeader {
-                count: 0,
-                args: [0, 1, 1],
-            }),
+            bytemuck::bytes_of(&block_list::BlockListHeader::EMPTY),
         );
         let [bx, by, bz] = params.block_dims;
         block_list::record_occupied(
