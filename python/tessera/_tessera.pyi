@@ -105,7 +105,7 @@ class Renderer:
         device: Device,
         technique: Optional[str] = None,
         path: str = "auto",
-        culling: bool = True,
+        culling: Union[bool, str] = "auto",
         supersample: int = 1,
         msaa: int = 1,
         pre_split: Optional[int] = None,

@@ -123,6 +123,19 @@ def test_pmb_block_sizes_draw_the_same_surface(device):
         tessera.Renderer(device, "pmb", pmb_block="8x8x2")
 
 
+def test_culling_choices_draw_the_same_image(device):
+    volume = tessera.Volume(sphere())
+    images = []
+    for culling in (True, False, "auto", "on", "off"):
+        r = tessera.Renderer(device, "direct", path="compute", culling=culling)
+        r.set_data(volume)
+        images.append(r.render(camera=(30, 20), size=SIZE, iso=30.0))
+    for image in images[1:]:
+        assert np.array_equal(images[0], image)
+    with pytest.raises(tessera.DataError, match="culling 'sometimes'"):
+        tessera.Renderer(device, "direct", culling="sometimes")
+
+
 def test_unknown_names_raise():
     with pytest.raises(tessera.DataError, match="unknown technique"):
         tessera.Renderer(tessera.Device(), "nope")

@@ -4,7 +4,9 @@ use crate::data::{IsoArgs, VolumeArgs};
 use anyhow::Result;
 use clap::Args;
 use tessera::path::PathChoice;
-use tessera::renderer::{AmbientOcclusion, Light, PmbBlockSize, RendererOptions, Technique};
+use tessera::renderer::{
+    AmbientOcclusion, Culling, Light, PmbBlockSize, RendererOptions, Technique,
+};
 use tessera_data::scene::parse::{
     parse_basis, parse_colour, parse_glyph_radius, parse_integrand, parse_param_range, parse_range,
     parse_triple,
@@ -149,9 +151,10 @@ pub struct PathArgs {
     #[arg(long, default_value = "auto", value_parser = PathChoice::parse)]
     path: PathChoice,
     /// Raster occlusion culling for rasterizing techniques (direct), frustum culling of
-    /// meshlets and PMB blocks.
-    #[arg(long, default_value = "on", value_parser = ["on", "off"])]
-    culling: String,
+    /// meshlets and PMB blocks: on, off, or auto (direct's compute path culls only where the
+    /// frame's counts say it pays; elsewhere on).
+    #[arg(long, default_value = "auto", value_parser = Culling::parse)]
+    culling: Culling,
     /// Block size of pmb's extraction: 4x4x4, 8x4x4, 8x8x4 or 8x8x8.
     #[arg(long, default_value = "8x8x4", value_parser = parse_pmb_block)]
     pmb_block: PmbBlockSize,
@@ -209,7 +212,7 @@ pub fn renderer_options(paths: &PathArgs, param: &ParamArgs, iso: &IsoArgs) -> R
     RendererOptions {
         ambiguity: iso.ambiguity,
         path: paths.path,
-        culling: paths.culling == "on",
+        culling: paths.culling,
         supersample: param.supersample,
         msaa: param.msaa,
         pre_split: param.pre_split,

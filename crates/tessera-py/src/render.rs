@@ -10,8 +10,8 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use tessera::path::PathChoice;
 use tessera::renderer::{
-    self, Accumulation, AmbientOcclusion, AmbiguityRule, Frame, FrameStats, FrameTimes, LayoutKind,
-    Light, RendererOptions, Technique,
+    self, Accumulation, AmbientOcclusion, AmbiguityRule, Culling, Frame, FrameStats, FrameTimes,
+    LayoutKind, Light, RendererOptions, Technique,
 };
 use tessera_data::pmb::PmbBlockSize;
 use tessera_data::scene::parse::parse_colour;
@@ -54,7 +54,7 @@ struct State {
 /// A technique on a device: `Renderer(device, "direct", path="auto")`, then `set_data(data)`
 /// and `render(...)` as often as wanted. `technique=None` draws each kind of data with its
 /// default (raymarch, interval, param-points). Options as the CLI's flags: `culling`
-/// (direct), `supersample`, `msaa`, `pre_split` (parametric), `ambiguity` (direct's
+/// (direct, meshlets, pmb: True, False, "on", "off" or "auto", the default), `supersample`, `msaa`, `pre_split` (parametric), `ambiguity` (direct's
 /// marching cubes), `layout` (shell: tet32, tet20 or tet16), `pmb_block` (pmb: "4x4x4",
 /// "8x4x4", "8x8x4" or "8x8x8"), and shell traversal's effects:
 /// `shadows` (with `light=(x, y, z)` or `light_dir=(x, y, z)`; default a sun above +y),
@@ -219,16 +219,33 @@ fn camera_of(camera: Option<Vec<f32>>, up: Option<ViewUp>) -> PyResult<OrbitCame
     Ok(orbit)
 }
 
+/// `culling=`: a bool, or "on", "off" or "auto".
+#[derive(FromPyObject)]
+enum CullingArg {
+    Flag(bool),
+    Name(String),
+}
+
+impl CullingArg {
+    fn choice(&self) -> PyResult<Culling> {
+        match self {
+            CullingArg::Flag(true) => Ok(Culling::On),
+            CullingArg::Flag(false) => Ok(Culling::Off),
+            CullingArg::Name(text) => Culling::parse(text).map_err(from_tessera),
+        }
+    }
+}
+
 #[pymethods]
 impl Renderer {
     #[new]
-    #[pyo3(signature = (device, technique=None, path="auto", culling=true, supersample=1, msaa=1, pre_split=None, ambiguity="decider", layout="tet20", shadows=false, light=None, light_dir=None, ao=None, ao_radius=None, gradient=false, pmb_block="8x8x4"))]
+    #[pyo3(signature = (device, technique=None, path="auto", culling=CullingArg::Name("auto".into()), supersample=1, msaa=1, pre_split=None, ambiguity="decider", layout="tet20", shadows=false, light=None, light_dir=None, ao=None, ao_radius=None, gradient=false, pmb_block="8x8x4"))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         device: &Bound<'_, Device>,
         technique: Option<String>,
         path: &str,
-        culling: bool,
+        culling: CullingArg,
         supersample: u32,
         msaa: u32,
         pre_split: Option<u32>,
@@ -259,7 +276,7 @@ impl Renderer {
             .map_err(from_data)?;
         let options = RendererOptions {
             path: PathChoice::parse(path).map_err(from_tessera)?,
-            culling,
+            culling: culling.choice()?,
             supersample,
             msaa,
             pre_split,

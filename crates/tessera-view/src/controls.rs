@@ -7,7 +7,7 @@ use crate::session::Session;
 use crate::tf_editor::{paint_histogram, TfEditor};
 use egui::{PointerButton, Sense};
 use tessera::path::PathChoice;
-use tessera::renderer::{AmbientOcclusion, AmbiguityRule, Light, PmbBlockSize, Technique};
+use tessera::renderer::{AmbientOcclusion, AmbiguityRule, Culling, Light, PmbBlockSize, Technique};
 use tessera_data::scene::{Dataset, IntegrandChoice};
 use tessera_data::tet::shell::{LayoutKind, DEFAULT_AO_RADIUS};
 use tessera_data::IsoValue;
@@ -192,7 +192,12 @@ fn technique_options(ui: &mut egui::Ui, session: &mut Session) {
     let up = session.state.camera.up;
     let options = &mut session.state.options;
     if reads("culling") {
-        ui.checkbox(&mut options.culling, "culling");
+        ui.horizontal(|ui| {
+            ui.label("culling");
+            for choice in [Culling::Auto, Culling::On, Culling::Off] {
+                ui.radio_value(&mut options.culling, choice, choice.name());
+            }
+        });
     }
     if reads("supersample") {
         ui.add(egui::Slider::new(&mut options.supersample, 1..=4).text("supersample"));

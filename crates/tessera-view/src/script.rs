@@ -12,7 +12,7 @@
 //! density 6                  # absorption / emission density of tet integration
 //! technique direct           # switch technique (keeps the data of earlier ones)
 //! path compute               # graphics, compute or auto
-//! culling off                # on or off
+//! culling off                # on, off or auto
 //! supersample 2              # samples per pixel along each axis (parametric objects)
 //! stereo 0.06                # a stereo pair with this eye separation, side by side; or off
 //! frames 10                  # render this many frames before the next step
@@ -22,7 +22,7 @@
 use crate::error::ViewError;
 use std::path::{Path, PathBuf};
 use tessera::path::PathChoice;
-use tessera::renderer::Technique;
+use tessera::renderer::{Culling, Technique};
 use tessera_data::scene::parse::parse_size;
 use tessera_data::transfer::TransferFunction;
 use tessera_data::{IsoValue, OrbitCamera};
@@ -43,7 +43,7 @@ pub enum Step {
     Density(f32),
     Technique(Technique),
     Path(PathChoice),
-    Culling(bool),
+    Culling(Culling),
     Supersample(u32),
     Stereo(Option<f32>),
     Frames(u32),
@@ -138,11 +138,9 @@ fn parse_step(word: &str, rest: &str) -> Result<Step, String> {
         "path" => PathChoice::parse(rest)
             .map(Step::Path)
             .map_err(|e| e.to_string()),
-        "culling" => match rest {
-            "on" => Ok(Step::Culling(true)),
-            "off" => Ok(Step::Culling(false)),
-            _ => Err(format!("culling '{rest}': choose on or off")),
-        },
+        "culling" => Culling::parse(rest)
+            .map(Step::Culling)
+            .map_err(|e| e.to_string()),
         "stereo" if rest == "off" => Ok(Step::Stereo(None)),
         "stereo" => match finite(rest, "stereo")? {
             separation if separation > 0.0 => Ok(Step::Stereo(Some(separation))),
@@ -293,7 +291,7 @@ impl Runner {
                     state.technique = t;
                 }
                 &Step::Path(p) => state.options.path = p,
-                &Step::Culling(on) => state.options.culling = on,
+                &Step::Culling(choice) => state.options.culling = choice,
                 &Step::Supersample(k) => state.options.supersample = k,
                 &Step::Stereo(separation) => state.stereo = separation,
             }

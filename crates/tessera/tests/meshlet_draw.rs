@@ -10,7 +10,7 @@ use common::surface::{
 };
 use common::{assert_clean, assert_images_match, assert_matches_cpu_raster, gpu, skip};
 use tessera::path::{Path, PathChoice};
-use tessera::renderer::{self, Renderer, RendererOptions, Technique};
+use tessera::renderer::{self, Culling, Renderer, RendererOptions, Technique};
 use tessera_data::scene::Dataset;
 use tessera_data::{IsoValue, OrbitCamera, RgbaImage};
 use tessera_gpu::Gpu;
@@ -261,7 +261,7 @@ fn a_surface_larger_than_the_first_buffers_grows_them_within_the_frame() {
     for path in paths(&gpu) {
         let options = RendererOptions {
             path,
-            culling: false,
+            culling: Culling::Off,
             ..RendererOptions::default()
         };
         let mut r = renderer::create(&gpu, Technique::Meshlets, &options).unwrap();

@@ -18,7 +18,7 @@ use tessera::iso::meshlet_draw::{MeshletBounds, MeshletDrawParams};
 use tessera::iso::pmb::{PmbBlockSize, PmbExtractor};
 use tessera::iso::pmb_draw::{path_support, DrawIndexedIndirectCommand, PmbDraw};
 use tessera::path::{Path, PathChoice};
-use tessera::renderer::{RendererOptions, Technique};
+use tessera::renderer::{Culling, RendererOptions, Technique};
 use tessera_data::marching_cubes::{marching_cubes_with, AmbiguityRule};
 use tessera_data::scene::Dataset;
 use tessera_data::IsoValue;
@@ -32,7 +32,7 @@ fn paths(gpu: &Gpu) -> Vec<PathChoice> {
 fn options(path: PathChoice, culling: bool, block: PmbBlockSize) -> RendererOptions {
     RendererOptions {
         path,
-        culling,
+        culling: if culling { Culling::On } else { Culling::Off },
         pmb_block: block,
         ..RendererOptions::default()
     }

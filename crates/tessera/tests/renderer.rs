@@ -6,7 +6,7 @@ mod common;
 
 use common::{assert_clean, gpu, skip, Need, TestGpu};
 use tessera::path::PathChoice;
-use tessera::renderer::{self, Frame, Renderer, RendererOptions, Technique};
+use tessera::renderer::{self, Culling, Frame, Renderer, RendererOptions, Technique};
 use tessera_data::scene::{Appearance, Dataset, LoadOptions};
 use tessera_data::{IsoValue, OrbitCamera};
 use tessera_gpu::Gpu;
@@ -69,12 +69,104 @@ fn raymarch_through_the_trait_is_the_technique_s_own_image() {
 }
 
 #[test]
+fn automatic_culling_culls_only_where_the_frame_s_counts_say_it_pays() {
+    use tessera::iso::direct::cull_choice::{CullingCosts, PROBE_FRAMES, PROBE_INTERVAL};
+    let gpu = gpu();
+    let options = |culling| RendererOptions {
+        path: PathChoice::Compute,
+        culling,
+        ..RendererOptions::default()
+    };
+    if renderer::create(&gpu, Technique::Direct, &options(Culling::Auto)).is_err() {
+        skip(
+            "automatic culling",
+            "the device lacks the compute path's features",
+        );
+        return;
+    }
+    let data = load("procedural:head:64");
+    // Close up, most of the head's blocks lie outside the view.
+    let close = OrbitCamera {
+        distance: 0.8,
+        ..camera()
+    };
+    let pixels = u64::from(SIZE.0 * SIZE.1);
+    let mut both_ways = [false; 2];
+    // Above the range nothing is drawn, so culling's passes are pure cost.
+    for fraction in [0.3, 1.01] {
+        let look = Appearance {
+            iso: IsoValue::Normalized(fraction),
+            ..Appearance::default()
+        };
+        let mut unculled = with_data(&gpu, Technique::Direct, options(Culling::Off), &data);
+        unculled.set_appearance(&gpu, &look).unwrap();
+        let expected = renderer::render_image(&gpu, unculled.as_mut(), &close, SIZE).unwrap();
+        let mut auto = with_data(&gpu, Technique::Direct, options(Culling::Auto), &data);
+        auto.set_appearance(&gpu, &look).unwrap();
+        let view = auto.view(&close, SIZE).unwrap();
+        let mut frame = Frame::new(&gpu, SIZE).unwrap();
+        let mut culled = Vec::new();
+        let mut pays = None;
+        for k in 0..PROBE_FRAMES + PROBE_INTERVAL + 2 {
+            frame.render(&gpu, auto.as_mut(), &view).unwrap();
+            let stats = auto.stats();
+            let was_culled = stats.details["culled"] == 1;
+            assert_eq!(was_culled, stats.blocks_drawn.is_some(), "frame {k}");
+            if k + 1 == PROBE_FRAMES {
+                let (first, new) = stats.blocks_drawn.expect("a probe frame culls");
+                let occupied = stats.details["blocks_occupied"] as u32;
+                pays =
+                    Some(CullingCosts::H200.culling_pays((first + new) as u32, occupied, pixels));
+            }
+            culled.push(was_culled);
+            let image = frame.target.read(&gpu).unwrap();
+            assert_eq!(
+                image.pixels, expected.image.pixels,
+                "{fraction}: frame {k} as the unculled frame"
+            );
+        }
+        let pays = pays.unwrap();
+        both_ways[usize::from(pays)] = true;
+        let probe = PROBE_FRAMES as usize;
+        assert!(
+            culled[..probe].iter().all(|&c| c),
+            "{fraction}: the first frames probe"
+        );
+        if pays {
+            assert!(culled.iter().all(|&c| c), "{fraction}: culled throughout");
+        } else {
+            let interval = PROBE_INTERVAL as usize;
+            assert!(
+                culled[probe..probe + interval].iter().all(|&c| !c),
+                "{fraction}: unculled until the next probe: {culled:?}"
+            );
+            assert!(culled[probe + interval], "{fraction}: then probes again");
+        }
+        // A new look starts a probe at once.
+        auto.set_appearance(&gpu, &look).unwrap();
+        frame.render(&gpu, auto.as_mut(), &view).unwrap();
+        assert_eq!(
+            auto.stats().details["culled"],
+            1,
+            "{fraction}: a new look probes"
+        );
+    }
+    assert_eq!(
+        both_ways,
+        [true, true],
+        "one scene where culling pays, one where it does not"
+    );
+    assert_clean(&gpu);
+}
+
+#[test]
 fn a_still_camera_draws_last_frame_s_visible_blocks_first() {
     let gpu = gpu();
     let data = load("procedural:head:48");
     for path in [PathChoice::Compute, PathChoice::Graphics] {
         let options = RendererOptions {
             path,
+            culling: Culling::On,
             ..RendererOptions::default()
         };
         let Ok(mut culled) = renderer::create(&gpu, Technique::Direct, &options) else {
@@ -113,7 +205,7 @@ fn a_still_camera_draws_last_frame_s_visible_blocks_first() {
             &gpu,
             Technique::Direct,
             RendererOptions {
-                culling: false,
+                culling: Culling::Off,
                 ..options
             },
             &data,
@@ -259,7 +351,7 @@ fn stereo_equals_two_mono_frames(gpu: &Gpu, path: PathChoice) {
     ];
     assert_ne!(pair[0], pair[1], "the eyes see different images");
     let no_culling = RendererOptions {
-        culling: false,
+        culling: Culling::Off,
         ..options
     };
     let mut mono = with_data(gpu, Technique::Direct, no_culling, &data);
@@ -313,7 +405,7 @@ fn the_ambiguity_rule_reaches_direct() {
     for rule in [AmbiguityRule::AsymptoticDecider, AmbiguityRule::Vtk] {
         let options = RendererOptions {
             path: PathChoice::Compute,
-            culling: false,
+            culling: Culling::Off,
             ambiguity: rule,
             ..RendererOptions::default()
         };

@@ -12,7 +12,7 @@ use crate::iso::minmax::upload_samples;
 use crate::iso::raymarch::Raymarch;
 use crate::iso::PreparedVolume;
 use crate::path::PathChoice;
-use crate::renderer::{self, Renderer, RendererOptions, Technique};
+use crate::renderer::{self, Culling, Renderer, RendererOptions, Technique};
 use crate::target::Target;
 use std::collections::BTreeMap;
 use tessera_data::pmb::PmbBlockSize;
@@ -37,7 +37,8 @@ pub(super) struct IsoTechnique {
     pub(super) variant: String,
 }
 
-/// Ray marching, then `direct` on each path the device has, without and with culling.
+/// Ray marching, then `direct` on each path the device has, without and with culling (and on
+/// the compute path with culling where it pays).
 pub(super) fn iso_techniques(gpu: &Gpu, sink: &mut dyn RecordSink) -> Vec<IsoTechnique> {
     let with = |path, culling| RendererOptions {
         path,
@@ -46,14 +47,14 @@ pub(super) fn iso_techniques(gpu: &Gpu, sink: &mut dyn RecordSink) -> Vec<IsoTec
     };
     let mut out = vec![IsoTechnique {
         technique: Technique::Raymarch,
-        options: with(PathChoice::Compute, false),
+        options: with(PathChoice::Compute, Culling::Off),
         name: "raymarch",
         path: "compute",
         variant: String::new(),
     }];
     let caps = gpu.caps();
     if caps.mesh_shader && caps.task_shader {
-        for (culling, name) in [(false, "direct"), (true, "direct+roc")] {
+        for (culling, name) in [(Culling::Off, "direct"), (Culling::On, "direct+roc")] {
             out.push(IsoTechnique {
                 technique: Technique::Direct,
                 options: with(PathChoice::Graphics, culling),
@@ -69,7 +70,12 @@ pub(super) fn iso_techniques(gpu: &Gpu, sink: &mut dyn RecordSink) -> Vec<IsoTec
         ));
     }
     if caps.buffer_int64_atomics {
-        for (culling, name) in [(false, "direct"), (true, "direct+hzb")] {
+        let choices = [
+            (Culling::Off, "direct"),
+            (Culling::On, "direct+hzb"),
+            (Culling::Auto, "direct+auto"),
+        ];
+        for (culling, name) in choices {
             out.push(IsoTechnique {
                 technique: Technique::Direct,
                 options: with(PathChoice::Compute, culling),

@@ -43,7 +43,7 @@ pub fn stereo(
             let mono_view = r.view(&OrbitCamera::default(), size)?;
             let eyes = mono_view.stereo_pair(separation);
             let mono = time_mono_total(gpu, r.as_mut(), &mono_view, plan, "mono")?;
-            let (record_name, pair) = if t.options.culling {
+            let (record_name, pair) = if t.options.culling.enabled() {
                 if t.path != "mesh" {
                     continue;
                 }

@@ -2,13 +2,14 @@
 //! mesh-shader or compute path, with occlusion culling carried from frame to frame.
 
 use super::{
-    no_data, wrong_data, FrameOutcome, FrameStats, Renderer, RendererOptions, Target, Technique,
-    WorkCounters,
+    no_data, wrong_data, Culling, FrameOutcome, FrameStats, Renderer, RendererOptions, Target,
+    Technique, WorkCounters,
 };
 use crate::error::{Error, Result};
 use crate::iso::direct::compute::{ComputeTarget, DirectCompute, TriangleLists};
 use crate::iso::direct::compute_cull::ComputeCullState;
 use crate::iso::direct::cull::CullState;
+use crate::iso::direct::cull_choice::{AutoCulling, CullingCosts};
 use crate::iso::direct::stereo::DirectMultiview;
 use crate::iso::direct::{Direct, RasterTarget};
 use crate::iso::raymarch::Raymarch;
@@ -41,7 +42,11 @@ enum FrameBuffers {
 pub(super) struct IsoRenderer {
     technique: Technique,
     path: Path,
-    culling: bool,
+    culling: Culling,
+    /// Compute path with automatic culling: whether the next frame culls.
+    auto_culling: Option<AutoCulling>,
+    /// Whether the last recorded frame was culled.
+    last_culled: bool,
     /// How marching cubes cuts ambiguous faces (direct only).
     ambiguity: AmbiguityRule,
     pipelines: Option<(ScalarType, Pipelines)>,
@@ -76,10 +81,17 @@ impl IsoRenderer {
         options: &RendererOptions,
     ) -> Result<IsoRenderer> {
         let path = super::path_for(gpu.caps(), technique, options.path)?;
+        let culling = match technique {
+            Technique::Direct => options.culling,
+            _ => Culling::Off,
+        };
         Ok(IsoRenderer {
             technique,
             path,
-            culling: options.culling && technique == Technique::Direct,
+            culling,
+            auto_culling: (culling == Culling::Auto && path == Path::Compute)
+                .then(|| AutoCulling::new(CullingCosts::H200)),
+            last_culled: false,
             ambiguity: options.ambiguity,
             pipelines: None,
             prepared: None,
@@ -170,7 +182,7 @@ impl Renderer for IsoRenderer {
             Pipelines::Compute(d) => d.prepare(gpu, volume)?,
         };
         if matches!(self.pipelines, Some((_, Pipelines::Mesh(_)))) {
-            if self.culling {
+            if self.culling.enabled() {
                 self.mesh_culling = Some(CullState::new(gpu, &prepared)?);
             }
             if self.no_capture.is_none() {
@@ -178,6 +190,9 @@ impl Renderer for IsoRenderer {
             }
         }
         self.prepared = Some(prepared);
+        if let Some(auto) = &mut self.auto_culling {
+            auto.reset();
+        }
         self.counters.data_uploads += 1;
         self.counters.data_bytes += volume.size_bytes();
         self.resolve_iso(Some(volume))
@@ -185,6 +200,9 @@ impl Renderer for IsoRenderer {
 
     fn set_appearance(&mut self, _gpu: &Gpu, look: &Appearance) -> Result<()> {
         self.look = look.clone();
+        if let Some(auto) = &mut self.auto_culling {
+            auto.reset();
+        }
         self.resolve_iso(None)
     }
 
@@ -212,7 +230,7 @@ impl Renderer for IsoRenderer {
                 if !fits {
                     self.frame = FrameBuffers::None;
                     let target = Box::new(ComputeTarget::new(gpu, w, h, self.capacity)?);
-                    let culling = if self.culling {
+                    let culling = if self.culling.enabled() {
                         Some(Box::new(ComputeCullState::new(gpu, prepared, &target)?))
                     } else {
                         None
@@ -268,7 +286,14 @@ impl Renderer for IsoRenderer {
             ) => {
                 let params =
                     Direct::params_for_view(prepared, self.iso, view, frame.lists.capacity);
-                match culling {
+                let auto = self.auto_culling.as_ref();
+                let cull = auto.is_none_or(AutoCulling::cull_next);
+                let recorded = match culling.as_ref().filter(|_| cull) {
+                    // Frames of the automatic choice are timed whole, culled or not, so that
+                    // their timer scopes do not change from frame to frame.
+                    Some(state) if auto.is_some() => timer.scope(rec, "direct", |rec| {
+                        d.record_culled(rec, prepared, frame, target, &params, state, None)
+                    }),
                     // Its passes are timed one by one (first pass, occlusion test, second
                     // pass, resolve).
                     Some(state) => {
@@ -280,7 +305,9 @@ impl Renderer for IsoRenderer {
                         });
                         Ok(())
                     }
-                }
+                };
+                self.last_culled = cull && culling.is_some();
+                recorded
             }
             _ => Err(Error::Invalid(format!(
                 "{}: record before prepare_frame",
@@ -417,10 +444,17 @@ impl Renderer for IsoRenderer {
             }
             (Pipelines::Compute(d), FrameBuffers::Compute { target, culling }) => {
                 let capacity = target.lists.capacity;
+                let pixels = u64::from(target.frame.width) * u64::from(target.frame.height);
                 // Each of a culled frame's two lists holds `capacity` triangles.
-                let made = match culling.as_ref().filter(|_| !self.stereo) {
+                let made = match culling
+                    .as_ref()
+                    .filter(|_| !self.stereo && self.last_culled)
+                {
                     Some(state) => {
                         let s = state.read_stats();
+                        if let Some(auto) = &mut self.auto_culling {
+                            auto.after_culled(s.blocks_drawn(), s.blocks_occupied, pixels);
+                        }
                         self.stats.blocks_drawn = Some((
                             u64::from(s.blocks_drawn_first),
                             u64::from(s.blocks_drawn_new),
@@ -439,6 +473,9 @@ impl Renderer for IsoRenderer {
                     }
                     None => {
                         let s = d.read_stats(gpu)?;
+                        if let Some(auto) = self.auto_culling.as_mut().filter(|_| !self.stereo) {
+                            auto.after_unculled();
+                        }
                         self.stats.triangles = Some(u64::from(s.triangles));
                         self.stats
                             .details
@@ -446,6 +483,11 @@ impl Renderer for IsoRenderer {
                         s.triangles
                     }
                 };
+                if culling.is_some() && !self.stereo {
+                    self.stats
+                        .details
+                        .insert("culled", u64::from(self.last_culled));
+                }
                 if made > capacity {
                     let limit = TriangleLists::default_capacity(gpu);
                     if made > limit {

@@ -84,13 +84,13 @@ impl MeshletRenderer {
         Ok(MeshletRenderer {
             technique,
             path,
-            bounds: if options.culling {
+            bounds: if options.culling.enabled() {
                 MeshletBounds::Explicit
             } else {
                 MeshletBounds::None
             },
             occlusion: None,
-            occlusion_culling: options.culling && path == Path::Compute,
+            occlusion_culling: options.culling.enabled() && path == Path::Compute,
             ambiguity: options.ambiguity,
             draw: None,
             volume: None,

@@ -36,7 +36,7 @@ use crate::path::Path;
 pub use crate::target::Target;
 pub use crate::tet::interval::{ComputeScheme, IntervalTuning};
 use std::collections::BTreeMap;
-pub use technique::{path_for, RendererOptions, Technique, OPTION_NAMES};
+pub use technique::{path_for, Culling, RendererOptions, Technique, OPTION_NAMES};
 pub use tessera_data::mc_ambiguity::AmbiguityRule;
 pub use tessera_data::pmb::PmbBlockSize;
 use tessera_data::scene::{Appearance, Dataset};

@@ -58,7 +58,7 @@ impl PmbRenderer {
         Ok(PmbRenderer {
             path: super::path_for(gpu.caps(), TECHNIQUE, options.path)?,
             // Blocks store no bounds: the box of their cells is the implicit one.
-            bounds: if options.culling {
+            bounds: if options.culling.enabled() {
                 MeshletBounds::Implicit
             } else {
                 MeshletBounds::None

@@ -126,13 +126,52 @@ impl Technique {
     }
 }
 
+/// Occlusion culling of `direct`; frustum culling (and, on the compute path, occlusion
+/// culling) of the stored surfaces (`meshlets`, `offline`, `pmb`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Culling {
+    Off,
+    On,
+    /// `direct` on the compute path culls only while a frame's counts say it pays
+    /// ([`crate::iso::direct::cull_choice`]); elsewhere as `On` (on the mesh path culling
+    /// paid on every volume measured).
+    #[default]
+    Auto,
+}
+
+impl Culling {
+    pub fn parse(text: &str) -> Result<Culling> {
+        match text {
+            "off" => Ok(Culling::Off),
+            "on" => Ok(Culling::On),
+            "auto" => Ok(Culling::Auto),
+            _ => Err(Error::Invalid(format!(
+                "culling '{text}': choose on, off or auto"
+            ))),
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Culling::Off => "off",
+            Culling::On => "on",
+            Culling::Auto => "auto",
+        }
+    }
+
+    /// Whether culling may run at all (its state is needed).
+    pub fn enabled(self) -> bool {
+        self != Culling::Off
+    }
+}
+
 /// Settings that shape a renderer's pipelines and buffers (not the data's look).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RendererOptions {
     /// For techniques with a graphics and a compute path (direct, interval).
     pub path: PathChoice,
-    /// Occlusion culling of `direct` (both paths), carried from frame to frame.
-    pub culling: bool,
+    /// Culling of the isosurface techniques (occlusion culling carried from frame to frame).
+    pub culling: Culling,
     /// Raster samples per pixel along each axis, averaged (parametric techniques).
     pub supersample: u32,
     /// Samples per pixel of `param-tess`'s multisampling.
@@ -173,7 +212,7 @@ impl Default for RendererOptions {
     fn default() -> Self {
         RendererOptions {
             path: PathChoice::Auto,
-            culling: true,
+            culling: Culling::Auto,
             supersample: 1,
             msaa: 1,
             pre_split: None,
@@ -306,7 +345,7 @@ mod option_tests {
         assert_eq!(graphics.ignored_by(Technique::Raymarch), ["path"]);
         assert!(graphics.ignored_by(Technique::Direct).is_empty());
         let no_culling = RendererOptions {
-            culling: false,
+            culling: Culling::Off,
             ..defaults
         };
         assert_eq!(no_culling.ignored_by(Technique::Interval), ["culling"]);

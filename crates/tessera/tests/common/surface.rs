@@ -2,7 +2,7 @@
 //! image size and look for all, and the paths a device can draw them on.
 
 use tessera::path::{PathChoice, Support};
-use tessera::renderer::{self, Renderer, RendererOptions, Technique};
+use tessera::renderer::{self, Culling, Renderer, RendererOptions, Technique};
 use tessera_data::scene::{Appearance, Dataset, LoadOptions};
 use tessera_data::{IsoValue, OrbitCamera, RgbaImage};
 use tessera_gpu::Gpu;
@@ -80,7 +80,7 @@ pub fn renderer_for(
 ) -> Box<dyn Renderer> {
     let options = RendererOptions {
         path,
-        culling,
+        culling: if culling { Culling::On } else { Culling::Off },
         ..RendererOptions::default()
     };
     renderer_with(gpu, technique, &options, data, iso)

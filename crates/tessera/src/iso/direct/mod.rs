@@ -15,6 +15,7 @@ pub mod compute;
 pub mod compute_cull;
 mod compute_cull_frame;
 pub mod cull;
+pub mod cull_choice;
 pub mod stereo;
 
 use crate::builtin_shader;
