@@ -185,8 +185,8 @@ impl ParamPoints {
         )?)
     }
 
-    /// [`Self::record`] with the LOD stage and the drawing (points and resolve) in timer scopes
-    /// "lod" and "draw".
+    /// [`Self::record`] with the LOD stage, the points and the resolve in timer scopes "lod",
+    /// "points" and "resolve".
     #[allow(clippy::too_many_arguments)]
     pub fn record_timed(
         &self,
@@ -199,33 +199,44 @@ impl ParamPoints {
         background: [f32; 3],
     ) {
         timer.scope(rec, "lod", |rec| self.lod.record(rec, scene, view, None));
-        timer.scope(rec, "draw", |rec| {
-            self.record_draw(rec, scene, view, frame, pixels, background)
-        });
+        self.record_draw(rec, Some(timer), scene, view, frame, pixels, background);
     }
 
-    /// The points and the resolve of the patches the LOD stage left.
+    /// The points and the resolve of the patches the LOD stage left, each in its timer scope
+    /// where a timer is given.
+    #[allow(clippy::too_many_arguments)]
     fn record_draw(
         &self,
         rec: &Recorder,
+        timer: Option<&mut tessera_gpu::Timer>,
         scene: &GpuParamScene,
         view: &View,
         frame: &PointsFrame,
         pixels: &Target,
         background: [f32; 3],
     ) {
-        self.passes.record(
-            rec,
-            &self.lod,
-            scene,
-            view,
-            frame,
-            pixels,
-            self.options.footprint,
-            self.options.density,
-            self.options.max_side,
-            background,
-        );
+        let o = &self.options;
+        let points = |rec: &Recorder| {
+            let (footprint, density, max_side) = (o.footprint, o.density, o.max_side);
+            let lod = &self.lod;
+            self.passes
+                .record_points(rec, lod, scene, view, frame, footprint, density, max_side)
+        };
+        let resolve = |rec: &Recorder| {
+            let lod = &self.lod;
+            self.passes
+                .record_resolve(rec, lod, scene, view, frame, pixels, background)
+        };
+        match timer {
+            Some(timer) => {
+                timer.scope(rec, "points", points);
+                timer.scope(rec, "resolve", resolve);
+            }
+            None => {
+                points(rec);
+                resolve(rec);
+            }
+        }
     }
 
     /// Records a whole frame (LOD, points, resolve) into `frame`, for benchmarks.
@@ -239,7 +250,7 @@ impl ParamPoints {
         background: [f32; 3],
     ) {
         self.lod.record(rec, scene, view, None);
-        self.record_draw(rec, scene, view, frame, pixels, background);
+        self.record_draw(rec, None, scene, view, frame, pixels, background);
     }
 
     /// Renders `scene` from `camera` at `size` in front of `background`: the image and the GPU

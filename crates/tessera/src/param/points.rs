@@ -136,21 +136,19 @@ impl PointPasses {
         Ok(PointPasses { points, resolve })
     }
 
-    /// Clears the raster, draws the LOD stage's render list into it and resolves it into the
-    /// image. The LOD stage must have been recorded before (its render dispatch arguments).
+    /// Clears the raster and draws the LOD stage's render list into it. The LOD stage must have
+    /// been recorded before (its render dispatch arguments).
     #[allow(clippy::too_many_arguments)]
-    pub fn record(
+    pub fn record_points(
         &self,
         rec: &Recorder,
         lod: &LodStage,
         scene: &GpuParamScene,
         view: &View,
         frame: &PointsFrame,
-        pixels: &Target,
         footprint: Footprint,
         density: f32,
         max_side: u32,
-        background: [f32; 3],
     ) {
         rec.fill_buffer(&frame.raster.depth_payload, u32::MAX);
         rec.barrier();
@@ -181,6 +179,20 @@ impl PointPasses {
             LodStage::dispatch_offset(0),
         );
         rec.barrier();
+    }
+
+    /// Shades the raster the points pass drew into the image.
+    pub fn record_resolve(
+        &self,
+        rec: &Recorder,
+        lod: &LodStage,
+        scene: &GpuParamScene,
+        view: &View,
+        frame: &PointsFrame,
+        pixels: &Target,
+        background: [f32; 3],
+    ) {
+        let [objects, values, table] = lod.scene_bindings(scene);
         let resolve = ResolveParams {
             eye: view.eye.extend(1.0).to_array(),
             light: view.light.extend(0.0).to_array(),
