@@ -9,7 +9,7 @@ use super::{time_frames, BenchRecord, FramePlan};
 use super::{BenchConfig, RecordSink};
 use crate::error::{Error, Result};
 use crate::path::Path;
-use crate::renderer::{self, RendererOptions, Target, Technique};
+use crate::renderer::{self, RendererOptions, Target, Technique, MAX_TIMER_SCOPES};
 use tessera_data::scene::{Dataset, LoadOptions};
 use tessera_data::OrbitCamera;
 use tessera_gpu::Gpu;
@@ -137,7 +137,7 @@ fn measure(
                 let view = renderer.view(camera, size)?;
                 renderer.prepare_frame(gpu, &view)?;
                 let mut recorded = Ok(());
-                let stages = time_frames(gpu, plan, 2, |rec, timer| {
+                let stages = time_frames(gpu, plan, MAX_TIMER_SCOPES, |rec, timer| {
                     if let Err(e) = renderer.record(rec, &view, &target, timer) {
                         recorded = Err(e);
                     }
