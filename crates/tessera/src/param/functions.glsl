@@ -194,11 +194,18 @@ vec3 param_world_position(uint object, float u, float v) {
 
 // Unshaded colour: |direction| from the glyph centre for glyphs (mid grey at the centre), the
 // object's colour otherwise (tessera_data::param::reference::base_colour).
-vec3 param_base_colour(uint object, float u, float v) {
+// The same for the object-space point p of the object.
+vec3 param_colour_at(uint object, vec3 p) {
     if ((param_objects[object].flags & PARAM_FLAG_DIRECTION_COLOUR) != 0u) {
-        vec3 p = param_position(object, u, v);
         float len = length(p);
         return len > 0.0 ? abs(p / len) : vec3(0.5);
+    }
+    return param_objects[object].colour.rgb;
+}
+
+vec3 param_base_colour(uint object, float u, float v) {
+    if ((param_objects[object].flags & PARAM_FLAG_DIRECTION_COLOUR) != 0u) {
+        return param_colour_at(object, param_position(object, u, v));
     }
     return param_objects[object].colour.rgb;
 }

@@ -67,7 +67,54 @@ float param_nudge_inside(float x, float lo, float hi, float by) {
     return x - lo <= hi - x ? x + by : x - by;
 }
 
-vec3 param_world_normal(uint object, float u, float v) {
+// The world direction of object-space tangent t (the model's linear part).
+vec3 param_tangent_to_world(uint object, vec3 t) {
+    return vec3(dot(param_objects[object].model[0].xyz, t), dot(param_objects[object].model[1].xyz, t),
+                dot(param_objects[object].model[2].xyz, t));
+}
+
+// SH glyphs: the object-space point and the world normal at (u, v) from one pass of the SH
+// recurrence with its derivatives, instead of the four further evaluations of the differences.
+// False where that normal is degenerate or a partial collapses (near the poles the azimuth's
+// tangent vanishes), or where the radius is clamped (not differentiable at the clamp): the
+// differences decide there, as on the CPU.
+bool param_glyph_surface(uint object, float u, float v, out vec3 position, out vec3 normal) {
+    ParamObject o = param_objects[object];
+    uint basis = (o.flags >> PARAM_BASIS_SHIFT) & 3u;
+    vec3 r = sh_evaluate_gradient(o.params, o.order, basis, u, v);
+    float mapped = r.x * o.radius_map.x + o.radius_map.y;
+    float radius = clamp(mapped, o.radius_map.z, o.radius_map.w);
+    vec3 direction = param_sphere(u, v);
+    position = direction * radius;
+    normal = vec3(0.0);
+    if (radius != mapped) {
+        return false;
+    }
+    float su = sin(u);
+    float cu = cos(u);
+    float sv = sin(v);
+    float cv = cos(v);
+    vec3 along_u = vec3(cu * cv, cu * sv, -su) * radius + direction * (r.y * o.radius_map.x);
+    vec3 along_v = vec3(-su * sv, su * cv, 0.0) * radius + direction * (r.z * o.radius_map.x);
+    vec3 du = param_tangent_to_world(object, along_u);
+    vec3 dv = param_tangent_to_world(object, along_v);
+    // A partial the other dwarfs (near the poles) goes to the differences' nudged re-measure.
+    if (!(length(dv) >= PARAM_NORMAL_COLLAPSE * length(du)
+          && length(du) >= PARAM_NORMAL_COLLAPSE * length(dv))) {
+        return false;
+    }
+    vec3 n = cross(du, dv);
+    float scale = length(du) * length(dv);
+    if (!param_finite(n) || length(n) <= 1e-6 * scale) {
+        return false;
+    }
+    normal = normalize(n);
+    return true;
+}
+
+// The normal by central differences (one-sided at the domain's edges), with the CPU's rules
+// for collapsed partials.
+vec3 param_difference_normal(uint object, float u, float v) {
     vec4 dom = param_objects[object].domain;
     float u_range = dom.y - dom.x;
     float v_range = dom.w - dom.z;
@@ -115,6 +162,16 @@ vec3 param_world_normal(uint object, float u, float v) {
         return vec3(0.0);
     }
     return normalize(n);
+}
+
+vec3 param_world_normal(uint object, float u, float v) {
+    vec3 position;
+    vec3 normal;
+    if (param_objects[object].kind == PARAM_KIND_SH_GLYPH
+        && param_glyph_surface(object, u, v, position, normal)) {
+        return normal;
+    }
+    return param_difference_normal(object, u, v);
 }
 
 #endif

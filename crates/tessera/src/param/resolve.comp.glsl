@@ -1,7 +1,7 @@
 #version 460
 // Shades the point pass's depth|payload raster into colour: each image pixel averages its k x k
 // raster samples (k = supersampling), each sample re-evaluating its object at the stored (u, v):
-// world position, finite-difference normal and base colour, two-sided Lambert + ambient
+// world position, normal (param/shade.glsl) and base colour, two-sided Lambert + ambient
 // (tessera_data::param::reference::shade), background where nothing was drawn.
 #include "raster/raster.glsl"
 #include "param/shade.glsl"

@@ -78,6 +78,71 @@ float sh_evaluate(uint first, uint order, uint basis, float theta, float phi) {
     return sum;
 }
 
+// sh_evaluate and its partial derivatives: (sum, d sum / d theta, d sum / d phi), the
+// recurrence carried forward with the derivative of each K_l^a alongside (forward-mode
+// differentiation; d cos(theta) = -sin(theta), d sin^a(theta) = a sin^(a-1)(theta) cos(theta)).
+// The sum is formed in sh_evaluate's order.
+vec3 sh_evaluate_gradient(uint first, uint order, uint basis, float theta, float phi) {
+    float s = sin(theta);
+    float x = cos(theta);
+    float s1 = sin(phi);
+    float c1 = cos(phi);
+    float cm = 1.0;         // cos(a phi)
+    float sm = 0.0;         // sin(a phi)
+    float spow = 1.0;       // sin^a theta
+    float spow_below = 0.0; // sin^(a-1) theta
+    vec3 sum = vec3(0.0);
+    for (uint a = 0u; a <= order; ++a) {
+        if (a > 0u) {
+            float c = cm * c1 - sm * s1;
+            sm = sm * c1 + cm * s1;
+            cm = c;
+            spow_below = spow;
+            spow *= s;
+        }
+        vec2 w = sh_weights(a, basis, cm, sm);
+        // sh_weights is linear in (cos, sin): its derivative along phi takes a (-sin, cos).
+        vec2 w_phi = sh_weights(a, basis, -float(a) * sm, float(a) * cm);
+        uint row = a * SH_TABLE_WIDTH;
+        float prev = 0.0;
+        float prev_theta = 0.0;
+        float cur = sh_recurrence[row + a].x * spow;
+        float cur_theta = sh_recurrence[row + a].x * float(a) * spow_below * x;
+        for (uint l = a; l <= order; ++l) {
+            if (l == a + 1u) {
+                float k = sh_recurrence[row + l].x;
+                float next_theta = k * (x * cur_theta - s * cur);
+                prev = cur;
+                prev_theta = cur_theta;
+                cur = k * x * cur;
+                cur_theta = next_theta;
+            } else if (l > a) {
+                vec2 ab = sh_recurrence[row + l];
+                float next = ab.x * (x * cur - ab.y * prev);
+                float next_theta = ab.x * (x * cur_theta - s * cur - ab.y * prev_theta);
+                prev = cur;
+                prev_theta = cur_theta;
+                cur = next;
+                cur_theta = next_theta;
+            }
+            if ((l & 1u) == 0u) {
+                uint centre = first + l * (l + 1u) / 2u;  // index of (l, m = 0)
+                if (a == 0u) {
+                    float c0 = param_values[centre];
+                    sum += vec3(c0 * cur, c0 * cur_theta, 0.0);
+                } else {
+                    float cp = param_values[centre + a];
+                    float cn = param_values[centre - a];
+                    sum += vec3(cp * (w.x * cur) + cn * (w.y * cur),
+                                cp * (w.x * cur_theta) + cn * (w.y * cur_theta),
+                                cp * (w_phi.x * cur) + cn * (w_phi.y * cur));
+                }
+            }
+        }
+    }
+    return sum;
+}
+
 // For one a, the polar half of sh_evaluate: sums over the even l of the m = +a and m = -a
 // coefficients times K_l^a(theta) (for a = 0 both the m = 0 sum), so that at any azimuth
 // the SH sum is the a = 0 sum plus, per a, sh_weights . these sums. Rounds differently from
