@@ -182,6 +182,7 @@ impl PointPasses {
     }
 
     /// Shades the raster the points pass drew into the image.
+    #[allow(clippy::too_many_arguments)]
     pub fn record_resolve(
         &self,
         rec: &Recorder,
