@@ -120,11 +120,10 @@ void glyph_tables(ParamObject o, Patch p, uvec2 origin, uvec2 n) {
     if (lane <= TILE && origin.y + lane <= n.y) {
         uint basis = (o.flags >> PARAM_BASIS_SHIFT) & 3u;
         float v = grid_param(p.v, origin.y + lane, n.y);
-        float s1 = sin(v);
-        float c1 = cos(v);
+        vec2 step = vec2(cos(v), sin(v));
         vec2 cs = vec2(1.0, 0.0);  // cos, sin of a v
         for (uint a = 1u; a < orders; ++a) {
-            cs = vec2(cs.x * c1 - cs.y * s1, cs.y * c1 + cs.x * s1);
+            cs = sh_next_azimuth(cs, step);
             s_azimuth_weights[lane * SH_TABLE_WIDTH + a] = sh_weights(a, basis, cs.x, cs.y);
         }
     }

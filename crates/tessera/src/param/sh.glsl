@@ -27,6 +27,11 @@ vec2 sh_weights(uint a, uint basis, float cm, float sm) {
     return vec2(w_pos, w_neg);
 }
 
+// (cos, sin) of (a + 1) phi from those of a phi and of phi (`step`), by angle addition.
+vec2 sh_next_azimuth(vec2 cs, vec2 step) {
+    return vec2(cs.x * step.x - cs.y * step.y, cs.y * step.x + cs.x * step.y);
+}
+
 // K_l^a from K_{l-1}^a (cur) and K_{l-2}^a (prev), x = cos theta; l > a.
 void sh_next(uint a, uint l, float x, inout float prev, inout float cur) {
     uint row = a * SH_TABLE_WIDTH;
@@ -45,20 +50,16 @@ void sh_next(uint a, uint l, float x, inout float prev, inout float cur) {
 float sh_evaluate(uint first, uint order, uint basis, float theta, float phi) {
     float s = sin(theta);
     float x = cos(theta);
-    float s1 = sin(phi);
-    float c1 = cos(phi);
-    float cm = 1.0;    // cos(a phi)
-    float sm = 0.0;    // sin(a phi)
-    float spow = 1.0;  // sin^a theta
+    vec2 step = vec2(cos(phi), sin(phi));
+    vec2 cs = vec2(1.0, 0.0);  // cos(a phi), sin(a phi)
+    float spow = 1.0;          // sin^a theta
     float sum = 0.0;
     for (uint a = 0u; a <= order; ++a) {
         if (a > 0u) {
-            float c = cm * c1 - sm * s1;
-            sm = sm * c1 + cm * s1;
-            cm = c;
+            cs = sh_next_azimuth(cs, step);
             spow *= s;
         }
-        vec2 w = sh_weights(a, basis, cm, sm);
+        vec2 w = sh_weights(a, basis, cs.x, cs.y);
         float prev = 0.0;
         float cur = sh_recurrence[a * SH_TABLE_WIDTH + a].x * spow;
         for (uint l = a; l <= order; ++l) {
@@ -85,24 +86,20 @@ float sh_evaluate(uint first, uint order, uint basis, float theta, float phi) {
 vec3 sh_evaluate_gradient(uint first, uint order, uint basis, float theta, float phi) {
     float s = sin(theta);
     float x = cos(theta);
-    float s1 = sin(phi);
-    float c1 = cos(phi);
-    float cm = 1.0;         // cos(a phi)
-    float sm = 0.0;         // sin(a phi)
-    float spow = 1.0;       // sin^a theta
-    float spow_below = 0.0; // sin^(a-1) theta
+    vec2 step = vec2(cos(phi), sin(phi));
+    vec2 cs = vec2(1.0, 0.0);  // cos(a phi), sin(a phi)
+    float spow = 1.0;          // sin^a theta
+    float spow_below = 0.0;    // sin^(a-1) theta
     vec3 sum = vec3(0.0);
     for (uint a = 0u; a <= order; ++a) {
         if (a > 0u) {
-            float c = cm * c1 - sm * s1;
-            sm = sm * c1 + cm * s1;
-            cm = c;
+            cs = sh_next_azimuth(cs, step);
             spow_below = spow;
             spow *= s;
         }
-        vec2 w = sh_weights(a, basis, cm, sm);
+        vec2 w = sh_weights(a, basis, cs.x, cs.y);
         // sh_weights is linear in (cos, sin): its derivative along phi takes a (-sin, cos).
-        vec2 w_phi = sh_weights(a, basis, -float(a) * sm, float(a) * cm);
+        vec2 w_phi = sh_weights(a, basis, -float(a) * cs.y, float(a) * cs.x);
         uint row = a * SH_TABLE_WIDTH;
         float prev = 0.0;
         float prev_theta = 0.0;
