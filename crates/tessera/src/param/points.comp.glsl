@@ -105,11 +105,13 @@ void draw_triangle(uint object, uint ia, uint ib, uint ic) {
     }
 }
 
-// Fills the SH tables of the tile at `origin` for glyph `o`; the caller's barrier publishes them.
-void glyph_tables(ParamObject o, Patch p, uvec2 origin, uvec2 n) {
+// Fills the SH tables of the tile at `origin` for glyph `o` (the polar sums only with
+// `new_columns`: they depend on the columns alone); the caller's barrier publishes them.
+void glyph_tables(ParamObject o, Patch p, uvec2 origin, uvec2 n, bool new_columns) {
     uint lane = gl_LocalInvocationIndex;
     uint orders = o.order + 1u;
-    for (uint item = lane; item < (TILE + 1u) * orders; item += TILE * TILE) {
+    uint polar_items = new_columns ? (TILE + 1u) * orders : 0u;
+    for (uint item = lane; item < polar_items; item += TILE * TILE) {
         uint column = item % (TILE + 1u);
         uint a = item / (TILE + 1u);
         if (origin.x + column <= n.x) {
@@ -152,11 +154,15 @@ void main() {
     uint lane = gl_LocalInvocationIndex;
     ParamObject o = param_objects[p.object];
     bool glyph = o.kind == PARAM_KIND_SH_GLYPH;  // uniform over the workgroup
-    // The patch's workgroups along z (lod_prepare) take every z-th tile.
+    // The patch's workgroups along z (lod_prepare) take every z-th tile, column by column so
+    // that a workgroup's next tile mostly shares its columns' SH polar sums.
+    uint tables_column = 0xffffffffu;  // the tile column the polar sums hold
     for (uint t = gl_WorkGroupID.z; t < tiles.x * tiles.y; t += gl_NumWorkGroups.z) {
-        uvec2 origin = uvec2(t % tiles.x, t / tiles.x) * TILE;
+        uvec2 tile = uvec2(t / tiles.y, t % tiles.y);
+        uvec2 origin = tile * TILE;
         if (glyph) {
-            glyph_tables(o, p, origin, n);
+            glyph_tables(o, p, origin, n, tile.x != tables_column);
+            tables_column = tile.x;
             barrier();
         }
         for (uint k = lane; k < POINTS; k += TILE * TILE) {
