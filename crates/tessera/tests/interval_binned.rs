@@ -59,8 +59,7 @@ fn overflowing_lists_grow_and_the_next_frame_bins_every_tet() {
         let target = interval.target(&gpu, w, h).unwrap();
         interval.render(&gpu, &mesh, &target, &cam).unwrap()
     };
-    let per_tet =
-        render(&Interval::new(&gpu, &compiler, &IntervalOptions::new(Path::Compute)).unwrap());
+    let per_tet = render(&Interval::new(&gpu, &compiler, &per_tet_options()).unwrap());
     // Too few entries, and too few tile counters for the screen's 4 × 3 tiles.
     let small = BinCapacity {
         entries: 16,
@@ -95,6 +94,13 @@ fn overflowing_lists_grow_and_the_next_frame_bins_every_tet() {
     assert_clean(&gpu);
 }
 
+fn per_tet_options() -> IntervalOptions {
+    IntervalOptions {
+        compute_scheme: ComputeScheme::PerTet,
+        ..IntervalOptions::new(Path::Compute)
+    }
+}
+
 fn binned_options() -> IntervalOptions {
     IntervalOptions {
         compute_scheme: ComputeScheme::Binned,
@@ -117,7 +123,7 @@ fn per_tet_and_binned_twice(
         distance,
         ..OrbitCamera::default()
     };
-    let per_tet = Interval::new(gpu, &compiler, &IntervalOptions::new(Path::Compute)).unwrap();
+    let per_tet = Interval::new(gpu, &compiler, &per_tet_options()).unwrap();
     let binned = Interval::new(gpu, &compiler, &binned_options()).unwrap();
     let render = |interval: &Interval| {
         let target = interval.target(gpu, w, h).unwrap();

@@ -160,6 +160,72 @@ fn automatic_culling_culls_only_where_the_frame_s_counts_say_it_pays() {
 }
 
 #[test]
+fn interval_s_automatic_scheme_measures_both_and_draws_the_same_sums() {
+    use tessera::renderer::{ComputeScheme, IntervalTuning};
+    let gpu = gpu();
+    let options = |compute_scheme| RendererOptions {
+        path: PathChoice::Compute,
+        interval: IntervalTuning {
+            compute_scheme,
+            ..IntervalTuning::default()
+        },
+        ..RendererOptions::default()
+    };
+    if renderer::create(&gpu, Technique::Interval, &options(ComputeScheme::Auto)).is_err() {
+        skip(
+            "interval's automatic scheme",
+            "no compute path for interval shading",
+        );
+        return;
+    }
+    let tets = load("tets:box:6");
+    let mut binned = with_data(
+        &gpu,
+        Technique::Interval,
+        options(ComputeScheme::Binned),
+        &tets,
+    );
+    renderer::render_image(&gpu, binned.as_mut(), &camera(), SIZE).unwrap();
+    let expected = binned.accumulated(&gpu).unwrap().unwrap();
+    let mut auto = with_data(
+        &gpu,
+        Technique::Interval,
+        options(ComputeScheme::Auto),
+        &tets,
+    );
+    let view = auto.view(&camera(), SIZE).unwrap();
+    let mut frame = Frame::new(&gpu, SIZE).unwrap();
+    let mut schemes = Vec::new();
+    for k in 0..6 {
+        frame.render(&gpu, auto.as_mut(), &view).unwrap();
+        schemes.push(auto.stats().details["binned"] == 1);
+        let got = auto.accumulated(&gpu).unwrap().unwrap();
+        let mut covered = 0;
+        for (i, (a, b)) in got.values.iter().zip(&expected.values).enumerate() {
+            for c in 0..3 {
+                let tolerance = 1e-4 * a[c].abs().max(b[c].abs()) + 1e-7;
+                assert!(
+                    (a[c] - b[c]).abs() <= tolerance,
+                    "frame {k}, pixel {i}: {} against {}",
+                    a[c],
+                    b[c]
+                );
+            }
+            covered += usize::from(a[0] > 0.0);
+        }
+        assert!(covered > 100, "frame {k}: {covered} pixels covered");
+    }
+    assert_eq!(schemes[..2], [true, false], "binned first, then per tet");
+    // A new mesh is measured afresh.
+    auto.set_data(&gpu, &tets).unwrap();
+    frame.render(&gpu, auto.as_mut(), &view).unwrap();
+    assert_eq!(auto.stats().details["binned"], 1);
+    frame.render(&gpu, auto.as_mut(), &view).unwrap();
+    assert_eq!(auto.stats().details["binned"], 0);
+    assert_clean(&gpu);
+}
+
+#[test]
 fn a_still_camera_draws_last_frame_s_visible_blocks_first() {
     let gpu = gpu();
     let data = load("procedural:head:48");

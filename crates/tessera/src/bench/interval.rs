@@ -102,16 +102,25 @@ fn variants(gpu: &Gpu, wanted: &[Path], view: &str, scalar: bool, small: bool) -
             };
             out.push(Variant::new(Path::Compute, tuning, integrand, label));
         }
-        out.push(binned(integrand, &format!("{kind}, binned")));
+        out.push(scheme(
+            ComputeScheme::Binned,
+            integrand,
+            &format!("{kind}, binned"),
+        ));
+        out.push(scheme(
+            ComputeScheme::Auto,
+            integrand,
+            &format!("{kind}, auto"),
+        ));
     }
     out
 }
 
-/// The compute path's binned scheme (its tile limit the automatic one, for the tets its lists
-/// have no room for).
-fn binned(integrand: IntegrandChoice, label: &str) -> Variant {
+/// The compute path's binned or automatic scheme (the tile limit the automatic one, for the
+/// tets the binned lists have no room for).
+fn scheme(compute_scheme: ComputeScheme, integrand: IntegrandChoice, label: &str) -> Variant {
     let tuning = IntervalTuning {
-        compute_scheme: ComputeScheme::Binned,
+        compute_scheme,
         ..IntervalTuning::default()
     };
     Variant::new(Path::Compute, tuning, integrand, label.to_string())
@@ -254,7 +263,12 @@ impl MeshBench<'_> {
                 ..IntervalTuning::default()
             };
             all.push(Variant::new(Path::Compute, tuning, integrand, label));
-            all.push(binned(integrand, "asteroids, binned"));
+            all.push(scheme(
+                ComputeScheme::Binned,
+                integrand,
+                "asteroids, binned",
+            ));
+            all.push(scheme(ComputeScheme::Auto, integrand, "asteroids, auto"));
         }
         for variant in &all {
             let mut r = interval_renderer(gpu, variant, data)?;

@@ -9,8 +9,9 @@ use super::{
 };
 use crate::error::{Error, Result};
 use crate::path::Path;
+use crate::tet::interval::scheme_choice::{AutoScheme, DrawScheme};
 use crate::tet::interval::{
-    GpuTetMesh, Integrand, Interval, IntervalOptions, IntervalTuning, OpticalTarget,
+    ComputeScheme, GpuTetMesh, Integrand, Interval, IntervalOptions, IntervalTuning, OpticalTarget,
 };
 use tessera_data::scene::{Appearance, DataKind, Dataset, ResolvedIntegrand, TetData};
 use tessera_data::transfer::ScalarMode;
@@ -35,6 +36,10 @@ pub(super) struct IntervalRenderer {
     absorption: Option<[f32; 3]>,
     background: [f32; 3],
     accumulation: Option<OpticalTarget>,
+    /// Compute path with the automatic scheme: the choice, the timer of each frame's drawing
+    /// it rests on, and the scheme of the last recorded frame.
+    auto_scheme: Option<(AutoScheme, Timer)>,
+    last_scheme: DrawScheme,
     stats: FrameStats,
     counters: WorkCounters,
 }
@@ -42,7 +47,17 @@ pub(super) struct IntervalRenderer {
 impl IntervalRenderer {
     pub(super) fn new(gpu: &Gpu, options: &RendererOptions) -> Result<IntervalRenderer> {
         let path = super::path_for(gpu.caps(), Technique::Interval, options.path)?;
+        let scheme = options.interval.compute_scheme;
+        let auto_scheme = if path == Path::Compute && scheme == ComputeScheme::Auto {
+            let mut timer = Timer::new(gpu, 1)?;
+            timer.reset(gpu);
+            Some((AutoScheme::default(), timer))
+        } else {
+            None
+        };
         Ok(IntervalRenderer {
+            auto_scheme,
+            last_scheme: scheme.first_draw(),
             path,
             tuning: options.interval,
             data: None,
@@ -124,6 +139,9 @@ impl Renderer for IntervalRenderer {
         };
         self.counters.data_uploads += 1;
         self.counters.data_bytes += mesh.bytes();
+        if let Some((auto, _)) = &mut self.auto_scheme {
+            auto.reset();
+        }
         self.data = Some(MeshOnGpu {
             data: tets.clone(),
             mesh,
@@ -166,7 +184,19 @@ impl Renderer for IntervalRenderer {
             return Err(no_data(Technique::Interval));
         };
         let params = pipelines.params_for_view(&data.mesh, view);
-        let recorded = pipelines.record(rec, &data.mesh, accumulation, &params, Some(timer));
+        let recorded = match &mut self.auto_scheme {
+            // Timed whole, whichever scheme draws, so that the frame's scopes stay the same.
+            Some((auto, own)) => {
+                let scheme = auto.next();
+                self.last_scheme = scheme;
+                timer.scope(rec, "interval", |rec| {
+                    own.scope(rec, "drawing", |rec| {
+                        pipelines.record_with(rec, &data.mesh, accumulation, &params, scheme, None)
+                    })
+                })
+            }
+            None => pipelines.record(rec, &data.mesh, accumulation, &params, Some(timer)),
+        };
         timer.scope(rec, "composite", |rec| {
             pipelines.record_composite(rec, accumulation, target, self.background)
         });
@@ -179,6 +209,12 @@ impl Renderer for IntervalRenderer {
             .as_mut()
             .ok_or_else(|| no_data(Technique::Interval))?;
         let counts = pipelines.read_counts(gpu)?;
+        if let Some((auto, own)) = &mut self.auto_scheme {
+            if let Some(&(_, ms)) = own.read_ms(gpu)?.first() {
+                auto.after_frame(self.last_scheme, ms);
+            }
+            own.reset(gpu);
+        }
         // The frame is complete (the per-tet passes drew what the binned lists had no room
         // for); the lists grow for the next one.
         if let Some(accumulation) = &self.accumulation {
@@ -195,6 +231,10 @@ impl Renderer for IntervalRenderer {
             .into(),
             ..FrameStats::default()
         };
+        if self.path == Path::Compute {
+            let binned = self.last_scheme == DrawScheme::Binned;
+            self.stats.details.insert("binned", u64::from(binned));
+        }
         Ok(FrameOutcome::Done)
     }
 

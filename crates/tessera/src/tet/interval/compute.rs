@@ -8,6 +8,7 @@
 
 use super::binned::{BinCapacity, TetBins};
 use super::mesh::GpuTetMesh;
+use super::scheme_choice::DrawScheme;
 use super::{ComputeScheme, IntervalParams};
 use crate::builtin_shader;
 use crate::error::{Error, Result};
@@ -47,7 +48,7 @@ pub struct IntervalCompute {
     tile_owner: Buffer,
     tile_count: Buffer,
     max_groups_x: u32,
-    /// The binned variant's lists; `None` for the per-tet variant.
+    /// The binned scheme's lists; `None` where only the per-tet scheme is drawn.
     bins: Option<TetBins>,
 }
 
@@ -103,7 +104,7 @@ impl IntervalCompute {
         )?;
         let bins = match scheme {
             ComputeScheme::PerTet => None,
-            ComputeScheme::Binned => {
+            ComputeScheme::Binned | ComputeScheme::Auto => {
                 Some(TetBins::new(gpu, compiler, &defines, &slots, bin_capacity)?)
             }
         };
@@ -119,11 +120,12 @@ impl IntervalCompute {
         })
     }
 
-    /// Records one frame into `target` (cleared to words of `clear` first); `common` are the
-    /// technique's first bindings (`buffers.glsl`). With a `timer`, the frame is one scope,
-    /// `interval`, or for the binned scheme two: `binning` (clearing, counting, scanning and
-    /// scattering; tets the lists cannot hold drawn there) and `interval` (the tile pass and
-    /// the per-tile shading).
+    /// Records one frame into `target` (cleared to words of `clear` first) with `scheme` (the
+    /// binned one needs lists: built unless this was made for the per-tet scheme alone);
+    /// `common` are the technique's first bindings (`buffers.glsl`). With a `timer`, the frame
+    /// is one scope, `interval`, or for the binned scheme two: `binning` (clearing, counting,
+    /// scanning and scattering; tets the lists cannot hold drawn there) and `interval` (the
+    /// tile pass and the per-tile shading).
     #[allow(clippy::too_many_arguments)]
     pub fn record(
         &self,
@@ -133,8 +135,10 @@ impl IntervalCompute {
         target: &Buffer,
         params: &IntervalParams,
         clear: u32,
+        scheme: DrawScheme,
         timer: Option<&mut Timer>,
     ) {
+        let bins = self.bins.as_ref().filter(|_| scheme == DrawScheme::Binned);
         let mut bindings = common.to_vec();
         bindings.extend([
             Binding::Buffer(target),
@@ -147,9 +151,9 @@ impl IntervalCompute {
             push: bytemuck::bytes_of(params),
             size: (params.counts[1], params.counts[2]),
         };
-        let first = |rec: &Recorder| self.record_first_pass(rec, mesh, &frame, target, clear);
-        let rest = |rec: &Recorder| self.record_tiles_and_shading(rec, &frame);
-        match (timer, self.bins.is_some()) {
+        let first = |rec: &Recorder| self.record_first_pass(rec, mesh, &frame, target, clear, bins);
+        let rest = |rec: &Recorder| self.record_tiles_and_shading(rec, &frame, bins);
+        match (timer, bins.is_some()) {
             (None, _) => {
                 first(rec);
                 rest(rec);
@@ -174,10 +178,11 @@ impl IntervalCompute {
         frame: &FramePasses,
         target: &Buffer,
         clear: u32,
+        bins: Option<&TetBins>,
     ) {
         rec.fill_buffer(target, clear);
         rec.fill_buffer(&self.tile_count, 0);
-        if let Some(bins) = &self.bins {
+        if let Some(bins) = bins {
             bins.record_clear(rec);
         }
         rec.barrier();
@@ -185,7 +190,7 @@ impl IntervalCompute {
             mesh.tet_count.div_ceil(TETS_PER_WORKGROUP),
             self.max_groups_x,
         );
-        match &self.bins {
+        match bins {
             None => rec.dispatch_groups(&self.raster, frame.bindings, frame.push, groups),
             Some(bins) => bins.record_binning(
                 rec,
@@ -200,11 +205,16 @@ impl IntervalCompute {
     }
 
     /// The tile pass of the tets handed to it, then the binned scheme's per-tile shading.
-    fn record_tiles_and_shading(&self, rec: &Recorder, frame: &FramePasses) {
+    fn record_tiles_and_shading(
+        &self,
+        rec: &Recorder,
+        frame: &FramePasses,
+        bins: Option<&TetBins>,
+    ) {
         self.indirect.record(rec, &self.tile_count, 1);
         rec.dispatch_indirect(&self.tiles, frame.bindings, frame.push, &self.tile_count, 4);
         rec.barrier();
-        if let Some(bins) = &self.bins {
+        if let Some(bins) = bins {
             bins.record_shade(rec, frame.bindings, frame.push, frame.size);
         }
     }

@@ -20,6 +20,7 @@ pub mod composite;
 pub mod compute;
 pub mod graphics;
 pub mod mesh;
+pub mod scheme_choice;
 
 pub use binned::BinCapacity;
 pub use compute::TileCapacity;
@@ -33,6 +34,7 @@ use composite::Composite;
 use compute::IntervalCompute;
 use graphics::{Combine, IntervalGraphics};
 use mesh::OpticalStore;
+use scheme_choice::DrawScheme;
 use tessera_data::transfer::{IntegrandTable, ScalarMode};
 use tessera_data::{OrbitCamera, RgbaImage, View};
 use tessera_gpu::{vk, Binding, Buffer, Gpu, Recorder, ShaderCompiler, Timer};
@@ -108,14 +110,17 @@ impl Integrand {
 pub enum ComputeScheme {
     /// One invocation per tet adds its pixels with global float atomics; tets above the pixel
     /// limit go to the tile pass ([`compute`]). Faster than binning only where a huge mesh
-    /// is seen small (on the H200 at 3840×2160, a 2.4 M-tet box from afar: 25.9 against
-    /// 36.2 ms, docs/BENCHMARKS.md).
+    /// is seen small (on the H200 at 3840×2160, the 944 k- and 2.4 M-tet boxes from afar:
+    /// 19.1 against 21.8 ms and 26.2 against 36.2 ms, docs/BENCHMARKS.md run 62).
     PerTet,
     /// Tets binned into per-tile lists of 16 × 16-pixel screen tiles, one workgroup per tile
-    /// combining its tets in registers and writing each pixel once ([`binned`]). The default:
-    /// 1.08–2.5× faster than per tet in every other view measured.
-    #[default]
+    /// combining its tets in registers and writing each pixel once ([`binned`]): 1.08–2.5×
+    /// faster than per tet in every other view measured.
     Binned,
+    /// Frame by frame the scheme whose last frame took the least GPU time, the other measured
+    /// again every so often ([`scheme_choice`]). The default.
+    #[default]
+    Auto,
 }
 
 impl ComputeScheme {
@@ -123,6 +128,16 @@ impl ComputeScheme {
         match self {
             ComputeScheme::PerTet => "per tet",
             ComputeScheme::Binned => "binned",
+            ComputeScheme::Auto => "auto",
+        }
+    }
+
+    /// The scheme a frame is drawn with when nothing has been measured (`Auto`: binning, the
+    /// faster in most views).
+    pub fn first_draw(self) -> DrawScheme {
+        match self {
+            ComputeScheme::PerTet => DrawScheme::PerTet,
+            ComputeScheme::Binned | ComputeScheme::Auto => DrawScheme::Binned,
         }
     }
 }
@@ -427,7 +442,8 @@ impl Interval {
         }
     }
 
-    /// Records one frame into `target` (cleared first). With a `timer`, the frame is timed as
+    /// Records one frame into `target` (cleared first), on the compute path with the scheme's
+    /// first choice ([`ComputeScheme::first_draw`]). With a `timer`, the frame is timed as
     /// `interval`, or on the binned compute scheme as `binning` and `interval`
     /// ([`compute::IntervalCompute::record`]).
     pub fn record(
@@ -436,6 +452,21 @@ impl Interval {
         mesh: &GpuTetMesh,
         target: &OpticalTarget,
         params: &IntervalParams,
+        timer: Option<&mut Timer>,
+    ) -> Result<()> {
+        let scheme = self.options.compute_scheme.first_draw();
+        self.record_with(rec, mesh, target, params, scheme, timer)
+    }
+
+    /// [`Self::record`] with the compute path's `scheme` given (binned only where this was
+    /// built for binning or the automatic choice).
+    pub fn record_with(
+        &self,
+        rec: &Recorder,
+        mesh: &GpuTetMesh,
+        target: &OpticalTarget,
+        params: &IntervalParams,
+        scheme: DrawScheme,
         timer: Option<&mut Timer>,
     ) -> Result<()> {
         let common = [
@@ -463,7 +494,7 @@ impl Interval {
                     Integrand::Asteroids => u32::MAX,
                     _ => 0,
                 };
-                c.record(rec, mesh, &common, buffer, params, clear, timer);
+                c.record(rec, mesh, &common, buffer, params, clear, scheme, timer);
                 Ok(())
             }
             _ => Err(Error::Invalid(

@@ -1,0 +1,161 @@
+//! Which compute scheme draws the next frame when the choice is automatic: the one whose last
+//! frame took the least GPU time, each measured afresh every [`PROBE_INTERVAL`] frames.
+//!
+//! Neither scheme wins everywhere (docs/BENCHMARKS.md, run 62): binning is up to 2.5× faster
+//! on most meshes and views, but 13–28 % slower where a huge mesh is seen small, and no count
+//! known before drawing told the two apart (the far view of the 944 k-tet box and the inside
+//! view of the 2.4 M-tet box have the same tets per covered pixel, and opposite winners). So
+//! the renderer times its own frames and lets the times decide.
+
+/// The two ways the compute path draws a frame.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DrawScheme {
+    PerTet,
+    Binned,
+}
+
+impl DrawScheme {
+    fn other(self) -> DrawScheme {
+        match self {
+            DrawScheme::PerTet => DrawScheme::Binned,
+            DrawScheme::Binned => DrawScheme::PerTet,
+        }
+    }
+
+    fn index(self) -> usize {
+        match self {
+            DrawScheme::PerTet => 0,
+            DrawScheme::Binned => 1,
+        }
+    }
+}
+
+/// Frames drawn with the faster scheme between two frames of the other.
+pub const PROBE_INTERVAL: u32 = 60;
+
+/// The automatic choice and the GPU times it rests on.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AutoScheme {
+    /// The last measured frame time of each scheme (milliseconds), by [`DrawScheme::index`].
+    last_ms: [Option<f64>; 2],
+    /// The scheme of the frames between probes.
+    preferred: DrawScheme,
+    /// Frames since the other scheme was last measured.
+    since_probe: u32,
+}
+
+impl Default for AutoScheme {
+    fn default() -> Self {
+        AutoScheme {
+            last_ms: [None; 2],
+            preferred: DrawScheme::Binned,
+            since_probe: 0,
+        }
+    }
+}
+
+impl AutoScheme {
+    /// The scheme of the next frame: the other one when it has not been measured yet or is due
+    /// a new measurement, else the faster.
+    pub fn next(&self) -> DrawScheme {
+        let other = self.preferred.other();
+        let due = self.since_probe >= PROBE_INTERVAL;
+        if self.last_ms[self.preferred.index()].is_some()
+            && (self.last_ms[other.index()].is_none() || due)
+        {
+            other
+        } else {
+            self.preferred
+        }
+    }
+
+    /// After a frame drawn with `scheme` that took `ms` of GPU time.
+    pub fn after_frame(&mut self, scheme: DrawScheme, ms: f64) {
+        self.last_ms[scheme.index()] = Some(ms);
+        if scheme == self.preferred {
+            self.since_probe += 1;
+            return;
+        }
+        self.since_probe = 0;
+        let preferred_ms = self.last_ms[self.preferred.index()];
+        if preferred_ms.is_some_and(|p| ms < p) {
+            self.preferred = scheme;
+        }
+    }
+
+    /// Forgets the times (new data: they no longer hold).
+    pub fn reset(&mut self) {
+        *self = AutoScheme::default();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Runs `frames` frames whose time each scheme's function gives (by frame number).
+    fn run(
+        auto: &mut AutoScheme,
+        frames: u32,
+        per_tet: impl Fn(u32) -> f64,
+        binned: impl Fn(u32) -> f64,
+    ) -> Vec<DrawScheme> {
+        (0..frames)
+            .map(|k| {
+                let scheme = auto.next();
+                let ms = match scheme {
+                    DrawScheme::PerTet => per_tet(k),
+                    DrawScheme::Binned => binned(k),
+                };
+                auto.after_frame(scheme, ms);
+                scheme
+            })
+            .collect()
+    }
+
+    #[test]
+    fn measures_both_then_keeps_the_faster() {
+        let mut auto = AutoScheme::default();
+        let schemes = run(&mut auto, 10, |_| 26.0, |_| 36.0);
+        assert_eq!(schemes[0], DrawScheme::Binned, "binning first");
+        assert_eq!(schemes[1], DrawScheme::PerTet, "then the other");
+        assert!(schemes[2..].iter().all(|&s| s == DrawScheme::PerTet));
+        let mut auto = AutoScheme::default();
+        let schemes = run(&mut auto, 10, |_| 6.1, |_| 2.8);
+        assert!(schemes[2..].iter().all(|&s| s == DrawScheme::Binned));
+    }
+
+    #[test]
+    fn probes_the_other_scheme_and_follows_a_change() {
+        let mut auto = AutoScheme::default();
+        // Binning is faster until frame 100, then per tet is (the view moved away).
+        let frames = 3 * PROBE_INTERVAL;
+        let schemes = run(
+            &mut auto,
+            frames,
+            |_| 10.0,
+            |k| if k < 100 { 5.0 } else { 15.0 },
+        );
+        let per_tet: Vec<usize> = schemes
+            .iter()
+            .enumerate()
+            .filter(|(_, &s)| s == DrawScheme::PerTet)
+            .map(|(k, _)| k)
+            .collect();
+        // Frame 1 measures per tet; the next probe comes PROBE_INTERVAL binned frames later.
+        assert_eq!(per_tet[..2], [1, 2 + PROBE_INTERVAL as usize]);
+        // That probe (frame 62) still finds binning faster; the one after frame 100 switches.
+        let switched = 3 + 2 * PROBE_INTERVAL as usize;
+        assert!(schemes[switched..].iter().all(|&s| s == DrawScheme::PerTet));
+        assert_eq!(schemes[switched - 1], DrawScheme::Binned);
+    }
+
+    #[test]
+    fn reset_measures_again() {
+        let mut auto = AutoScheme::default();
+        run(&mut auto, 5, |_| 1.0, |_| 2.0);
+        assert_eq!(auto.next(), DrawScheme::PerTet);
+        auto.reset();
+        assert_eq!(auto.next(), DrawScheme::Binned);
+    }
+}
