@@ -4,9 +4,7 @@ use crate::data::{IsoArgs, VolumeArgs};
 use anyhow::Result;
 use clap::Args;
 use tessera::path::PathChoice;
-use tessera::renderer::{
-    AmbientOcclusion, Culling, Light, PmbBlockSize, RendererOptions, Technique,
-};
+use tessera::renderer::{AmbientOcclusion, Light, PmbBlockSize, RendererOptions, Technique};
 use tessera_data::scene::parse::{
     parse_basis, parse_colour, parse_glyph_radius, parse_integrand, parse_param_range, parse_range,
     parse_triple,
@@ -150,11 +148,10 @@ pub struct PathArgs {
     /// (from capabilities and `tessera bench pipeline-throughput` if it ran on this device).
     #[arg(long, default_value = "auto", value_parser = PathChoice::parse)]
     path: PathChoice,
-    /// Raster occlusion culling for rasterizing techniques (direct), frustum culling of
-    /// meshlets and PMB blocks: on, off, or auto (direct's compute path culls only where the
-    /// frame's counts say it pays; elsewhere on).
-    #[arg(long, default_value = "auto", value_parser = Culling::parse)]
-    culling: Culling,
+    /// Occlusion culling of direct, frustum culling of meshlets and PMB blocks: on, off or auto
+    /// (direct's compute path culls only in frames where it pays; elsewhere on).
+    #[arg(long, default_value = "auto", value_parser = tessera::renderer::Culling::parse)]
+    culling: tessera::renderer::Culling,
     /// Block size of pmb's extraction: 4x4x4, 8x4x4, 8x8x4 or 8x8x8.
     #[arg(long, default_value = "8x8x4", value_parser = parse_pmb_block)]
     pmb_block: PmbBlockSize,
