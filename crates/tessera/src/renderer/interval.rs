@@ -220,19 +220,20 @@ impl Renderer for IntervalRenderer {
         if let Some(accumulation) = &self.accumulation {
             pipelines.grow_buffers(gpu, (accumulation.width, accumulation.height))?;
         }
+        let binned = self.last_scheme == DrawScheme::Binned;
         self.stats = FrameStats {
             tets_clipped: Some(u64::from(counts.clipped_near)),
             details: [
                 ("tiled_tets", u64::from(counts.tiled)),
                 ("overflowed_tets", u64::from(counts.overflowed)),
                 ("unbinned_tets", u64::from(counts.unbinned)),
-                ("bin_entries", u64::from(counts.bin_entries)),
+                // The lists keep the last binned frame's entries through per-tet frames.
+                ("bin_entries", u64::from(counts.bin_entries) * u64::from(binned)),
             ]
             .into(),
             ..FrameStats::default()
         };
         if self.path == Path::Compute {
-            let binned = self.last_scheme == DrawScheme::Binned;
             self.stats.details.insert("binned", u64::from(binned));
         }
         Ok(FrameOutcome::Done)
