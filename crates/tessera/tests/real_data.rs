@@ -229,3 +229,71 @@ fn meshlets_and_pmb_of_real_scans_equal_the_cpu_reference() {
     }
     assert_clean(&gpu);
 }
+
+/// `direct`'s compute path through the front door on the MRI head with culling off, on and
+/// automatic: every frame of a turning camera draws the same image, whichever way each frame
+/// took; the automatic choice culls where the frame's counts say culling pays.
+#[test]
+fn direct_culling_choices_draw_the_same_mri_head() {
+    use tessera::path::PathChoice;
+    use tessera::renderer::{self, Culling, Frame, RendererOptions, Technique};
+    use tessera_data::scene::{Appearance, Dataset};
+    use tessera_data::IsoValue;
+    let Some(volume) = brainsmall() else { return };
+    let gpu = gpu();
+    let data = Dataset::Volume(volume);
+    let size = (128, 96);
+    let mut renderers = Vec::new();
+    for culling in [Culling::Off, Culling::On, Culling::Auto] {
+        let options = RendererOptions {
+            path: PathChoice::Compute,
+            culling,
+            ..RendererOptions::default()
+        };
+        let Ok(mut r) = renderer::create(&gpu, Technique::Direct, &options) else {
+            skip("", "no compute path for direct");
+            return;
+        };
+        r.set_data(&gpu, &data).unwrap();
+        r.set_appearance(
+            &gpu,
+            &Appearance {
+                iso: IsoValue::Raw(60.0),
+                ..Appearance::default()
+            },
+        )
+        .unwrap();
+        renderers.push(r);
+    }
+    let mut frame = Frame::new(&gpu, size).unwrap();
+    let mut auto_culled = 0;
+    for k in 0..8 {
+        let camera = OrbitCamera {
+            azimuth_deg: 20.0 + 25.0 * k as f32,
+            elevation_deg: 15.0,
+            distance: if k % 2 == 0 { 1.8 } else { 0.9 },
+            ..OrbitCamera::default()
+        };
+        let mut images = Vec::new();
+        for r in &mut renderers {
+            let view = r.view(&camera, size).unwrap();
+            frame.render(&gpu, r.as_mut(), &view).unwrap();
+            images.push(frame.target.read(&gpu).unwrap());
+        }
+        let auto = renderers[2].stats();
+        auto_culled += auto.details["culled"];
+        assert_eq!(
+            auto.details["culled"] == 1,
+            auto.blocks_drawn.is_some(),
+            "frame {k}"
+        );
+        assert!(
+            !images[0].pixels.contains(&u32::MAX),
+            "frame {k}: unwritten pixels"
+        );
+        assert_eq!(images[1].pixels, images[0].pixels, "frame {k}: culled");
+        assert_eq!(images[2].pixels, images[0].pixels, "frame {k}: automatic");
+    }
+    assert!(auto_culled >= 2, "the first two frames probe culling");
+    assert_clean(&gpu);
+}

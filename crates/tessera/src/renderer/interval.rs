@@ -228,7 +228,10 @@ impl Renderer for IntervalRenderer {
                 ("overflowed_tets", u64::from(counts.overflowed)),
                 ("unbinned_tets", u64::from(counts.unbinned)),
                 // The lists keep the last binned frame's entries through per-tet frames.
-                ("bin_entries", u64::from(counts.bin_entries) * u64::from(binned)),
+                (
+                    "bin_entries",
+                    u64::from(counts.bin_entries) * u64::from(binned),
+                ),
             ]
             .into(),
             ..FrameStats::default()
