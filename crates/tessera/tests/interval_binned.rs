@@ -19,24 +19,8 @@ use tessera_data::tet::TetMesh;
 use tessera_data::OrbitCamera;
 use tessera_gpu::Gpu;
 
-/// Every pixel of `a` within a relative 1e-4 of `b` (the sums' order differs); returns how
-/// many pixels hold something.
 fn assert_same_values(name: &str, a: &IntervalFrame, b: &IntervalFrame) -> usize {
-    assert_eq!(a.values.len(), b.values.len());
-    let mut covered = 0;
-    for (i, (x, y)) in a.values.iter().zip(&b.values).enumerate() {
-        for c in 0..3 {
-            let tolerance = 1e-4 * x[c].abs().max(y[c].abs()) + 1e-7;
-            assert!(
-                (x[c] - y[c]).abs() <= tolerance,
-                "{name}: pixel {i} channel {c}: {} against {}",
-                x[c],
-                y[c]
-            );
-        }
-        covered += usize::from(x[0] > 0.0);
-    }
-    covered
+    common::interval::assert_same_sums(name, &a.values, &b.values)
 }
 
 #[test]

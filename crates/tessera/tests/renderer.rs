@@ -200,19 +200,8 @@ fn interval_s_automatic_scheme_measures_both_and_draws_the_same_sums() {
         frame.render(&gpu, auto.as_mut(), &view).unwrap();
         schemes.push(auto.stats().details["binned"] == 1);
         let got = auto.accumulated(&gpu).unwrap().unwrap();
-        let mut covered = 0;
-        for (i, (a, b)) in got.values.iter().zip(&expected.values).enumerate() {
-            for c in 0..3 {
-                let tolerance = 1e-4 * a[c].abs().max(b[c].abs()) + 1e-7;
-                assert!(
-                    (a[c] - b[c]).abs() <= tolerance,
-                    "frame {k}, pixel {i}: {} against {}",
-                    a[c],
-                    b[c]
-                );
-            }
-            covered += usize::from(a[0] > 0.0);
-        }
+        let name = format!("frame {k}");
+        let covered = common::interval::assert_same_sums(&name, &got.values, &expected.values);
         assert!(covered > 100, "frame {k}: {covered} pixels covered");
     }
     assert_eq!(schemes[..2], [true, false], "binned first, then per tet");

@@ -13,6 +13,26 @@ use tessera_data::tet::TetMesh;
 use tessera_data::OrbitCamera;
 use tessera_gpu::Gpu;
 
+/// Every value of `a` within a relative 1e-4 of `b`'s (1e-7 absolute where tiny): the same
+/// sums taken in another order. Returns how many pixels hold something.
+pub fn assert_same_sums(name: &str, a: &[[f32; 3]], b: &[[f32; 3]]) -> usize {
+    assert_eq!(a.len(), b.len(), "{name}: pixel counts");
+    let mut covered = 0;
+    for (i, (x, y)) in a.iter().zip(b).enumerate() {
+        for c in 0..3 {
+            let tolerance = 1e-4 * x[c].abs().max(y[c].abs()) + 1e-7;
+            assert!(
+                (x[c] - y[c]).abs() <= tolerance,
+                "{name}: pixel {i} channel {c}: {} against {}",
+                x[c],
+                y[c]
+            );
+        }
+        covered += usize::from(x[0] > 0.0);
+    }
+    covered
+}
+
 /// How far the path's rasterizer may move a proxy's corners, in pixels: the graphics path
 /// interpolates attributes over the triangle with its corners snapped to the sub-pixel grid
 /// (NVIDIA does; lavapipe interpolates from the exact corners), the compute path draws the
