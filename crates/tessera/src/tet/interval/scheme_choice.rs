@@ -1,5 +1,7 @@
 //! Which compute scheme draws the next frame when the choice is automatic: the one whose last
-//! frame took the least GPU time, each measured afresh every [`PROBE_INTERVAL`] frames.
+//! frame took the least GPU time, the other measured afresh every [`PROBE_INTERVAL`] frames, or
+//! up to [`MAX_PROBE_BACKOFF`] times less often while it keeps losing (a probe of the slower
+//! scheme is a slow frame: 2× the time inside the 2.4 M-tet box).
 //!
 //! Neither scheme wins everywhere (docs/BENCHMARKS.md, run 62): binning is up to 2.5× faster
 //! on most meshes and views, but 13–28 % slower where a huge mesh is seen small, and no count
@@ -32,6 +34,8 @@ impl DrawScheme {
 
 /// Frames drawn with the faster scheme between two frames of the other.
 pub const PROBE_INTERVAL: u32 = 60;
+/// The most the probe interval grows (doubling with each probe the other scheme loses).
+pub const MAX_PROBE_BACKOFF: u32 = 16;
 
 /// The automatic choice and the GPU times it rests on.
 #[derive(Debug, Clone, PartialEq)]
@@ -42,6 +46,8 @@ pub struct AutoScheme {
     preferred: DrawScheme,
     /// Frames since the other scheme was last measured.
     since_probe: u32,
+    /// The current probe interval in units of [`PROBE_INTERVAL`].
+    backoff: u32,
 }
 
 impl Default for AutoScheme {
@@ -50,6 +56,7 @@ impl Default for AutoScheme {
             last_ms: [None; 2],
             preferred: DrawScheme::Binned,
             since_probe: 0,
+            backoff: 1,
         }
     }
 }
@@ -59,7 +66,7 @@ impl AutoScheme {
     /// a new measurement, else the faster.
     pub fn next(&self) -> DrawScheme {
         let other = self.preferred.other();
-        let due = self.since_probe >= PROBE_INTERVAL;
+        let due = self.since_probe >= PROBE_INTERVAL * self.backoff;
         if self.last_ms[self.preferred.index()].is_some()
             && (self.last_ms[other.index()].is_none() || due)
         {
@@ -71,6 +78,7 @@ impl AutoScheme {
 
     /// After a frame drawn with `scheme` that took `ms` of GPU time.
     pub fn after_frame(&mut self, scheme: DrawScheme, ms: f64) {
+        let first_measure = self.last_ms[scheme.index()].is_none();
         self.last_ms[scheme.index()] = Some(ms);
         if scheme == self.preferred {
             self.since_probe += 1;
@@ -80,6 +88,9 @@ impl AutoScheme {
         let preferred_ms = self.last_ms[self.preferred.index()];
         if preferred_ms.is_some_and(|p| ms < p) {
             self.preferred = scheme;
+            self.backoff = 1;
+        } else if !first_measure {
+            self.backoff = (self.backoff * 2).min(MAX_PROBE_BACKOFF);
         }
     }
 
@@ -126,28 +137,41 @@ mod tests {
     }
 
     #[test]
-    fn probes_the_other_scheme_and_follows_a_change() {
+    fn probes_less_often_while_the_other_loses_and_follows_a_change() {
         let mut auto = AutoScheme::default();
-        // Binning is faster until frame 100, then per tet is (the view moved away).
-        let frames = 3 * PROBE_INTERVAL;
+        // Binning is faster until frame 300, then per tet is (the view moved away).
         let schemes = run(
             &mut auto,
-            frames,
+            500,
             |_| 10.0,
-            |k| if k < 100 { 5.0 } else { 15.0 },
+            |k| if k < 300 { 5.0 } else { 15.0 },
         );
-        let per_tet: Vec<usize> = schemes
-            .iter()
-            .enumerate()
-            .filter(|(_, &s)| s == DrawScheme::PerTet)
-            .map(|(k, _)| k)
+        let at = |from: usize, to: usize, scheme| schemes[from..to].iter().all(|&s| s == scheme);
+        let interval = PROBE_INTERVAL as usize;
+        // Frame 1 measures per tet; the probes after it come after 60, 120, 240 binned frames.
+        let probes = [1, 2 + interval, 3 + 3 * interval, 4 + 7 * interval];
+        let per_tet: Vec<usize> = (0..300)
+            .filter(|&k| schemes[k] == DrawScheme::PerTet)
             .collect();
-        // Frame 1 measures per tet; the next probe comes PROBE_INTERVAL binned frames later.
-        assert_eq!(per_tet[..2], [1, 2 + PROBE_INTERVAL as usize]);
-        // That probe (frame 62) still finds binning faster; the one after frame 100 switches.
-        let switched = 3 + 2 * PROBE_INTERVAL as usize;
-        assert!(schemes[switched..].iter().all(|&s| s == DrawScheme::PerTet));
-        assert_eq!(schemes[switched - 1], DrawScheme::Binned);
+        assert_eq!(per_tet, probes[..3]);
+        // The fourth probe (frame 424) finds per tet faster and stays with it; the binned
+        // probe 60 frames later loses.
+        assert!(at(probes[3], probes[3] + interval + 1, DrawScheme::PerTet));
+        assert_eq!(schemes[probes[3] + interval + 1], DrawScheme::Binned);
+        assert!(at(probes[3] + interval + 2, 500, DrawScheme::PerTet));
+    }
+
+    #[test]
+    fn the_probe_interval_stops_growing() {
+        let mut auto = AutoScheme::default();
+        let schemes = run(&mut auto, 10_000, |_| 10.0, |_| 5.0);
+        let probes: Vec<usize> = (0..schemes.len())
+            .filter(|&k| schemes[k] == DrawScheme::PerTet)
+            .collect();
+        let gaps: Vec<usize> = probes.windows(2).map(|w| w[1] - w[0] - 1).collect();
+        let longest = (PROBE_INTERVAL * MAX_PROBE_BACKOFF) as usize;
+        assert_eq!(gaps[..5], [60, 120, 240, 480, 960]);
+        assert!(gaps[5..].iter().all(|&g| g == longest), "{gaps:?}");
     }
 
     #[test]
