@@ -167,6 +167,10 @@ impl Renderer for IntervalRenderer {
         if !fits {
             self.accumulation = None;
             self.accumulation = Some(pipelines.target(gpu, view.size.0, view.size.1)?);
+            // Another image size changes what each scheme costs: measure both again.
+            if let Some((auto, _)) = &mut self.auto_scheme {
+                auto.reset();
+            }
         }
         Ok(())
     }

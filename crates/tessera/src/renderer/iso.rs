@@ -235,6 +235,10 @@ impl Renderer for IsoRenderer {
                     } else {
                         None
                     };
+                    // A new culling state has no visible set yet: probe afresh.
+                    if let Some(auto) = &mut self.auto_culling {
+                        auto.reset();
+                    }
                     self.frame = FrameBuffers::Compute { target, culling };
                 }
             }
