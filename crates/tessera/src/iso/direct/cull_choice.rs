@@ -75,7 +75,8 @@ impl AutoCulling {
         matches!(self.state, Choice::Culled { .. })
     }
 
-    /// Starts over with a probe (new data or isovalue: what was measured no longer holds).
+    /// Starts over with a probe (new data, look or image size: what was measured no longer
+    /// holds).
     pub fn reset(&mut self) {
         *self = AutoCulling::new(self.costs);
     }

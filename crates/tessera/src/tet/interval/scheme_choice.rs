@@ -94,7 +94,7 @@ impl AutoScheme {
         }
     }
 
-    /// Forgets the times (new data: they no longer hold).
+    /// Forgets the times (new data or another image size: they no longer hold).
     pub fn reset(&mut self) {
         *self = AutoScheme::default();
     }
