@@ -247,24 +247,44 @@ fn assert_image_matches(
     cam: &OrbitCamera,
     options: ParamPointsOptions,
 ) -> f64 {
-    assert_image_matches_within(gpu, name, scene, cam, options, 0.98)
+    assert_image_matches_within(gpu, name, scene, cam, options, ImageBar::default())
 }
 
-/// [`assert_image_matches`] with `min_within` of the co-covered pixels within 4/255.
+/// What [`assert_image_matches_within`] holds an image to.
+struct ImageBar {
+    size: (u32, u32),
+    /// The least share of the co-covered pixels within 4/255.
+    min_within: f64,
+    /// The largest share of them more than 16/255 off (pinholes show the far side).
+    max_far_off: f64,
+}
+
+impl Default for ImageBar {
+    fn default() -> Self {
+        ImageBar {
+            size: SIZE,
+            min_within: 0.98,
+            max_far_off: 1.0,
+        }
+    }
+}
+
+/// [`assert_image_matches`] held to `bar`.
 fn assert_image_matches_within(
     gpu: &Gpu,
     name: &str,
     scene: &ParamScene,
     cam: &OrbitCamera,
     options: ParamPointsOptions,
-    min_within: f64,
+    bar: ImageBar,
 ) -> f64 {
+    let size = bar.size;
     let compiler = shaders::compiler();
     let points = ParamPoints::new(gpu, &compiler, options).unwrap();
     let gpu_scene = GpuParamScene::upload(gpu, scene).unwrap();
-    let view = points.view(&gpu_scene, cam, SIZE).unwrap();
+    let view = points.view(&gpu_scene, cam, size).unwrap();
     let frame = PointsFrame::new(gpu, &view).unwrap();
-    let pixels = Target::new(gpu, SIZE.0, SIZE.1).unwrap();
+    let pixels = Target::new(gpu, size.0, size.1).unwrap();
     pixels.poison(gpu, POISON).unwrap();
     let info = points
         .render_frame(gpu, &gpu_scene, &view, &frame, &pixels, BACKGROUND)
@@ -278,14 +298,16 @@ fn assert_image_matches_within(
     let reference =
         render_reference(&objects, &view.reference(), BACKGROUND, DEFAULT_MAX_CELL_PX).unwrap();
     let (iou, within, covered) = compare(&image, &reference);
+    let far_off = 1.0 - far_within(&image, &reference);
     eprintln!(
-        "{name}: IoU {iou:.4}, {:.2}% of co-covered pixels within 4/255, {covered} covered, \
-         {} patches, GPU {:.1} ms",
+        "{name}: IoU {iou:.4}, {:.2}% of co-covered pixels within 4/255, {:.3}% more than \
+         16/255 off, {covered} covered, {} patches, GPU {:.1} ms",
         within * 100.0,
+        far_off * 100.0,
         info.stats.rendered,
         info.gpu_ms
     );
-    let (w, h) = SIZE;
+    let (w, h) = size;
     if std::env::var_os("TESSERA_KEEP_IMAGES").is_some() {
         write_png(&out_dir().join(format!("param-{name}-actual.png")), &image);
         write_png(
@@ -294,7 +316,8 @@ fn assert_image_matches_within(
         );
     }
     if iou < 0.99
-        || within < min_within
+        || within < bar.min_within
+        || far_off > bar.max_far_off
         || covered < (w * h / 10) as usize
         || info.stats.skipped_cells > 0
     {
@@ -306,7 +329,8 @@ fn assert_image_matches_within(
             &image.diff_image(&reference),
         );
         panic!(
-            "{name}: IoU {iou}, within {within}, covered {covered}, skipped cells {}; images in {}",
+            "{name}: IoU {iou}, within {within}, {far_off} more than 16/255 off, covered {covered}, \
+             skipped cells {}; images in {}",
             info.stats.skipped_cells,
             dir.display()
         );
@@ -369,7 +393,37 @@ fn glyph_seen_from_inside_matches_the_reference() {
         &one(glyph8()),
         &camera(60.0, -25.0, 0.15),
         points_opts!(),
-        0.9,
+        ImageBar {
+            min_within: 0.9,
+            ..ImageBar::default()
+        },
+    );
+    assert_clean(&gpu);
+}
+
+/// A close-up of an order-12 glyph: the patches at the two ends of its azimuth meet along a
+/// meridian, each sampling it at its own count; unless they overlap there, the seam leaves a
+/// dotted line of pinholes through to the far side (on lavapipe 0.089 % of the co-covered
+/// pixels more than 16/255 off; 0.014 % with the overlap).
+#[test]
+fn glyph_close_up_has_no_pinholes_along_its_seam() {
+    let gpu = gpu();
+    let data =
+        tessera_data::scene::Dataset::load("param:sh-glyph:order12", &Default::default()).unwrap();
+    let tessera_data::scene::Dataset::Param(glyph) = data else {
+        unreachable!()
+    };
+    assert_image_matches_within(
+        &gpu,
+        "glyph-seam",
+        &glyph.scene,
+        &camera(30.0, 20.0, 1.8),
+        points_opts!(),
+        ImageBar {
+            size: (400, 400),
+            max_far_off: 0.0004,
+            ..ImageBar::default()
+        },
     );
     assert_clean(&gpu);
 }

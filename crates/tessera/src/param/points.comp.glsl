@@ -40,6 +40,7 @@ layout(push_constant) uniform PointsParams {
 const uint TILE = 8u;
 const uint POINTS = (TILE + 1u) * (TILE + 1u);
 const float EDGE_SLACK = 1.0 / 64.0;
+const float OVERLAP_CELLS = 0.5;
 // A triangle whose pixel rectangle is larger than this is skipped (and counted).
 const uint MAX_TRIANGLE_PIXELS = 4096u;
 
@@ -51,6 +52,15 @@ shared vec2 s_uv[POINTS];
 // point's radius takes 2(L + 1) products instead of the whole recurrence.
 shared vec2 s_polar_sums[(TILE + 1u) * SH_TABLE_WIDTH];  // [column][a]
 shared vec2 s_azimuth_weights[(TILE + 1u) * SH_TABLE_WIDTH];  // [row][a]
+
+// A patch's parameter range `r` reaching OVERLAP_CELLS of a cell past each end into the
+// neighbouring patch, inside the domain `d`: neighbours sample their shared edge at different
+// counts, and the polylines part by up to a pixel (T-junctions); patches overlapping on the
+// surface itself close those gaps without widening anything on screen.
+vec2 overlapped(vec2 r, uint n, vec2 d) {
+    float reach = OVERLAP_CELLS * (r.y - r.x) / float(n);
+    return vec2(max(r.x - reach, d.x), min(r.y + reach, d.y));
+}
 
 float grid_param(vec2 r, uint i, uint n) {
     return i == 0u ? r.x : (i == n ? r.y : r.x + (r.y - r.x) * (float(i) / float(n)));
@@ -107,7 +117,7 @@ void draw_triangle(uint object, uint ia, uint ib, uint ic) {
 
 // Fills the SH tables of the tile at `origin` for glyph `o` (the polar sums only with
 // `new_columns`: they depend on the columns alone); the caller's barrier publishes them.
-void glyph_tables(ParamObject o, Patch p, uvec2 origin, uvec2 n, bool new_columns) {
+void glyph_tables(ParamObject o, vec2 u_range, vec2 v_range, uvec2 origin, uvec2 n, bool new_columns) {
     uint lane = gl_LocalInvocationIndex;
     uint orders = o.order + 1u;
     uint polar_items = new_columns ? (TILE + 1u) * orders : 0u;
@@ -115,13 +125,13 @@ void glyph_tables(ParamObject o, Patch p, uvec2 origin, uvec2 n, bool new_column
         uint column = item % (TILE + 1u);
         uint a = item / (TILE + 1u);
         if (origin.x + column <= n.x) {
-            float u = grid_param(p.u, origin.x + column, n.x);
+            float u = grid_param(u_range, origin.x + column, n.x);
             s_polar_sums[column * SH_TABLE_WIDTH + a] = sh_polar_sums(o.params, o.order, a, u);
         }
     }
     if (lane <= TILE && origin.y + lane <= n.y) {
         uint basis = (o.flags >> PARAM_BASIS_SHIFT) & 3u;
-        float v = grid_param(p.v, origin.y + lane, n.y);
+        float v = grid_param(v_range, origin.y + lane, n.y);
         vec2 step = vec2(cos(v), sin(v));
         vec2 cs = vec2(1.0, 0.0);  // cos, sin of a v
         for (uint a = 1u; a < orders; ++a) {
@@ -154,6 +164,11 @@ void main() {
     uint lane = gl_LocalInvocationIndex;
     ParamObject o = param_objects[p.object];
     bool glyph = o.kind == PARAM_KIND_SH_GLYPH;  // uniform over the workgroup
+    bool cells = params.footprint == FOOTPRINT_CELL;
+    vec2 u_range = cells ? overlapped(p.u, n.x, o.domain.xy) : p.u;
+    // A glyph's azimuth is periodic: patches at its two ends overlap across the seam.
+    vec2 v_domain = glyph ? vec2(-1e30, 1e30) : o.domain.zw;
+    vec2 v_range = cells ? overlapped(p.v, n.y, v_domain) : p.v;
     // The patch's workgroups along z (lod_prepare) take every z-th tile, column by column so
     // that a workgroup's next tile mostly shares its columns' SH polar sums.
     uint tables_column = 0xffffffffu;  // the tile column the polar sums hold
@@ -161,7 +176,7 @@ void main() {
         uvec2 tile = uvec2(t / tiles.y, t % tiles.y);
         uvec2 origin = tile * TILE;
         if (glyph) {
-            glyph_tables(o, p, origin, n, tile.x != tables_column);
+            glyph_tables(o, u_range, v_range, origin, n, tile.x != tables_column);
             tables_column = tile.x;
             barrier();
         }
@@ -171,8 +186,8 @@ void main() {
             if (any(greaterThan(g, n))) {
                 continue;
             }
-            float u = grid_param(p.u, g.x, n.x);
-            float v = grid_param(p.v, g.y, n.y);
+            float u = grid_param(u_range, g.x, n.x);
+            float v = grid_param(v_range, g.y, n.y);
             vec3 world = glyph ? glyph_world_position(p.object, o, column_row.x, column_row.y, u, v)
                                : param_world_position(p.object, u, v);
             vec2 pixel;

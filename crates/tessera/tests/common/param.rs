@@ -78,6 +78,16 @@ pub fn compare(image: &RgbaImage, reference: &RgbaImage) -> (f64, f64, usize) {
     )
 }
 
+/// Fraction of the co-covered pixels within 16/255: the rest show another surface than the
+/// reference (a hole through to the far side, say), not a shading difference.
+pub fn far_within(image: &RgbaImage, reference: &RgbaImage) -> f64 {
+    let bg = pack_rgba8([BACKGROUND[0], BACKGROUND[1], BACKGROUND[2], 1.0]);
+    let a = coverage_of(image, bg);
+    let b = coverage_of(reference, bg);
+    let both: Vec<bool> = a.iter().zip(&b).map(|(x, y)| *x && *y).collect();
+    image.compare_where(reference, &both, 16).fraction_within
+}
+
 /// `ParamPointsOptions` with some fields changed from the defaults.
 #[macro_export]
 macro_rules! points_opts {
