@@ -166,8 +166,9 @@ void main() {
     bool glyph = o.kind == PARAM_KIND_SH_GLYPH;  // uniform over the workgroup
     bool cells = params.footprint == FOOTPRINT_CELL;
     vec2 u_range = cells ? overlapped(p.u, n.x, o.domain.xy) : p.u;
-    // A glyph's azimuth is periodic: patches at its two ends overlap across the seam.
-    vec2 v_domain = glyph ? vec2(-1e30, 1e30) : o.domain.zw;
+    // A closed seam along v (a sphere's or glyph's azimuth): patches at its two ends overlap
+    // across it.
+    vec2 v_domain = (o.flags & PARAM_FLAG_PERIODIC_V) != 0u ? vec2(-1e30, 1e30) : o.domain.zw;
     vec2 v_range = cells ? overlapped(p.v, n.y, v_domain) : p.v;
     // The patch's workgroups along z (lod_prepare) take every z-th tile, column by column so
     // that a workgroup's next tile mostly shares its columns' SH polar sums.

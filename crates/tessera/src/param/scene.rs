@@ -4,7 +4,7 @@
 //! GPU layout, bindings 0–2 of every pass:
 //! * `ParamObject param_objects[]` ([`GpuObject`], 112 bytes): object-to-world rows, colour,
 //!   domain, the SH radius map, the function's kind, the offset of its parameters, SH order and
-//!   flags (direction colouring, SH basis).
+//!   flags (direction colouring, positive lobes, a closed seam along v, SH basis).
 //! * `float param_values[]`: the objects' parameters (SH coefficients as f32, the seashell's and
 //!   the yarn tube's constants), at least one.
 //! * `vec2 sh_recurrence[]`: the SH recurrence factors, built once per device
@@ -46,6 +46,9 @@ pub const FLAG_DIRECTION_COLOUR: u32 = 1;
 /// know (its squared implicit form holds negative lobes too; the radius map clamps them away
 /// for the other techniques).
 pub const FLAG_POSITIVE_LOBES: u32 = 2;
+/// `PARAM_FLAG_PERIODIC_V`: the surface at `v` and at `v` plus the domain's `v` span is the
+/// same (a closed seam), so patches may reach across it.
+pub const FLAG_PERIODIC_V: u32 = 4;
 /// Bits 4–5 of the flags hold the SH basis (`SH_*` codes).
 pub const BASIS_SHIFT: u32 = 4;
 
@@ -80,8 +83,8 @@ pub fn encode_function(
 ) -> Result<(GpuKind, u32, u32, [f32; 4])> {
     let identity = [1.0, 0.0, f32::MIN, f32::MAX];
     match function {
-        ParamFunction::Sphere => Ok((GpuKind::Sphere, 0, 0, identity)),
-        ParamFunction::Heart => Ok((GpuKind::Heart, 0, 0, identity)),
+        ParamFunction::Sphere => Ok((GpuKind::Sphere, 0, FLAG_PERIODIC_V, identity)),
+        ParamFunction::Heart => Ok((GpuKind::Heart, 0, FLAG_PERIODIC_V, identity)),
         ParamFunction::User(_) => Ok((GpuKind::User, 0, 0, identity)),
         ParamFunction::ShGlyph(g) => {
             if g.order() > GPU_MAX_SH_ORDER {
@@ -93,6 +96,7 @@ pub fn encode_function(
             values.extend(g.coefficients().iter().map(|&c| c as f32));
             let positive = g.normalization() == RadiusNormalization::PositiveLobes;
             let flags = FLAG_DIRECTION_COLOUR
+                | FLAG_PERIODIC_V
                 | if positive { FLAG_POSITIVE_LOBES } else { 0 }
                 | (basis_code(g.basis()) << BASIS_SHIFT);
             Ok((GpuKind::ShGlyph, g.order(), flags, radius_map(g)))
@@ -245,6 +249,7 @@ pub fn scene_defines() -> Vec<(String, String)> {
             u(FLAG_DIRECTION_COLOUR),
         ),
         ("PARAM_FLAG_POSITIVE_LOBES".into(), u(FLAG_POSITIVE_LOBES)),
+        ("PARAM_FLAG_PERIODIC_V".into(), u(FLAG_PERIODIC_V)),
         ("PARAM_BASIS_SHIFT".into(), u(BASIS_SHIFT)),
         ("SH_DESCOTEAUX_LEGACY".into(), u(0)),
         ("SH_DESCOTEAUX".into(), u(1)),
