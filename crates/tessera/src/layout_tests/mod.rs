@@ -4,12 +4,10 @@
 //! unchecked. Compiles GLSL only; needs no device.
 
 use crate::builtin_shader;
-use crate::config::volume_defines;
 use crate::path::Path;
 use crate::tet::interval::{Interval, IntervalOptions, TileCapacity};
 use std::collections::BTreeSet;
 use std::mem::{offset_of, size_of};
-use tessera_data::ScalarType;
 use tessera_gpu::{Source, Spirv, PUSH_CONSTANT_BYTES};
 
 /// One struct against one shader.
@@ -84,239 +82,14 @@ impl Table {
 
 type HostLayout = (&'static str, Vec<(String, usize)>);
 
-fn isosurface_structs(t: &mut Table) {
-    use crate::iso::direct::block_list::BlockListHeader;
-    use crate::iso::direct::compute::{ReprojectParams, ResolveParams};
-    use crate::iso::direct::compute_cull::HzbTestParams;
-    use crate::iso::direct::stereo::StereoViews;
-    use crate::iso::direct::DirectParams;
-    use crate::iso::minmax::{block_defines, rows_defines, BlockParams, GroupParams, LevelsParams};
-    use crate::iso::raymarch::RaymarchParams;
-    let u8_defines = crate::config::marching_cubes_defines(ScalarType::U8, Default::default());
-    let raymarch = compile(
-        &builtin_shader!("iso/raymarch/raymarch.comp.glsl"),
-        &u8_defines,
-    );
-    #[rustfmt::skip]
-    t.push_constants::<RaymarchParams>(&raymarch, "RaymarchParams", host!(RaymarchParams, eye,
-        isovalue, forward, tan_half_fov_x, right, tan_half_fov_y, up, light, grid_to_world, dims,
-        octree_levels, image));
-    let extract_defines =
-        crate::iso::direct::compute::extract_defines(ScalarType::U8, Default::default());
-    let extract = compile(
-        &builtin_shader!("iso/direct/extract.comp.glsl"),
-        &extract_defines,
-    );
-    #[rustfmt::skip]
-    t.push_constants::<DirectParams>(&extract, "DirectParams", host!(DirectParams, grid_to_clip,
-        eye_world, isovalue, grid_to_world, light, dims, triangle_capacity));
-    let mut list_defines = extract_defines.clone();
-    list_defines.push(("BLOCK_LIST".into(), "1".into()));
-    let extract_list = compile(
-        &builtin_shader!("iso/direct/extract.comp.glsl"),
-        &list_defines,
-    );
-    let cull_setup = compile(
-        &builtin_shader!("iso/direct/cull_setup.comp.glsl"),
-        &u8_defines,
-    );
-    for spirv in [&extract_list, &cull_setup] {
-        t.buffer(
-            spirv,
-            "BlockListHeader",
-            host!(BlockListHeader, count, args),
-        );
-    }
-    let mut multiview_defines = u8_defines.clone();
-    multiview_defines
-        .extend([("MULTIVIEW", "1"), ("BLOCK_LIST", "0")].map(|(k, v)| (k.into(), v.into())));
-    let multiview = compile(
-        &builtin_shader!("iso/direct/direct.mesh.glsl"),
-        &multiview_defines,
-    );
-    t.buffer(
-        &multiview,
-        "Views",
-        host!(StereoViews, grid_to_clip, eye_world),
-    );
-    let resolve = compile(
-        &builtin_shader!("iso/direct/resolve.comp.glsl"),
-        &u8_defines,
-    );
-    t.push_constants::<ResolveParams>(
-        &resolve,
-        "ResolveParams",
-        host!(ResolveParams, eye_world, light, size),
-    );
-    let reproject = compile(
-        &builtin_shader!("iso/direct/reproject.comp.glsl"),
-        &u8_defines,
-    );
-    t.push_constants::<ReprojectParams>(
-        &reproject,
-        "ReprojectParams",
-        host!(ReprojectParams, world_to_clip, capacity),
-    );
-    let hzb_test = compile(
-        &builtin_shader!("iso/direct/hzb_test.comp.glsl"),
-        &u8_defines,
-    );
-    t.push_constants::<HzbTestParams>(
-        &hzb_test,
-        "HzbTestParams",
-        host!(HzbTestParams, grid_to_clip, dims, size, iso),
-    );
-    let blocks = compile(
-        &builtin_shader!("iso/minmax/minmax_blocks.comp.glsl"),
-        &block_defines(ScalarType::U16, false),
-    );
-    t.push_constants::<BlockParams>(
-        &blocks,
-        "BlockParams",
-        host!(BlockParams, volume_dims, block_dims),
-    );
-    let rows = compile(
-        &builtin_shader!("iso/minmax/minmax_rows.comp.glsl"),
-        &rows_defines(ScalarType::U16),
-    );
-    t.push_constants::<BlockParams>(
-        &rows,
-        "BlockParams",
-        host!(BlockParams, volume_dims, block_dims),
-    );
-    let groups = compile(
-        &builtin_shader!("iso/minmax/minmax_groups.comp.glsl"),
-        &crate::config::volume_defines(ScalarType::U16),
-    );
-    t.push_constants::<GroupParams>(
-        &groups,
-        "GroupParams",
-        host!(GroupParams, volume_dims, block_dims, parent_dims),
-    );
-    let levels = compile(
-        &builtin_shader!("iso/minmax/minmax_levels.comp.glsl"),
-        &volume_defines(ScalarType::U16),
-    );
-    t.push_constants::<LevelsParams>(
-        &levels,
-        "LevelsParams",
-        host!(LevelsParams, child_level, level_count),
-    );
-}
-
-fn meshlet_structs(t: &mut Table) {
-    use crate::iso::direct::block_list::BlockListHeader;
-    use crate::iso::meshlets::{MeshletCounters, MeshletParams};
-    use tessera_data::meshlets::Meshlet;
-    let defines = crate::config::meshlet_defines(
-        ScalarType::U8,
-        Default::default(),
-        crate::iso::meshlets::ExtractionPath::Compute,
-        true,
-    );
-    let extract = compile(&builtin_shader!("iso/meshlets/extract.comp.glsl"), &defines);
-    let occupied = compile(
-        &builtin_shader!("iso/meshlets/occupied.comp.glsl"),
-        &defines,
-    );
-    for spirv in [&extract, &occupied] {
-        #[rustfmt::skip]
-        t.push_constants::<MeshletParams>(spirv, "MeshletParams", host!(MeshletParams,
-            volume_dims, isovalue, block_dims, meshlet_capacity, vertex_capacity,
-            triangle_capacity));
-        t.buffer(
-            spirv,
-            "BlockListHeader",
-            host!(BlockListHeader, count, args),
-        );
-    }
-    #[rustfmt::skip]
-    t.buffer(&extract, "Meshlet", host!(Meshlet, vertex_offset, triangle_offset, counts,
-        aabb_min, aabb_max, subblock));
-    t.buffer(
-        &extract,
-        "MeshletCounters",
-        host!(MeshletCounters, meshlets, vertices, triangles, overflow),
-    );
-}
-
-fn meshlet_draw_structs(t: &mut Table) {
-    use crate::iso::meshlet_draw::{DrawCounters, MeshletDrawParams};
-    let defines = crate::config::meshlet_draw_defines();
-    let triangles = compile(
-        &builtin_shader!("iso/meshlet_draw/triangles.comp.glsl"),
-        &defines,
-    );
-    #[rustfmt::skip]
-    t.push_constants::<MeshletDrawParams>(&triangles, "MeshletDrawParams", host!(
-        MeshletDrawParams, grid_to_clip, eye_world, bounds, grid_to_world, frame_width, light,
-        frame_height, dims, triangle_capacity));
-    t.buffer(
-        &triangles,
-        "DrawCounters",
-        host!(DrawCounters, meshlets_drawn, triangles_drawn),
-    );
-}
-
-fn pmb_structs(t: &mut Table) {
-    use crate::iso::pmb::{PmbCounters, PmbParams};
-    use tessera_data::pmb::{PmbBlock, PmbBlockSize};
-    let defines = crate::config::pmb_defines(
-        ScalarType::U8,
-        Default::default(),
-        PmbBlockSize::B884,
-        128,
-        true,
-    );
-    let extract = compile(&builtin_shader!("iso/pmb/extract.comp.glsl"), &defines);
-    #[rustfmt::skip]
-    t.push_constants::<PmbParams>(&extract, "PmbParams", host!(PmbParams, volume_dims,
-        isovalue, block_dims, vertex_capacity, node_dims, triangle_capacity));
-    t.buffer(
-        &extract,
-        "PmbCounters",
-        host!(PmbCounters, blocks, vertices, triangles, overflow),
-    );
-    #[rustfmt::skip]
-    t.buffer(&extract, "PmbBlock", host!(PmbBlock, block, first_vertex, vertex_count,
-        first_index, triangle_count));
-}
-
-fn pmb_draw_structs(t: &mut Table) {
-    use crate::iso::meshlet_draw::MeshletDrawParams;
-    use crate::iso::pmb_draw::{DrawIndexedIndirectCommand, PmbDrawCounters};
-    use tessera_data::pmb::PmbBlockSize;
-    let defines = crate::config::pmb_draw_defines(PmbBlockSize::B844);
-    let triangles = compile(
-        &builtin_shader!("iso/pmb_draw/triangles.comp.glsl"),
-        &defines,
-    );
-    let commands = compile(
-        &builtin_shader!("iso/pmb_draw/commands.comp.glsl"),
-        &defines,
-    );
-    for spirv in [&triangles, &commands] {
-        #[rustfmt::skip]
-        t.push_constants::<MeshletDrawParams>(spirv, "MeshletDrawParams", host!(
-            MeshletDrawParams, grid_to_clip, eye_world, bounds, grid_to_world, frame_width,
-            light, frame_height, dims, triangle_capacity));
-        t.buffer(
-            spirv,
-            "PmbDrawCounters",
-            host!(PmbDrawCounters, blocks_drawn, triangles_drawn),
-        );
-    }
-    #[rustfmt::skip]
-    t.buffer(&commands, "DrawIndexedIndirectCommand", host!(DrawIndexedIndirectCommand,
-        index_count, instance_count, first_index, vertex_offset, first_instance));
-}
+mod iso;
 
 fn raster_structs(t: &mut Table) {
     use crate::raster::hzb::HzbBuildParams;
     use crate::raster::indirect::PrepareParams;
     use crate::raster::{raster_defines, RasterCounts, RasterParams, RasterTriangle};
     let raster = compile(
-        &builtin_shader!("raster/raster.comp.glsl"),
+        &builtin_shader!("../raster/raster.comp.glsl"),
         &raster_defines(),
     );
     t.push_constants::<RasterParams>(
@@ -325,7 +98,7 @@ fn raster_structs(t: &mut Table) {
         host!(RasterParams, size, capacity, index_base),
     );
     t.buffer(&raster, "RasterTriangle", host!(RasterTriangle, clip));
-    let prepare = compile(&builtin_shader!("raster/raster_prepare.comp.glsl"), &[]);
+    let prepare = compile(&builtin_shader!("../raster/raster_prepare.comp.glsl"), &[]);
     t.buffer(
         &prepare,
         "Counts",
@@ -337,7 +110,7 @@ fn raster_structs(t: &mut Table) {
         host!(PrepareParams, max_groups, group_size),
     );
     let hzb = compile(
-        &builtin_shader!("raster/hzb_build.comp.glsl"),
+        &builtin_shader!("../raster/hzb_build.comp.glsl"),
         &crate::raster::hzb::build_defines(),
     );
     t.push_constants::<HzbBuildParams>(
@@ -353,14 +126,14 @@ fn interval_structs(t: &mut Table) {
     use crate::tet::interval::IntervalParams;
     let defines = Interval::defines(&IntervalOptions::new(Path::Compute));
     let raster = compile(
-        &builtin_shader!("tet/interval/interval_raster.comp.glsl"),
+        &builtin_shader!("../tet/interval/interval_raster.comp.glsl"),
         &compute_defines(&defines, TileCapacity::default()),
     );
     #[rustfmt::skip]
     t.push_constants::<IntervalParams>(&raster, "IntervalParams", host!(IntervalParams,
         world_to_clip, tan_half_fov, near_depth, counts, eye, scalar_range));
     let composite = compile(
-        &builtin_shader!("tet/interval/composite.comp.glsl"),
+        &builtin_shader!("../tet/interval/composite.comp.glsl"),
         &composite_defines(&defines, Path::Compute),
     );
     t.push_constants::<CompositeParams>(
@@ -378,7 +151,10 @@ fn shell_structs(t: &mut Table) {
     let options = ShellOptions::new(LayoutKind::Tet20);
     let mut defines = defines(&options, 256);
     defines.push(("RECORDED_STEPS".into(), RECORDED_STEPS.to_string()));
-    let rays = compile(&builtin_shader!("tet/shell/shell_rays.comp.glsl"), &defines);
+    let rays = compile(
+        &builtin_shader!("../tet/shell/shell_rays.comp.glsl"),
+        &defines,
+    );
     #[rustfmt::skip]
     t.push_constants::<ShellParams>(&rays, "ShellParams", host!(ShellParams,
         eye, near_depth, forward, tan_half_fov_x, right, tan_half_fov_y, up, max_steps,
@@ -397,7 +173,7 @@ fn shell_structs(t: &mut Table) {
     lighting_defines.extend(effect_defines(&effects));
     lighting_defines.extend(pass_defines(&effects, LightingPass::Gradients));
     let lighting = compile(
-        &builtin_shader!("tet/shell/lighting.comp.glsl"),
+        &builtin_shader!("../tet/shell/lighting.comp.glsl"),
         &lighting_defines,
     );
     // The host's trailing padding has no shader member.
@@ -414,13 +190,13 @@ fn parametric_structs(t: &mut Table) {
     use crate::param::tess::{ArgsParams, DownsampleParams, TessParams};
     use crate::param::ProbeResult;
     let (lod, points) = (lod_defines(), points_defines());
-    let step = compile(&builtin_shader!("param/lod_step.comp.glsl"), &lod);
+    let step = compile(&builtin_shader!("../param/lod_step.comp.glsl"), &lod);
     #[rustfmt::skip]
     t.push_constants::<LodParams>(&step, "LodParams", host!(LodParams, world_to_clip, viewport,
         thresholds, step, last, eval_capacity, render_capacity, culling, capture_capacity,
         object_count, pre_split));
     t.buffer(&step, "LodSample", host!(LodSample, object, u, v, x, y));
-    let prepare = compile(&builtin_shader!("param/lod_prepare.comp.glsl"), &lod);
+    let prepare = compile(&builtin_shader!("../param/lod_prepare.comp.glsl"), &lod);
     t.push_constants::<PrepareParams>(
         &prepare,
         "PrepareParams",
@@ -434,45 +210,48 @@ fn parametric_structs(t: &mut Table) {
         ),
     );
     // `init` only indexes its buffers, so the first type of each name is the buffer's.
-    let init = compile(&builtin_shader!("param/lod_init.comp.glsl"), &lod);
+    let init = compile(&builtin_shader!("../param/lod_init.comp.glsl"), &lod);
     #[rustfmt::skip]
     t.buffer(&init, "ParamObject", host!(GpuObject, model, colour, domain, radius_map, kind,
         params, order, flags));
     t.buffer(&init, "Patch", host!(GpuPatch, u, v, extent, object, info));
-    let draw = compile(&builtin_shader!("param/points.comp.glsl"), &points);
+    let draw = compile(&builtin_shader!("../param/points.comp.glsl"), &points);
     #[rustfmt::skip]
     t.push_constants::<PointsParams>(&draw, "PointsParams", host!(PointsParams, world_to_clip,
         viewport, density, max_side, raster, uv_bits, render_capacity, footprint));
-    let resolve = compile(&builtin_shader!("param/resolve.comp.glsl"), &points);
+    let resolve = compile(&builtin_shader!("../param/resolve.comp.glsl"), &points);
     #[rustfmt::skip]
     t.push_constants::<ResolveParams>(&resolve, "ResolveParams", host!(ResolveParams, eye, light,
         background, size, supersample, uv_bits));
-    let probe = compile(&builtin_shader!("param/probe.comp.glsl"), &points);
+    let probe = compile(&builtin_shader!("../param/probe.comp.glsl"), &points);
     t.buffer(
         &probe,
         "ProbeResult",
         host!(ProbeResult, position, normal, colour),
     );
-    let control = compile(&builtin_shader!("param/tess.tesc.glsl"), &points);
+    let control = compile(&builtin_shader!("../param/tess.tesc.glsl"), &points);
     #[rustfmt::skip]
     t.push_constants::<TessParams>(&control, "TessParams", host!(TessParams, world_to_clip, eye,
         light, viewport, pixels_per_segment, fixed_level, min_level, max_level, render_capacity,
         patches_per_instance));
-    let downsample = compile(&builtin_shader!("param/tess_downsample.comp.glsl"), &points);
+    let downsample = compile(
+        &builtin_shader!("../param/tess_downsample.comp.glsl"),
+        &points,
+    );
     t.push_constants::<DownsampleParams>(
         &downsample,
         "DownsampleParams",
         host!(DownsampleParams, size, supersample),
     );
-    let args = compile(&builtin_shader!("param/tess_args.comp.glsl"), &points);
+    let args = compile(&builtin_shader!("../param/tess_args.comp.glsl"), &points);
     t.push_constants::<ArgsParams>(
         &args,
         "TessArgsParams",
         host!(ArgsParams, render_capacity, patches_per_instance),
     );
     let rt = raytrace_defines(12);
-    let render = compile(&builtin_shader!("param/raytrace.comp.glsl"), &rt);
-    let rt_probe = compile(&builtin_shader!("param/raytrace_probe.comp.glsl"), &rt);
+    let render = compile(&builtin_shader!("../param/raytrace.comp.glsl"), &rt);
+    let rt_probe = compile(&builtin_shader!("../param/raytrace_probe.comp.glsl"), &rt);
     for spirv in [&render, &rt_probe] {
         #[rustfmt::skip]
         t.push_constants::<RaytraceParams>(spirv, "RaytraceParams", host!(RaytraceParams, eye,
@@ -496,8 +275,8 @@ fn throughput_structs(t: &mut Table) {
     use crate::throughput::triangles::TriangleParams;
     let defines = shader_defines();
     for spirv in [
-        compile(&builtin_shader!("throughput/busy.frag.glsl"), &defines),
-        compile(&builtin_shader!("throughput/busy.comp.glsl"), &defines),
+        compile(&builtin_shader!("../throughput/busy.frag.glsl"), &defines),
+        compile(&builtin_shader!("../throughput/busy.comp.glsl"), &defines),
     ] {
         t.push_constants::<ArithmeticParams>(
             &spirv,
@@ -506,8 +285,8 @@ fn throughput_structs(t: &mut Table) {
         );
     }
     for spirv in [
-        compile(&builtin_shader!("throughput/grid.mesh.glsl"), &defines),
-        compile(&builtin_shader!("throughput/splat.comp.glsl"), &defines),
+        compile(&builtin_shader!("../throughput/grid.mesh.glsl"), &defines),
+        compile(&builtin_shader!("../throughput/splat.comp.glsl"), &defines),
     ] {
         t.push_constants::<TriangleParams>(
             &spirv,
@@ -519,11 +298,11 @@ fn throughput_structs(t: &mut Table) {
 
 fn table() -> Table {
     let mut t = Table(Vec::new());
-    isosurface_structs(&mut t);
-    meshlet_structs(&mut t);
-    meshlet_draw_structs(&mut t);
-    pmb_structs(&mut t);
-    pmb_draw_structs(&mut t);
+    iso::isosurface_structs(&mut t);
+    iso::meshlet_structs(&mut t);
+    iso::meshlet_draw_structs(&mut t);
+    iso::pmb_structs(&mut t);
+    iso::pmb_draw_structs(&mut t);
     raster_structs(&mut t);
     interval_structs(&mut t);
     shell_structs(&mut t);
