@@ -66,10 +66,7 @@ pub fn trio() -> ParamScene {
 /// (silhouette IoU against the [`BACKGROUND`], fraction of co-covered pixels within 4/255,
 /// co-covered pixels).
 pub fn compare(image: &RgbaImage, reference: &RgbaImage) -> (f64, f64, usize) {
-    let bg = pack_rgba8([BACKGROUND[0], BACKGROUND[1], BACKGROUND[2], 1.0]);
-    let a = coverage_of(image, bg);
-    let b = coverage_of(reference, bg);
-    let both: Vec<bool> = a.iter().zip(&b).map(|(x, y)| *x && *y).collect();
+    let (a, b, both) = coverage(image, reference);
     let diff = image.compare_where(reference, &both, 4);
     (
         silhouette_iou(&a, &b),
@@ -81,11 +78,17 @@ pub fn compare(image: &RgbaImage, reference: &RgbaImage) -> (f64, f64, usize) {
 /// Fraction of the co-covered pixels within 16/255: the rest show another surface than the
 /// reference (a hole through to the far side, say), not a shading difference.
 pub fn far_within(image: &RgbaImage, reference: &RgbaImage) -> f64 {
+    let (_, _, both) = coverage(image, reference);
+    image.compare_where(reference, &both, 16).fraction_within
+}
+
+/// The pixels `image` covers, those `reference` covers (not the [`BACKGROUND`]), and both.
+fn coverage(image: &RgbaImage, reference: &RgbaImage) -> (Vec<bool>, Vec<bool>, Vec<bool>) {
     let bg = pack_rgba8([BACKGROUND[0], BACKGROUND[1], BACKGROUND[2], 1.0]);
     let a = coverage_of(image, bg);
     let b = coverage_of(reference, bg);
-    let both: Vec<bool> = a.iter().zip(&b).map(|(x, y)| *x && *y).collect();
-    image.compare_where(reference, &both, 16).fraction_within
+    let both = a.iter().zip(&b).map(|(x, y)| *x && *y).collect();
+    (a, b, both)
 }
 
 /// `ParamPointsOptions` with some fields changed from the defaults.

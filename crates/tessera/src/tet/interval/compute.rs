@@ -224,7 +224,8 @@ impl IntervalCompute {
         self.bins.as_ref().map(TetBins::capacity)
     }
 
-    /// The binned variant's (tet, tile) entries of the last frame (0 for the per-tet variant).
+    /// The (tet, tile) entries of the last frame drawn binned (0 where only the per-tet scheme
+    /// is built; the automatic choice's per-tet frames leave the count of the last binned one).
     pub fn bin_entries(&self, gpu: &Gpu) -> Result<u32> {
         self.bins
             .as_ref()
