@@ -84,16 +84,16 @@ bool param_glyph_surface(uint object, float u, float v, out vec3 position, out v
     vec3 r = sh_evaluate_gradient(o.params, o.order, basis, u, v);
     float mapped = r.x * o.radius_map.x + o.radius_map.y;
     float radius = clamp(mapped, o.radius_map.z, o.radius_map.w);
-    vec3 direction = param_sphere(u, v);
+    float su = sin(u);
+    float cu = cos(u);
+    float sv = sin(v);
+    float cv = cos(v);
+    vec3 direction = vec3(su * cv, su * sv, cu);  // param_sphere's, its sines shared below
     position = direction * radius;
     normal = vec3(0.0);
     if (radius != mapped) {
         return false;
     }
-    float su = sin(u);
-    float cu = cos(u);
-    float sv = sin(v);
-    float cv = cos(v);
     vec3 along_u = vec3(cu * cv, cu * sv, -su) * radius + direction * (r.y * o.radius_map.x);
     vec3 along_v = vec3(-su * sv, su * cv, 0.0) * radius + direction * (r.z * o.radius_map.x);
     vec3 du = param_tangent_to_world(object, along_u);
