@@ -158,11 +158,12 @@ fn measure(
                 r.counts
                     .insert("objects".into(), param.scene.objects.len() as f64);
                 r.counts.insert("patches".into(), patches as f64);
+                // Every scope but the LOD stage draws, however many the technique takes.
                 let lod = r.median_ms("lod").unwrap_or(0.0);
-                // The point technique times its draw as points and resolve.
-                let draw = r.median_ms("draw").unwrap_or(0.0)
-                    + r.median_ms("points").unwrap_or(0.0)
-                    + r.median_ms("resolve").unwrap_or(0.0);
+                let draw: f64 = (r.stages.iter())
+                    .filter(|s| s.stage != "lod")
+                    .map(|s| s.median_ms)
+                    .sum();
                 if lod + draw > 0.0 {
                     r.counts.insert("lod_share".into(), lod / (lod + draw));
                 }
