@@ -193,6 +193,14 @@ mod tests {
         assert!(Script::parse("camera 1,2").is_err());
         assert!(Script::parse("screenshot").is_err());
         assert!(Script::parse("frames 0").is_err());
+        let culling = Script::parse("culling auto\nculling off\n").unwrap();
+        assert_eq!(
+            culling.steps,
+            [Step::Culling(Culling::Auto), Step::Culling(Culling::Off)]
+        );
+        let (line, message) = Script::parse("frames 1\nculling sometimes\n").unwrap_err();
+        assert_eq!(line, 2);
+        assert!(message.contains("culling 'sometimes'"), "{message}");
     }
 }
 
