@@ -57,13 +57,21 @@ fn every_level_zero_pass_gives_the_cpu_octree() {
     }
     // Odd block counts (partial groups of 2×2×2 blocks), one block (no level 1), and a
     // volume whose last block row is a single plane of samples.
+    // Then volumes whose octrees chain the one-dispatch build's subtrees two and three times
+    // (6 and 8 levels), with many workgroups counted into each level-3 node, and a hash-like
+    // field so that every node's range differs.
     let n = 23 * 18 * 11;
     let ramp: Vec<f32> = (0..n).map(|i| ((i * 37) % 101) as f32 - 50.5).collect();
+    let hashed = |i: usize| (i.wrapping_mul(2_654_435_761) >> 7) % 997;
+    let long: Vec<u16> = (0..521 * 5 * 9).map(|i| hashed(i) as u16).collect();
+    let wide: Vec<u8> = (0..137 * 67 * 35).map(|i| (hashed(i) % 251) as u8).collect();
     let volumes = [
         generate(ProceduralKind::Turbulence, 37, ScalarType::U16).unwrap(),
         Volume::new("ramp", [23, 18, 11], [1.0; 3], Samples::F32(ramp)).unwrap(),
         generate(ProceduralKind::MarschnerLobb, 5, ScalarType::U8).unwrap(),
         generate(ProceduralKind::Sphere, 17, ScalarType::F32).unwrap(),
+        Volume::new("long", [521, 5, 9], [1.0; 3], Samples::U16(long)).unwrap(),
+        Volume::new("wide", [137, 67, 35], [1.0; 3], Samples::U8(wide)).unwrap(),
     ];
     for volume in &volumes {
         let cpu = MinMaxOctree::build(volume).flattened();
@@ -94,20 +102,25 @@ fn every_level_zero_pass_gives_the_cpu_octree() {
             .upload_buffer("samples", &words, vk::BufferUsageFlags::STORAGE_BUFFER)
             .unwrap();
         let octree = MinMaxOctreeGpu::allocate(&gpu, volume.dims()).unwrap();
-        gpu.submit("poison", |rec| rec.fill_buffer(&octree.nodes, POISON))
+        // Twice: the build leaves its arrival counters zero for the next.
+        for build in 0..2 {
+            gpu.submit("poison", |rec| rec.fill_buffer(&octree.nodes, POISON))
+                .unwrap();
+            let mut recorded = Ok(());
+            gpu.submit("build from samples", |rec| {
+                recorded = builder.record_from_samples(rec, &samples, volume.dims(), &octree)
+            })
             .unwrap();
-        let mut recorded = Ok(());
-        gpu.submit("build from samples", |rec| {
-            recorded = builder.record_from_samples(rec, &samples, volume.dims(), &octree)
-        })
-        .unwrap();
-        recorded.unwrap();
-        assert_eq!(
-            octree.read(&gpu).unwrap(),
-            cpu,
-            "from samples, {}",
-            volume.name()
-        );
+            recorded.unwrap();
+            assert_eq!(
+                octree.read(&gpu).unwrap(),
+                cpu,
+                "from samples, build {build}, {}",
+                volume.name()
+            );
+            let arrivals = gpu.read_buffer(&octree.arrivals).unwrap();
+            assert!(arrivals.iter().all(|&b| b == 0), "{}", volume.name());
+        }
         // A buffer short of the volume is refused.
         let short = gpu
             .upload_buffer(
