@@ -157,7 +157,7 @@ pub(super) fn minmax_build(
         let compute_bytes = bytes / 16 * 16;
         let mut recorded = Ok(());
         let grouped = MinMaxBuilder::with_pass(gpu, &compiler, scalar, LevelZeroPass::Grouped)?;
-        let stages = time_frames(gpu, plan, 5, |rec, timer| {
+        let stages = time_frames(gpu, plan, 6, |rec, timer| {
             timer.scope(rec, "octree-build", |rec| rm.record_build(rec, &prepared));
             rec.barrier();
             timer.scope(rec, "octree-build-grouped", |rec| {
@@ -170,6 +170,14 @@ pub(super) fn minmax_build(
             });
             if recorded.is_ok() {
                 recorded = from_samples;
+            }
+            rec.barrier();
+            let level_zero = timer.scope(rec, "octree-rows-level0", |rec| {
+                rm.builder()
+                    .record_level_zero_from_samples(rec, &src, dims, &prepared.octree)
+            });
+            if recorded.is_ok() {
+                recorded = level_zero;
             }
             rec.barrier();
             timer.scope(rec, "copy", |rec| rec.copy_buffer(&src, &dst, bytes));

@@ -213,16 +213,19 @@ impl Renderer for IntervalRenderer {
             .as_mut()
             .ok_or_else(|| no_data(Technique::Interval))?;
         let counts = pipelines.read_counts(gpu)?;
-        if let Some((auto, own)) = &mut self.auto_scheme {
-            if let Some(&(_, ms)) = own.read_ms(gpu)?.first() {
-                auto.after_frame(self.last_scheme, ms);
-            }
-            own.reset(gpu);
-        }
         // The frame is complete (the per-tet passes drew what the binned lists had no room
         // for); the lists grow for the next one.
-        if let Some(accumulation) = &self.accumulation {
-            pipelines.grow_buffers(gpu, (accumulation.width, accumulation.height))?;
+        let overflowed = match &self.accumulation {
+            Some(accumulation) => {
+                pipelines.grow_buffers(gpu, (accumulation.width, accumulation.height))?
+            }
+            None => false,
+        };
+        if let Some((auto, own)) = &mut self.auto_scheme {
+            if let Some(&(_, ms)) = own.read_ms(gpu)?.first() {
+                auto.after_frame(self.last_scheme, ms, overflowed);
+            }
+            own.reset(gpu);
         }
         let binned = self.last_scheme == DrawScheme::Binned;
         self.stats = FrameStats {

@@ -2,25 +2,26 @@
 // Every level of the min-max octree in one dispatch, from a buffer of the samples (x
 // fastest, packed as the volume holds them) rather than the 3-D texture.
 //
-// Level 0: a workgroup takes 32 blocks along x of one block row; lane i takes block i and
-// walks the block's rows of samples (y, z), eight row walkers per block. Along a row the 32
-// lanes read neighbouring stretches, so a warp's loads fall in a few cache lines and every
-// sample is fetched from memory about once. A walker issues all its rows' loads before it
-// merges any (the bounds are constants), so each invocation keeps many loads in flight: a
-// walk that merged each word before loading the next waited on memory once per word. The
-// eight walkers of a block meet once in shared memory.
+// Level 0: a workgroup takes 32 blocks along x of one block row and reads their rows of
+// samples (y, z) a whole row of 32 blocks at a time: invocation i reads word i of the row,
+// so a warp's load is one run of 128 bytes and every sample is fetched from memory about
+// once (the end sample each block shares with the next, and the face rows block rows
+// share, come from cache). Each invocation merges its words' samples over its rows; the
+// eight invocations of a block (its words in a row × the rows read at once) meet once in
+// shared memory. An earlier walk, a lane per block reading its block's row stretches, made
+// six cache-line requests per row of 32 uint8 blocks where this makes two.
 //
 // Levels above: each level-3 node (8×8×8 blocks) counts the workgroups that have written
 // their blocks of it; the workgroup that completes the count builds levels 1–3 of that node
 // (64 invocations, as `minmax_levels.comp.glsl` does a node), and so up, three levels at a
 // time, each level-3k node counted by the level-3(k-1) nodes below it, until the root. The
 // last arrival resets its counter, so the counters are zero for the next build. One
-// dispatch replaces a level pass and a barrier per three levels, the build's fixed cost on
-// volumes of a few hundred MB. Samples are read as 32-bit words, so the buffer holds whole
-// words; SAMPLE_BYTES (1, 2 or 4) and SAMPLE_FLOAT describe the samples.
+// dispatch replaces a level pass and a barrier per three levels. Samples are read as 32-bit
+// words, so the buffer holds whole words; SAMPLE_BYTES (1, 2 or 4) and SAMPLE_FLOAT describe
+// the samples. `level_count` 1 builds level 0 alone.
 #extension GL_EXT_control_flow_attributes : require
 
-layout(local_size_x = 32, local_size_y = 8) in;
+layout(local_size_x = 256) in;
 layout(binding = 0) readonly buffer Samples { uint sample_words[]; };
 // Coherent: a workgroup reads the nodes other workgroups wrote in this dispatch.
 layout(binding = 1) coherent buffer Nodes { vec2 minmax_nodes[]; };
@@ -36,18 +37,22 @@ layout(push_constant) uniform RowsParams {
 } params;
 
 const uint SAMPLES_PER_WORD = 4u / SAMPLE_BYTES;
-const uint WALKERS = 8u;
+const uint BLOCKS_PER_GROUP = 32u;
+const uint WORDS_PER_BLOCK = BLOCK_X / SAMPLES_PER_WORD;
+const uint ROW_WORDS = BLOCKS_PER_GROUP * WORDS_PER_BLOCK;
+const uint ROWS_AT_ONCE = 256u / ROW_WORDS;
+// Invocations that share a block (8 for every sample size).
+const uint BLOCK_READERS = WORDS_PER_BLOCK * ROWS_AT_ONCE;
 const uint BLOCK_ROWS = (BLOCK_Y + 1u) * (BLOCK_Z + 1u);
-const uint ROWS_PER_WALKER = (BLOCK_ROWS + WALKERS - 1u) / WALKERS;
-// Words a row of BLOCK_X + 1 samples spans when it starts at any sample of a word.
-const uint ROW_WORDS = ((BLOCK_X + 1u) * SAMPLE_BYTES + 4u - SAMPLE_BYTES + 3u) / 4u;
+const uint ROW_STEPS = (BLOCK_ROWS + ROWS_AT_ONCE - 1u) / ROWS_AT_ONCE;
+const uint ROW_BATCH = 8u;
 // Nodes of the level below a level-3k node, per axis.
 const uint FAN_OUT = 8u;
 // The level-3 nodes one workgroup's 32 blocks fall in, and so the subtree builders.
-const uint SUBTREES = 32u / FAN_OUT;
+const uint SUBTREES = BLOCKS_PER_GROUP / FAN_OUT;
 
-// Level 0's walkers' partial ranges, then each subtree builder's 64 ranges.
-shared vec2 s_ranges[WALKERS * 32u];
+// Level 0's partial ranges, then each subtree builder's 64 ranges.
+shared vec2 s_ranges[256];
 shared bool s_builds[SUBTREES];
 
 const vec2 EMPTY_RANGE = vec2(uintBitsToFloat(0x7f800000u), uintBitsToFloat(0xff800000u));
@@ -114,48 +119,66 @@ void store(uint level, uvec3 p, vec2 range) {
     }
 }
 
-// Level 0 of this invocation's block, merged over its walkers (valid in walker 0).
-vec2 block_range(uvec3 block, uint lane, uint walker) {
+// The range of the samples of this invocation's word column over its rows, merged over the
+// block's readers into invocation `block` of the workgroup.
+vec2 block_range(uint invocation) {
     uvec3 dims = params.volume_dims.xyz;
-    // The block's samples: its cells' corners, up to the next block's first sample.
-    uvec3 lo = block * uvec3(BLOCK_X, BLOCK_Y, BLOCK_Z);
-    uvec3 hi = min(lo + uvec3(BLOCK_X, BLOCK_Y, BLOCK_Z), dims - 1u);
-    uint rows_y = hi.y - lo.y + 1u;
-    uint rows = rows_y * (hi.z - lo.z + 1u);
-    bool inside = block.x < params.block_dims.x;
-    uint words[ROWS_PER_WALKER][ROW_WORDS];
-    uint first[ROWS_PER_WALKER];
-    [[unroll]] for (uint i = 0u; i < ROWS_PER_WALKER; ++i) {
-        uint r = walker + i * WALKERS;
-        bool row = inside && r < rows;
-        uint y = lo.y + r % rows_y;
-        uint z = lo.z + r / rows_y;
-        first[i] = (z * dims.y + y) * dims.x + lo.x;  // flat sample index
-        uint last_word = (first[i] + hi.x - lo.x) / SAMPLES_PER_WORD;
-        [[unroll]] for (uint j = 0u; j < ROW_WORDS; ++j) {
-            uint w = first[i] / SAMPLES_PER_WORD + j;
-            words[i][j] = row && w <= last_word ? sample_words[w] : 0u;
-        }
-    }
+    uint column = invocation % ROW_WORDS;
+    uint first_row = invocation / ROW_WORDS;
+    // Samples x0 .. x0 + SAMPLES_PER_WORD - 1 of each row, and x0 + SAMPLES_PER_WORD where
+    // that is the block's last sample (shared with the next block).
+    uint x0 = gl_WorkGroupID.x * BLOCKS_PER_GROUP * BLOCK_X + column * SAMPLES_PER_WORD;
+    bool block_end = column % WORDS_PER_BLOCK == WORDS_PER_BLOCK - 1u;
+    uint x_end = min(x0 + SAMPLES_PER_WORD - uint(!block_end), dims.x - 1u);
+    uint y0 = gl_WorkGroupID.y * BLOCK_Y;
+    uint z0 = gl_WorkGroupID.z * BLOCK_Z;
+    uint rows_y = min(BLOCK_Y, dims.y - 1u - y0) + 1u;
+    uint rows = rows_y * (min(BLOCK_Z, dims.z - 1u - z0) + 1u);
+    uint span = x_end - x0;  // samples after the first (SAMPLES_PER_WORD or one fewer)
+    bool inside = x0 <= x_end;
     vec2 range = EMPTY_RANGE;
-    [[unroll]] for (uint i = 0u; i < ROWS_PER_WALKER; ++i) {
-        if (inside && walker + i * WALKERS < rows) {
-            uint first_word = first[i] / SAMPLES_PER_WORD;
-            [[unroll]] for (uint j = 0u; j < ROW_WORDS; ++j) {
-                [[unroll]] for (uint k = 0u; k < SAMPLES_PER_WORD; ++k) {
-                    uint s = (first_word + j) * SAMPLES_PER_WORD + k;
-                    if (s >= first[i] && s <= first[i] + hi.x - lo.x) {
-                        range = merge(range, vec2(sample_of_word(words[i][j], k)));
+    // Rows in batches whose loads are all issued before any is merged: one load in flight
+    // per invocation would leave the memory system idle.
+    for (uint batch = 0u; batch < ROW_STEPS; batch += ROW_BATCH) {
+        uint firsts[ROW_BATCH];
+        uint words[ROW_BATCH];
+        uint nexts[ROW_BATCH];
+        [[unroll]] for (uint b = 0u; b < ROW_BATCH; ++b) {
+            uint r = first_row + (batch + b) * ROWS_AT_ONCE;
+            bool row = inside && r < rows;
+            uint y = y0 + r % rows_y;
+            uint z = z0 + r / rows_y;
+            uint first = (z * dims.y + y) * dims.x + x0;  // flat sample index
+            uint word = first / SAMPLES_PER_WORD;
+            // A row that starts mid-word, or the block's end sample, reaches into the next
+            // word.
+            bool spills = (first + span) / SAMPLES_PER_WORD != word;
+            firsts[b] = row ? first : ~0u;
+            words[b] = row ? sample_words[word] : 0u;
+            nexts[b] = row && spills ? sample_words[word + 1u] : 0u;
+        }
+        [[unroll]] for (uint b = 0u; b < ROW_BATCH; ++b) {
+            if (firsts[b] != ~0u) {
+                uint offset = firsts[b] % SAMPLES_PER_WORD;
+                [[unroll]] for (uint k = 0u; k <= SAMPLES_PER_WORD; ++k) {
+                    uint at = offset + k;
+                    uint word = at < SAMPLES_PER_WORD ? words[b] : nexts[b];
+                    if (k <= span) {
+                        range = merge(range, vec2(sample_of_word(word, at % SAMPLES_PER_WORD)));
                     }
                 }
             }
         }
     }
-    s_ranges[walker * 32u + lane] = range;
+    s_ranges[invocation] = range;
     barrier();
-    if (walker == 0u) {
-        for (uint i = 1u; i < WALKERS; ++i) {
-            range = merge(range, s_ranges[i * 32u + lane]);
+    uint block = invocation;
+    range = EMPTY_RANGE;
+    if (block < BLOCKS_PER_GROUP) {
+        for (uint i = 0u; i < BLOCK_READERS; ++i) {
+            uint reader = (i / WORDS_PER_BLOCK) * ROW_WORDS + block * WORDS_PER_BLOCK
+                + i % WORDS_PER_BLOCK;
+            range = merge(range, s_ranges[reader]);
         }
     }
     return range;
@@ -207,11 +230,10 @@ void build_subtree(uint child, uvec3 top, bool build, uint builder, uvec3 me) {
 
 void main() {
     uvec3 blocks = params.block_dims.xyz;
-    uint lane = gl_LocalInvocationID.x;
-    uint walker = gl_LocalInvocationID.y;
-    uvec3 block = uvec3(gl_WorkGroupID.x * 32u + lane, gl_WorkGroupID.y, gl_WorkGroupID.z);
-    vec2 range = block_range(block, lane, walker);
-    if (walker == 0u && block.x < blocks.x) {
+    uint invocation = gl_LocalInvocationIndex;
+    vec2 range = block_range(invocation);
+    uvec3 block = uvec3(gl_WorkGroupID.x * BLOCKS_PER_GROUP + invocation, gl_WorkGroupID.yz);
+    if (invocation < BLOCKS_PER_GROUP && block.x < blocks.x) {
         minmax_nodes[block.x + blocks.x * (block.y + blocks.y * block.z)] = range;
     }
     if (params.level_count == 1u) {
@@ -221,11 +243,10 @@ void main() {
     memoryBarrierBuffer();
     barrier();
     // Builder b takes level-3 node b of the four this workgroup's blocks fall in.
-    uint invocation = walker * 32u + lane;
     uint builder = invocation / 64u;
     uint local = invocation % 64u;
     uvec3 me = uvec3(local & 3u, (local >> 2) & 3u, local >> 4);
-    uvec3 top = uvec3(gl_WorkGroupID.x * SUBTREES + builder, block.yz / FAN_OUT);
+    uvec3 top = uvec3(gl_WorkGroupID.x * SUBTREES + builder, gl_WorkGroupID.yz / FAN_OUT);
     if (local == 0u) {
         s_builds[builder] = top.x * FAN_OUT < blocks.x && arrive(3u, top);
     }

@@ -261,6 +261,30 @@ impl MinMaxBuilder {
         dims: [u32; 3],
         octree: &MinMaxOctreeGpu,
     ) -> Result<()> {
+        let level_count = octree.level_dims.len() as u32;
+        self.record_rows(rec, samples, dims, octree, level_count)
+    }
+
+    /// [`Self::record_from_samples`] for level 0 alone, the rest of `octree` left as it was:
+    /// what the benchmark times apart from the levels above.
+    pub fn record_level_zero_from_samples(
+        &self,
+        rec: &Recorder,
+        samples: &Buffer,
+        dims: [u32; 3],
+        octree: &MinMaxOctreeGpu,
+    ) -> Result<()> {
+        self.record_rows(rec, samples, dims, octree, 1)
+    }
+
+    fn record_rows(
+        &self,
+        rec: &Recorder,
+        samples: &Buffer,
+        dims: [u32; 3],
+        octree: &MinMaxOctreeGpu,
+        level_count: u32,
+    ) -> Result<()> {
         let needed = samples_buffer_size(self.scalar, dims);
         // The shader numbers samples with 32-bit integers.
         if needed > u64::from(u32::MAX) {
@@ -286,7 +310,7 @@ impl MinMaxBuilder {
         let params = RowsParams {
             volume_dims: [dims[0], dims[1], dims[2], 0],
             block_dims: [d0[0], d0[1], d0[2], 0],
-            level_count: octree.level_dims.len() as u32,
+            level_count,
         };
         rec.dispatch_groups(
             &self.rows,

@@ -76,8 +76,15 @@ impl AutoScheme {
         }
     }
 
-    /// After a frame drawn with `scheme` that took `ms` of GPU time.
-    pub fn after_frame(&mut self, scheme: DrawScheme, ms: f64) {
+    /// After a frame drawn with `scheme` that took `ms` of GPU time. A frame whose bin lists
+    /// `overflowed` drew the tets they had no room for per tet, slowly: it measures neither
+    /// scheme (the lists grow, and the next frame measures again). The first binned frame on
+    /// a large mesh does this (the 2.4 M-tet box needs 8–14 M entries, the lists start with
+    /// 4 M): counted, it made per tet look faster where binning takes half its time.
+    pub fn after_frame(&mut self, scheme: DrawScheme, ms: f64, overflowed: bool) {
+        if overflowed {
+            return;
+        }
         let first_measure = self.last_ms[scheme.index()].is_none();
         self.last_ms[scheme.index()] = Some(ms);
         if scheme == self.preferred {
@@ -118,7 +125,7 @@ mod tests {
                     DrawScheme::PerTet => per_tet(k),
                     DrawScheme::Binned => binned(k),
                 };
-                auto.after_frame(scheme, ms);
+                auto.after_frame(scheme, ms, false);
                 scheme
             })
             .collect()
@@ -172,6 +179,33 @@ mod tests {
         let longest = (PROBE_INTERVAL * MAX_PROBE_BACKOFF) as usize;
         assert_eq!(gaps[..5], [60, 120, 240, 480, 960]);
         assert!(gaps[5..].iter().all(|&g| g == longest), "{gaps:?}");
+    }
+
+    #[test]
+    fn a_frame_whose_lists_overflowed_measures_nothing() {
+        // The box seen from inside (run 63): binned 85.6 ms, per tet 177 ms; the first binned
+        // frame, its lists too short, also drew the overflow per tet.
+        let mut auto = AutoScheme::default();
+        assert_eq!(auto.next(), DrawScheme::Binned);
+        auto.after_frame(DrawScheme::Binned, 230.0, true);
+        assert_eq!(auto.next(), DrawScheme::Binned, "measured again, lists grown");
+        auto.after_frame(DrawScheme::Binned, 85.6, false);
+        assert_eq!(auto.next(), DrawScheme::PerTet);
+        auto.after_frame(DrawScheme::PerTet, 177.0, false);
+        assert_eq!(auto.next(), DrawScheme::Binned);
+        // A probe of binning that overflows (the view took in more tets) is taken again.
+        let mut auto = AutoScheme::default();
+        auto.after_frame(DrawScheme::Binned, 36.0, false);
+        auto.after_frame(DrawScheme::PerTet, 26.0, false);
+        for _ in 0..PROBE_INTERVAL {
+            assert_eq!(auto.next(), DrawScheme::PerTet);
+            auto.after_frame(DrawScheme::PerTet, 26.0, false);
+        }
+        assert_eq!(auto.next(), DrawScheme::Binned);
+        auto.after_frame(DrawScheme::Binned, 60.0, true);
+        assert_eq!(auto.next(), DrawScheme::Binned);
+        auto.after_frame(DrawScheme::Binned, 20.0, false);
+        assert_eq!(auto.next(), DrawScheme::Binned, "binning now faster");
     }
 
     #[test]
