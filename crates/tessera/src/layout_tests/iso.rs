@@ -13,7 +13,7 @@ pub(super) fn isosurface_structs(t: &mut Table) {
     use crate::iso::direct::compute_cull::HzbTestParams;
     use crate::iso::direct::stereo::StereoViews;
     use crate::iso::direct::DirectParams;
-    use crate::iso::minmax::{block_defines, rows_defines, BlockParams, GroupParams, LevelsParams, RowsParams};
+    use crate::iso::minmax::{block_defines, rows_defines, BlockParams, GroupParams, LevelsParams};
     use crate::iso::raymarch::RaymarchParams;
     let u8_defines = crate::config::marching_cubes_defines(ScalarType::U8, Default::default());
     let raymarch = compile(
@@ -102,10 +102,10 @@ pub(super) fn isosurface_structs(t: &mut Table) {
         &builtin_shader!("../iso/minmax/minmax_rows.comp.glsl"),
         &rows_defines(ScalarType::U16),
     );
-    t.push_constants::<RowsParams>(
+    t.push_constants::<BlockParams>(
         &rows,
-        "RowsParams",
-        host!(RowsParams, volume_dims, block_dims, level_count),
+        "BlockParams",
+        host!(BlockParams, volume_dims, block_dims),
     );
     let groups = compile(
         &builtin_shader!("../iso/minmax/minmax_groups.comp.glsl"),

@@ -28,14 +28,6 @@ pub struct BlockParams {
 
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
-pub struct RowsParams {
-    pub volume_dims: [u32; 4],
-    pub block_dims: [u32; 4],
-    pub level_count: u32,
-}
-
-#[repr(C)]
-#[derive(Clone, Copy, Pod, Zeroable)]
 pub struct GroupParams {
     pub volume_dims: [u32; 4],
     pub block_dims: [u32; 4],
@@ -70,9 +62,6 @@ const LEVELS_PER_PASS: usize = 3;
 pub struct MinMaxOctreeGpu {
     pub nodes: Buffer,
     pub levels: Buffer,
-    /// The one-dispatch build's arrival counters, one per node of levels 3, 6, 9, …; zero
-    /// between builds.
-    pub arrivals: Buffer,
     pub level_dims: Vec<[u32; 3]>,
     pub level_offsets: Vec<u32>,
 }
@@ -104,16 +93,9 @@ impl MinMaxOctreeGpu {
             bytemuck::cast_slice(&table),
             vk::BufferUsageFlags::STORAGE_BUFFER,
         )?;
-        let counters = arrival_counters(level_dims[0], level_dims.len());
-        let arrivals = gpu.upload_buffer(
-            "minmax_arrivals",
-            bytemuck::cast_slice(&vec![0u32; counters.max(1)]),
-            vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC,
-        )?;
         Ok(MinMaxOctreeGpu {
             nodes,
             levels,
-            arrivals,
             level_dims,
             level_offsets,
         })
@@ -195,7 +177,7 @@ impl MinMaxBuilder {
             rows: gpu.compute_pipeline(
                 "minmax rows",
                 &rows,
-                &[Slot::StorageBuffer; 4],
+                &[Slot::StorageBuffer, Slot::StorageBuffer],
             )?,
             blocks: gpu.compute_pipeline(
                 "minmax blocks",
@@ -261,8 +243,9 @@ impl MinMaxBuilder {
         dims: [u32; 3],
         octree: &MinMaxOctreeGpu,
     ) -> Result<()> {
-        let level_count = octree.level_dims.len() as u32;
-        self.record_rows(rec, samples, dims, octree, level_count)
+        self.record_level_zero_from_samples(rec, samples, dims, octree)?;
+        self.record_levels(rec, octree, 1);
+        Ok(())
     }
 
     /// [`Self::record_from_samples`] for level 0 alone, the rest of `octree` left as it was:
@@ -273,17 +256,6 @@ impl MinMaxBuilder {
         samples: &Buffer,
         dims: [u32; 3],
         octree: &MinMaxOctreeGpu,
-    ) -> Result<()> {
-        self.record_rows(rec, samples, dims, octree, 1)
-    }
-
-    fn record_rows(
-        &self,
-        rec: &Recorder,
-        samples: &Buffer,
-        dims: [u32; 3],
-        octree: &MinMaxOctreeGpu,
-        level_count: u32,
     ) -> Result<()> {
         let needed = samples_buffer_size(self.scalar, dims);
         // The shader numbers samples with 32-bit integers.
@@ -307,19 +279,13 @@ impl MinMaxBuilder {
             )));
         }
         let d0 = octree.level_dims[0];
-        let params = RowsParams {
+        let params = BlockParams {
             volume_dims: [dims[0], dims[1], dims[2], 0],
             block_dims: [d0[0], d0[1], d0[2], 0],
-            level_count,
         };
         rec.dispatch_groups(
             &self.rows,
-            &[
-                Binding::Buffer(samples),
-                Binding::Buffer(&octree.nodes),
-                Binding::Buffer(&octree.levels),
-                Binding::Buffer(&octree.arrivals),
-            ],
+            &[Binding::Buffer(samples), Binding::Buffer(&octree.nodes)],
             bytemuck::bytes_of(&params),
             [d0[0].div_ceil(32), d0[1], d0[2]],
         );
@@ -347,22 +313,6 @@ impl MinMaxBuilder {
             );
         }
     }
-}
-
-/// Arrival counters of the one-dispatch build (`minmax_rows.comp.glsl`) for an octree of
-/// `level_count` levels over `blocks` level-0 nodes: one per node of levels 3, 6, 9, … up to
-/// the first at or above the root, counted as ⌈blocks / 2^level⌉ per axis (one above the
-/// root), as the shader numbers them.
-fn arrival_counters(blocks: [u32; 3], level_count: usize) -> usize {
-    (3..level_count + 2)
-        .step_by(3)
-        .map(|level| {
-            blocks
-                .iter()
-                .map(|&b| b.div_ceil(1 << level) as usize)
-                .product::<usize>()
-        })
-        .sum()
 }
 
 /// A device buffer of `volume`'s samples as [`MinMaxBuilder::record_from_samples`] reads them
