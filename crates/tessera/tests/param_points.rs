@@ -377,6 +377,18 @@ fn glyph_image_matches_the_reference() {
         &camera(60.0, -25.0, 2.4),
         points_opts!(),
     );
+    // Mirrored, its cells wind the other way on screen: those facing the eye still drawn.
+    let mirror = Mat4::from_scale(Vec3::new(-1.0, 1.0, 1.0));
+    let mirrored = ParamScene::new(vec![ParamObject::new(glyph8())
+        .with_colour([0.9, 0.6, 0.3])
+        .with_transform(mirror)]);
+    assert_image_matches(
+        &gpu,
+        "glyph-mirrored",
+        &mirrored,
+        &camera(60.0, -25.0, 2.4),
+        points_opts!(),
+    );
     assert_clean(&gpu);
 }
 

@@ -41,6 +41,9 @@ const uint TILE = 8u;
 const uint POINTS = (TILE + 1u) * (TILE + 1u);
 const float EDGE_SLACK = 1.0 / 64.0;
 const float OVERLAP_CELLS = 0.5;
+// The sign of the pixel-space area of a triangle whose corners run counter-clockwise about
+// the normal facing the eye (pixel y grows downwards from NDC's -1).
+const float FRONT_AREA_SIGN = -1.0;
 // A triangle whose pixel rectangle is larger than this is skipped (and counted).
 const uint MAX_TRIANGLE_PIXELS = 4096u;
 
@@ -75,12 +78,14 @@ float cross2(vec2 a, vec2 b) {
     return a.x * b.y - a.y * b.x;
 }
 
-void draw_triangle(uint object, uint ia, uint ib, uint ic) {
+// `facing`: 0 draws the triangle whichever way it faces; else only where its pixel-space area
+// has that sign (glyph_front_sign).
+void draw_triangle(uint object, uint ia, uint ib, uint ic, float facing) {
     vec3 a = s_point[ia];
     vec3 b = s_point[ib];
     vec3 c = s_point[ic];
     float area = cross2(b.xy - a.xy, c.xy - a.xy);
-    if (abs(area) < 1e-12) {
+    if (abs(area) < 1e-12 || area * facing < 0.0) {
         return;
     }
     // Barycentric slack per corner: EDGE_SLACK pixels across the opposite edge.
@@ -141,6 +146,30 @@ void glyph_tables(ParamObject o, vec2 u_range, vec2 v_range, uvec2 origin, uvec2
     }
 }
 
+// A glyph whose radius never goes negative (its clamp starts at 0) is star-shaped about its
+// centre, so closed: seen from outside, every cell facing away lies behind one facing the eye
+// and need not be drawn. The sign of the pixel-space area of a cell triangle (corners in the
+// order of increasing u, then v) that faces the eye; 0 where the eye may be inside the glyph
+// (within its bounding sphere) or there is no finite eye.
+float glyph_front_sign(ParamObject o) {
+    if (o.radius_map.z < 0.0) {
+        return 0.0;
+    }
+    // The eye is the point the projection sends to clip (0, 0, z, 0).
+    vec4 eye = inverse(params.world_to_clip)[2];
+    if (!(abs(eye.w) > 0.0)) {
+        return 0.0;
+    }
+    vec3 centre = vec3(o.model[0].w, o.model[1].w, o.model[2].w);
+    mat3 linear = mat3(o.model[0].xyz, o.model[1].xyz, o.model[2].xyz);
+    float reach = o.radius_map.w * sqrt(dot(linear[0], linear[0]) + dot(linear[1], linear[1]) + dot(linear[2], linear[2]));
+    if (!(distance(eye.xyz / eye.w, centre) > reach)) {
+        return 0.0;
+    }
+    // An object-to-world transform that mirrors turns the winding over.
+    return determinant(linear) < 0.0 ? -FRONT_AREA_SIGN : FRONT_AREA_SIGN;
+}
+
 // The world position of glyph `object` at the tile's point in `column` and `row`.
 vec3 glyph_world_position(uint object, ParamObject o, uint column, uint row, float u, float v) {
     float r = s_polar_sums[column * SH_TABLE_WIDTH].x;
@@ -170,6 +199,7 @@ void main() {
     // across it.
     vec2 v_domain = (o.flags & PARAM_FLAG_PERIODIC_V) != 0u ? vec2(-1e30, 1e30) : o.domain.zw;
     vec2 v_range = cells ? overlapped(p.v, n.y, v_domain) : p.v;
+    float facing = glyph ? glyph_front_sign(o) : 0.0;
     // The patch's workgroups along z (lod_prepare) take every z-th tile, column by column so
     // that a workgroup's next tile mostly shares its columns' SH polar sums.
     uint tables_column = 0xffffffffu;  // the tile column the polar sums hold
@@ -215,8 +245,8 @@ void main() {
             uint i01 = i00 + TILE + 1u;
             uint i11 = i01 + 1u;
             if (s_point[i00].z >= 0.0 && s_point[i10].z >= 0.0 && s_point[i01].z >= 0.0 && s_point[i11].z >= 0.0) {
-                draw_triangle(p.object, i00, i10, i11);
-                draw_triangle(p.object, i00, i11, i01);
+                draw_triangle(p.object, i00, i10, i11, facing);
+                draw_triangle(p.object, i00, i11, i01, facing);
             }
         }
         barrier();
