@@ -63,7 +63,9 @@ fn every_level_zero_pass_gives_the_cpu_octree() {
     let ramp: Vec<f32> = (0..n).map(|i| ((i * 37) % 101) as f32 - 50.5).collect();
     let hashed = |i: usize| (i.wrapping_mul(2_654_435_761) >> 7) % 997;
     let long: Vec<u16> = (0..521 * 5 * 9).map(|i| hashed(i) as u16).collect();
-    let wide: Vec<u8> = (0..137 * 67 * 35).map(|i| (hashed(i) % 251) as u8).collect();
+    let wide: Vec<u8> = (0..137 * 67 * 35)
+        .map(|i| (hashed(i) % 251) as u8)
+        .collect();
     let volumes = [
         generate(ProceduralKind::Turbulence, 37, ScalarType::U16).unwrap(),
         Volume::new("ramp", [23, 18, 11], [1.0; 3], Samples::F32(ramp)).unwrap(),

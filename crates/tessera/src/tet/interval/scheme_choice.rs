@@ -188,7 +188,11 @@ mod tests {
         let mut auto = AutoScheme::default();
         assert_eq!(auto.next(), DrawScheme::Binned);
         auto.after_frame(DrawScheme::Binned, 230.0, true);
-        assert_eq!(auto.next(), DrawScheme::Binned, "measured again, lists grown");
+        assert_eq!(
+            auto.next(),
+            DrawScheme::Binned,
+            "measured again, lists grown"
+        );
         auto.after_frame(DrawScheme::Binned, 85.6, false);
         assert_eq!(auto.next(), DrawScheme::PerTet);
         auto.after_frame(DrawScheme::PerTet, 177.0, false);
