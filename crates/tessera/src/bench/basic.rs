@@ -127,6 +127,13 @@ pub(super) fn raymarch(
     Ok(())
 }
 
+/// Keeps the first failure of the recordings of a frame.
+fn keep_first_error(first: &mut Result<()>, next: Result<()>) {
+    if first.is_ok() {
+        *first = next;
+    }
+}
+
 /// The octree build reads the volume once (a workgroup per block, and per 2×2×2 blocks); a
 /// buffer copy of the same bytes (`vkCmdCopyBuffer`, and a compute shader's) shows what the
 /// memory system allows.
@@ -168,26 +175,20 @@ pub(super) fn minmax_build(
                 rm.builder()
                     .record_from_samples(rec, &src, dims, &prepared.octree)
             });
-            if recorded.is_ok() {
-                recorded = from_samples;
-            }
+            keep_first_error(&mut recorded, from_samples);
             rec.barrier();
             let level_zero = timer.scope(rec, "octree-rows-level0", |rec| {
                 rm.builder()
                     .record_level_zero_from_samples(rec, &src, dims, &prepared.octree)
             });
-            if recorded.is_ok() {
-                recorded = level_zero;
-            }
+            keep_first_error(&mut recorded, level_zero);
             rec.barrier();
             timer.scope(rec, "copy", |rec| rec.copy_buffer(&src, &dst, bytes));
             rec.barrier();
             let copied = timer.scope(rec, "compute-copy", |rec| {
                 copy.record(rec, &src, &dst, compute_bytes)
             });
-            if recorded.is_ok() {
-                recorded = copied;
-            }
+            keep_first_error(&mut recorded, copied);
         })?;
         recorded?;
         let mut r = BenchRecord::new(gpu, "minmax-build", "minmax-octree", "compute", &name);
