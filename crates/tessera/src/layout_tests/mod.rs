@@ -218,7 +218,7 @@ fn parametric_structs(t: &mut Table) {
     let draw = compile(&builtin_shader!("../param/points.comp.glsl"), &points);
     #[rustfmt::skip]
     t.push_constants::<PointsParams>(&draw, "PointsParams", host!(PointsParams, world_to_clip,
-        viewport, density, max_side, raster, uv_bits, render_capacity, footprint));
+        viewport, density, max_side, raster, uv_bits, render_capacity, footprint, eye));
     let resolve = compile(&builtin_shader!("../param/resolve.comp.glsl"), &points);
     #[rustfmt::skip]
     t.push_constants::<ResolveParams>(&resolve, "ResolveParams", host!(ResolveParams, eye, light,

@@ -35,6 +35,7 @@ layout(push_constant) uniform PointsParams {
     uint pad0;
     uint pad1;
     uint pad2;
+    vec4 eye;              // xyz the camera's position in world space
 } params;
 
 const uint TILE = 8u;
@@ -150,20 +151,15 @@ void glyph_tables(ParamObject o, vec2 u_range, vec2 v_range, uvec2 origin, uvec2
 // centre, so closed: seen from outside, every cell facing away lies behind one facing the eye
 // and need not be drawn. The sign of the pixel-space area of a cell triangle (corners in the
 // order of increasing u, then v) that faces the eye; 0 where the eye may be inside the glyph
-// (within its bounding sphere) or there is no finite eye.
+// (within its bounding sphere).
 float glyph_front_sign(ParamObject o) {
     if (o.radius_map.z < 0.0) {
-        return 0.0;
-    }
-    // The eye is the point the projection sends to clip (0, 0, z, 0).
-    vec4 eye = inverse(params.world_to_clip)[2];
-    if (!(abs(eye.w) > 0.0)) {
         return 0.0;
     }
     vec3 centre = vec3(o.model[0].w, o.model[1].w, o.model[2].w);
     mat3 linear = mat3(o.model[0].xyz, o.model[1].xyz, o.model[2].xyz);
     float reach = o.radius_map.w * sqrt(dot(linear[0], linear[0]) + dot(linear[1], linear[1]) + dot(linear[2], linear[2]));
-    if (!(distance(eye.xyz / eye.w, centre) > reach)) {
+    if (!(distance(params.eye.xyz, centre) > reach)) {
         return 0.0;
     }
     // An object-to-world transform that mirrors turns the winding over.

@@ -63,6 +63,8 @@ pub struct PointsParams {
     pub render_capacity: u32,
     pub footprint: u32,
     pub pad: [u32; 3],
+    /// The camera's position (w 1): which way a glyph's cells face.
+    pub eye: [f32; 4],
 }
 
 /// Push constants of `resolve.comp.glsl`.
@@ -163,6 +165,7 @@ impl PointPasses {
             render_capacity: lod.settings.capacity,
             footprint: footprint.code(),
             pad: [0; 3],
+            eye: view.eye.extend(1.0).to_array(),
         };
         rec.dispatch_indirect(
             &self.points,
