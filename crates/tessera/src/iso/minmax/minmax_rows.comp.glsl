@@ -1,5 +1,4 @@
 #version 460
-#extension GL_EXT_control_flow_attributes : require
 // Level 0 of the min-max octree from a buffer of the samples (x fastest, packed as the volume
 // holds them) rather than the 3-D texture. A workgroup takes 32 blocks along x of one block
 // row; lane i takes block i and walks the block's rows of samples (y, z), eight rows at a
@@ -23,11 +22,13 @@ const uint SAMPLES_PER_WORD = 4u / SAMPLE_BYTES;
 const uint WALKERS = 8u;
 shared vec2 s_partial[WALKERS][32];
 
-#if !SAMPLE_FLOAT
-uint sample_of_word(uint word, uint k) {
-    return bitfieldExtract(word, int(k * 8u * SAMPLE_BYTES), int(8u * SAMPLE_BYTES));
-}
+float sample_of_word(uint word, uint k) {
+#if SAMPLE_FLOAT
+    return uintBitsToFloat(word);
+#else
+    return float(bitfieldExtract(word, int(k * 8u * SAMPLE_BYTES), int(8u * SAMPLE_BYTES)));
 #endif
+}
 
 vec2 merge(vec2 a, vec2 b) {
     return vec2(min(a.x, b.x), max(a.y, b.y));
@@ -43,15 +44,7 @@ void main() {
     // The block's samples: its cells' corners, up to the next block's first sample.
     uvec3 lo = block * BLOCK;
     uvec3 hi = min(lo + BLOCK, dims - 1u);
-#if SAMPLE_FLOAT
     vec2 range = vec2(uintBitsToFloat(0x7f800000u), uintBitsToFloat(0xff800000u));
-#else
-    // Integer samples are compared as integers, and a word whose samples all lie in the row
-    // without a test per sample (about three operations a sample rather than eight): a uint8
-    // walk, four samples a word, read its bytes at half the rate of a uint16 one.
-    uint lowest = 0xffffffffu;
-    uint highest = 0u;
-#endif
     if (block.x < blocks.x) {
         uint rows_y = hi.y - lo.y + 1u;
         uint rows = rows_y * (hi.z - lo.z + 1u);
@@ -62,31 +55,15 @@ void main() {
             uint last = first + (hi.x - lo.x);
             for (uint w = first / SAMPLES_PER_WORD; w <= last / SAMPLES_PER_WORD; ++w) {
                 uint word = sample_words[w];
-#if SAMPLE_FLOAT
-                range = merge(range, vec2(uintBitsToFloat(word)));
-#else
-                uint word_first = w * SAMPLES_PER_WORD;
-                if (word_first >= first && word_first + SAMPLES_PER_WORD - 1u <= last) {
-                    [[unroll]] for (uint k = 0u; k < SAMPLES_PER_WORD; ++k) {
-                        lowest = min(lowest, sample_of_word(word, k));
-                        highest = max(highest, sample_of_word(word, k));
-                    }
-                } else {
-                    [[unroll]] for (uint k = 0u; k < SAMPLES_PER_WORD; ++k) {
-                        if (word_first + k >= first && word_first + k <= last) {
-                            lowest = min(lowest, sample_of_word(word, k));
-                            highest = max(highest, sample_of_word(word, k));
-                        }
+                for (uint k = 0u; k < SAMPLES_PER_WORD; ++k) {
+                    uint s = w * SAMPLES_PER_WORD + k;
+                    if (s >= first && s <= last) {
+                        range = merge(range, vec2(sample_of_word(word, k)));
                     }
                 }
-#endif
             }
         }
     }
-#if !SAMPLE_FLOAT
-    vec2 range = highest >= lowest ? vec2(float(lowest), float(highest))
-                                   : vec2(uintBitsToFloat(0x7f800000u), uintBitsToFloat(0xff800000u));
-#endif
     s_partial[walker][lane] = range;
     barrier();
     if (walker == 0u && block.x < blocks.x) {
