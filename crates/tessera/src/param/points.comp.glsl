@@ -196,10 +196,14 @@ void main() {
     vec2 v_domain = (o.flags & PARAM_FLAG_PERIODIC_V) != 0u ? vec2(-1e30, 1e30) : o.domain.zw;
     vec2 v_range = cells ? overlapped(p.v, n.y, v_domain) : p.v;
     float facing = glyph ? glyph_front_sign(o) : 0.0;
-    // The patch's workgroups along z (lod_prepare) take every z-th tile, column by column so
-    // that a workgroup's next tile mostly shares its columns' SH polar sums.
+    // The patch's workgroups along z (lod_prepare) split its tiles, taken column by column, into
+    // runs of consecutive tiles, so that a workgroup's next tile mostly shares its columns' SH
+    // polar sums (every z-th tile would share none: a spread patch is a large one).
+    uint tile_count = tiles.x * tiles.y;
+    uint run = (tile_count + gl_NumWorkGroups.z - 1u) / gl_NumWorkGroups.z;
+    uint run_end = min(run * (gl_WorkGroupID.z + 1u), tile_count);
     uint tables_column = 0xffffffffu;  // the tile column the polar sums hold
-    for (uint t = gl_WorkGroupID.z; t < tiles.x * tiles.y; t += gl_NumWorkGroups.z) {
+    for (uint t = run * gl_WorkGroupID.z; t < run_end; ++t) {
         uvec2 tile = uvec2(t / tiles.y, t % tiles.y);
         uvec2 origin = tile * TILE;
         if (glyph) {
