@@ -33,6 +33,9 @@ pub struct BenchArgs {
     /// exactly --warmup).
     #[arg(long, default_value_t = FramePlan::default().max_warmup)]
     max_warmup: u32,
+    /// Milliseconds of wall time the warm-up lasts at least, unless --max-warmup frames ran first.
+    #[arg(long, default_value_t = FramePlan::default().min_warmup_ms)]
+    min_warmup_ms: u32,
     /// Run the scenarios this many times and list the cells whose stage medians moved by more
     /// than 3 % between runs (every run's records are written, each with its `repeat`).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=10))]
@@ -179,6 +182,7 @@ pub fn run(options: &GpuOptions, args: &BenchArgs) -> Result<()> {
             warmup: args.warmup,
             frames: args.frames.max(1),
             max_warmup: args.max_warmup,
+            min_warmup_ms: args.min_warmup_ms,
         },
         quick: args.quick,
         iso_fraction: args.iso_fraction,

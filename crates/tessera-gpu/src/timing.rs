@@ -7,6 +7,7 @@ use crate::error::{GpuError, Result};
 use crate::memory::Buffer;
 use crate::timer::Timer;
 use serde::Serialize;
+use std::time::{Duration, Instant};
 
 /// Frame counts for one measurement.
 #[derive(Debug, Clone, Copy)]
@@ -17,6 +18,11 @@ pub struct FramePlan {
     /// Warm-up frames at most: past `warmup`, frames keep warming up until their time settles
     /// ([`WarmUp`]) or this many ran. At or below `warmup`: exactly `warmup` frames.
     pub max_warmup: u32,
+    /// Milliseconds of wall time the warm-up lasts at least (unless `max_warmup` frames ran
+    /// first): on the H200 a glyph field's first cell ran 3–3.5× slow in all its passes for
+    /// some 40 frames after its scene was made, steadily enough to pass the settling test
+    /// (docs/BENCHMARKS.md, runs 66–67).
+    pub min_warmup_ms: u32,
 }
 
 impl Default for FramePlan {
@@ -25,6 +31,7 @@ impl Default for FramePlan {
             warmup: 10,
             frames: 100,
             max_warmup: 200,
+            min_warmup_ms: 500,
         }
     }
 }
@@ -40,13 +47,14 @@ pub const SETTLE_SPREAD: f64 = 0.15;
 /// Decides when a measurement's warm-up is over: after at least `plan.warmup` frames, once the
 /// median time of the last [`SETTLE_WINDOW`] frames is within [`SETTLE_TOLERANCE`] of the
 /// median of the window before (clocks ramped, caches and lazily built pipelines warm) and no
-/// frame of the last window is more than [`SETTLE_SPREAD`] above its median, or after
-/// `plan.max_warmup` frames. The spread test is there because a stable median is not enough: on
+/// frame of the last window is more than [`SETTLE_SPREAD`] above its median and
+/// `plan.min_warmup_ms` have passed since the first, or after `plan.max_warmup` frames. The spread test is there because a stable median is not enough: on
 /// the H200 a scene's first cell has warmed up with every second frame or so twice as slow, in
 /// all its passes alike, and then timed that way (docs/BENCHMARKS.md, run 66).
 pub struct WarmUp {
     plan: FramePlan,
     frame_ms: Vec<f64>,
+    started: Option<Instant>,
 }
 
 impl WarmUp {
@@ -54,6 +62,7 @@ impl WarmUp {
         WarmUp {
             plan,
             frame_ms: Vec::new(),
+            started: None,
         }
     }
 
@@ -65,6 +74,10 @@ impl WarmUp {
         }
         if done >= self.plan.max_warmup {
             return false;
+        }
+        let min_wall = Duration::from_millis(u64::from(self.plan.min_warmup_ms));
+        if self.started.is_none_or(|t| t.elapsed() < min_wall) {
+            return true;
         }
         let n = self.frame_ms.len();
         if n < 2 * SETTLE_WINDOW {
@@ -80,6 +93,7 @@ impl WarmUp {
 
     /// Records a warm-up frame's GPU time (all its scopes).
     pub fn add(&mut self, frame_ms: f64) {
+        self.started.get_or_insert_with(Instant::now);
         self.frame_ms.push(frame_ms);
     }
 
@@ -220,6 +234,7 @@ mod tests {
             warmup: 3,
             frames: 10,
             max_warmup: 500,
+            min_warmup_ms: 0,
         };
         // Steady from the start: the minimum, or two windows when that is more.
         assert_eq!(warm_up_frames(plan, |_| 1.0), 2 * SETTLE_WINDOW as u32);
@@ -246,5 +261,25 @@ mod tests {
             ..plan
         };
         assert_eq!(warm_up_frames(fixed, |k| k as f64), 3);
+        // Settled frames keep warming up until the wall-time minimum has passed since the first.
+        let timed = FramePlan {
+            min_warmup_ms: 30,
+            max_warmup: u32::MAX,
+            ..plan
+        };
+        let start = Instant::now();
+        let frames = warm_up_frames(timed, |_| {
+            std::thread::sleep(Duration::from_millis(1));
+            1.0
+        });
+        assert!(start.elapsed() >= Duration::from_millis(30), "{frames}");
+        assert!(frames > 2 * SETTLE_WINDOW as u32, "{frames}");
+        // The frame cap comes first.
+        let capped = FramePlan {
+            max_warmup: 20,
+            min_warmup_ms: 60_000,
+            ..plan
+        };
+        assert_eq!(warm_up_frames(capped, |_| 1.0), 20);
     }
 }

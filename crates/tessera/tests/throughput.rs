@@ -142,6 +142,7 @@ fn run_times_every_path() {
             warmup: 1,
             frames: 2,
             max_warmup: 0,
+            min_warmup_ms: 0,
         },
     };
     let records = run(&gpu, &compiler, &opts).unwrap();
