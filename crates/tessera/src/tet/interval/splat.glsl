@@ -76,8 +76,22 @@ vec2 pixel_ndc(uvec2 pixel) {
     return p / (0.5 * vec2(params.counts.yz)) - 1.0;
 }
 
+// Whether triangle a b centre owns pixel centre p, with the attributes interpolated there.
+bool triangle_attrs_at(vec2 a, vec2 b, vec2 centre, vec4 attrs_a, vec4 attrs_b, vec4 attrs_centre, vec2 p,
+                       out vec4 attrs) {
+    vec3 w;
+    if (!covers(to_screen(a), to_screen(b), centre, p, w)) {
+        attrs = vec4(0.0);
+        return false;
+    }
+    attrs = w.x * attrs_a + w.y * attrs_b + w.z * attrs_centre;
+    return true;
+}
+
 // Whether one of the proxy's triangles owns the pixel centre, and the attributes interpolated
-// there. The triangles of one proxy tile its silhouette, so at most one does.
+// there. The triangles of one proxy tile its silhouette, so at most one does. Written out per
+// silhouette size rather than looped over with the size as bound: every index into the proxy
+// is a constant, so that it stays in registers.
 bool proxy_attrs_at(Proxy proxy, uvec2 pixel, out vec4 attrs) {
     attrs = vec4(0.0);
     uint s = proxy.silhouette;
@@ -85,16 +99,18 @@ bool proxy_attrs_at(Proxy proxy, uvec2 pixel, out vec4 attrs) {
         return false;
     }
     vec2 p = vec2(pixel) + 0.5;
-    vec2 centre = to_screen(proxy.p[s]);
-    for (uint j = 0u; j < s; ++j) {
-        uint k = j + 1u == s ? 0u : j + 1u;
-        vec3 w;
-        if (covers(to_screen(proxy.p[j]), to_screen(proxy.p[k]), centre, p, w)) {
-            attrs = w.x * proxy.attrs[j] + w.y * proxy.attrs[k] + w.z * proxy.attrs[s];
-            return true;
-        }
+    bool quad = s == 4u;
+    vec2 centre = to_screen(quad ? proxy.p[4] : proxy.p[3]);
+    vec4 centre_attrs = quad ? proxy.attrs[4] : proxy.attrs[3];
+    if (triangle_attrs_at(proxy.p[0], proxy.p[1], centre, proxy.attrs[0], proxy.attrs[1], centre_attrs, p, attrs)
+        || triangle_attrs_at(proxy.p[1], proxy.p[2], centre, proxy.attrs[1], proxy.attrs[2], centre_attrs, p, attrs)) {
+        return true;
     }
-    return false;
+    if (!quad) {
+        return triangle_attrs_at(proxy.p[2], proxy.p[0], centre, proxy.attrs[2], proxy.attrs[0], centre_attrs, p, attrs);
+    }
+    return triangle_attrs_at(proxy.p[2], proxy.p[3], centre, proxy.attrs[2], proxy.attrs[3], centre_attrs, p, attrs)
+        || triangle_attrs_at(proxy.p[3], proxy.p[0], centre, proxy.attrs[3], proxy.attrs[0], centre_attrs, p, attrs);
 }
 
 // The pixel work of tet `tet` at `pixel` where one of its proxy's triangles owns the pixel

@@ -33,11 +33,15 @@ bool hand_to_tiles(uint tet, uvec2 first, uvec2 last) {
 bool proxy_pixel_rect(Proxy proxies[3], uint n, out uvec2 first, out uvec2 last) {
     vec2 lo = vec2(1e30);
     vec2 hi = vec2(-1e30);
-    for (uint k = 0u; k < n; ++k) {
-        for (uint j = 0u; j <= proxies[k].silhouette && proxies[k].silhouette > 0u; ++j) {
-            vec2 s = to_screen(proxies[k].p[j]);
-            lo = min(lo, s);
-            hi = max(hi, s);
+    // Constant bounds, so that every index into the proxies is a constant (registers).
+    for (uint k = 0u; k < 3u; ++k) {
+        uint silhouette = k < n ? proxies[k].silhouette : 0u;
+        for (uint j = 0u; j < 5u; ++j) {
+            if (j <= silhouette && silhouette > 0u) {
+                vec2 s = to_screen(proxies[k].p[j]);
+                lo = min(lo, s);
+                hi = max(hi, s);
+            }
         }
     }
     vec2 size = vec2(params.counts.yz);
@@ -65,8 +69,10 @@ void draw_tet(uint tet, Proxy proxies[3], uint n, uvec2 first, uvec2 last) {
     }
     for (uint y = first.y; y <= last.y; ++y) {
         for (uint x = first.x; x <= last.x; ++x) {
-            for (uint k = 0u; k < n; ++k) {
-                shade_pixel(proxies[k], uvec2(x, y), tet);
+            for (uint k = 0u; k < 3u; ++k) {
+                if (k < n) {
+                    shade_pixel(proxies[k], uvec2(x, y), tet);
+                }
             }
         }
     }
