@@ -19,8 +19,8 @@ pub struct FramePlan {
     /// ([`WarmUp`]) or this many ran. At or below `warmup`: exactly `warmup` frames.
     pub max_warmup: u32,
     /// Milliseconds of wall time the warm-up lasts at least (unless `max_warmup` frames ran
-    /// first): on the H200 a glyph field's first cell ran 3–3.5× slow in all its passes for
-    /// some 40 frames after its scene was made, steadily enough to pass the settling test
+    /// first): on the H200 a glyph field's first cell ran 2–3.7× slow in all its passes through
+    /// its warm-up and most of its timed frames, steadily enough to pass the settling test
     /// (docs/BENCHMARKS.md, runs 66–67).
     pub min_warmup_ms: u32,
 }
