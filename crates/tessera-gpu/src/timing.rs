@@ -247,7 +247,13 @@ mod tests {
         );
         // A stable median with every third frame twice as slow is not settled: warming lasts
         // until the slow frames stop.
-        let bimodal = |k: u32| if k < 60 && k % 3 == 0 { 2.0 } else { 1.0 };
+        let bimodal = |k: u32| {
+            if k < 60 && k.is_multiple_of(3) {
+                2.0
+            } else {
+                1.0
+            }
+        };
         let frames = warm_up_frames(plan, bimodal);
         assert!(
             (60..60 + SETTLE_WINDOW as u32 + 1).contains(&frames),
