@@ -13,11 +13,10 @@ use tessera_gpu::GpuOptions;
 pub struct BenchArgs {
     /// pipeline-throughput, raymarch, minmax-build, isosurface (raymarch against direct),
     /// iso-sweep (isovalue changes every frame; meshlets and pmb extract and draw), extraction
-    /// (meshlets against PMB at every block size: GPU time and stored bytes), time-varying (a
-    /// new volume every frame),
-    /// stereo (two eyes against one), interval and shell (tet meshes), param (parametric
-    /// objects: SH glyphs), growth (every technique's time against pixels and data size) or
-    /// all.
+    /// (meshlets against PMB at every block size: GPU time and stored bytes), time-varying (a new
+    /// volume every frame), stereo (two eyes against one), interval and shell (tet meshes), param
+    /// (parametric objects: SH glyphs), growth (every technique's time against pixels and data
+    /// size) or all.
     scenario: String,
     /// Append JSON lines here.
     #[arg(long)]
@@ -25,15 +24,15 @@ pub struct BenchArgs {
     /// Timed frames per measurement (after warm-up).
     #[arg(long, default_value_t = 100)]
     frames: u32,
-    /// Warm-up frames per measurement at least; more follow until the frame time settles
-    /// (the medians of the last two windows of 8 frames within 2 %), up to --max-warmup.
+    /// Warm-up frames per measurement at least; more follow until the frame time settles (two
+    /// windows of 8 frames agree within 2 %, none 15 % above its median), up to --max-warmup.
     #[arg(long, default_value_t = 10)]
     warmup: u32,
-    /// Warm-up frames per measurement at most (at or below --warmup, or with --quick:
+    /// Warm-up frames at most, --min-warmup-ms or not (at or below --warmup, or with --quick:
     /// exactly --warmup).
     #[arg(long, default_value_t = FramePlan::default().max_warmup)]
     max_warmup: u32,
-    /// Milliseconds of wall time the warm-up lasts at least, unless --max-warmup frames ran first.
+    /// Milliseconds of wall time the warm-up lasts at least.
     #[arg(long, default_value_t = FramePlan::default().min_warmup_ms)]
     min_warmup_ms: u32,
     /// Run the scenarios this many times and list the cells whose stage medians moved by more

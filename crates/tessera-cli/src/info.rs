@@ -34,6 +34,7 @@ pub fn run(options: &GpuOptions, args: &InfoArgs) -> Result<()> {
         caps.device_local_bytes as f64 / (1u64 << 30) as f64
     );
     let yes = |b: bool| if b { "yes" } else { "no" };
+    let flag = |label: &str, has: bool| println!("  {label:<24} {}", yes(has));
     println!("capabilities:");
     println!(
         "  mesh/task shaders        {} / {} (max {} vertices, {} primitives, payload {} B, preferred {} invocations, multiview {})",
@@ -45,15 +46,9 @@ pub fn run(options: &GpuOptions, args: &InfoArgs) -> Result<()> {
         caps.mesh_preferred_invocations,
         yes(caps.mesh_multiview)
     );
-    println!(
-        "  ray-tracing pipeline     {}",
-        yes(caps.ray_tracing_pipeline)
-    );
-    println!(
-        "  acceleration structures  {}",
-        yes(caps.acceleration_structure)
-    );
-    println!("  ray query                {}", yes(caps.ray_query));
+    flag("ray-tracing pipeline", caps.ray_tracing_pipeline);
+    flag("acceleration structures", caps.acceleration_structure);
+    flag("ray query", caps.ray_query);
     println!(
         "  tessellation             {} (max level {})",
         yes(caps.tessellation),
@@ -74,18 +69,9 @@ pub fn run(options: &GpuOptions, args: &InfoArgs) -> Result<()> {
         caps.subgroup_size,
         yes(caps.subgroup_arithmetic)
     );
-    println!(
-        "  representative fragment  {}",
-        yes(caps.representative_fragment_test)
-    );
-    println!(
-        "  fragment barycentric     {}",
-        yes(caps.fragment_barycentric)
-    );
-    println!(
-        "  fragment interlock       {}",
-        yes(caps.fragment_shader_interlock)
-    );
+    flag("representative fragment", caps.representative_fragment_test);
+    flag("fragment barycentric", caps.fragment_barycentric);
+    flag("fragment interlock", caps.fragment_shader_interlock);
     println!(
         "  max 3-D image            {} per axis",
         caps.max_image_dimension_3d

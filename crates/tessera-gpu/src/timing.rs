@@ -46,11 +46,11 @@ pub const SETTLE_SPREAD: f64 = 0.15;
 
 /// Decides when a measurement's warm-up is over: after at least `plan.warmup` frames, once the
 /// median time of the last [`SETTLE_WINDOW`] frames is within [`SETTLE_TOLERANCE`] of the
-/// median of the window before (clocks ramped, caches and lazily built pipelines warm) and no
-/// frame of the last window is more than [`SETTLE_SPREAD`] above its median and
-/// `plan.min_warmup_ms` have passed since the first, or after `plan.max_warmup` frames. The spread test is there because a stable median is not enough: on
-/// the H200 a scene's first cell has warmed up with every second frame or so twice as slow, in
-/// all its passes alike, and then timed that way (docs/BENCHMARKS.md, run 66).
+/// median of the window before (clocks ramped, caches and lazily built pipelines warm), no
+/// frame of the last window is more than [`SETTLE_SPREAD`] above its median, and
+/// `plan.min_warmup_ms` have passed since the first frame; or after `plan.max_warmup` frames.
+/// A stable median is not enough: on the H200 a scene's first cell was timed with many of its
+/// frames twice as slow, in all its passes alike (docs/BENCHMARKS.md, run 66).
 pub struct WarmUp {
     plan: FramePlan,
     frame_ms: Vec<f64>,

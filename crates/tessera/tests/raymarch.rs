@@ -57,8 +57,8 @@ fn every_level_zero_pass_gives_the_cpu_octree() {
     }
     // Odd block counts (partial groups of 2×2×2 blocks), one block (no level 1), and a
     // volume whose last block row is a single plane of samples.
-    // Then volumes of 6 and 8 levels (two and three level passes), many workgroups to a
-    // level-3 node, and a hash-like field so that every node's range differs.
+    // Then volumes of 6 and 8 levels (two and three level passes) with a hash-like field, so
+    // that every node's range differs.
     let n = 23 * 18 * 11;
     let ramp: Vec<f32> = (0..n).map(|i| ((i * 37) % 101) as f32 - 50.5).collect();
     let hashed = |i: usize| (i.wrapping_mul(2_654_435_761) >> 7) % 997;
