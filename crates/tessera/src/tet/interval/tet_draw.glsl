@@ -57,8 +57,48 @@ bool proxy_pixel_rect(Proxy proxies[3], uint n, out uvec2 first, out uvec2 last)
     return true;
 }
 
+// Widens [lo, hi] to the x that edge a-b takes while y runs over [y0, y1] (screen pixels).
+void widen_to_edge(vec2 a, vec2 b, float y0, float y1, inout float lo, inout float hi) {
+    if (max(a.y, b.y) < y0 || min(a.y, b.y) > y1) {
+        return;
+    }
+    float dy = b.y - a.y;
+    vec2 t = dy == 0.0 ? vec2(0.0, 1.0) : clamp((vec2(y0, y1) - a.y) / dy, 0.0, 1.0);
+    vec2 x = a.x + t * (b.x - a.x);
+    lo = min(lo, min(x.x, x.y));
+    hi = max(hi, max(x.x, x.y));
+}
+
+// The pixels of row y whose centres the proxies' silhouettes may hold, within the rectangle's
+// columns: between the silhouette edges' leftmost and rightmost crossings of the row's centre
+// line, a pixel wider each side and taken over a band ROW_SLACK high, so that rounding never
+// leaves out a pixel the exact test (splat.glsl) would give the tet. False when there are none.
+bool row_span(Proxy proxies[3], uint n, uint y, uvec2 first, uvec2 last, out uint x0, out uint x1) {
+    const float ROW_SLACK = 0.01;
+    float centre = float(y) + 0.5;
+    float lo = 1e30;
+    float hi = -1e30;
+    // Constant bounds, so that every index into the proxies is a constant (registers).
+    for (uint k = 0u; k < 3u; ++k) {
+        uint silhouette = k < n ? proxies[k].silhouette : 0u;
+        for (uint j = 0u; j < 4u; ++j) {
+            if (j < silhouette) {
+                vec2 a = to_screen(proxies[k].p[j]);
+                vec2 b = to_screen(j + 1u < silhouette ? proxies[k].p[j + 1u] : proxies[k].p[0]);
+                widen_to_edge(a, b, centre - ROW_SLACK, centre + ROW_SLACK, lo, hi);
+            }
+        }
+    }
+    float from = max(ceil(lo - 0.5) - 1.0, float(first.x));
+    float to = min(floor(hi - 0.5) + 1.0, float(last.x));
+    x0 = uint(max(from, 0.0));
+    x1 = uint(max(to, 0.0));
+    return from <= to;
+}
+
 // Draws tet `tet` (its `n` proxies, their pixel rectangle first..last) here or through the
-// tile pass.
+// tile pass. Here, each row is walked only across its span of the silhouettes: a tet's
+// silhouette fills about half its rectangle.
 void draw_tet(uint tet, Proxy proxies[3], uint n, uvec2 first, uvec2 last) {
     uvec2 extent = last - first + 1u;
     if (extent.x * extent.y > params.counts.w) {
@@ -68,7 +108,12 @@ void draw_tet(uint tet, Proxy proxies[3], uint n, uvec2 first, uvec2 last) {
         atomicAdd(stats[STAT_OVERFLOW], 1u);
     }
     for (uint y = first.y; y <= last.y; ++y) {
-        for (uint x = first.x; x <= last.x; ++x) {
+        uint x0;
+        uint x1;
+        if (!row_span(proxies, n, y, first, last, x0, x1)) {
+            continue;
+        }
+        for (uint x = x0; x <= x1; ++x) {
             for (uint k = 0u; k < 3u; ++k) {
                 if (k < n) {
                     shade_pixel(proxies[k], uvec2(x, y), tet);
