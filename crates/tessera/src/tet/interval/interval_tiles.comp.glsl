@@ -12,7 +12,7 @@ layout(local_size_x = TILE, local_size_y = TILE) in;
 
 #include "tet/interval/pixel_passes.glsl"
 
-shared Proxy tet_proxy[3];
+shared ProxyRaster tet_proxy[3];
 shared uint tet_proxy_count;
 
 void main() {
@@ -28,7 +28,7 @@ void main() {
         bool clipped;
         tet_proxy_count = tet_proxies(tiled.x, proxies, clipped);
         for (uint k = 0u; k < 3u; ++k) {
-            tet_proxy[k] = proxies[k];
+            tet_proxy[k] = proxy_raster(proxies[k]);
         }
     }
     barrier();

@@ -69,24 +69,18 @@ void widen_to_edge(vec2 a, vec2 b, float y0, float y1, inout float lo, inout flo
     hi = max(hi, max(x.x, x.y));
 }
 
-// The pixels of row y whose centres the proxies' silhouettes may hold, within the rectangle's
-// columns: between the silhouette edges' leftmost and rightmost crossings of the row's centre
-// line, a pixel wider each side and taken over a band ROW_SLACK high, so that rounding never
-// leaves out a pixel the exact test (splat.glsl) would give the tet. False when there are none.
-bool row_span(Proxy proxies[3], uint n, uint y, uvec2 first, uvec2 last, out uint x0, out uint x1) {
+// The pixels of row y whose centres the proxy's silhouette may hold, within the columns
+// first.x..last.x: between the silhouette edges' leftmost and rightmost crossings of the row's
+// centre line, a pixel wider each side and taken over a band ROW_SLACK high, so that rounding
+// never leaves out a pixel the exact test (splat.glsl) would give the tet. False when none.
+bool proxy_row_span(ProxyRaster proxy, uint y, uvec2 first, uvec2 last, out uint x0, out uint x1) {
     const float ROW_SLACK = 0.01;
     float centre = float(y) + 0.5;
     float lo = 1e30;
     float hi = -1e30;
-    // Constant bounds, so that every index into the proxies is a constant (registers).
-    for (uint k = 0u; k < 3u; ++k) {
-        uint silhouette = k < n ? proxies[k].silhouette : 0u;
-        for (uint j = 0u; j < 4u; ++j) {
-            if (j < silhouette) {
-                vec2 a = to_screen(proxies[k].p[j]);
-                vec2 b = to_screen(j + 1u < silhouette ? proxies[k].p[j + 1u] : proxies[k].p[0]);
-                widen_to_edge(a, b, centre - ROW_SLACK, centre + ROW_SLACK, lo, hi);
-            }
+    for (uint j = 0u; j < 4u; ++j) {
+        if (j < proxy.silhouette) {
+            widen_to_edge(proxy.corner[j], proxy.corner[j + 1u], centre - ROW_SLACK, centre + ROW_SLACK, lo, hi);
         }
     }
     float from = max(ceil(lo - 0.5) - 1.0, float(first.x));
@@ -96,28 +90,42 @@ bool row_span(Proxy proxies[3], uint n, uint y, uvec2 first, uvec2 last, out uin
     return from <= to;
 }
 
-// Draws tet `tet` (its `n` proxies, their pixel rectangle first..last) here or through the
-// tile pass. Here, each row is walked only across its span of the silhouettes: a tet's
-// silhouette fills about half its rectangle.
-void draw_tet(uint tet, Proxy proxies[3], uint n, uvec2 first, uvec2 last) {
+// Draws row y of one of tet `tet`'s proxies, across the proxy's span only (a silhouette fills
+// about half of its rectangle first..last).
+void draw_proxy_row(uint tet, ProxyRaster proxy, uint y, uvec2 first, uvec2 last) {
+    uint x0;
+    uint x1;
+    if (proxy_row_span(proxy, y, first, last, x0, x1)) {
+        for (uint x = x0; x <= x1; ++x) {
+            shade_pixel(proxy, uvec2(x, y), tet);
+        }
+    }
+}
+
+// Whether the tet with pixel rectangle first..last is to be drawn by the calling invocation:
+// false where the tile pass takes it.
+bool drawn_here(uint tet, uvec2 first, uvec2 last) {
     uvec2 extent = last - first + 1u;
     if (extent.x * extent.y > params.counts.w) {
         if (hand_to_tiles(tet, first, last)) {
-            return;
+            return false;
         }
         atomicAdd(stats[STAT_OVERFLOW], 1u);
     }
-    for (uint y = first.y; y <= last.y; ++y) {
-        uint x0;
-        uint x1;
-        if (!row_span(proxies, n, y, first, last, x0, x1)) {
-            continue;
-        }
-        for (uint x = x0; x <= x1; ++x) {
-            for (uint k = 0u; k < 3u; ++k) {
-                if (k < n) {
-                    shade_pixel(proxies[k], uvec2(x, y), tet);
-                }
+    return true;
+}
+
+// Draws tet `tet` (its `n` proxies, their pixel rectangle first..last) here or through the
+// tile pass.
+void draw_tet(uint tet, Proxy proxies[3], uint n, uvec2 first, uvec2 last) {
+    if (!drawn_here(tet, first, last)) {
+        return;
+    }
+    for (uint k = 0u; k < 3u; ++k) {
+        if (k < n) {
+            ProxyRaster proxy = proxy_raster(proxies[k]);
+            for (uint y = first.y; y <= last.y; ++y) {
+                draw_proxy_row(tet, proxy, y, first, last);
             }
         }
     }
