@@ -1,7 +1,7 @@
 // The compute path's per-tet drawing, shared by its first pass (interval_raster.comp.glsl) and
 // the binned path's counting pass (interval_bin_count.comp.glsl), which draws this way the tets
 // its lists have no room for. A tet whose screen rectangle holds at most `params.counts.w`
-// pixels is drawn by the calling invocation, pixel by pixel; a larger one is handed to the tile
+// pixels is drawn by the calling invocation, each row across its span; a larger one goes to the tile
 // pass (interval_tiles.comp.glsl) as TILE × TILE-pixel tiles, one workgroup each, so that the
 // few huge proxies near the eye do not leave one invocation walking a whole screen. Where the
 // tile buffers are full, the tet is drawn by the invocation after all (slowly, but correctly).
@@ -85,8 +85,9 @@ bool proxy_row_span(ProxyRaster proxy, uint y, uvec2 first, uvec2 last, out uint
     }
     float from = max(ceil(lo - 0.5) - 1.0, float(first.x));
     float to = min(floor(hi - 0.5) + 1.0, float(last.x));
-    x0 = uint(max(from, 0.0));
-    x1 = uint(max(to, 0.0));
+    // Clamped into the columns, so that an empty span (from = 1e30) converts to an integer too.
+    x0 = uint(min(from, float(last.x)));
+    x1 = uint(max(to, float(first.x)));
     return from <= to;
 }
 
