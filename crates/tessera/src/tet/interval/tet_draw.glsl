@@ -1,11 +1,11 @@
 // The compute path's per-tet drawing, shared by its first pass (interval_raster.comp.glsl) and
 // the binned path's counting pass (interval_bin_count.comp.glsl), which draws this way the tets
 // its lists have no room for. A tet whose screen rectangle holds at most `params.counts.w`
-// pixels is drawn by the calling invocation, each row across its span; a larger one goes to the tile
-// pass (interval_tiles.comp.glsl) as TILE × TILE-pixel tiles, one workgroup each, so that the
-// few huge proxies near the eye do not leave one invocation walking a whole screen. Where the
-// tile buffers are full, the tet is drawn by the invocation after all (slowly, but correctly).
-// Needs splat.glsl and what it needs.
+// pixels is drawn by the calling invocation, each row across its span; a larger one is handed
+// to the tile pass (interval_tiles.comp.glsl) as TILE × TILE-pixel tiles, one workgroup each,
+// so that the few huge proxies near the eye do not leave one invocation walking a whole
+// screen. Where the tile buffers are full, the tet is drawn by the invocation after all
+// (slowly, but correctly). Needs splat.glsl and what it needs.
 
 // Hands the tet to the tile pass; false when the buffers are full.
 bool hand_to_tiles(uint tet, uvec2 first, uvec2 last) {
