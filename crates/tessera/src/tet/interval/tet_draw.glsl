@@ -91,8 +91,8 @@ bool proxy_row_span(ProxyRaster proxy, uint y, uvec2 first, uvec2 last, out uint
     return from <= to;
 }
 
-// Draws row y of one of tet `tet`'s proxies, across the proxy's span only (a silhouette fills
-// about half of its rectangle first..last).
+// Draws row y of one of tet `tet`'s proxies, across the proxy's span only (a triangular
+// silhouette fills at most half of its rectangle first..last).
 void draw_proxy_row(uint tet, ProxyRaster proxy, uint y, uvec2 first, uvec2 last) {
     uint x0;
     uint x1;
