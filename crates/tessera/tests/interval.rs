@@ -5,10 +5,13 @@
 
 mod common;
 
-use common::interval::{assert_matches_reference, defaults};
-use common::{assert_clean, camera, gpu};
+use common::interval::{
+    assert_matches_reference, assert_variants_match, defaults, variants, Expected,
+};
+use common::{assert_clean, camera, gpu, skip};
 use tessera::shaders;
-use tessera::tet::interval::{GpuTetMesh, Interval};
+use tessera::tet::interval::{GpuTetMesh, Integrand, Interval};
+use tessera_data::tet::optical::{edge_mask, optical_depth};
 use tessera_data::tet::procedural::{box_mesh, deform, sphere_mesh};
 use tessera_data::tet::TetMesh;
 
@@ -39,6 +42,53 @@ fn one_tet_with_a_triangle_silhouette() {
         covered > 500,
         "the tet must fill part of the image ({covered} pixels)"
     );
+}
+
+#[test]
+fn pixel_centres_on_a_spoke_count_once() {
+    // The apex and the far corner both lie on x = 0, which projects onto the pixel centres of
+    // the middle column of an odd-width image: the spoke of the proxy between them runs exactly
+    // through those centres, and the top-left rule must give each to one of the two triangles
+    // sharing it (a tie neither takes is a hole in the tet). Those pixels are held to the
+    // reference too, though they lie on a projected edge; the rest as usual.
+    let mesh = single_tet([
+        [-1.0, -1.0, 0.0],
+        [1.0, -1.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, -0.2, 1.0],
+    ]);
+    let cam = camera(0.0, 0.0, 2.5);
+    let (w, h) = (65u32, 65u32);
+    let gpu = gpu();
+    let variants = variants(&gpu, &Integrand::TetAbsorption, false);
+    if variants.is_empty() {
+        skip("", "neither mesh shaders nor float atomics");
+        return;
+    }
+    let reference = optical_depth(&mesh, &cam, w, h);
+    let mut edges = edge_mask(&mesh, &cam, w, h, 1.0);
+    let middle = (w / 2) as usize;
+    let width = w as usize;
+    let mut on_spoke = 0;
+    for y in 0..h as usize {
+        let i = y * width + middle;
+        // Away from the silhouette: both neighbours covered.
+        if reference[i - 1][0] > 0.0 && reference[i][0] > 0.0 && reference[i + 1][0] > 0.0 {
+            edges[i] = false;
+            on_spoke += 1;
+        }
+    }
+    assert!(
+        on_spoke > 15,
+        "{on_spoke} pixels of the middle column inside the tet"
+    );
+    let gpu_mesh = GpuTetMesh::upload(&gpu, &mesh).unwrap();
+    let expected = Expected {
+        reference: &reference,
+        edges: &edges,
+        clipped: false,
+    };
+    assert_variants_match(&gpu, "spoke", &gpu_mesh, &variants, &cam, (w, h), &expected);
 }
 
 #[test]
