@@ -44,19 +44,10 @@ fn one_tet_with_a_triangle_silhouette() {
     );
 }
 
-#[test]
-fn pixel_centres_on_a_spoke_count_once() {
-    // The apex and the far corner both lie on x = 0, which projects onto the pixel centres of
-    // the middle column of an odd-width image: the spoke of the proxy between them runs exactly
-    // through those centres, and the top-left rule must give each to one of the two triangles
-    // sharing it (a tie neither takes is a hole in the tet). Those pixels are held to the
-    // reference too, though they lie on a projected edge; the rest as usual.
-    let mesh = single_tet([
-        [-1.0, -1.0, 0.0],
-        [1.0, -1.0, 0.0],
-        [0.0, 1.0, 0.0],
-        [0.0, -0.2, 1.0],
-    ]);
+/// Holds `mesh`'s pixels to the reference as usual, and also the pixels of the image's middle
+/// column (or row, `along_x`) whose neighbours across it lie inside the tet, though a projected
+/// edge runs through their centres.
+fn assert_middle_line_matches(name: &str, mesh: &TetMesh, along_x: bool) {
     let cam = camera(0.0, 0.0, 2.5);
     let (w, h) = (65u32, 65u32);
     let gpu = gpu();
@@ -65,30 +56,56 @@ fn pixel_centres_on_a_spoke_count_once() {
         skip("", "neither mesh shaders nor float atomics");
         return;
     }
-    let reference = optical_depth(&mesh, &cam, w, h);
-    let mut edges = edge_mask(&mesh, &cam, w, h, 1.0);
-    let middle = (w / 2) as usize;
-    let width = w as usize;
-    let mut on_spoke = 0;
-    for y in 0..h as usize {
-        let i = y * width + middle;
-        // Away from the silhouette: both neighbours covered.
-        if reference[i - 1][0] > 0.0 && reference[i][0] > 0.0 && reference[i + 1][0] > 0.0 {
+    let reference = optical_depth(mesh, &cam, w, h);
+    let mut edges = edge_mask(mesh, &cam, w, h, 1.0);
+    let (width, middle) = (w as usize, (w / 2) as usize);
+    let mut on_line = 0;
+    for t in 0..width {
+        let (i, step) = if along_x {
+            (middle * width + t, width)
+        } else {
+            (t * width + middle, 1)
+        };
+        let inside = |j: usize| reference[j][0] > 0.0;
+        if t > 0 && t + 1 < width && inside(i - step) && inside(i) && inside(i + step) {
             edges[i] = false;
-            on_spoke += 1;
+            on_line += 1;
         }
     }
     assert!(
-        on_spoke > 15,
-        "{on_spoke} pixels of the middle column inside the tet"
+        on_line > 15,
+        "{name}: {on_line} pixels of the middle line inside the tet"
     );
-    let gpu_mesh = GpuTetMesh::upload(&gpu, &mesh).unwrap();
+    let gpu_mesh = GpuTetMesh::upload(&gpu, mesh).unwrap();
     let expected = Expected {
         reference: &reference,
         edges: &edges,
         clipped: false,
     };
-    assert_variants_match(&gpu, "spoke", &gpu_mesh, &variants, &cam, (w, h), &expected);
+    assert_variants_match(&gpu, name, &gpu_mesh, &variants, &cam, (w, h), &expected);
+}
+
+#[test]
+fn pixel_centres_on_a_spoke_count_once() {
+    // The apex and one corner on x = 0 (then on y = 0), which projects onto the pixel centres of
+    // the middle column (row) of an odd-sized image: the spoke of the proxy between them runs
+    // exactly through those centres, and the top-left rule must give each to one of the two
+    // triangles sharing it (a tie neither takes is a hole in the tet). The two cases differ in
+    // the spoke's direction and the proxy's winding, which the rule's ties depend on.
+    let vertical = single_tet([
+        [-1.0, -1.0, 0.0],
+        [1.0, -1.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, -0.2, 1.0],
+    ]);
+    assert_middle_line_matches("vertical spoke", &vertical, false);
+    let horizontal = single_tet([
+        [-1.0, -1.0, 0.0],
+        [-1.0, 1.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [-0.2, 0.0, 1.0],
+    ]);
+    assert_middle_line_matches("horizontal spoke", &horizontal, true);
 }
 
 #[test]
