@@ -69,22 +69,36 @@ void widen_to_edge(vec2 a, vec2 b, float y0, float y1, inout float lo, inout flo
     hi = max(hi, max(x.x, x.y));
 }
 
+// How far rounding may move the exact test's (splat.glsl) idea of the proxy's edges, in
+// pixels: its edge functions subtract and multiply corner coordinates, each rounded to a unit
+// in the last place of the largest (about 1.2e-7 of it), which by estimate moves an edge by
+// at most about 1e-6 of that coordinate. Four times that, and no less than a hundredth of a
+// pixel.
+float rounding_slack(ProxyRaster proxy) {
+    vec2 largest = abs(proxy.centre);
+    for (uint j = 0u; j < 4u; ++j) {
+        largest = max(largest, abs(proxy.corner[j]));
+    }
+    return max(0.01, 4e-6 * max(largest.x, largest.y));
+}
+
 // The pixels of row y whose centres the proxy's silhouette may hold, within the columns
-// first.x..last.x: between the silhouette edges' leftmost and rightmost crossings of the row's
-// centre line, a pixel wider each side and taken over a band ROW_SLACK high, so that rounding
-// never leaves out a pixel the exact test (splat.glsl) would give the tet. False when none.
-bool proxy_row_span(ProxyRaster proxy, uint y, uvec2 first, uvec2 last, out uint x0, out uint x1) {
-    const float ROW_SLACK = 0.01;
+// first.x..last.x: those whose centre lies within a pixel (or `slack`, where more) of the
+// silhouette edges' crossings of a band 2 × slack high around the row's centre line. Every
+// point within `slack` of the silhouette on the centre line is in it, so rounding never leaves
+// out a pixel the exact test would give the tet. False when none.
+bool proxy_row_span(ProxyRaster proxy, float slack, uint y, uvec2 first, uvec2 last, out uint x0, out uint x1) {
     float centre = float(y) + 0.5;
     float lo = 1e30;
     float hi = -1e30;
     for (uint j = 0u; j < 4u; ++j) {
         if (j < proxy.silhouette) {
-            widen_to_edge(proxy.corner[j], proxy.corner[j + 1u], centre - ROW_SLACK, centre + ROW_SLACK, lo, hi);
+            widen_to_edge(proxy.corner[j], proxy.corner[j + 1u], centre - slack, centre + slack, lo, hi);
         }
     }
-    float from = max(ceil(lo - 0.5) - 1.0, float(first.x));
-    float to = min(floor(hi - 0.5) + 1.0, float(last.x));
+    float margin = max(slack, 1.0);
+    float from = max(ceil(lo - margin - 0.5), float(first.x));
+    float to = min(floor(hi + margin - 0.5), float(last.x));
     // Clamped into the columns, so that an empty span (from = 1e30) converts to an integer too.
     x0 = uint(min(from, float(last.x)));
     x1 = uint(max(to, float(first.x)));
@@ -93,10 +107,10 @@ bool proxy_row_span(ProxyRaster proxy, uint y, uvec2 first, uvec2 last, out uint
 
 // Draws row y of one of tet `tet`'s proxies, across the proxy's span only (a triangular
 // silhouette fills at most half of its rectangle first..last).
-void draw_proxy_row(uint tet, ProxyRaster proxy, uint y, uvec2 first, uvec2 last) {
+void draw_proxy_row(uint tet, ProxyRaster proxy, float slack, uint y, uvec2 first, uvec2 last) {
     uint x0;
     uint x1;
-    if (proxy_row_span(proxy, y, first, last, x0, x1)) {
+    if (proxy_row_span(proxy, slack, y, first, last, x0, x1)) {
         for (uint x = x0; x <= x1; ++x) {
             shade_pixel(proxy, uvec2(x, y), tet);
         }
@@ -125,8 +139,9 @@ void draw_tet(uint tet, Proxy proxies[3], uint n, uvec2 first, uvec2 last) {
     for (uint k = 0u; k < 3u; ++k) {
         if (k < n) {
             ProxyRaster proxy = proxy_raster(proxies[k]);
+            float slack = rounding_slack(proxy);
             for (uint y = first.y; y <= last.y; ++y) {
-                draw_proxy_row(tet, proxy, y, first, last);
+                draw_proxy_row(tet, proxy, slack, y, first, last);
             }
         }
     }
