@@ -30,9 +30,9 @@ bool proxy_may_touch(Proxy proxy, vec2 lo, vec2 hi) {
     for (uint j = 0u; j < s; ++j) {
         vec2 a = to_screen(proxy.p[j]);
         vec2 b = to_screen(proxy.p[j + 1u == s ? 0u : j + 1u]);
-        float inner = edge_at(a, b, centre);
-        vec4 corners = vec4(edge_at(a, b, lo), edge_at(a, b, vec2(hi.x, lo.y)),
-                            edge_at(a, b, vec2(lo.x, hi.y)), edge_at(a, b, hi));
+        float inner = edge(a, b, centre);
+        vec4 corners = vec4(edge(a, b, lo), edge(a, b, vec2(hi.x, lo.y)),
+                            edge(a, b, vec2(lo.x, hi.y)), edge(a, b, hi));
         if ((inner > 0.0 && all(lessThan(corners, vec4(0.0)))) ||
             (inner < 0.0 && all(greaterThan(corners, vec4(0.0))))) {
             return false;

@@ -1,12 +1,9 @@
 // The compute path's pixel work: which proxy triangle owns a pixel centre (the top-left rule,
 // as the hardware rasterizer decides it), and adding the tet's value there (pixel_value.glsl)
 // with atomics — for INTEGRAND_SDF a 64-bit atomic minimum of depth and colour. Needs
-// buffers.glsl, params.glsl, proxy.glsl, length.glsl, integrand.glsl (and sdf.glsl for
-// INTEGRAND_SDF), compute_buffers.glsl and pixel_value.glsl.
-
-float edge_at(vec2 a, vec2 b, vec2 p) {
-    return (b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x);
-}
+// buffers.glsl, params.glsl, proxy.glsl (its `edge` is the edge function here too),
+// length.glsl, integrand.glsl (and sdf.glsl for INTEGRAND_SDF), compute_buffers.glsl and
+// pixel_value.glsl.
 
 // Top-left rule on a counter-clockwise triangle (y down): a pixel centre on an edge belongs to
 // exactly one of the two triangles sharing it.
@@ -22,7 +19,7 @@ vec2 to_screen(vec2 ndc) {
 // Whether counter-clockwise triangle s0 s1 s2 owns pixel centre p, with its edge functions
 // there (each the weight of the corner opposite, times the doubled area).
 bool ccw_triangle_owns(vec2 s0, vec2 s1, vec2 s2, vec2 p, out vec3 w) {
-    w = vec3(edge_at(s1, s2, p), edge_at(s2, s0, p), edge_at(s0, s1, p));
+    w = vec3(edge(s1, s2, p), edge(s2, s0, p), edge(s0, s1, p));
     return owns(w.x, s1, s2) && owns(w.y, s2, s0) && owns(w.z, s0, s1);
 }
 
@@ -30,7 +27,7 @@ bool ccw_triangle_owns(vec2 s0, vec2 s1, vec2 s2, vec2 p, out vec3 w) {
 // its corners there.
 bool covers(vec2 s0, vec2 s1, vec2 s2, vec2 p, out vec3 weights) {
     weights = vec3(0.0);
-    float area = edge_at(s0, s1, s2);
+    float area = edge(s0, s1, s2);
     if (area == 0.0) {
         return false;
     }
@@ -154,7 +151,7 @@ ProxyRaster proxy_raster(Proxy proxy) {
     r.clockwise = 0u;
     r.area = vec4(0.0);
     for (uint i = 0u; i < 4u; ++i) {
-        float area = edge_at(r.corner[i], r.corner[i + 1u], r.centre);
+        float area = edge(r.corner[i], r.corner[i + 1u], r.centre);
         r.clockwise |= area < 0.0 ? 1u << i : 0u;
         r.area[i] = abs(area);
     }
