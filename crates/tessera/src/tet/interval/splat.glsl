@@ -5,45 +5,50 @@
 // length.glsl, integrand.glsl (and sdf.glsl for INTEGRAND_SDF), compute_buffers.glsl and
 // pixel_value.glsl.
 
-// Top-left rule on a counter-clockwise triangle (y down): a pixel centre on an edge belongs to
-// exactly one of the two triangles sharing it.
-bool owns(float w, vec2 a, vec2 b) {
-    vec2 d = b - a;
-    return w > 0.0 || (w == 0.0 && ((d.y == 0.0 && d.x < 0.0) || d.y > 0.0));
+// The top-left rule (y down) for an edge running along d: a pixel centre on an edge shared by
+// two triangles belongs to the one for which the edge, taken counter-clockwise, is a top or a
+// left edge.
+bool top_left(vec2 d) {
+    return (d.y == 0.0 && d.x < 0.0) || d.y > 0.0;
+}
+
+// a × b: the edge function of an edge running along a, at offset b from a point on its line.
+float cross2(vec2 a, vec2 b) {
+    return a.x * b.y - a.y * b.x;
 }
 
 vec2 to_screen(vec2 ndc) {
     return (ndc + 1.0) * 0.5 * vec2(params.counts.yz);
 }
 
-// Whether counter-clockwise triangle s0 s1 s2 owns pixel centre p, with its edge functions
-// there (each the weight of the corner opposite, times the doubled area).
-bool ccw_triangle_owns(vec2 s0, vec2 s1, vec2 s2, vec2 p, out vec3 w) {
-    w = vec3(edge(s1, s2, p), edge(s2, s0, p), edge(s0, s1, p));
-    return owns(w.x, s1, s2) && owns(w.y, s2, s0) && owns(w.z, s0, s1);
+// Whether fan triangle (corner a, corner b, the centre) owns the pixel centre at offset q from
+// the centre, and the weights there of a, b and the centre. Its edge functions are taken from
+// the centre: `spoke_a` = (a - centre) × q and `spoke_b` likewise, the outer edge a → b as its
+// value at the centre (`area`, the triangle's signed doubled area) plus (b - a) × q. A spoke's
+// value is computed once for both triangles that share it (one negated), so that a pixel on a
+// spoke belongs to exactly one of them, rounding or not. `tl_*`: top_left() of each spoke
+// (centre → corner) and of the outer edge (a → b).
+bool fan_triangle_owns(float spoke_a, float spoke_b, float area, vec2 outer, vec2 q, bool tl_a, bool tl_b,
+                       bool tl_outer, out vec3 weights) {
+    bool clockwise = area < 0.0;
+    // Counter-clockwise, the edges b → centre, centre → a and a → b; clockwise, each reversed.
+    vec3 w = vec3(-spoke_b, spoke_a, area + cross2(outer, q)) * (clockwise ? -1.0 : 1.0);
+    bvec3 tl = bvec3(tl_b == clockwise, tl_a != clockwise, tl_outer != clockwise);
+    bool owned = area != 0.0 && (w.x > 0.0 || (w.x == 0.0 && tl.x)) && (w.y > 0.0 || (w.y == 0.0 && tl.y))
+        && (w.z > 0.0 || (w.z == 0.0 && tl.z));
+    weights = w / abs(area);
+    return owned;
 }
 
-// Whether pixel centre p belongs to triangle s0 s1 s2 (either winding), with the weights of
-// its corners there.
-bool covers(vec2 s0, vec2 s1, vec2 s2, vec2 p, out vec3 weights) {
-    weights = vec3(0.0);
-    float area = edge(s0, s1, s2);
-    if (area == 0.0) {
-        return false;
-    }
-    bool flipped = area < 0.0;
-    if (flipped) {
-        vec2 t = s1;
-        s1 = s2;
-        s2 = t;
-        area = -area;
-    }
+// fan_triangle_owns for corners a, b and the centre as they are, with the attributes
+// interpolated where it owns the pixel; spoke_a and spoke_b as there.
+bool fan_triangle_attrs_at(vec2 a, vec2 b, vec2 centre, float spoke_a, float spoke_b, vec2 q, vec4 attrs_a,
+                           vec4 attrs_b, vec4 attrs_centre, out vec4 attrs) {
     vec3 w;
-    if (!ccw_triangle_owns(s0, s1, s2, p, w)) {
-        return false;
-    }
-    weights = (flipped ? w.xzy : w) / area;
-    return true;
+    bool owned = fan_triangle_owns(spoke_a, spoke_b, edge(a, b, centre), b - a, q, top_left(a - centre),
+                                   top_left(b - centre), top_left(b - a), w);
+    attrs = owned ? w.x * attrs_a + w.y * attrs_b + w.z * attrs_centre : vec4(0.0);
+    return owned;
 }
 
 #if INTEGRAND != INTEGRAND_SDF
@@ -78,55 +83,52 @@ vec2 pixel_ndc(uvec2 pixel) {
     return p / (0.5 * vec2(params.counts.yz)) - 1.0;
 }
 
-// Whether triangle a b centre owns pixel centre p, with the attributes interpolated there.
-bool triangle_attrs_at(vec2 a, vec2 b, vec2 centre, vec4 attrs_a, vec4 attrs_b, vec4 attrs_centre, vec2 p,
-                       out vec4 attrs) {
-    vec3 w;
-    if (!covers(to_screen(a), to_screen(b), centre, p, w)) {
-        attrs = vec4(0.0);
-        return false;
-    }
-    attrs = w.x * attrs_a + w.y * attrs_b + w.z * attrs_centre;
-    return true;
-}
-
-// Whether one of the proxy's triangles owns the pixel centre, and the attributes interpolated
-// there: raster_attrs_at's test, with each triangle set up at the pixel and the first owner
-// ending it. The binned shading pass uses it: its invocations are pixels that each test every
-// tet of a tile, and the branch-free test over a set-up proxy made that pass 1.6× slower
-// (more registers and shared memory). Written out per silhouette size rather than looped over
-// with the size as bound: every index into the proxy is a constant, so that it stays in
-// registers.
+// Whether one of the proxy's fan triangles owns the pixel centre, and the attributes
+// interpolated there: raster_attrs_at's test and arithmetic, with each triangle set up at the
+// pixel and the first owner ending it. The binned shading pass uses it: its invocations are
+// pixels that each test every tet of a tile, and the branch-free test over a set-up proxy made
+// that pass 1.6× slower (more registers and shared memory). Written out per silhouette size:
+// every index into the proxy is a constant, so that it stays in registers.
 bool proxy_attrs_at(Proxy proxy, uvec2 pixel, out vec4 attrs) {
     attrs = vec4(0.0);
     uint s = proxy.silhouette;
     if (s == 0u) {
         return false;
     }
-    vec2 p = vec2(pixel) + 0.5;
     bool quad = s == 4u;
     vec2 centre = to_screen(quad ? proxy.p[4] : proxy.p[3]);
     vec4 centre_attrs = quad ? proxy.attrs[4] : proxy.attrs[3];
-    if (triangle_attrs_at(proxy.p[0], proxy.p[1], centre, proxy.attrs[0], proxy.attrs[1], centre_attrs, p, attrs)
-        || triangle_attrs_at(proxy.p[1], proxy.p[2], centre, proxy.attrs[1], proxy.attrs[2], centre_attrs, p, attrs)) {
+    vec2 q = vec2(pixel) + 0.5 - centre;
+    vec2 v0 = to_screen(proxy.p[0]);
+    vec2 v1 = to_screen(proxy.p[1]);
+    vec2 v2 = to_screen(proxy.p[2]);
+    float s0 = cross2(v0 - centre, q);
+    float s1 = cross2(v1 - centre, q);
+    float s2 = cross2(v2 - centre, q);
+    if (fan_triangle_attrs_at(v0, v1, centre, s0, s1, q, proxy.attrs[0], proxy.attrs[1], centre_attrs, attrs)
+        || fan_triangle_attrs_at(v1, v2, centre, s1, s2, q, proxy.attrs[1], proxy.attrs[2], centre_attrs, attrs)) {
         return true;
     }
     if (!quad) {
-        return triangle_attrs_at(proxy.p[2], proxy.p[0], centre, proxy.attrs[2], proxy.attrs[0], centre_attrs, p, attrs);
+        return fan_triangle_attrs_at(v2, v0, centre, s2, s0, q, proxy.attrs[2], proxy.attrs[0], centre_attrs, attrs);
     }
-    return triangle_attrs_at(proxy.p[2], proxy.p[3], centre, proxy.attrs[2], proxy.attrs[3], centre_attrs, p, attrs)
-        || triangle_attrs_at(proxy.p[3], proxy.p[0], centre, proxy.attrs[3], proxy.attrs[0], centre_attrs, p, attrs);
+    vec2 v3 = to_screen(proxy.p[3]);
+    float s3 = cross2(v3 - centre, q);
+    return fan_triangle_attrs_at(v2, v3, centre, s2, s3, q, proxy.attrs[2], proxy.attrs[3], centre_attrs, attrs)
+        || fan_triangle_attrs_at(v3, v0, centre, s3, s0, q, proxy.attrs[3], proxy.attrs[0], centre_attrs, attrs);
 }
 
 // A proxy made ready for many pixel tests: its fan triangles (silhouette corner i, corner
-// i + 1, the centre) in screen pixels, each with its doubled area and whether it runs clockwise.
+// i + 1, the centre) in screen pixels, with what fan_triangle_owns needs of each that does not
+// depend on the pixel, computed as proxy_attrs_at computes it.
 struct ProxyRaster {
     vec2 corner[5];  // the silhouette's corners, the first repeated after the last
     vec4 corner_attrs[5];
     vec2 centre;
     vec4 centre_attrs;
-    vec4 area;  // of each fan triangle, made positive
-    uint clockwise;  // bit i: fan triangle i runs clockwise
+    vec2 spoke[5];  // corner[i] - centre
+    vec4 area;  // edge(corner[i], corner[i + 1], centre): fan triangle i's signed doubled area
+    uint top_left;  // bit i: top_left(spoke[i]); bit 8 + i: top_left(corner[i + 1] - corner[i])
     uint silhouette;
 };
 
@@ -148,35 +150,38 @@ ProxyRaster proxy_raster(Proxy proxy) {
     }
     r.corner[4] = r.corner[0];
     r.corner_attrs[4] = r.corner_attrs[0];
-    r.clockwise = 0u;
-    r.area = vec4(0.0);
+    r.top_left = 0u;
+    for (uint j = 0u; j < 5u; ++j) {
+        r.spoke[j] = r.corner[j] - r.centre;
+        r.top_left |= top_left(r.spoke[j]) ? 1u << j : 0u;
+    }
     for (uint i = 0u; i < 4u; ++i) {
-        float area = edge(r.corner[i], r.corner[i + 1u], r.centre);
-        r.clockwise |= area < 0.0 ? 1u << i : 0u;
-        r.area[i] = abs(area);
+        r.area[i] = edge(r.corner[i], r.corner[i + 1u], r.centre);
+        r.top_left |= top_left(r.corner[i + 1u] - r.corner[i]) ? 1u << (8u + i) : 0u;
     }
     return r;
 }
 
-// Whether one of the proxy's fan triangles owns the pixel centre (the top-left rule on each,
-// taken counter-clockwise), with the attributes interpolated there. The triangles tile the
-// silhouette, so at most one does but for rounding, and then the first. Every triangle is
-// tested, without branching, so that a subgroup's invocations stay together.
+// Whether one of the proxy's fan triangles owns the pixel centre, with the attributes
+// interpolated there. The triangles tile the silhouette and share their spokes' values, so at
+// most one does. Every triangle is tested, without branching, so that a subgroup's invocations
+// stay together.
 bool raster_attrs_at(ProxyRaster r, uvec2 pixel, out vec4 attrs) {
-    vec2 p = vec2(pixel) + 0.5;
+    vec2 q = vec2(pixel) + 0.5 - r.centre;
+    float spoke_value[5];
+    for (uint j = 0u; j < 5u; ++j) {
+        spoke_value[j] = cross2(r.spoke[j], q);
+    }
     attrs = vec4(0.0);
     bool found = false;
     for (uint i = 0u; i < 4u; ++i) {
-        bool clockwise = (r.clockwise & (1u << i)) != 0u;
-        vec2 s0 = r.corner[i];
-        vec2 s1 = clockwise ? r.centre : r.corner[i + 1u];
-        vec2 s2 = clockwise ? r.corner[i + 1u] : r.centre;
         vec3 w;
-        bool inside = ccw_triangle_owns(s0, s1, s2, p, w);
-        if (inside && i < r.silhouette && r.area[i] != 0.0 && !found) {
+        bool owned = fan_triangle_owns(spoke_value[i], spoke_value[i + 1u], r.area[i], r.corner[i + 1u] - r.corner[i], q,
+                                       (r.top_left & (1u << i)) != 0u, (r.top_left & (1u << (i + 1u))) != 0u,
+                                       (r.top_left & (1u << (8u + i))) != 0u, w);
+        if (owned && i < r.silhouette && !found) {
             found = true;
-            vec3 weights = (clockwise ? w.xzy : w) / r.area[i];
-            attrs = weights.x * r.corner_attrs[i] + weights.y * r.corner_attrs[i + 1u] + weights.z * r.centre_attrs;
+            attrs = w.x * r.corner_attrs[i] + w.y * r.corner_attrs[i + 1u] + w.z * r.centre_attrs;
         }
     }
     return found;

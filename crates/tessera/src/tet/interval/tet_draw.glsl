@@ -83,10 +83,10 @@ float rounding_slack(ProxyRaster proxy) {
 }
 
 // The pixels of row y whose centres the proxy's silhouette may hold, within the columns
-// first.x..last.x: those whose centre lies within a pixel (or `slack`, where more) of the
-// silhouette edges' crossings of a band 2 × slack high around the row's centre line. Every
-// point within `slack` of the silhouette on the centre line is in it, so rounding never leaves
-// out a pixel the exact test would give the tet. False when none.
+// first.x..last.x: those whose centre lies within `slack` of the silhouette edges' crossings
+// of a band 2 × slack high around the row's centre line. Every point within `slack` of the
+// silhouette on the centre line is in it, so rounding never leaves out a pixel the exact test
+// would give the tet. False when none.
 bool proxy_row_span(ProxyRaster proxy, float slack, uint y, uvec2 first, uvec2 last, out uint x0, out uint x1) {
     float centre = float(y) + 0.5;
     float lo = 1e30;
@@ -96,7 +96,7 @@ bool proxy_row_span(ProxyRaster proxy, float slack, uint y, uvec2 first, uvec2 l
             widen_to_edge(proxy.corner[j], proxy.corner[j + 1u], centre - slack, centre + slack, lo, hi);
         }
     }
-    float margin = max(slack, 1.0);
+    float margin = slack;
     float from = max(ceil(lo - margin - 0.5), float(first.x));
     float to = min(floor(hi + margin - 0.5), float(last.x));
     // Clamped into the columns, so that an empty span (from = 1e30) converts to an integer too.
