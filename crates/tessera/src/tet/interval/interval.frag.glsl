@@ -18,7 +18,7 @@ layout(location = 0) out vec4 accumulated;
 void main() {
     vec2 ndc = 2.0 * gl_FragCoord.xy / vec2(params.counts.yz) - 1.0;
 #if INTEGRAND == INTEGRAND_SDF
-    vec4 hit = asteroid_hit(tet_id, interval_attrs, ndc);
+    vec4 hit = asteroid_hit(tet_id, interval_attrs, ndc, 1e30);
     if (hit.w < 0.0) {
         discard;
     }

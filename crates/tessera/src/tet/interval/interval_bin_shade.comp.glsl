@@ -121,7 +121,7 @@ void main() {
             for (uint k = 0u; k < batch_proxy_count[i]; ++k) {
                 vec4 attrs;
                 if (proxy_attrs_at(batch_proxies[i * 3u + k], pixel, attrs)) {
-                    value = combine_pixel_values(value, tet_pixel_value(batch_tet[i], attrs, ndc));
+                    value = combine_pixel_values(value, tet_pixel_value(batch_tet[i], attrs, ndc, value));
                 }
             }
         }

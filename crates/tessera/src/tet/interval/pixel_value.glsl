@@ -13,8 +13,12 @@ PixelValue empty_pixel_value() {
     return NO_HIT;
 }
 
-PixelValue tet_pixel_value(uint tet, vec4 attrs, vec2 ndc) {
-    vec4 hit = asteroid_hit(tet, attrs, ndc);
+// What tet `tet` adds where `so_far` is what the pixel holds already (only the binned pass
+// knows it; the per-tet passes give empty_pixel_value()): a tet whose interval begins behind
+// the nearest hit so far is not traced.
+PixelValue tet_pixel_value(uint tet, vec4 attrs, vec2 ndc, PixelValue so_far) {
+    float nearest = so_far == NO_HIT ? 1e30 : uintBitsToFloat(uint(so_far >> 32));
+    vec4 hit = asteroid_hit(tet, attrs, ndc, nearest);
     if (hit.w < 0.0) {
         return NO_HIT;
     }
@@ -32,7 +36,9 @@ PixelValue empty_pixel_value() {
     return vec3(0.0);
 }
 
-PixelValue tet_pixel_value(uint tet, vec4 attrs, vec2 ndc) {
+// What tet `tet` adds; `so_far` (what the pixel holds already) does not matter to a sum or a
+// maximum.
+PixelValue tet_pixel_value(uint tet, vec4 attrs, vec2 ndc, PixelValue so_far) {
     return integrand(attrs, ndc, absorption[tet].rgb);
 }
 

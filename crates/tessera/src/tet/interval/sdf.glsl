@@ -88,9 +88,16 @@ vec3 ray_direction(vec2 ndc) {
     return dot(d, w_row) < 0.0 ? -d : d;
 }
 
+// How far behind the nearest hit so far (in NDC depth) an interval must begin not to be traced:
+// a depth along the ray grows with the distance, and this covers the rounding of the interval's
+// entry depth and of a hit's (a few units in the last place near 1).
+const float NEARER_SLACK = 1e-6;
+
 // The asteroid hit along this pixel's interval in tet `tet`: xyz colour and w its NDC depth,
-// or w < 0 for none. The view depths of the interval come from the proxies' 1/z.
-vec4 asteroid_hit(uint tet, vec4 attrs, vec2 ndc) {
+// or w < 0 for none, also where the interval begins behind NDC depth `nearest` (the nearest hit
+// so far; 1e30 for none), whose hit could not be nearer. The view depths of the interval come
+// from the proxies' 1/z.
+vec4 asteroid_hit(uint tet, vec4 attrs, vec2 ndc, float nearest) {
     vec3 dir = ray_direction(ndc);
     vec3 forward = transpose(params.world_to_clip)[3].xyz;
     float cos_view = dot(dir, forward);
@@ -98,8 +105,15 @@ vec4 asteroid_hit(uint tet, vec4 attrs, vec2 ndc) {
     float z_front = 1.0 / max(attrs.x, other);
     float z_back = 1.0 / min(attrs.x, other);
     vec3 eye = params.eye.xyz;
+    float t_front = z_front / cos_view;
+    if (nearest < 1e30) {
+        vec4 entry = params.world_to_clip * vec4(eye + dir * t_front, 1.0);
+        if (entry.z / entry.w > nearest + NEARER_SLACK) {
+            return vec4(0.0, 0.0, 0.0, -1.0);
+        }
+    }
     vec4 sphere = absorption[tet];
-    float t = asteroid_trace(eye, dir, z_front / cos_view, z_back / cos_view, sphere, tet);
+    float t = asteroid_trace(eye, dir, t_front, z_back / cos_view, sphere, tet);
     if (t < 0.0) {
         return vec4(0.0, 0.0, 0.0, -1.0);
     }

@@ -67,7 +67,7 @@ void accumulate(uint pixel, vec3 value) {
 #endif
 
 void pixel_work(uint tet, uint pixel, vec4 attrs, vec2 ndc) {
-    PixelValue value = tet_pixel_value(tet, attrs, ndc);
+    PixelValue value = tet_pixel_value(tet, attrs, ndc, empty_pixel_value());
 #if INTEGRAND == INTEGRAND_SDF
     if (value != NO_HIT) {
         atomicMin(frame[pixel * 2u], value);
