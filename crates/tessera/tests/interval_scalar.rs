@@ -5,7 +5,7 @@
 mod common;
 
 use common::interval::{assert_variants_match, defaults, variants, Expected};
-use common::{assert_clean, camera, gpu};
+use common::{assert_clean, camera, gpu, skip};
 use tessera::path::Path;
 use tessera::shaders;
 use tessera::tet::interval::{GpuTetMesh, Integrand, Interval, IntervalOptions};
@@ -166,6 +166,7 @@ fn asteroid_field_matches_the_cpu_sphere_tracer() {
         let gpu_mesh = GpuTetMesh::upload_asteroids(&gpu, &mesh).unwrap();
         for (name, options) in defaults(&gpu) {
             if options.path == Path::Compute && !gpu.caps().buffer_int64_atomics {
+                skip(&name, "no 64-bit buffer atomics");
                 continue;
             }
             let options = IntervalOptions {

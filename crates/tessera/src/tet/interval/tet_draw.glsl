@@ -96,9 +96,8 @@ bool proxy_row_span(ProxyRaster proxy, float slack, uint y, uvec2 first, uvec2 l
             widen_to_edge(proxy.corner[j], proxy.corner[j + 1u], centre - slack, centre + slack, lo, hi);
         }
     }
-    float margin = slack;
-    float from = max(ceil(lo - margin - 0.5), float(first.x));
-    float to = min(floor(hi + margin - 0.5), float(last.x));
+    float from = max(ceil(lo - slack - 0.5), float(first.x));
+    float to = min(floor(hi + slack - 0.5), float(last.x));
     // Clamped into the columns, so that an empty span (from = 1e30) converts to an integer too.
     x0 = uint(min(from, float(last.x)));
     x1 = uint(max(to, float(first.x)));
