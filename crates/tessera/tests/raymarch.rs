@@ -66,6 +66,11 @@ fn every_level_zero_pass_gives_the_cpu_octree() {
     let wide: Vec<u8> = (0..137 * 67 * 35)
         .map(|i| (hashed(i) % 251) as u8)
         .collect();
+    // Rows of whole words (the buffer pass's load-ahead walk), with a partial last block.
+    let wide_words: Vec<u8> = (0..132 * 19 * 13)
+        .map(|i| (hashed(i + 7) % 256) as u8)
+        .collect();
+    let long_words: Vec<u16> = (0..522 * 6 * 9).map(|i| hashed(i + 3) as u16).collect();
     let volumes = [
         generate(ProceduralKind::Turbulence, 37, ScalarType::U16).unwrap(),
         Volume::new("ramp", [23, 18, 11], [1.0; 3], Samples::F32(ramp)).unwrap(),
@@ -73,6 +78,20 @@ fn every_level_zero_pass_gives_the_cpu_octree() {
         generate(ProceduralKind::Sphere, 17, ScalarType::F32).unwrap(),
         Volume::new("long", [521, 5, 9], [1.0; 3], Samples::U16(long)).unwrap(),
         Volume::new("wide", [137, 67, 35], [1.0; 3], Samples::U8(wide)).unwrap(),
+        Volume::new(
+            "wide words",
+            [132, 19, 13],
+            [1.0; 3],
+            Samples::U8(wide_words),
+        )
+        .unwrap(),
+        Volume::new(
+            "long words",
+            [522, 6, 9],
+            [1.0; 3],
+            Samples::U16(long_words),
+        )
+        .unwrap(),
     ];
     for volume in &volumes {
         let cpu = MinMaxOctree::build(volume).flattened();
@@ -92,7 +111,8 @@ fn every_level_zero_pass_gives_the_cpu_octree() {
                 volume.name()
             );
         }
-        // Level 0 from a buffer of the samples: odd row lengths start rows mid-word.
+        // Level 0 from a buffer of the samples: odd row lengths start rows mid-word; rows of
+        // whole words take the walk that loads ahead.
         let builder = MinMaxBuilder::new(&gpu, &compiler, volume.scalar_type()).unwrap();
         let mut words = volume.bytes().to_vec();
         words.resize(
