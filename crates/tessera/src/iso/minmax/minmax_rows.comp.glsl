@@ -76,16 +76,32 @@ vec2 aligned_rows_range(uvec3 lo, uvec3 hi, uint walker, uvec3 dims) {
         tails[i] = sample_words[first + tail];
 #endif
     }
+#if SAMPLE_FLOAT
     vec2 range = vec2(uintBitsToFloat(0x7f800000u), uintBitsToFloat(0xff800000u));
     [[unroll]] for (uint i = 0u; i < ROWS_PER_WALKER; ++i) {
         [[unroll]] for (uint j = 0u; j < ROW_WORDS; ++j) {
             range = merge_word(range, words[i][j]);
         }
-#if SAMPLE_FLOAT == 0
-        // Only its first sample is the row's (or, at the last block, one of the whole words').
-        range = merge(range, vec2(sample_of_word(tails[i], 0u)));
-#endif
     }
+#else
+    // Integer samples compared as integers, converted once.
+    uint lowest = 0xffffffffu;
+    uint highest = 0u;
+    [[unroll]] for (uint i = 0u; i < ROWS_PER_WALKER; ++i) {
+        [[unroll]] for (uint j = 0u; j < ROW_WORDS; ++j) {
+            [[unroll]] for (uint k = 0u; k < SAMPLES_PER_WORD; ++k) {
+                uint v = bitfieldExtract(words[i][j], int(k * 8u * SAMPLE_BYTES), int(8u * SAMPLE_BYTES));
+                lowest = min(lowest, v);
+                highest = max(highest, v);
+            }
+        }
+        // Only its first sample is the row's (or, at the last block, one of the whole words').
+        uint v = bitfieldExtract(tails[i], 0, int(8u * SAMPLE_BYTES));
+        lowest = min(lowest, v);
+        highest = max(highest, v);
+    }
+    vec2 range = vec2(float(lowest), float(highest));
+#endif
     return range;
 }
 
