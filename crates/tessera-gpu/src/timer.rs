@@ -45,6 +45,11 @@ impl Timer {
         self.names.clear();
     }
 
+    /// Whether every scope the timer was made for is taken (until the next reset).
+    pub fn is_full(&self) -> bool {
+        self.names.len() as u32 >= self.capacity
+    }
+
     /// Times everything `body` records as the stage `name`.
     pub fn scope<R>(&mut self, rec: &Recorder, name: &str, body: impl FnOnce(&Recorder) -> R) -> R {
         let index = self.names.len() as u32;

@@ -477,3 +477,52 @@ fn the_ambiguity_rule_reaches_direct() {
     }
     assert_ne!(images[0], images[1], "the rules cut the saddles alike");
 }
+
+/// Several frames recorded in one submission before one `finish_frame` (as a warm-up records
+/// them) draw what one frame draws, on every technique's automatic path.
+#[test]
+fn frames_recorded_together_draw_what_one_frame_draws() {
+    let gpu = gpu();
+    let data_for = |technique: Technique| match technique.draws() {
+        tessera_data::scene::DataKind::Volume => load("procedural:head:24"),
+        tessera_data::scene::DataKind::Tets => load("tets:box:4"),
+        tessera_data::scene::DataKind::Param => load("param:sh-glyphs:2x2:order4"),
+    };
+    for technique in Technique::ALL {
+        let Ok(mut r) = renderer::create(&gpu, technique, &RendererOptions::default()) else {
+            skip(technique.name(), "no path on this device");
+            continue;
+        };
+        r.set_data(&gpu, &data_for(technique)).unwrap();
+        let single = renderer::render_image(&gpu, r.as_mut(), &camera(), SIZE).unwrap();
+        let view = r.view(&camera(), SIZE).unwrap();
+        r.prepare_frame(&gpu, &view).unwrap();
+        let target = tessera::target::Target::new(&gpu, SIZE.0, SIZE.1).unwrap();
+        let frames = 3;
+        let mut timer = tessera_gpu::Timer::new(&gpu, frames * renderer::MAX_TIMER_SCOPES).unwrap();
+        timer.reset(&gpu);
+        let mut recorded = Ok(());
+        gpu.submit("frames together", |rec| {
+            recorded = (0..frames).try_for_each(|_| r.record(rec, &view, &target, &mut timer));
+        })
+        .unwrap();
+        recorded.unwrap_or_else(|e| panic!("{}: {e}", technique.name()));
+        r.finish_frame(&gpu).unwrap();
+        let together = target.read(&gpu).unwrap();
+        let differing = together
+            .pixels
+            .iter()
+            .zip(&single.image.pixels)
+            .filter(|(a, b)| a != b)
+            .count();
+        assert!(
+            differing == 0,
+            "{}: {differing} pixels differ from a single frame's",
+            technique.name()
+        );
+        let background = together.pixels[0];
+        let covered = together.pixels.iter().filter(|&&p| p != background).count();
+        assert!(covered > 50, "{}: {covered} pixels drawn", technique.name());
+    }
+    assert_clean(&gpu);
+}

@@ -193,10 +193,17 @@ impl Renderer for IntervalRenderer {
             Some((auto, own)) => {
                 let scheme = auto.next();
                 self.last_scheme = scheme;
+                let draw = |rec: &Recorder| {
+                    pipelines.record_with(rec, &data.mesh, accumulation, &params, scheme, None)
+                };
+                // Frames recorded before the last is finished all draw with this scheme; the
+                // first of them is the one the choice learns from.
                 timer.scope(rec, "interval", |rec| {
-                    own.scope(rec, "drawing", |rec| {
-                        pipelines.record_with(rec, &data.mesh, accumulation, &params, scheme, None)
-                    })
+                    if own.is_full() {
+                        draw(rec)
+                    } else {
+                        own.scope(rec, "drawing", draw)
+                    }
                 })
             }
             None => pipelines.record(rec, &data.mesh, accumulation, &params, Some(timer)),

@@ -142,7 +142,8 @@ pub trait Renderer: Send {
     /// Makes the buffers `view`'s sizes need; nothing when they exist.
     fn prepare_frame(&mut self, gpu: &Gpu, view: &View) -> Result<()>;
     /// Records a frame of `view` into `target` (of the view's image size), timing its stages
-    /// in `timer`.
+    /// in `timer`. Several frames may be recorded before one [`Renderer::finish_frame`] (a
+    /// warm-up submits many at once).
     fn record(
         &mut self,
         rec: &Recorder,
