@@ -6,7 +6,7 @@ use super::{BenchConfig, BenchRecord, FramePlan, RecordSink};
 use crate::error::Result;
 use crate::path::{Path, PathChoice};
 use crate::renderer::{self, IntervalTuning, Renderer, RendererOptions, Technique};
-use crate::tet::interval::{path_support, ComputeScheme};
+use crate::tet::interval::{path_support, ComputeScheme, DEFAULT_INLINE_PIXEL_LIMIT};
 use std::collections::BTreeMap;
 use tessera_data::scene::{Appearance, DataKind, Dataset, IntegrandChoice, LoadOptions};
 use tessera_data::transfer::ScalarMode;
@@ -81,13 +81,13 @@ fn variants(gpu: &Gpu, wanted: &[Path], view: &str, scalar: bool, small: bool) -
     }
     if support.compute {
         // The pixel limit above which a tet goes to the tile pass; u32::MAX never tiles.
-        // None: the automatic limit.
+        // None: the default limit.
         let limits: &[Option<u32>] = if scalar {
             &[None]
         } else if small && view != "inside" {
-            &[None, Some(256), Some(4096), Some(65536), Some(u32::MAX)]
+            &[None, Some(256), Some(65536), Some(u32::MAX)]
         } else {
-            &[None, Some(256), Some(4096), Some(65536)]
+            &[None, Some(256), Some(65536)]
         };
         for &limit in limits {
             let tuning = IntervalTuning {
@@ -96,7 +96,7 @@ fn variants(gpu: &Gpu, wanted: &[Path], view: &str, scalar: bool, small: bool) -
                 ..IntervalTuning::default()
             };
             let label = match limit {
-                None => format!("{kind}, automatic tile limit"),
+                None => format!("{kind}, tiles above {DEFAULT_INLINE_PIXEL_LIMIT} px"),
                 Some(u32::MAX) => format!("{kind}, untiled"),
                 Some(limit) => format!("{kind}, tiles above {limit} px"),
             };
@@ -257,7 +257,7 @@ impl MeshBench<'_> {
             }
         }
         if support.compute && gpu.caps().buffer_int64_atomics {
-            let label = "asteroids, automatic tile limit".to_string();
+            let label = format!("asteroids, tiles above {DEFAULT_INLINE_PIXEL_LIMIT} px");
             let tuning = IntervalTuning {
                 compute_scheme: ComputeScheme::PerTet,
                 ..IntervalTuning::default()

@@ -149,7 +149,7 @@ pub struct IntervalOptions {
     /// Graphics path: tets per mesh workgroup (1 to 16).
     pub tets_per_workgroup: u32,
     /// Compute path: tets whose screen rectangle holds more pixels go to the tile pass; `None`
-    /// picks it from the mesh and image ([`auto_inline_limit`]).
+    /// takes [`DEFAULT_INLINE_PIXEL_LIMIT`].
     pub inline_pixel_limit: Option<u32>,
     pub tile_capacity: TileCapacity,
     /// Compute path: per tet or binned.
@@ -247,18 +247,13 @@ pub struct Interval {
     options: IntervalOptions,
 }
 
-/// The compute path's pixel limit for `tets` tets drawn into `pixels` pixels. On the H200
-/// (docs/BENCHMARKS.md, runs 20–22) 256 pixels was 1.1–1.5× faster for meshes of fewer than
-/// 0.008 tets per pixel (their tets are large and few; tiles spread them over the GPU) and 4096
-/// pixels 1.6–2.3× faster from 0.11 tets per pixel on (enough tets keep the GPU busy, and tiles
-/// of mid-size tets would be mostly idle); the switch sits between the two.
-pub fn auto_inline_limit(tets: u32, pixels: u64) -> u32 {
-    if f64::from(tets) > 0.03 * pixels as f64 {
-        4096
-    } else {
-        256
-    }
-}
+/// The compute path's pixel limit when none is given: tets whose screen rectangle holds more
+/// pixels go to the tile pass. Runs 20–22 had 256 pixels faster on meshes of fewer than 0.008
+/// tets a pixel, and the limit followed the mesh's density; since the per-tet pass walks row
+/// spans over set-up proxies, 4096 is 1.1–2.4× faster on the bunny far and close and the
+/// 64 k-tet box far, at most 5.4 % slower on their other three views, and faster summed over
+/// each mesh's views (docs/BENCHMARKS.md, runs 75–76, 4K); denser meshes had 4096 already.
+pub const DEFAULT_INLINE_PIXEL_LIMIT: u32 = 4096;
 
 /// The paths interval shading can run on `caps`'s device: mesh shaders for the graphics path,
 /// float atomics for the compute path.
@@ -381,9 +376,9 @@ impl Interval {
                 mesh.tet_count,
                 width,
                 height,
-                self.options.inline_pixel_limit.unwrap_or_else(|| {
-                    auto_inline_limit(mesh.tet_count, u64::from(width) * u64::from(height))
-                }),
+                self.options
+                    .inline_pixel_limit
+                    .unwrap_or(DEFAULT_INLINE_PIXEL_LIMIT),
             ],
             eye: view.eye.extend(1.0).to_array(),
             scalar_range: [mesh.scalar_range.0, mesh.scalar_range.1],
@@ -573,24 +568,5 @@ impl Interval {
                 result
             });
         result
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::auto_inline_limit;
-
-    #[test]
-    fn automatic_limit_follows_the_measured_meshes() {
-        let pixels = 3840 * 2160;
-        // The limit that was faster on most views of each mesh at 4K (runs 20–22).
-        for (tets, best) in [
-            (45_111, 256),
-            (63_888, 256),
-            (944_784, 4096),
-            (2_431_344, 4096),
-        ] {
-            assert_eq!(auto_inline_limit(tets, pixels), best, "{tets} tets");
-        }
     }
 }
