@@ -40,6 +40,11 @@ vec2 merge(vec2 a, vec2 b) {
     return vec2(min(a.x, b.x), max(a.y, b.y));
 }
 
+// (+inf, -inf): the range of no samples, which any merge replaces.
+vec2 empty_range() {
+    return vec2(uintBitsToFloat(0x7f800000u), uintBitsToFloat(0xff800000u));
+}
+
 // The range of the block's rows when every row starts on a word (the volume's rows are whole
 // words): each walker loads all its rows' words before it looks at any, so that its loads are
 // in flight together (a row at a time, the walk over a 512³ uint8 volume took 1.8× as long as
@@ -71,7 +76,7 @@ vec2 aligned_rows_range(uvec3 lo, uvec3 hi, uint walker, uvec3 dims) {
 #endif
     }
 #if SAMPLE_FLOAT
-    vec2 range = vec2(uintBitsToFloat(0x7f800000u), uintBitsToFloat(0xff800000u));
+    vec2 range = empty_range();
     [[unroll]] for (uint i = 0u; i < ROWS_PER_WALKER; ++i) {
         [[unroll]] for (uint j = 0u; j < ROW_WORDS; ++j) {
             range = merge(range, vec2(uintBitsToFloat(words[i][j])));
@@ -101,7 +106,7 @@ vec2 aligned_rows_range(uvec3 lo, uvec3 hi, uint walker, uvec3 dims) {
 
 // The range of the block's rows in any volume: rows may start within a word.
 vec2 any_rows_range(uvec3 lo, uvec3 hi, uint walker, uvec3 dims) {
-    vec2 range = vec2(uintBitsToFloat(0x7f800000u), uintBitsToFloat(0xff800000u));
+    vec2 range = empty_range();
     uint rows_y = hi.y - lo.y + 1u;
     uint rows = rows_y * (hi.z - lo.z + 1u);
     for (uint r = walker; r < rows; r += WALKERS) {
@@ -132,7 +137,7 @@ void main() {
     // The block's samples: its cells' corners, up to the next block's first sample.
     uvec3 lo = block * BLOCK;
     uvec3 hi = min(lo + BLOCK, dims - 1u);
-    vec2 range = vec2(uintBitsToFloat(0x7f800000u), uintBitsToFloat(0xff800000u));
+    vec2 range = empty_range();
     if (block.x < blocks.x) {
         // The same for every invocation of the dispatch.
         if (dims.x % SAMPLES_PER_WORD == 0u) {
