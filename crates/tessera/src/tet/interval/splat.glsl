@@ -22,32 +22,39 @@ vec2 to_screen(vec2 ndc) {
 }
 
 // Whether fan triangle (corner a, corner b, the centre) owns the pixel centre at offset q from
-// the centre, and the weights there of a, b and the centre. Its edge functions are taken from
-// the centre: `spoke_a` = (a - centre) × q and `spoke_b` likewise, the outer edge a → b as its
-// value at the centre (`area`, the triangle's signed doubled area) plus (b - a) × q. A spoke's
-// value is computed once for both triangles that share it (one negated), so that a pixel on a
-// spoke belongs to exactly one of them, rounding or not. `tl_*`: top_left() of each spoke
-// (centre → corner) and of the outer edge (a → b).
+// the centre, and its three edge functions there (`edges`; divided by |area| they are the
+// weights of a, b and the centre). The edge functions are taken from the centre: `spoke_a` =
+// (a - centre) × q and `spoke_b` likewise, the outer edge a → b as its value at the centre
+// (`area`, the triangle's signed doubled area) plus (b - a) × q. A spoke's value is computed
+// once for both triangles that share it (one negated), so that a pixel on a spoke belongs to
+// exactly one of them, rounding or not. `tl_*`: top_left() of each spoke (centre → corner) and
+// of the outer edge (a → b).
 bool fan_triangle_owns(float spoke_a, float spoke_b, float area, vec2 outer, vec2 q, bool tl_a, bool tl_b,
-                       bool tl_outer, out vec3 weights) {
+                       bool tl_outer, out vec3 edges) {
     bool clockwise = area < 0.0;
     // Counter-clockwise, the edges b → centre, centre → a and a → b; clockwise, each reversed.
     vec3 w = vec3(-spoke_b, spoke_a, area + cross2(outer, q)) * (clockwise ? -1.0 : 1.0);
     bvec3 tl = bvec3(tl_b == clockwise, tl_a != clockwise, tl_outer != clockwise);
-    bool owned = area != 0.0 && (w.x > 0.0 || (w.x == 0.0 && tl.x)) && (w.y > 0.0 || (w.y == 0.0 && tl.y))
+    edges = w;
+    return area != 0.0 && (w.x > 0.0 || (w.x == 0.0 && tl.x)) && (w.y > 0.0 || (w.y == 0.0 && tl.y))
         && (w.z > 0.0 || (w.z == 0.0 && tl.z));
-    weights = w / abs(area);
-    return owned;
+}
+
+// The attributes at weights edges / |area| of a, b and the centre.
+vec4 fan_triangle_attrs(vec3 edges, float area, vec4 attrs_a, vec4 attrs_b, vec4 attrs_centre) {
+    vec3 w = edges / abs(area);
+    return w.x * attrs_a + w.y * attrs_b + w.z * attrs_centre;
 }
 
 // fan_triangle_owns for corners a, b and the centre as they are, with the attributes
 // interpolated where it owns the pixel; spoke_a and spoke_b as there.
 bool fan_triangle_attrs_at(vec2 a, vec2 b, vec2 centre, float spoke_a, float spoke_b, vec2 q, vec4 attrs_a,
                            vec4 attrs_b, vec4 attrs_centre, out vec4 attrs) {
-    vec3 w;
-    bool owned = fan_triangle_owns(spoke_a, spoke_b, edge(a, b, centre), b - a, q, top_left(a - centre),
-                                   top_left(b - centre), top_left(b - a), w);
-    attrs = owned ? w.x * attrs_a + w.y * attrs_b + w.z * attrs_centre : vec4(0.0);
+    vec3 edges;
+    float area = edge(a, b, centre);
+    bool owned = fan_triangle_owns(spoke_a, spoke_b, area, b - a, q, top_left(a - centre), top_left(b - centre),
+                                   top_left(b - a), edges);
+    attrs = owned ? fan_triangle_attrs(edges, area, attrs_a, attrs_b, attrs_centre) : vec4(0.0);
     return owned;
 }
 
@@ -165,25 +172,32 @@ ProxyRaster proxy_raster(Proxy proxy) {
 // Whether one of the proxy's fan triangles owns the pixel centre, with the attributes
 // interpolated there. The triangles tile the silhouette and share their spokes' values, so at
 // most one does. Every triangle is tested, without branching, so that a subgroup's invocations
-// stay together.
+// stay together; only the owner's weights are divided out.
 bool raster_attrs_at(ProxyRaster r, uvec2 pixel, out vec4 attrs) {
     vec2 q = vec2(pixel) + 0.5 - r.centre;
     float spoke_value[5];
     for (uint j = 0u; j < 5u; ++j) {
         spoke_value[j] = cross2(r.spoke[j], q);
     }
-    attrs = vec4(0.0);
     bool found = false;
+    vec3 owner_edges = vec3(0.0);
+    float owner_area = 1.0;
+    vec4 owner_a = vec4(0.0);
+    vec4 owner_b = vec4(0.0);
     for (uint i = 0u; i < 4u; ++i) {
-        vec3 w;
+        vec3 edges;
         bool owned = fan_triangle_owns(spoke_value[i], spoke_value[i + 1u], r.area[i], r.corner[i + 1u] - r.corner[i], q,
                                        (r.top_left & (1u << i)) != 0u, (r.top_left & (1u << (i + 1u))) != 0u,
-                                       (r.top_left & (1u << (8u + i))) != 0u, w);
+                                       (r.top_left & (1u << (8u + i))) != 0u, edges);
         if (owned && i < r.silhouette && !found) {
             found = true;
-            attrs = w.x * r.corner_attrs[i] + w.y * r.corner_attrs[i + 1u] + w.z * r.centre_attrs;
+            owner_edges = edges;
+            owner_area = r.area[i];
+            owner_a = r.corner_attrs[i];
+            owner_b = r.corner_attrs[i + 1u];
         }
     }
+    attrs = found ? fan_triangle_attrs(owner_edges, owner_area, owner_a, owner_b, r.centre_attrs) : vec4(0.0);
     return found;
 }
 
