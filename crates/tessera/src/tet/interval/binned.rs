@@ -15,8 +15,9 @@ use tessera_gpu::{
 
 /// Tets whose proxies a tile's workgroup makes at once into shared memory (3 proxies each).
 pub const BIN_BATCH: u32 = 32;
-/// Longest list a tile sorts by tet id (in shared memory, 4 bytes each; a power of two), so
-/// that its sums are the same from frame to frame; longer lists keep the scatter's order.
+/// Longest list a tile sorts (in shared memory, 4 bytes each): by tet id, so that its sums are
+/// the same from frame to frame, or for SDF integrands front to back, with the list position
+/// in the key's low bits (hence a power of two); longer lists keep the scatter's order.
 pub const BIN_SORT_CAPACITY: u32 = 2048;
 const _: () = assert!(BIN_SORT_CAPACITY.is_power_of_two());
 /// Largest pixel rectangle, in tiles, whose tiles the counting pass tests against the tet's

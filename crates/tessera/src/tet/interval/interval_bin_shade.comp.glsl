@@ -1,8 +1,10 @@
 #version 460
 // Binned compute path of interval shading, last pass: one workgroup per screen tile, one
 // invocation per pixel, walks the tile's list of tets. A list of up to BIN_SORT_CAPACITY tets
-// is first sorted by tet id in shared memory, so that the sums do not depend on the order the
-// scatter's atomics left (longer lists keep it). BIN_BATCH invocations make a batch of tets'
+// is first sorted in shared memory: by tet id, so that the sums do not depend on the order the
+// scatter's atomics left (longer lists keep it); for INTEGRAND_SDF, whose nearest hit does not
+// depend on the order, front to back, so that a pixel skips more of the tets behind its
+// nearest hit. BIN_BATCH invocations make a batch of tets'
 // proxies and pixel rectangles into shared memory; every invocation then evaluates them at its
 // pixel centre exactly as the per-tet passes do (splat.glsl) and combines the values in a
 // register. Each pixel is written once, onto what the per-tet path drew of the tets the lists
@@ -27,6 +29,33 @@ shared uint batch_tet[BIN_BATCH];
 shared uvec4 batch_rect[BIN_BATCH];
 
 const uint INVOCATIONS = uint(TILE * TILE);
+
+#if INTEGRAND == INTEGRAND_SDF
+// The sort key of the tile's `i`-th listed tet: its nearest corner's view depth (clip w, 0 for a
+// corner behind the eye) with its low bits replaced by `i`, which finds the tet again
+// (listed_tet). Positive floats order as their bits do; equal depths in what is kept (12 bits of
+// mantissa) keep the list's order.
+uint sort_key(uint tet, uint i) {
+    uvec4 corners = tets[tet];
+    float nearest = 1e30;
+    for (uint j = 0u; j < 4u; ++j) {
+        nearest = min(nearest, (params.world_to_clip * vec4(vertices_world[corners[j]].xyz, 1.0)).w);
+    }
+    return (floatBitsToUint(max(nearest, 0.0)) & ~(uint(BIN_SORT_CAPACITY) - 1u)) | i;
+}
+
+uint listed_tet(uint start, uint key) {
+    return bin_list[start + (key & (uint(BIN_SORT_CAPACITY) - 1u))];
+}
+#else
+uint sort_key(uint tet, uint i) {
+    return tet;
+}
+
+uint listed_tet(uint start, uint key) {
+    return key;
+}
+#endif
 
 // Sorts the first `count` (at most BIN_SORT_CAPACITY) entries of `tile_tets` in place: a bitonic
 // sort over the next power of two, padded with the largest id.
@@ -90,14 +119,14 @@ void main() {
     bool sorted = end - start <= uint(BIN_SORT_CAPACITY);
     if (sorted) {
         for (uint i = local; i < end - start; i += INVOCATIONS) {
-            tile_tets[i] = bin_list[start + i];
+            tile_tets[i] = sort_key(bin_list[start + i], i);
         }
         sort_tile_tets(end - start);
     }
     for (uint batch = start; batch < end; batch += uint(BIN_BATCH)) {
         uint count = min(end - batch, uint(BIN_BATCH));
         if (local < count) {
-            uint tet = sorted ? tile_tets[batch - start + local] : bin_list[batch + local];
+            uint tet = sorted ? listed_tet(start, tile_tets[batch - start + local]) : bin_list[batch + local];
             Proxy proxies[3];
             bool clipped;
             uint n = tet_proxies(tet, proxies, clipped);
