@@ -57,8 +57,8 @@ uint listed_tet(uint start, uint key) {
 }
 #endif
 
-// Sorts the first `count` (at most BIN_SORT_CAPACITY) entries of `tile_tets` in place: a bitonic
-// sort over the next power of two, padded with the largest id.
+// Sorts the first `count` (at most BIN_SORT_CAPACITY) keys of `tile_tets` in place: a bitonic
+// sort over the next power of two, padded with the largest key (NO_TET).
 void sort_tile_tets(uint count) {
     uint padded = count <= 1u ? 1u : 1u << (findMSB(count - 1u) + 1);
     for (uint i = gl_LocalInvocationIndex + count; i < padded; i += INVOCATIONS) {
