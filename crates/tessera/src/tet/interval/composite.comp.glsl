@@ -5,13 +5,14 @@
 //   emission    background plus the emitted light
 //   maximum     the table's colour at the largest scalar, background where no tet was crossed
 //   sdf         the nearest asteroid's colour, background where none was hit
-// The accumulation is an RGBA32F image (graphics path) or a buffer of four floats per pixel
-// (compute path, SOURCE_BUFFER).
+// The accumulation is an RGBA32F image (graphics path) or, on the compute path (SOURCE_BUFFER),
+// a buffer of a plane of floats per channel (compute_buffers.glsl), or for the asteroid field
+// two 64-bit words per pixel.
 layout(local_size_x = 8, local_size_y = 8) in;
 #if SOURCE_BUFFER && INTEGRAND == INTEGRAND_SDF
 layout(binding = 0) readonly buffer Accumulated { uvec4 accumulated[]; };
 #elif SOURCE_BUFFER
-layout(binding = 0) readonly buffer Accumulated { vec4 accumulated[]; };
+layout(binding = 0) readonly buffer Accumulated { float accumulated[]; };
 #else
 layout(binding = 0, rgba32f) uniform readonly image2D accumulated;
 #endif
@@ -36,7 +37,9 @@ void main() {
     vec3 light = nearest.y == 0xffffffffu ? background : unpackUnorm4x8(nearest.x).rgb;
 #else
 #if SOURCE_BUFFER
-    vec4 value = accumulated[pixel.y * params.size.x + pixel.x];
+    uint index = pixel.y * params.size.x + pixel.x;
+    uint plane = params.size.x * params.size.y;
+    vec4 value = vec4(accumulated[index], accumulated[plane + index], accumulated[2u * plane + index], 0.0);
 #else
     vec4 value = imageLoad(accumulated, ivec2(pixel));
 #endif

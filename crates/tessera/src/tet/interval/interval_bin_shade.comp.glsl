@@ -89,15 +89,14 @@ void store_pixel(uint pixel, PixelValue value) {
 #if INTEGRAND == INTEGRAND_SDF
     frame[pixel * 2u] = combine_pixel_values(frame[pixel * 2u], value);
 #else
-    uint i = pixel * 4u;
 #if INTEGRAND == INTEGRAND_MAXIMUM
     // Non-negative floats order as their bits do.
-    optical[i + 0u] = max(optical[i + 0u], floatBitsToUint(value.x));
-    optical[i + 1u] = max(optical[i + 1u], floatBitsToUint(value.y));
+    optical[optical_index(pixel, 0u)] = max(optical[optical_index(pixel, 0u)], floatBitsToUint(value.x));
+    optical[optical_index(pixel, 1u)] = max(optical[optical_index(pixel, 1u)], floatBitsToUint(value.y));
 #else
-    optical[i + 0u] += value.x;
-    optical[i + 1u] += value.y;
-    optical[i + 2u] += value.z;
+    optical[optical_index(pixel, 0u)] += value.x;
+    optical[optical_index(pixel, 1u)] += value.y;
+    optical[optical_index(pixel, 2u)] += value.z;
 #endif
 #endif
 }

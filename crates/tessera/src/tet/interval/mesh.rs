@@ -196,7 +196,15 @@ impl OpticalTarget {
                 })?;
                 gpu.read_buffer(readback)?
             }
-            OpticalStore::Buffer(buffer) => gpu.read_buffer(buffer)?,
+            OpticalStore::Buffer(buffer) => {
+                // A plane per channel (compute_buffers.glsl).
+                let words: Vec<f32> =
+                    bytemuck::allocation::pod_collect_to_vec(&gpu.read_buffer(buffer)?);
+                let plane = self.width as usize * self.height as usize;
+                return Ok((0..plane)
+                    .map(|i| [words[i], words[plane + i], words[2 * plane + i]])
+                    .collect());
+            }
         };
         let texels: Vec<[f32; 4]> = bytemuck::allocation::pod_collect_to_vec(&bytes);
         Ok(texels.into_iter().map(|t| [t[0], t[1], t[2]]).collect())

@@ -63,15 +63,14 @@ bool fan_triangle_attrs_at(vec2 a, vec2 b, vec2 centre, float spoke_a, float spo
 
 #if INTEGRAND != INTEGRAND_SDF
 void accumulate(uint pixel, vec3 value) {
-    uint i = pixel * 4u;
 #if INTEGRAND == INTEGRAND_MAXIMUM
     // Non-negative floats order as their bits do.
-    atomicMax(optical[i + 0u], floatBitsToUint(value.x));
-    atomicMax(optical[i + 1u], floatBitsToUint(value.y));
+    atomicMax(optical[optical_index(pixel, 0u)], floatBitsToUint(value.x));
+    atomicMax(optical[optical_index(pixel, 1u)], floatBitsToUint(value.y));
 #else
-    atomicAdd(optical[i + 0u], value.x);
-    atomicAdd(optical[i + 1u], value.y);
-    atomicAdd(optical[i + 2u], value.z);
+    atomicAdd(optical[optical_index(pixel, 0u)], value.x);
+    atomicAdd(optical[optical_index(pixel, 1u)], value.y);
+    atomicAdd(optical[optical_index(pixel, 2u)], value.z);
 #endif
 }
 #endif
