@@ -137,6 +137,10 @@ const COMMON: &[(&str, &str)] = &[
         "tet/interval/compute_buffers.glsl",
         include_str!("tet/interval/compute_buffers.glsl"),
     ),
+    (
+        "tet/interval/optical_layout.glsl",
+        include_str!("tet/interval/optical_layout.glsl"),
+    ),
     ("tet/table.glsl", include_str!("tet/table.glsl")),
     (
         "tet/interval/table.glsl",

@@ -6,7 +6,7 @@
 //   maximum     the table's colour at the largest scalar, background where no tet was crossed
 //   sdf         the nearest asteroid's colour, background where none was hit
 // The accumulation is an RGBA32F image (graphics path) or, on the compute path (SOURCE_BUFFER),
-// a buffer of a plane of floats per channel (compute_buffers.glsl), or for the asteroid field
+// a buffer laid out by optical_layout.glsl, or for the asteroid field
 // two 64-bit words per pixel.
 layout(local_size_x = 8, local_size_y = 8) in;
 #if SOURCE_BUFFER && INTEGRAND == INTEGRAND_SDF
@@ -20,6 +20,7 @@ layout(binding = 1) writeonly buffer Pixels { uint pixels[]; };
 layout(binding = 2) readonly buffer Table { vec4 table[]; };
 
 #include "tet/interval/table.glsl"
+#include "tet/interval/optical_layout.glsl"
 
 layout(push_constant) uniform CompositeParams {
     vec4 background;
@@ -38,8 +39,9 @@ void main() {
 #else
 #if SOURCE_BUFFER
     uint index = pixel.y * params.size.x + pixel.x;
-    uint plane = params.size.x * params.size.y;
-    vec4 value = vec4(accumulated[index], accumulated[plane + index], accumulated[2u * plane + index], 0.0);
+    uint count = params.size.x * params.size.y;
+    vec4 value = vec4(accumulated[optical_index(index, 0u, count)], accumulated[optical_index(index, 1u, count)],
+                      accumulated[optical_index(index, 2u, count)], 0.0);
 #else
     vec4 value = imageLoad(accumulated, ivec2(pixel));
 #endif

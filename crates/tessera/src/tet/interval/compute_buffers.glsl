@@ -3,8 +3,8 @@
 // Two 64-bit words per pixel; the first holds depth << 32 | packed colour, all ones when empty.
 layout(binding = 5) buffer Frame { uint64_t frame[]; };
 #else
-// One plane per channel, each a word per pixel (optical_index): a tet's three channels at a
-// pixel are three atomics far apart rather than into one 16-byte texel.
+// Laid out by optical_layout.glsl.
+#include "tet/interval/optical_layout.glsl"
 #if INTEGRAND == INTEGRAND_MAXIMUM
 layout(binding = 5) buffer Optical { uint optical[]; };
 #else
@@ -12,7 +12,7 @@ layout(binding = 5) buffer Optical { float optical[]; };
 #endif
 
 uint optical_index(uint pixel, uint channel) {
-    return channel * params.counts.y * params.counts.z + pixel;
+    return optical_index(pixel, channel, params.counts.y * params.counts.z);
 }
 #endif
 // Tets too large to draw in one invocation: tet, first tile, first pixel (x | y << 16), tiles

@@ -197,16 +197,22 @@ impl OpticalTarget {
                 gpu.read_buffer(readback)?
             }
             OpticalStore::Buffer(buffer) => {
-                // A plane per channel (compute_buffers.glsl).
                 let words: Vec<f32> =
                     bytemuck::allocation::pod_collect_to_vec(&gpu.read_buffer(buffer)?);
-                let plane = self.width as usize * self.height as usize;
-                return Ok((0..plane)
-                    .map(|i| [words[i], words[plane + i], words[2 * plane + i]])
+                let pixels = self.width as usize * self.height as usize;
+                let at = |i, c| words[optical_index(i, c, pixels)];
+                return Ok((0..pixels)
+                    .map(|i| [at(i, 0), at(i, 1), at(i, 2)])
                     .collect());
             }
         };
         let texels: Vec<[f32; 4]> = bytemuck::allocation::pod_collect_to_vec(&bytes);
         Ok(texels.into_iter().map(|t| [t[0], t[1], t[2]]).collect())
     }
+}
+
+/// Where the compute path keeps channel `channel` of pixel `pixel` of `pixels`, as
+/// `optical_layout.glsl` does: a plane per channel.
+fn optical_index(pixel: usize, channel: usize, pixels: usize) -> usize {
+    channel * pixels + pixel
 }
