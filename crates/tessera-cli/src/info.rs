@@ -65,9 +65,10 @@ pub fn run(options: &GpuOptions, args: &InfoArgs) -> Result<()> {
         yes(caps.image_float32_atomic_add)
     );
     println!(
-        "  subgroup size            {} (arithmetic {})",
+        "  subgroup size            {} (arithmetic {}, ballot and shuffle {})",
         caps.subgroup_size,
-        yes(caps.subgroup_arithmetic)
+        yes(caps.subgroup_arithmetic),
+        yes(caps.subgroup_ballot_and_shuffle)
     );
     flag("representative fragment", caps.representative_fragment_test);
     flag("fragment barycentric", caps.fragment_barycentric);

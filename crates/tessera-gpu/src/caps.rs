@@ -33,6 +33,8 @@ pub struct Capabilities {
     pub image_float32_atomic_add: bool,
     pub subgroup_size: u32,
     pub subgroup_arithmetic: bool,
+    /// Subgroup ballot and shuffle operations in compute shaders.
+    pub subgroup_ballot_and_shuffle: bool,
     pub representative_fragment_test: bool,
     pub fragment_barycentric: bool,
     pub fragment_shader_interlock: bool,
@@ -76,6 +78,17 @@ fn device_type_name(t: vk::PhysicalDeviceType) -> &'static str {
         vk::PhysicalDeviceType::CPU => "cpu",
         _ => "other",
     }
+}
+
+/// Whether compute shaders have every subgroup operation in `operations`.
+fn compute_subgroups(
+    v11: &vk::PhysicalDeviceVulkan11Properties,
+    operations: vk::SubgroupFeatureFlags,
+) -> bool {
+    v11.subgroup_supported_operations.contains(operations)
+        && v11
+            .subgroup_supported_stages
+            .contains(vk::ShaderStageFlags::COMPUTE)
 }
 
 /// Reads features and properties through the `*2` queries. Extension structs are chained only
@@ -191,12 +204,11 @@ pub(crate) fn query(
         buffer_float32_atomic_add: fatomic_f.shader_buffer_float32_atomic_add != 0,
         image_float32_atomic_add: fatomic_f.shader_image_float32_atomic_add != 0,
         subgroup_size: v11_p.subgroup_size,
-        subgroup_arithmetic: v11_p
-            .subgroup_supported_operations
-            .contains(vk::SubgroupFeatureFlags::ARITHMETIC)
-            && v11_p
-                .subgroup_supported_stages
-                .contains(vk::ShaderStageFlags::COMPUTE),
+        subgroup_arithmetic: compute_subgroups(&v11_p, vk::SubgroupFeatureFlags::ARITHMETIC),
+        subgroup_ballot_and_shuffle: compute_subgroups(
+            &v11_p,
+            vk::SubgroupFeatureFlags::BALLOT | vk::SubgroupFeatureFlags::SHUFFLE,
+        ),
         representative_fragment_test: rep_f.representative_fragment_test != 0,
         fragment_barycentric: bary_f.fragment_shader_barycentric != 0,
         fragment_shader_interlock: lock_f.fragment_shader_pixel_interlock != 0,

@@ -141,6 +141,10 @@ const COMMON: &[(&str, &str)] = &[
         "tet/interval/optical_layout.glsl",
         include_str!("tet/interval/optical_layout.glsl"),
     ),
+    (
+        "tet/interval/subgroup_draw.glsl",
+        include_str!("tet/interval/subgroup_draw.glsl"),
+    ),
     ("tet/table.glsl", include_str!("tet/table.glsl")),
     (
         "tet/interval/table.glsl",

@@ -52,10 +52,12 @@ pub struct IntervalCompute {
     bins: Option<TetBins>,
 }
 
-/// The interval defines, and the tile pass's sizes.
+/// The interval defines, the tile pass's sizes, and whether the per-tet pass's subgroups draw
+/// their tets together (`subgroup_draw`: the device has the subgroup operations it needs).
 pub(crate) fn compute_defines(
     defines: &[(String, String)],
     capacity: TileCapacity,
+    subgroup_draw: bool,
 ) -> Vec<(String, String)> {
     let mut defines = defines.to_vec();
     defines.extend([
@@ -63,6 +65,10 @@ pub(crate) fn compute_defines(
         ("TETS_PER_WORKGROUP".into(), TETS_PER_WORKGROUP.to_string()),
         ("TILED_CAPACITY".into(), format!("{}u", capacity.tets)),
         ("TILE_CAPACITY".into(), format!("{}u", capacity.tiles)),
+        (
+            "INTERVAL_SUBGROUP_DRAW".into(),
+            u32::from(subgroup_draw).to_string(),
+        ),
     ]);
     defines
 }
@@ -82,7 +88,9 @@ impl IntervalCompute {
                 gpu.caps().device_name
             )));
         }
-        let defines = compute_defines(defines, capacity);
+        let caps = gpu.caps();
+        let subgroup_draw = caps.subgroup_arithmetic && caps.subgroup_ballot_and_shuffle;
+        let defines = compute_defines(defines, capacity, subgroup_draw);
         let slots = [Slot::StorageBuffer; super::COMMON_BINDINGS + 4];
         let raster = compiler.compile(&builtin_shader!("interval_raster.comp.glsl"), &defines)?;
         let tiles = compiler.compile(&builtin_shader!("interval_tiles.comp.glsl"), &defines)?;

@@ -129,12 +129,9 @@ bool drawn_here(uint tet, uvec2 first, uvec2 last) {
     return true;
 }
 
-// Draws tet `tet` (its `n` proxies, their pixel rectangle first..last) here or through the
-// tile pass.
-void draw_tet(uint tet, Proxy proxies[3], uint n, uvec2 first, uvec2 last) {
-    if (!drawn_here(tet, first, last)) {
-        return;
-    }
+// Draws tet `tet`'s `n` proxies (their pixel rectangle first..last) in the calling invocation,
+// each row across its span.
+void draw_proxies(uint tet, Proxy proxies[3], uint n, uvec2 first, uvec2 last) {
     for (uint k = 0u; k < 3u; ++k) {
         if (k < n) {
             ProxyRaster proxy = proxy_raster(proxies[k]);
@@ -143,5 +140,13 @@ void draw_tet(uint tet, Proxy proxies[3], uint n, uvec2 first, uvec2 last) {
                 draw_proxy_row(tet, proxy, slack, y, first, last);
             }
         }
+    }
+}
+
+// Draws tet `tet` (its `n` proxies, their pixel rectangle first..last) here or through the
+// tile pass.
+void draw_tet(uint tet, Proxy proxies[3], uint n, uvec2 first, uvec2 last) {
+    if (drawn_here(tet, first, last)) {
+        draw_proxies(tet, proxies, n, first, last);
     }
 }
