@@ -7,7 +7,7 @@
 // 2.4 M-tet box's far frame went from 9.14 to 8.27 ms and its close frame from 29.97 to 21.60
 // (run 93; its scalar field's far frame lost, 9.52 to 10.61); the subgroup's pixels taken
 // across the tet's whole rectangle rather than its spans gained less (9.36 / 27.35), and the
-// same drawing shared by a workgroup through shared memory lost (26-31 ms far; runs 91, 92).
+// same drawing shared by a workgroup through shared memory lost (21-33 ms far; runs 91, 92).
 // Needs subgroup ballot, shuffle and arithmetic enabled, tet_draw.glsl and what it needs.
 
 // Invocation `lane`'s proxy, for every invocation.
