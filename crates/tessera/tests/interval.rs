@@ -1,16 +1,19 @@
 //! Interval shading (paper A) against the CPU reference that integrates exact ray–tet path
 //! lengths per pixel: single tets, meshes, the Beer–Lambert post pass and tets clipped at the
-//! near plane. Pixels within a pixel of a projected tet edge are left out: there the
-//! rasterizer and the reference may legitimately disagree about which tets a pixel centre hits.
+//! near plane; and the compute path's subgroup drawing against each invocation drawing its own
+//! tet, every pixel. Against the reference, pixels within a pixel of a projected tet edge are
+//! left out: there the rasterizer and the reference may legitimately disagree about which tets
+//! a pixel centre hits.
 
 mod common;
 
 use common::interval::{
-    assert_matches_reference, assert_variants_match, defaults, variants, Expected,
+    assert_matches_reference, assert_same_sums, assert_variants_match, defaults, variants, Expected,
 };
 use common::{assert_clean, camera, gpu, skip};
+use tessera::path::Path;
 use tessera::shaders;
-use tessera::tet::interval::{GpuTetMesh, Integrand, Interval};
+use tessera::tet::interval::{ComputeScheme, GpuTetMesh, Integrand, Interval, IntervalOptions};
 use tessera_data::tet::optical::{edge_mask, optical_depth};
 use tessera_data::tet::procedural::{box_mesh, deform, sphere_mesh};
 use tessera_data::tet::TetMesh;
@@ -239,4 +242,53 @@ fn a_single_clipped_tet() {
         true,
         true,
     );
+}
+
+#[test]
+fn a_subgroup_drawing_its_tets_together_adds_what_each_invocation_adds() {
+    // Every pixel, edges included: both ways test each pixel with the same arithmetic, so only
+    // the order of the atomic sums differs. Far, tets span several rows and share a subgroup;
+    // from inside, large tets, and clipped ones drawn per invocation either way.
+    let gpu = gpu();
+    let caps = gpu.caps();
+    if !caps.buffer_float32_atomic_add {
+        skip("", "no float atomics for the compute path");
+        return;
+    }
+    if !(caps.subgroup_arithmetic && caps.subgroup_ballot_and_shuffle) {
+        skip(
+            "",
+            &format!(
+                "{} lacks subgroup ballot, shuffle or arithmetic",
+                caps.device_name
+            ),
+        );
+        return;
+    }
+    let compiler = shaders::compiler();
+    let mut mesh = box_mesh(6);
+    deform(&mut mesh, 0.08);
+    mesh.validate("deformed box").unwrap();
+    let gpu_mesh = GpuTetMesh::upload(&gpu, &mesh).unwrap();
+    let (w, h) = (96, 72);
+    let render = |subgroup_draw: bool, distance: f32| {
+        let options = IntervalOptions {
+            subgroup_draw,
+            compute_scheme: ComputeScheme::PerTet,
+            ..IntervalOptions::new(Path::Compute)
+        };
+        let interval = Interval::new(&gpu, &compiler, &options).unwrap();
+        let target = interval.target(&gpu, w, h).unwrap();
+        let cam = camera(-35.0, 25.0, distance);
+        interval.render(&gpu, &gpu_mesh, &target, &cam).unwrap()
+    };
+    for (view, distance, min_covered) in [("far", 2.6, 1500), ("inside", 0.3, 96 * 72)] {
+        let together = render(true, distance);
+        let alone = render(false, distance);
+        let covered = assert_same_sums(view, &together.values, &alone.values);
+        assert!(covered >= min_covered, "{view}: {covered} pixels covered");
+        assert_eq!(together.tiled, alone.tiled, "{view}: tiled tets");
+        assert_eq!(together.clipped_near, alone.clipped_near, "{view}");
+    }
+    assert_clean(&gpu);
 }

@@ -227,6 +227,13 @@ pub fn variants(gpu: &Gpu, integrand: &Integrand, all: bool) -> Vec<(String, Int
             )),
             Path::Compute => {
                 out.push((
+                    "compute, each tet drawn by its invocation".into(),
+                    IntervalOptions {
+                        subgroup_draw: false,
+                        ..base.clone()
+                    },
+                ));
+                out.push((
                     "compute, all tiled".into(),
                     IntervalOptions {
                         inline_pixel_limit: Some(0),

@@ -81,6 +81,7 @@ impl IntervalCompute {
         capacity: TileCapacity,
         scheme: ComputeScheme,
         bin_capacity: BinCapacity,
+        subgroup_draw: bool,
     ) -> Result<IntervalCompute> {
         if !gpu.caps().buffer_float32_atomic_add {
             return Err(Error::Invalid(format!(
@@ -89,7 +90,8 @@ impl IntervalCompute {
             )));
         }
         let caps = gpu.caps();
-        let subgroup_draw = caps.subgroup_arithmetic && caps.subgroup_ballot_and_shuffle;
+        let subgroup_draw =
+            subgroup_draw && caps.subgroup_arithmetic && caps.subgroup_ballot_and_shuffle;
         let defines = compute_defines(defines, capacity, subgroup_draw);
         let slots = [Slot::StorageBuffer; super::COMMON_BINDINGS + 4];
         let raster = compiler.compile(&builtin_shader!("interval_raster.comp.glsl"), &defines)?;

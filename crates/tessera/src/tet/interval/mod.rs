@@ -156,6 +156,10 @@ pub struct IntervalOptions {
     pub compute_scheme: ComputeScheme,
     /// Binned compute path: the lists' first capacity (they grow, see [`Interval::grow_buffers`]).
     pub bin_capacity: BinCapacity,
+    /// Compute path: the per-tet pass's subgroups draw their tets together where the device has
+    /// subgroup ballot, shuffle and arithmetic; false: each invocation draws its own tet, as on
+    /// devices without them. The image is the same either way.
+    pub subgroup_draw: bool,
 }
 
 /// The settings of interval shading that trade speed between meshes and views, without
@@ -195,6 +199,7 @@ impl IntervalOptions {
             tile_capacity: TileCapacity::default(),
             compute_scheme: tuning.compute_scheme,
             bin_capacity: BinCapacity::default(),
+            subgroup_draw: true,
         }
     }
 }
@@ -301,6 +306,7 @@ impl Interval {
                 options.tile_capacity,
                 options.compute_scheme,
                 options.bin_capacity,
+                options.subgroup_draw,
             )?)),
         };
         let composite = Composite::new(gpu, compiler, &defines, options.path)?;
