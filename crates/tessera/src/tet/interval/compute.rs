@@ -53,7 +53,7 @@ pub struct IntervalCompute {
 }
 
 /// The interval defines, the tile pass's sizes, and whether the per-tet pass's subgroups draw
-/// their tets together (`subgroup_draw`: the device has the subgroup operations it needs).
+/// their tets together (`INTERVAL_SUBGROUP_DRAW`).
 pub(crate) fn compute_defines(
     defines: &[(String, String)],
     capacity: TileCapacity,
@@ -83,13 +83,14 @@ impl IntervalCompute {
         bin_capacity: BinCapacity,
         subgroup_draw: bool,
     ) -> Result<IntervalCompute> {
-        if !gpu.caps().buffer_float32_atomic_add {
+        let caps = gpu.caps();
+        if !caps.buffer_float32_atomic_add {
             return Err(Error::Invalid(format!(
                 "interval shading's compute path needs float atomics, which {} lacks",
-                gpu.caps().device_name
+                caps.device_name
             )));
         }
-        let caps = gpu.caps();
+        // Asked for and possible on the device; otherwise each invocation draws its own tet.
         let subgroup_draw =
             subgroup_draw && caps.subgroup_arithmetic && caps.subgroup_ballot_and_shuffle;
         let defines = compute_defines(defines, capacity, subgroup_draw);
