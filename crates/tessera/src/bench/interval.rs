@@ -85,9 +85,9 @@ fn variants(gpu: &Gpu, wanted: &[Path], view: &str, scalar: bool, small: bool) -
         let limits: &[Option<u32>] = if scalar {
             &[None]
         } else if small && view != "inside" {
-            &[None, Some(256), Some(65536), Some(u32::MAX)]
+            &[None, Some(16384), Some(65536), Some(u32::MAX)]
         } else {
-            &[None, Some(256), Some(65536)]
+            &[None, Some(16384), Some(65536)]
         };
         for &limit in limits {
             let tuning = IntervalTuning {

@@ -97,8 +97,21 @@ impl IntervalCompute {
         let slots = [Slot::StorageBuffer; super::COMMON_BINDINGS + 4];
         let raster = compiler.compile(&builtin_shader!("interval_raster.comp.glsl"), &defines)?;
         let tiles = compiler.compile(&builtin_shader!("interval_tiles.comp.glsl"), &defines)?;
-        let raster = gpu.compute_pipeline("interval (compute)", &raster, &slots)?;
-        let tiles = gpu.compute_pipeline("interval tiles (compute)", &tiles, &slots)?;
+        // The integrand in the names, so that pipeline statistics tell the variants apart.
+        let integrand = defines
+            .iter()
+            .find(|(name, _)| name == "INTEGRAND")
+            .map_or("?", |(_, code)| code.as_str());
+        let raster = gpu.compute_pipeline(
+            &format!("interval (compute, integrand {integrand})"),
+            &raster,
+            &slots,
+        )?;
+        let tiles = gpu.compute_pipeline(
+            &format!("interval tiles (compute, integrand {integrand})"),
+            &tiles,
+            &slots,
+        )?;
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
         // Vulkan refuses empty buffers; a capacity of 0 still needs one element.
         let tiled_tets = gpu.create_buffer(
