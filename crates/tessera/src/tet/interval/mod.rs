@@ -253,12 +253,13 @@ pub struct Interval {
 }
 
 /// The compute path's pixel limit when none is given: tets whose screen rectangle holds more
-/// pixels go to the tile pass. Runs 20–22 had 256 pixels faster on meshes of fewer than 0.008
-/// tets a pixel, and the limit followed the mesh's density; since the per-tet pass walks row
-/// spans over set-up proxies, 4096 is 1.1–2.4× faster on the bunny far and close and the
-/// 64 k-tet box far, at most 5.4 % slower on their other three views, and faster summed over
-/// each mesh's views (docs/BENCHMARKS.md, runs 75–76, 4K); denser meshes had 4096 already.
-pub const DEFAULT_INLINE_PIXEL_LIMIT: u32 = 4096;
+/// pixels go to the tile pass. Since a subgroup draws its tets' row spans together, large tets
+/// cost the per-tet pass less and the limit moved up from 4096: 16,384 is 13 % faster on the
+/// 944 k-tet box close (19.46 to 16.88 ms) and 10 % on the 64 k-tet box far (3.58 to 3.22),
+/// within 1 % on the other boxes far and close (docs/BENCHMARKS.md, runs 95-96, 4K). Where it
+/// is slower (the bunny far and inside, the 64 k-tet box inside, the asteroid field) binning is
+/// faster than either, and the automatic scheme takes it.
+pub const DEFAULT_INLINE_PIXEL_LIMIT: u32 = 16384;
 
 /// The paths interval shading can run on `caps`'s device: mesh shaders for the graphics path,
 /// float atomics for the compute path.
