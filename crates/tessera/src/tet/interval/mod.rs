@@ -255,8 +255,8 @@ pub struct Interval {
 /// The compute path's pixel limit when none is given: tets whose screen rectangle holds more
 /// pixels go to the tile pass. Since a subgroup draws its tets' row spans together, large tets
 /// cost the per-tet pass less and the limit moved up from 4096: 16,384 is 13 % faster on the
-/// 944 k-tet box close (19.46 to 16.88 ms) and 10 % on the 64 k-tet box far (3.58 to 3.22),
-/// within 1 % on the other boxes far and close (docs/BENCHMARKS.md, runs 95-96, 4K). Where it
+/// 944 k-tet box close (19.46 to 16.91 ms) and 10 % on the 64 k-tet box far (3.58 to 3.22),
+/// within 1 % on the other boxes far and close (docs/BENCHMARKS.md, run 95, 4K). Where it
 /// is slower (the bunny far and inside, the 64 k-tet box inside, the asteroid field) binning is
 /// faster than either, and the automatic scheme takes it.
 pub const DEFAULT_INLINE_PIXEL_LIMIT: u32 = 16384;

@@ -155,6 +155,13 @@ mod tests {
             .collect()
     }
 
+    /// The frames drawn with `scheme`.
+    fn frames_with(schemes: &[DrawScheme], scheme: DrawScheme) -> Vec<usize> {
+        (0..schemes.len())
+            .filter(|&k| schemes[k] == scheme)
+            .collect()
+    }
+
     #[test]
     fn measures_both_then_keeps_the_faster() {
         let mut auto = AutoScheme::default();
@@ -181,9 +188,7 @@ mod tests {
         let interval = PROBE_INTERVAL as usize;
         // Frame 1 measures per tet; the probes after it come after 60 and 120 binned frames.
         let probes = [1, 2 + interval, 3 + 3 * interval];
-        let per_tet: Vec<usize> = (0..300)
-            .filter(|&k| schemes[k] == DrawScheme::PerTet)
-            .collect();
+        let per_tet = frames_with(&schemes[..300], DrawScheme::PerTet);
         assert_eq!(per_tet, probes);
         // Frame 300's binned frame took three times its time at the last comparison: frame 301
         // measures per tet, finds it faster and keeps it; binning's probes, 60 and then 120
@@ -234,9 +239,7 @@ mod tests {
             |k| if k < 100 { 10.0 } else { 14.0 },
             |_| 20.0,
         );
-        let binned: Vec<usize> = (0..schemes.len())
-            .filter(|&k| schemes[k] == DrawScheme::Binned)
-            .collect();
+        let binned = frames_with(&schemes, DrawScheme::Binned);
         assert_eq!(binned, [0, 62, 101, 222]);
     }
 
@@ -250,9 +253,7 @@ mod tests {
             |k| if k % 2 == 0 { 10.0 } else { 11.0 },
             |k| if k % 3 == 0 { 5.0 } else { 5.5 },
         );
-        let probes: Vec<usize> = (0..schemes.len())
-            .filter(|&k| schemes[k] == DrawScheme::PerTet)
-            .collect();
+        let probes = frames_with(&schemes, DrawScheme::PerTet);
         let gaps: Vec<usize> = probes.windows(2).map(|w| w[1] - w[0] - 1).collect();
         assert_eq!(gaps, [60, 120, 240, 480, 960]);
     }
@@ -261,9 +262,7 @@ mod tests {
     fn the_probe_interval_stops_growing() {
         let mut auto = AutoScheme::default();
         let schemes = run(&mut auto, 10_000, |_| 10.0, |_| 5.0);
-        let probes: Vec<usize> = (0..schemes.len())
-            .filter(|&k| schemes[k] == DrawScheme::PerTet)
-            .collect();
+        let probes = frames_with(&schemes, DrawScheme::PerTet);
         let gaps: Vec<usize> = probes.windows(2).map(|w| w[1] - w[0] - 1).collect();
         let longest = (PROBE_INTERVAL * MAX_PROBE_BACKOFF) as usize;
         assert_eq!(gaps[..5], [60, 120, 240, 480, 960]);
