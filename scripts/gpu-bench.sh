@@ -7,7 +7,8 @@
 # Usage: scripts/gpu-bench.sh OUT_DIR [TESSERA_BINARY] [volumes|surfaces|meshes|growth]
 # Environment: REPEAT (default 2), FRAMES (default 50), SCANS (a folder holding ch2.nii.gz),
 # EXTRA (more flags for every scenario, e.g. --quick for a smoke run on a CPU driver), WARM
-# (0: no throw-away run before each scenario).
+# (0: no throw-away run before each scenario), PACK (a file: the output folder packed into it
+# as a gzipped tar at the end, for a machine that hands back only a few files).
 set -uo pipefail
 out=${1:?output folder}
 bin=${2:-target/release/tessera}
@@ -85,3 +86,6 @@ for line in open(sys.argv[1]):
     print(f'{r["scenario"][:12]:12} {r["technique"][:12]:12} {r["path"][:8]:8} '
           f'{r.get("variant", "")[:18]:18} {r["dataset"][:28]:28} {size:9} {frame:9.3f} ms')
 PY
+if [ -n "${PACK:-}" ]; then
+  tar czf "$PACK" -C "$out" .
+fi
