@@ -61,6 +61,9 @@ pub struct BenchArgs {
     /// `extraction` also times each extractor with stages left out, to place its time.
     #[arg(long)]
     ablations: bool,
+    /// `interval` times only the variants whose label holds this text (e.g. "scalar").
+    #[arg(long)]
+    variants: Option<String>,
 }
 
 fn parse_path(text: &str) -> std::result::Result<Path, String> {
@@ -190,6 +193,7 @@ pub fn run(options: &GpuOptions, args: &BenchArgs) -> Result<()> {
         paths: args.paths.clone(),
         sizes: args.sizes.clone(),
         ablations: args.ablations,
+        variants: args.variants.clone(),
     };
     for repeat in 0..args.repeat {
         if args.repeat > 1 {

@@ -97,3 +97,46 @@ fn growth_measures_every_technique_along_both_ladders() {
         }
     }
 }
+
+#[test]
+fn interval_times_only_the_variants_asked_for() {
+    let dir = scratch("bench_variants");
+    let json = dir.join("interval.jsonl");
+    let o = tessera(&[
+        "--validation",
+        "bench",
+        "interval",
+        "--quick",
+        "--data",
+        "tets:box:3",
+        "--paths",
+        "compute",
+        "--frames",
+        "1",
+        "--warmup",
+        "0",
+        "--min-warmup-ms",
+        "0",
+        "--variants",
+        "scalar",
+        "--json",
+        json.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "bench failed: {}", stderr(&o));
+    let variants: BTreeSet<String> = std::fs::read_to_string(&json)
+        .unwrap()
+        .lines()
+        .map(|l| {
+            serde_json::from_str::<Value>(l).unwrap()["variant"]
+                .as_str()
+                .unwrap()
+                .to_string()
+        })
+        .collect();
+    // The scalar field's three compute variants, and nothing of tet absorption.
+    assert_eq!(variants.len(), 3, "{variants:?}");
+    assert!(
+        variants.iter().all(|v| v.starts_with("scalar absorption")),
+        "{variants:?}"
+    );
+}

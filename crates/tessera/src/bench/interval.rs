@@ -144,6 +144,7 @@ pub fn interval(
     };
     let bench = MeshBench {
         paths: &config.paths,
+        wanted: config.variants.as_deref(),
         plan,
         size,
     };
@@ -180,6 +181,8 @@ pub fn interval(
 /// Times one mesh's views with every variant.
 struct MeshBench<'a> {
     paths: &'a [Path],
+    /// Only the variants whose label holds this text.
+    wanted: Option<&'a str>,
     plan: FramePlan,
     size: (u32, u32),
 }
@@ -208,6 +211,7 @@ impl MeshBench<'_> {
             if scalar {
                 all.extend(variants(gpu, self.paths, view, true, small));
             }
+            self.keep_wanted(&mut all);
             for variant in &all {
                 let dataset = format!("{name} {count} tets, {view}");
                 let camera = OrbitCamera {
@@ -270,6 +274,7 @@ impl MeshBench<'_> {
             ));
             all.push(scheme(ComputeScheme::Auto, integrand, "asteroids, auto"));
         }
+        self.keep_wanted(&mut all);
         for variant in &all {
             let mut r = interval_renderer(gpu, variant, data)?;
             for (view, distance) in [("outside", 1.5f32), ("inside", 0.15)] {
@@ -284,6 +289,12 @@ impl MeshBench<'_> {
             }
         }
         Ok(())
+    }
+
+    fn keep_wanted(&self, variants: &mut Vec<Variant>) {
+        if let Some(text) = self.wanted {
+            variants.retain(|v| v.label.contains(text));
+        }
     }
 
     fn time(

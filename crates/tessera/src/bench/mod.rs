@@ -59,6 +59,8 @@ pub struct BenchConfig {
     /// `extraction` also times each extractor with stages left out
     /// ([`crate::iso::ablation::Ablation`]), for performance work.
     pub ablations: bool,
+    /// `interval` times only the variants whose label holds this text (all when `None`).
+    pub variants: Option<String>,
 }
 
 impl Default for BenchConfig {
@@ -72,6 +74,7 @@ impl Default for BenchConfig {
             paths: Vec::new(),
             sizes: Vec::new(),
             ablations: false,
+            variants: None,
         }
     }
 }
