@@ -4,8 +4,8 @@
 //! scheme is a slow frame: 2× the time inside the 2.4 M-tet box), and at once when the faster
 //! one's frames have moved by more than [`STALE_RATIO`] since the two were compared (the view
 //! changed: the 64 k-tet box seen far takes 3.2 ms per tet against 3.5 binned, close 13.5
-//! against 8.4, and with backoff the close view kept the per-tet pass for up to 960 frames;
-//! docs/BENCHMARKS.md, run 102).
+//! against 8.4, and the close view kept the per-tet pass until the next probe was due, 60
+//! frames on, or up to 960 after lost probes; docs/BENCHMARKS.md, run 102).
 //!
 //! Neither scheme wins everywhere (docs/BENCHMARKS.md, run 62): binning is up to 2.5× faster
 //! on most meshes and views, but 13–28 % slower where a huge mesh is seen small, and no count
