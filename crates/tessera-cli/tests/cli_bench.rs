@@ -1,5 +1,6 @@
 //! `tessera bench growth`: every technique measured along both ladders (image pixels and data
-//! size), each record carrying the sizes the plots put on their axes.
+//! size), each record carrying the sizes the plots put on their axes; `bench interval
+//! --variants` times only the variants asked for.
 
 mod common;
 use common::*;
@@ -8,26 +9,10 @@ use std::collections::{BTreeMap, BTreeSet};
 
 #[test]
 fn growth_measures_every_technique_along_both_ladders() {
-    let dir = scratch("bench_growth");
-    let json = dir.join("growth.jsonl");
-    let o = tessera(&[
-        "--validation",
-        "bench",
-        "growth",
-        "--quick",
-        "--frames",
-        "2",
-        "--warmup",
-        "1",
-        "--json",
-        json.to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "bench failed: {}", stderr(&o));
-    let records: Vec<Value> = std::fs::read_to_string(&json)
-        .unwrap()
-        .lines()
-        .map(|l| serde_json::from_str(l).unwrap())
-        .collect();
+    let records = bench_records(
+        "bench_growth",
+        &["growth", "--quick", "--frames", "2", "--warmup", "1"],
+    );
     // Per (unit, technique, ladder): the (data size, pixels) points measured.
     let mut points: BTreeMap<(String, String, String), BTreeSet<(u64, u64)>> = BTreeMap::new();
     for r in &records {
@@ -100,38 +85,28 @@ fn growth_measures_every_technique_along_both_ladders() {
 
 #[test]
 fn interval_times_only_the_variants_asked_for() {
-    let dir = scratch("bench_variants");
-    let json = dir.join("interval.jsonl");
-    let o = tessera(&[
-        "--validation",
-        "bench",
-        "interval",
-        "--quick",
-        "--data",
-        "tets:box:3",
-        "--paths",
-        "compute",
-        "--frames",
-        "1",
-        "--warmup",
-        "0",
-        "--min-warmup-ms",
-        "0",
-        "--variants",
-        "scalar",
-        "--json",
-        json.to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "bench failed: {}", stderr(&o));
-    let variants: BTreeSet<String> = std::fs::read_to_string(&json)
-        .unwrap()
-        .lines()
-        .map(|l| {
-            serde_json::from_str::<Value>(l).unwrap()["variant"]
-                .as_str()
-                .unwrap()
-                .to_string()
-        })
+    let records = bench_records(
+        "bench_variants",
+        &[
+            "interval",
+            "--quick",
+            "--data",
+            "tets:box:3",
+            "--paths",
+            "compute",
+            "--frames",
+            "1",
+            "--warmup",
+            "0",
+            "--min-warmup-ms",
+            "0",
+            "--variants",
+            "scalar",
+        ],
+    );
+    let variants: BTreeSet<&str> = records
+        .iter()
+        .map(|r| r["variant"].as_str().unwrap())
         .collect();
     // The scalar field's three compute variants, and nothing of tet absorption.
     assert_eq!(variants.len(), 3, "{variants:?}");
@@ -139,4 +114,20 @@ fn interval_times_only_the_variants_asked_for() {
         variants.iter().all(|v| v.starts_with("scalar absorption")),
         "{variants:?}"
     );
+}
+
+/// The JSON records of `tessera --validation bench ARGS --json FILE` (FILE in a scratch folder
+/// named `scratch_name`), after checking that it succeeded.
+fn bench_records(scratch_name: &str, args: &[&str]) -> Vec<Value> {
+    let json = scratch(scratch_name).join("records.jsonl");
+    let mut all = vec!["--validation", "bench"];
+    all.extend_from_slice(args);
+    all.extend(["--json", json.to_str().unwrap()]);
+    let o = tessera(&all);
+    assert!(o.status.success(), "bench failed: {}", stderr(&o));
+    std::fs::read_to_string(&json)
+        .unwrap()
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect()
 }
