@@ -144,6 +144,12 @@ pub fn run(options: &GpuOptions, args: &BenchArgs) -> Result<()> {
             SCENARIOS.join(", ")
         ),
     };
+    if args.variants.is_some() && !scenarios.contains(&"interval") {
+        bail!(
+            "--variants picks interval's variants; '{}' has none",
+            args.scenario
+        );
+    }
     let gpu = crate::gpu::open_gpu(options)?;
     let file = match &args.json {
         Some(p) => Some(

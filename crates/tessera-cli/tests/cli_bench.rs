@@ -116,6 +116,24 @@ fn interval_times_only_the_variants_asked_for() {
     );
 }
 
+#[test]
+fn variants_that_match_nothing_are_refused() {
+    let quick = [
+        "--quick",
+        "--frames",
+        "1",
+        "--warmup",
+        "0",
+        "--data",
+        "tets:box:2",
+    ];
+    let mut args = vec!["bench", "interval", "--variants", "no such variant"];
+    args.extend(quick);
+    assert_fails_with(&tessera(&args), &["no interval variant", "no such variant"]);
+    let o = tessera(&["bench", "raymarch", "--quick", "--variants", "binned"]);
+    assert_fails_with(&o, &["--variants", "raymarch"]);
+}
+
 /// The JSON records of `tessera --validation bench ARGS --json FILE` (FILE in a scratch folder
 /// named `scratch_name`), after checking that it succeeded.
 fn bench_records(scratch_name: &str, args: &[&str]) -> Vec<Value> {

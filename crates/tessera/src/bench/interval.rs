@@ -3,7 +3,7 @@
 
 use super::frames::time_mono;
 use super::{BenchConfig, BenchRecord, FramePlan, RecordSink};
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::path::{Path, PathChoice};
 use crate::renderer::{self, IntervalTuning, Renderer, RendererOptions, Technique};
 use crate::tet::interval::{path_support, ComputeScheme, DEFAULT_INLINE_PIXEL_LIMIT};
@@ -131,7 +131,45 @@ fn scheme(compute_scheme: ComputeScheme, integrand: IntegrandChoice, label: &str
 /// image), on both paths with their variants, and scalar integration through a transfer
 /// function on the middle mesh; then the asteroid field. `--data` measures one mesh instead: a
 /// file (e.g. the tetgen bunny), `tets:box:N`, `tets:sphere:N` or `tets:asteroids:COUNT`.
+/// `config.variants` keeps only the variants whose label holds it: an error when none does.
 pub fn interval(
+    gpu: &Gpu,
+    config: &BenchConfig,
+    plan: FramePlan,
+    sink: &mut dyn RecordSink,
+) -> Result<()> {
+    let mut counted = CountedSink {
+        inner: sink,
+        records: 0,
+    };
+    interval_meshes(gpu, config, plan, &mut counted)?;
+    match &config.variants {
+        Some(text) if counted.records == 0 => Err(Error::Invalid(format!(
+            "no interval variant's label holds '{text}' (labels are such as \
+             'tet absorption, binned' or 'scalar absorption, auto')"
+        ))),
+        _ => Ok(()),
+    }
+}
+
+/// Passes records on, counting them.
+struct CountedSink<'a> {
+    inner: &'a mut dyn RecordSink,
+    records: usize,
+}
+
+impl RecordSink for CountedSink<'_> {
+    fn emit(&mut self, record: &BenchRecord) -> Result<()> {
+        self.records += 1;
+        self.inner.emit(record)
+    }
+
+    fn note(&mut self, text: &str) {
+        self.inner.note(text);
+    }
+}
+
+fn interval_meshes(
     gpu: &Gpu,
     config: &BenchConfig,
     plan: FramePlan,
