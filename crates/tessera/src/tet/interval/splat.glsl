@@ -174,7 +174,10 @@ ProxyRaster proxy_raster(Proxy proxy) {
 // Whether one of the proxy's fan triangles owns the pixel centre, with the attributes
 // interpolated there. The triangles tile the silhouette and share their spokes' values, so at
 // most one does. Every triangle is tested, without branching, so that a subgroup's invocations
-// stay together; only the owner's weights are divided out.
+// stay together. The owner's edge values are kept as the weights of the two corners it spans
+// and of the centre, and the attributes summed once with every corner's weight (zero but for
+// the owner's): choosing the owner's corner attributes took a selection per channel and
+// triangle.
 bool raster_attrs_at(ProxyRaster r, uvec2 pixel, out vec4 attrs) {
     vec2 q = vec2(pixel) + 0.5 - r.centre;
     float spoke_value[5];
@@ -182,24 +185,26 @@ bool raster_attrs_at(ProxyRaster r, uvec2 pixel, out vec4 attrs) {
         spoke_value[j] = cross2(r.spoke[j], q);
     }
     bool found = false;
-    vec3 owner_edges = vec3(0.0);
     float owner_area = 1.0;
-    vec4 owner_a = vec4(0.0);
-    vec4 owner_b = vec4(0.0);
+    float corner_weight[5] = float[5](0.0, 0.0, 0.0, 0.0, 0.0);
+    float centre_weight = 0.0;
     for (uint i = 0u; i < 4u; ++i) {
         vec3 edges;
         bool owned = fan_triangle_owns(spoke_value[i], spoke_value[i + 1u], r.area[i], r.corner[i + 1u] - r.corner[i], q,
                                        (r.top_left & (1u << i)) != 0u, (r.top_left & (1u << (i + 1u))) != 0u,
                                        (r.top_left & (1u << (8u + i))) != 0u, edges);
-        if (owned && i < r.silhouette && !found) {
-            found = true;
-            owner_edges = edges;
-            owner_area = r.area[i];
-            owner_a = r.corner_attrs[i];
-            owner_b = r.corner_attrs[i + 1u];
-        }
+        bool owner = owned && i < r.silhouette && !found;
+        found = found || owner;
+        corner_weight[i] = owner ? edges.x : corner_weight[i];
+        corner_weight[i + 1u] = owner ? edges.y : corner_weight[i + 1u];
+        centre_weight = owner ? edges.z : centre_weight;
+        owner_area = owner ? r.area[i] : owner_area;
     }
-    attrs = found ? fan_triangle_attrs(owner_edges, owner_area, owner_a, owner_b, r.centre_attrs) : vec4(0.0);
+    vec4 sum = centre_weight * r.centre_attrs;
+    for (uint k = 0u; k < 5u; ++k) {
+        sum += corner_weight[k] * r.corner_attrs[k];
+    }
+    attrs = found ? sum * (1.0 / abs(owner_area)) : vec4(0.0);
     return found;
 }
 
