@@ -29,7 +29,7 @@ pub struct BenchArgs {
     #[arg(long, default_value_t = 10)]
     warmup: u32,
     /// Warm-up frames at most, --min-warmup-ms or not (at or below --warmup, or with --quick:
-    /// exactly --warmup).
+    /// exactly --warmup); a warm-up that ended here unsettled is marked * in the table.
     #[arg(long, default_value_t = FramePlan::default().max_warmup)]
     max_warmup: u32,
     /// Milliseconds of wall time the warm-up lasts at least.
@@ -106,7 +106,7 @@ impl RecordSink for Sink {
                 s.median_ms,
                 s.min_ms,
                 s.max_ms,
-                s.warmup_frames
+                format!("{}{}", s.warmup_frames, if s.settled { "" } else { "*" })
             );
         }
         if !r.variant.is_empty() {

@@ -72,23 +72,27 @@ impl WarmUp {
         if done < self.plan.warmup {
             return true;
         }
-        if done >= self.plan.max_warmup {
-            return false;
-        }
+        done < self.plan.max_warmup && !self.settled()
+    }
+
+    /// Whether the frames so far meet the settling rules (the two windows, the spread, the wall
+    /// time), whatever the frame counts: false when the warm-up ended at `plan.max_warmup`
+    /// unsettled, so that a measurement can say its frames may still have been moving.
+    pub fn settled(&self) -> bool {
         let min_wall = Duration::from_millis(u64::from(self.plan.min_warmup_ms));
         if self.started.is_none_or(|t| t.elapsed() < min_wall) {
-            return true;
+            return false;
         }
         let n = self.frame_ms.len();
         if n < 2 * SETTLE_WINDOW {
-            return true;
+            return false;
         }
         let last_window = &self.frame_ms[n - SETTLE_WINDOW..];
         let last = median(last_window);
         let before = median(&self.frame_ms[n - 2 * SETTLE_WINDOW..n - SETTLE_WINDOW]);
         let slowest = last_window.iter().copied().fold(f64::MIN, f64::max);
-        (last - before).abs() > SETTLE_TOLERANCE * before.abs().max(f64::MIN_POSITIVE)
-            || slowest > (1.0 + SETTLE_SPREAD) * last
+        let moving = (last - before).abs() > SETTLE_TOLERANCE * before.abs().max(f64::MIN_POSITIVE);
+        !(moving || slowest > (1.0 + SETTLE_SPREAD) * last)
     }
 
     /// Records a warm-up frame's GPU time (all its scopes).
@@ -121,6 +125,9 @@ pub struct StageStats {
     pub max_ms: f64,
     /// Warm-up frames the measurement ran before its timed frames ([`WarmUp`]).
     pub warmup_frames: u32,
+    /// Whether that warm-up ended settled ([`WarmUp::settled`]); false where it ran into its
+    /// frame limit first, or where there was none.
+    pub settled: bool,
 }
 
 impl StageStats {
@@ -133,13 +140,15 @@ impl StageStats {
             min_ms: s.first().copied().unwrap_or(f64::NAN),
             max_ms: s.last().copied().unwrap_or(f64::NAN),
             warmup_frames: 0,
+            settled: false,
         }
     }
 
-    /// The same statistics, noted as measured after `frames` warm-up frames.
-    pub fn after_warmup(self, frames: u32) -> StageStats {
+    /// The same statistics, noted as measured after `warm_up`'s frames.
+    pub fn after_warmup(self, warm_up: &WarmUp) -> StageStats {
         StageStats {
-            warmup_frames: frames,
+            warmup_frames: warm_up.frames(),
+            settled: warm_up.settled(),
             ..self
         }
     }
@@ -174,7 +183,7 @@ pub fn time_frames(
     }
     Ok(samples
         .iter()
-        .map(|(name, s)| StageStats::from_samples(name, s).after_warmup(warm_up.frames()))
+        .map(|(name, s)| StageStats::from_samples(name, s).after_warmup(&warm_up))
         .collect())
 }
 
@@ -287,5 +296,49 @@ mod tests {
             ..plan
         };
         assert_eq!(warm_up_frames(capped, |_| 1.0), 20);
+    }
+
+    fn warmed_up(plan: FramePlan, frame_ms: impl Fn(u32) -> f64) -> WarmUp {
+        let mut w = WarmUp::new(plan);
+        while w.warming() {
+            w.add(frame_ms(w.frames()));
+        }
+        w
+    }
+
+    #[test]
+    fn a_warm_up_says_whether_it_ended_settled() {
+        let plan = FramePlan {
+            warmup: 3,
+            frames: 10,
+            max_warmup: 100,
+            min_warmup_ms: 0,
+        };
+        assert!(warmed_up(plan, |_| 1.0).settled());
+        // Capped while still moving: growing frames, or every third frame twice as slow.
+        let growing = warmed_up(plan, |k| f64::from(k * k));
+        assert_eq!((growing.frames(), growing.settled()), (100, false));
+        let bimodal = warmed_up(plan, |k| if k.is_multiple_of(3) { 2.0 } else { 1.0 });
+        assert_eq!((bimodal.frames(), bimodal.settled()), (100, false));
+        // A fixed warm-up shorter than two windows cannot say its frames settled.
+        let fixed = FramePlan {
+            max_warmup: 0,
+            ..plan
+        };
+        assert!(!warmed_up(fixed, |_| 1.0).settled());
+        // The wall-time minimum not yet passed when the cap came: not settled either.
+        let capped = FramePlan {
+            max_warmup: 20,
+            min_warmup_ms: 60_000,
+            ..plan
+        };
+        assert!(!warmed_up(capped, |_| 1.0).settled());
+        // Statistics carry it.
+        let stats = StageStats::from_samples("x", &[1.0]).after_warmup(&warmed_up(plan, |_| 1.0));
+        assert_eq!(
+            (stats.warmup_frames, stats.settled),
+            (2 * SETTLE_WINDOW as u32, true)
+        );
+        assert!(!StageStats::from_samples("x", &[1.0]).settled);
     }
 }

@@ -24,14 +24,14 @@ trait TimedFrame {
 }
 
 /// A measurement's timed frames (per frame, the GPU milliseconds of its scopes in recording
-/// order) and the warm-up frames run before them.
+/// order) and the warm-up run before them.
 struct Timed {
     frames: Vec<Vec<(String, f64)>>,
-    warmup_frames: u32,
+    warm_up: WarmUp,
 }
 
 /// Warm-up frames until they settle ([`WarmUp`]), then `plan.frames` timed frames: their
-/// scope times and the warm-up frames run.
+/// scope times and the warm-up run.
 fn time_loop(gpu: &Gpu, plan: FramePlan, timed: &mut dyn TimedFrame) -> Result<Timed> {
     let mut timer = Timer::new(gpu, MAX_TIMER_SCOPES)?;
     let mut frames = Vec::with_capacity(plan.frames as usize);
@@ -53,10 +53,7 @@ fn time_loop(gpu: &Gpu, plan: FramePlan, timed: &mut dyn TimedFrame) -> Result<T
         }
         frame += 1;
     }
-    Ok(Timed {
-        frames,
-        warmup_frames: warm_up.frames(),
-    })
+    Ok(Timed { frames, warm_up })
 }
 
 /// The stage that sums a frame's stages when it has several.
@@ -70,7 +67,7 @@ fn stage_stats(timed: &Timed) -> Vec<StageStats> {
     let mut stages: Vec<StageStats> = (0..scopes)
         .map(|i| {
             let samples: Vec<f64> = frames.iter().map(|f| f[i].1).collect();
-            StageStats::from_samples(&frames[0][i].0, &samples).after_warmup(timed.warmup_frames)
+            StageStats::from_samples(&frames[0][i].0, &samples).after_warmup(&timed.warm_up)
         })
         .collect();
     if scopes > 1 {
@@ -86,7 +83,7 @@ fn sum_stats(timed: &Timed, name: &str) -> StageStats {
         .iter()
         .map(|f| f.iter().map(|s| s.1).sum())
         .collect();
-    StageStats::from_samples(name, &totals).after_warmup(timed.warmup_frames)
+    StageStats::from_samples(name, &totals).after_warmup(&timed.warm_up)
 }
 
 /// The error for a timed frame that overflowed although settling sized its buffers.
