@@ -2,7 +2,8 @@
 # Runs the benchmark set of docs/BENCHMARKS.md on a GPU machine with the settling warm-up and
 # `--repeat` (cells whose medians move by more than 3 % between the runs are listed): device
 # facts, then each scenario appended as JSON lines to OUT/bench.jsonl (its printed table in
-# OUT/SCENARIO.txt), then the plots (when matplotlib is there) and a one-line-per-cell summary.
+# OUT/SCENARIO.txt), then the plots (when matplotlib is there) and a one-line-per-cell summary;
+# where nvidia-smi is, the GPU's clocks through the run in OUT/clocks.csv.
 # The set is split in seven parts (below), for machines that run a command at most ten
 # minutes; no part = all of them.
 # Usage: scripts/gpu-bench.sh OUT_DIR [TESSERA_BINARY] [PART]
@@ -31,6 +32,14 @@ fi
 "$bin" info --json > "$out/info.json"
 nvidia-smi --query-gpu=name,driver_version,memory.total,clocks.max.sm --format=csv > "$out/nvidia-smi.csv" 2>&1
 date -u +%Y-%m-%dT%H:%M:%SZ >> "$out/date.txt"
+# The GPU's clocks, power state and load through the run, read five times a second (nothing is
+# set), to line up with the records' unix_time_s: whether a slow cell met a slow card.
+if command -v nvidia-smi > /dev/null; then
+  nvidia-smi --query-gpu=timestamp,clocks.sm,clocks.mem,pstate,power.draw,utilization.gpu \
+    --format=csv -lms 200 >> "$out/clocks.csv" 2> /dev/null &
+  clock_log=$!
+  trap 'kill "$clock_log" 2> /dev/null' EXIT
+fi
 
 # One scenario: NAME SECONDS ARGS…; its exit status is kept in OUT/status.txt. Unless WARM=0,
 # a throw-away --quick run of the scenario comes first: on the H200 the first process to run a
@@ -89,6 +98,9 @@ if in_part growth; then
   run growth 570 growth --frames 30
 fi
 
+if [ -n "${clock_log:-}" ]; then
+  kill "$clock_log" 2> /dev/null
+fi
 python3 "$(dirname "$0")/plot_bench.py" "$out" "$out/bench.jsonl" 2>/dev/null \
   || echo "(no plots: matplotlib missing)"
 python3 - "$out/bench.jsonl" <<'PY'

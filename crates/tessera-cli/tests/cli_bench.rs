@@ -1,11 +1,13 @@
 //! `tessera bench growth`: every technique measured along both ladders (image pixels and data
 //! size), each record carrying the sizes the plots put on their axes; `bench interval
-//! --variants` times only the variants asked for.
+//! --variants` times only the variants asked for, its records saying when they were made and
+//! whether their warm-up settled.
 
 mod common;
 use common::*;
 use serde_json::Value;
 use std::collections::{BTreeMap, BTreeSet};
+use std::time::{SystemTime, UNIX_EPOCH};
 
 #[test]
 fn growth_measures_every_technique_along_both_ladders() {
@@ -114,6 +116,17 @@ fn interval_times_only_the_variants_asked_for() {
         variants.iter().all(|v| v.starts_with("scalar absorption")),
         "{variants:?}"
     );
+    // Each record says when it was made, and that its warm-up (none) did not settle.
+    let now = SystemTime::now()
+        .duration_since(UNIX_EPOCH)
+        .unwrap()
+        .as_secs_f64();
+    for r in &records {
+        let made = r["unix_time_s"].as_f64().unwrap();
+        assert!((now - 600.0..=now).contains(&made), "{made} against {now}");
+        let stages = r["stages"].as_array().unwrap();
+        assert!(stages.iter().all(|s| s["settled"] == false), "{stages:?}");
+    }
 }
 
 #[test]

@@ -17,6 +17,7 @@ use crate::error::{Error, Result};
 use crate::path::Path;
 use serde::Serialize;
 use std::collections::BTreeMap;
+use std::time::{SystemTime, UNIX_EPOCH};
 use tessera_data::raw::RawOptions;
 use tessera_gpu::Gpu;
 
@@ -140,6 +141,9 @@ pub struct BenchRecord {
     pub counts: BTreeMap<String, f64>,
     pub device: String,
     pub driver: String,
+    /// When the record was made (seconds since 1970-01-01 UTC), to line records up with logs
+    /// kept beside a run, such as the GPU's clocks that `scripts/gpu-bench.sh` writes.
+    pub unix_time_s: f64,
 }
 
 impl BenchRecord {
@@ -166,6 +170,9 @@ impl BenchRecord {
             counts: BTreeMap::new(),
             device: caps.device_name.clone(),
             driver: format!("{} {}", caps.driver_name, caps.driver_info),
+            unix_time_s: SystemTime::now()
+                .duration_since(UNIX_EPOCH)
+                .map_or(0.0, |t| t.as_secs_f64()),
         }
     }
 

@@ -122,6 +122,7 @@ mod tests {
             counts: BTreeMap::new(),
             device: "d".into(),
             driver: "v".into(),
+            unix_time_s: 0.0,
         }
     }
 
