@@ -39,6 +39,6 @@ vec3 table_mean_at(uint base, float a, float b) {
     vec3 head = (value_i + slope_i * (0.5 * (1.0 + lo_in))) * (1.0 - lo_in);
     vec3 whole = table[running + j].rgb - table[running + i + 1u].rgb;
     vec3 tail = (value_j + slope_j * (0.5 * hi_in)) * hi_in;
-    vec3 midway = value_i + slope_i * (0.5 * (lo_in + hi - float(i)));
+    vec3 midway = table_in_interval(base, i, 0.5 * (lo + hi));
     return i == j ? midway : (head + whole + tail) / (hi - lo);
 }
