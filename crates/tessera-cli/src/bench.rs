@@ -35,6 +35,10 @@ pub struct BenchArgs {
     /// Milliseconds of wall time the warm-up lasts at least.
     #[arg(long, default_value_t = FramePlan::default().min_warmup_ms)]
     min_warmup_ms: u32,
+    /// GPU milliseconds each frame plus an arithmetic dispatch after it take, keeping the GPU
+    /// loaded between frames as a render loop does, so its clocks stay up; 0: idle gaps.
+    #[arg(long, default_value_t = FramePlan::default().keep_busy_ms)]
+    keep_busy_ms: f64,
     /// Run the scenarios this many times and list the cells whose stage medians moved by more
     /// than 3 % between runs (every run's records are written, each with its `repeat`).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=10))]
@@ -172,25 +176,15 @@ pub fn run(options: &GpuOptions, args: &BenchArgs) -> Result<()> {
         "device: {} — {} {}",
         caps.device_name, caps.driver_name, caps.driver_info
     );
-    println!(
-        "{:<20} {:<10} {:<9} {:<32} {:>11} {:<14} {:>10} {:>10} {:>10} {:>7}",
-        "scenario",
-        "technique",
-        "path",
-        "dataset",
-        "size",
-        "stage",
-        "median ms",
-        "min ms",
-        "max ms",
-        "warm-up"
-    );
+    // The column heads of the rows `Sink::emit` prints, laid out at its widths.
+    println!("scenario             technique  path      dataset                                 size stage           median ms     min ms     max ms warm-up");
     let config = BenchConfig {
         plan: FramePlan {
             warmup: args.warmup,
             frames: args.frames.max(1),
             max_warmup: args.max_warmup,
             min_warmup_ms: args.min_warmup_ms,
+            keep_busy_ms: args.keep_busy_ms,
         },
         quick: args.quick,
         iso_fraction: args.iso_fraction,

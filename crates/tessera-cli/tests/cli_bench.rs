@@ -116,7 +116,8 @@ fn interval_times_only_the_variants_asked_for() {
         variants.iter().all(|v| v.starts_with("scalar absorption")),
         "{variants:?}"
     );
-    // Each record says when it was made, and that its warm-up (none) did not settle.
+    // Each record says when it was made, that its warm-up (none) did not settle, and that no
+    // dispatch kept the GPU busy between its frames (a quick run's).
     let now = SystemTime::now()
         .duration_since(UNIX_EPOCH)
         .unwrap()
@@ -126,6 +127,7 @@ fn interval_times_only_the_variants_asked_for() {
         assert!((now - 600.0..=now).contains(&made), "{made} against {now}");
         let stages = r["stages"].as_array().unwrap();
         assert!(stages.iter().all(|s| s["settled"] == false), "{stages:?}");
+        assert_eq!(r["keep_busy_ms"].as_f64(), Some(0.0), "{r}");
     }
 }
 

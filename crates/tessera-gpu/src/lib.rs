@@ -14,6 +14,7 @@ pub mod commands;
 pub mod context;
 mod device_features;
 pub mod error;
+pub mod keep_busy;
 pub mod memory;
 pub mod pipeline;
 pub mod ray_tracing;

@@ -4,6 +4,7 @@
 use crate::commands::Recorder;
 use crate::context::Gpu;
 use crate::error::{GpuError, Result};
+use crate::keep_busy::KeepBusy;
 use crate::memory::Buffer;
 use crate::timer::Timer;
 use serde::Serialize;
@@ -23,6 +24,10 @@ pub struct FramePlan {
     /// its warm-up and most of its timed frames, steadily enough to pass the settling test
     /// (docs/BENCHMARKS.md, runs 66–67).
     pub min_warmup_ms: u32,
+    /// GPU milliseconds that each frame plus the arithmetic dispatch after it take (0: no
+    /// dispatch): keeps the GPU loaded between frames, as a continuous render loop does, so
+    /// that its clocks stay up ([`KeepBusy`]).
+    pub keep_busy_ms: f64,
 }
 
 impl Default for FramePlan {
@@ -32,6 +37,7 @@ impl Default for FramePlan {
             frames: 100,
             max_warmup: 200,
             min_warmup_ms: 500,
+            keep_busy_ms: 2.0,
         }
     }
 }
@@ -156,7 +162,7 @@ impl StageStats {
 
 /// Submits warm-up frames recorded by `record` (which opens timer scopes) until [`WarmUp`]
 /// says they settled, then `plan.frames` timed frames, and returns per-stage statistics over
-/// the timed frames.
+/// the timed frames. Each frame is followed by [`KeepBusy`]'s dispatch, outside its scopes.
 pub fn time_frames(
     gpu: &Gpu,
     plan: FramePlan,
@@ -166,15 +172,22 @@ pub fn time_frames(
     let mut timer = Timer::new(gpu, max_scopes)?;
     let mut samples: Vec<(String, Vec<f64>)> = Vec::new();
     let mut warm_up = WarmUp::new(plan);
-    while warm_up.warming() {
+    let mut keep_busy = KeepBusy::new(gpu, plan.keep_busy_ms)?;
+    let mut frame = |timer: &mut Timer| -> Result<Vec<(String, f64)>> {
         timer.reset(gpu);
-        gpu.submit("benchmark frame", |rec| record(rec, &mut timer))?;
-        warm_up.add(timer.read_ms(gpu)?.iter().map(|s| s.1).sum());
+        gpu.submit("benchmark frame", |rec| {
+            record(rec, timer);
+            keep_busy.record(rec);
+        })?;
+        let scopes = timer.read_ms(gpu)?;
+        keep_busy.frame_done(gpu, scopes.iter().map(|s| s.1).sum())?;
+        Ok(scopes)
+    };
+    while warm_up.warming() {
+        warm_up.add(frame(&mut timer)?.iter().map(|s| s.1).sum());
     }
     for _ in 0..plan.frames {
-        timer.reset(gpu);
-        gpu.submit("benchmark frame", |rec| record(rec, &mut timer))?;
-        for (i, (name, ms)) in timer.read_ms(gpu)?.into_iter().enumerate() {
+        for (i, (name, ms)) in frame(&mut timer)?.into_iter().enumerate() {
             if samples.len() <= i {
                 samples.push((name, Vec::new()));
             }
@@ -244,6 +257,7 @@ mod tests {
             frames: 10,
             max_warmup: 500,
             min_warmup_ms: 0,
+            keep_busy_ms: 0.0,
         };
         // Steady from the start: the minimum, or two windows when that is more.
         assert_eq!(warm_up_frames(plan, |_| 1.0), 2 * SETTLE_WINDOW as u32);
@@ -313,6 +327,7 @@ mod tests {
             frames: 10,
             max_warmup: 100,
             min_warmup_ms: 0,
+            keep_busy_ms: 0.0,
         };
         assert!(warmed_up(plan, |_| 1.0).settled());
         // Capped while still moving: growing frames, or every third frame twice as slow.

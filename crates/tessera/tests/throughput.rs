@@ -143,6 +143,7 @@ fn run_times_every_path() {
             frames: 2,
             max_warmup: 0,
             min_warmup_ms: 0,
+            keep_busy_ms: 0.0,
         },
     };
     let records = run(&gpu, &compiler, &opts).unwrap();

@@ -10,6 +10,7 @@ use super::{FramePlan, StageStats};
 use crate::error::{Error, Result};
 use crate::renderer::{FrameOutcome, Renderer, Target, MAX_TIMER_SCOPES};
 use tessera_data::{OrbitCamera, View};
+use tessera_gpu::keep_busy::KeepBusy;
 use tessera_gpu::timing::WarmUp;
 use tessera_gpu::{Gpu, Recorder, Timer};
 
@@ -31,9 +32,11 @@ struct Timed {
 }
 
 /// Warm-up frames until they settle ([`WarmUp`]), then `plan.frames` timed frames: their
-/// scope times and the warm-up run.
+/// scope times and the warm-up run. Each frame is followed by [`KeepBusy`]'s dispatch,
+/// outside its scopes.
 fn time_loop(gpu: &Gpu, plan: FramePlan, timed: &mut dyn TimedFrame) -> Result<Timed> {
     let mut timer = Timer::new(gpu, MAX_TIMER_SCOPES)?;
+    let mut keep_busy = KeepBusy::new(gpu, plan.keep_busy_ms)?;
     let mut frames = Vec::with_capacity(plan.frames as usize);
     let mut warm_up = WarmUp::new(plan);
     let mut frame = 0;
@@ -41,11 +44,13 @@ fn time_loop(gpu: &Gpu, plan: FramePlan, timed: &mut dyn TimedFrame) -> Result<T
         timer.reset(gpu);
         let mut recorded = Ok(());
         gpu.submit("benchmark frame", |rec| {
-            recorded = timed.record(frame, rec, &mut timer)
+            recorded = timed.record(frame, rec, &mut timer);
+            keep_busy.record(rec);
         })?;
         recorded?;
         timed.finish(gpu)?;
         let scopes = timer.read_ms(gpu)?;
+        keep_busy.frame_done(gpu, scopes.iter().map(|s| s.1).sum())?;
         if warm_up.warming() {
             warm_up.add(scopes.iter().map(|s| s.1).sum());
         } else {

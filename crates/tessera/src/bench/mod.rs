@@ -89,15 +89,20 @@ pub trait RecordSink {
 
 /// Runs the scenario `name` (one of [`SCENARIOS`]).
 pub fn run(gpu: &Gpu, name: &str, config: &BenchConfig, sink: &mut dyn RecordSink) -> Result<()> {
-    // Quick runs are smoke tests on CPU drivers, whose frame times need not settle: exactly
-    // the warm-up asked for.
-    let plan = FramePlan {
-        max_warmup: if config.quick {
-            0
-        } else {
-            config.plan.max_warmup
-        },
-        ..config.plan
+    // Quick runs are smoke tests on CPU drivers, whose frame times need not settle and whose
+    // clocks need no keeping up: exactly the warm-up asked for, nothing between frames.
+    let plan = if config.quick {
+        FramePlan {
+            max_warmup: 0,
+            keep_busy_ms: 0.0,
+            ..config.plan
+        }
+    } else {
+        config.plan
+    };
+    let sink = &mut Stamped {
+        sink,
+        keep_busy_ms: plan.keep_busy_ms,
     };
     match name {
         "pipeline-throughput" => basic::throughput(gpu, config, plan, sink),
@@ -116,6 +121,25 @@ pub fn run(gpu: &Gpu, name: &str, config: &BenchConfig, sink: &mut dyn RecordSin
             "unknown scenario '{name}'; choose one of {} or all",
             SCENARIOS.join(", ")
         ))),
+    }
+}
+
+/// Passes records on with what the plan ran them under, which no scenario sets itself.
+struct Stamped<'a> {
+    sink: &'a mut dyn RecordSink,
+    keep_busy_ms: f64,
+}
+
+impl RecordSink for Stamped<'_> {
+    fn emit(&mut self, record: &BenchRecord) -> Result<()> {
+        self.sink.emit(&BenchRecord {
+            keep_busy_ms: self.keep_busy_ms,
+            ..record.clone()
+        })
+    }
+
+    fn note(&mut self, text: &str) {
+        self.sink.note(text);
     }
 }
 
@@ -144,6 +168,9 @@ pub struct BenchRecord {
     /// When the record was made (seconds since 1970-01-01 UTC), to line records up with logs
     /// kept beside a run, such as the GPU's clocks that `scripts/gpu-bench.sh` writes.
     pub unix_time_s: f64,
+    /// GPU milliseconds each timed frame plus the arithmetic dispatch after it took
+    /// ([`FramePlan::keep_busy_ms`]; 0: frames with idle gaps between them).
+    pub keep_busy_ms: f64,
 }
 
 impl BenchRecord {
@@ -173,6 +200,7 @@ impl BenchRecord {
             unix_time_s: SystemTime::now()
                 .duration_since(UNIX_EPOCH)
                 .map_or(0.0, |t| t.as_secs_f64()),
+            keep_busy_ms: 0.0,
         }
     }
 

@@ -123,6 +123,7 @@ mod tests {
             device: "d".into(),
             driver: "v".into(),
             unix_time_s: 0.0,
+            keep_busy_ms: 0.0,
         }
     }
 
