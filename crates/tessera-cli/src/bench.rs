@@ -185,6 +185,7 @@ pub fn run(options: &GpuOptions, args: &BenchArgs) -> Result<()> {
             max_warmup: args.max_warmup,
             min_warmup_ms: args.min_warmup_ms,
             keep_busy_ms: args.keep_busy_ms,
+            ..FramePlan::default()
         },
         quick: args.quick,
         iso_fraction: args.iso_fraction,

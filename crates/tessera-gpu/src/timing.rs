@@ -28,6 +28,9 @@ pub struct FramePlan {
     /// dispatch): keeps the GPU loaded between frames, as a continuous render loop does, so
     /// that its clocks stay up ([`KeepBusy`]).
     pub keep_busy_ms: f64,
+    /// Frames in one period of a scene whose frames differ on purpose (a time series of four
+    /// steps: 4); the warm-up judges whole periods ([`WarmUp`]). 1 for a fixed scene.
+    pub frames_per_cycle: u32,
 }
 
 impl Default for FramePlan {
@@ -38,6 +41,7 @@ impl Default for FramePlan {
             max_warmup: 200,
             min_warmup_ms: 500,
             keep_busy_ms: 2.0,
+            frames_per_cycle: 1,
         }
     }
 }
@@ -57,9 +61,17 @@ pub const SETTLE_SPREAD: f64 = 0.15;
 /// `plan.min_warmup_ms` have passed since the first frame; or after `plan.max_warmup` frames.
 /// A stable median is not enough: on the H200 a scene's first cell was timed with many of its
 /// frames twice as slow, in all its passes alike (docs/BENCHMARKS.md, run 66).
+///
+/// Where the frames cycle through different content (`plan.frames_per_cycle` > 1), the rules
+/// apply to each whole cycle's time instead of each frame's: a time series whose steps take
+/// 0.35 and 0.72 ms never met the spread rule frame by frame, though every cycle took the same
+/// (docs/BENCHMARKS.md, run 111).
 pub struct WarmUp {
     plan: FramePlan,
-    frame_ms: Vec<f64>,
+    frames: u32,
+    /// The time of each whole cycle so far, and of the cycle under way.
+    cycle_ms: Vec<f64>,
+    running_ms: f64,
     started: Option<Instant>,
 }
 
@@ -67,18 +79,19 @@ impl WarmUp {
     pub fn new(plan: FramePlan) -> WarmUp {
         WarmUp {
             plan,
-            frame_ms: Vec::new(),
+            frames: 0,
+            cycle_ms: Vec::new(),
+            running_ms: 0.0,
             started: None,
         }
     }
 
     /// Whether the next frame is still a warm-up frame.
     pub fn warming(&self) -> bool {
-        let done = self.frame_ms.len() as u32;
-        if done < self.plan.warmup {
+        if self.frames < self.plan.warmup {
             return true;
         }
-        done < self.plan.max_warmup && !self.settled()
+        self.frames < self.plan.max_warmup && !self.settled()
     }
 
     /// Whether the frames so far meet the settling rules (the two windows, the spread, the wall
@@ -89,13 +102,13 @@ impl WarmUp {
         if self.started.is_none_or(|t| t.elapsed() < min_wall) {
             return false;
         }
-        let n = self.frame_ms.len();
-        if n < 2 * SETTLE_WINDOW {
+        let n = self.cycle_ms.len();
+        if n < 2 * SETTLE_WINDOW || !self.frames.is_multiple_of(self.cycle()) {
             return false;
         }
-        let last_window = &self.frame_ms[n - SETTLE_WINDOW..];
+        let last_window = &self.cycle_ms[n - SETTLE_WINDOW..];
         let last = median(last_window);
-        let before = median(&self.frame_ms[n - 2 * SETTLE_WINDOW..n - SETTLE_WINDOW]);
+        let before = median(&self.cycle_ms[n - 2 * SETTLE_WINDOW..n - SETTLE_WINDOW]);
         let slowest = last_window.iter().copied().fold(f64::MIN, f64::max);
         let moving = (last - before).abs() > SETTLE_TOLERANCE * before.abs().max(f64::MIN_POSITIVE);
         !(moving || slowest > (1.0 + SETTLE_SPREAD) * last)
@@ -104,12 +117,21 @@ impl WarmUp {
     /// Records a warm-up frame's GPU time (all its scopes).
     pub fn add(&mut self, frame_ms: f64) {
         self.started.get_or_insert_with(Instant::now);
-        self.frame_ms.push(frame_ms);
+        self.frames += 1;
+        self.running_ms += frame_ms;
+        if self.frames.is_multiple_of(self.cycle()) {
+            self.cycle_ms.push(self.running_ms);
+            self.running_ms = 0.0;
+        }
     }
 
     /// Warm-up frames run so far.
     pub fn frames(&self) -> u32 {
-        self.frame_ms.len() as u32
+        self.frames
+    }
+
+    fn cycle(&self) -> u32 {
+        self.plan.frames_per_cycle.max(1)
     }
 }
 
@@ -258,6 +280,7 @@ mod tests {
             max_warmup: 500,
             min_warmup_ms: 0,
             keep_busy_ms: 0.0,
+            frames_per_cycle: 1,
         };
         // Steady from the start: the minimum, or two windows when that is more.
         assert_eq!(warm_up_frames(plan, |_| 1.0), 2 * SETTLE_WINDOW as u32);
@@ -312,6 +335,47 @@ mod tests {
         assert_eq!(warm_up_frames(capped, |_| 1.0), 20);
     }
 
+    #[test]
+    fn frames_that_cycle_through_content_settle_by_whole_cycles() {
+        let plan = FramePlan {
+            warmup: 3,
+            frames: 10,
+            max_warmup: 200,
+            min_warmup_ms: 0,
+            keep_busy_ms: 0.0,
+            frames_per_cycle: 1,
+        };
+        // Four steps of 1, 2, 1 and 3 ms: frame by frame the spread rule never holds.
+        let steps = |k: u32| [1.0, 2.0, 1.0, 3.0][k as usize % 4];
+        let by_frame = warmed_up(plan, steps);
+        assert_eq!((by_frame.frames(), by_frame.settled()), (200, false));
+        // By cycles of four, every cycle takes 7 ms: settled after two windows of cycles.
+        let cycles = FramePlan {
+            frames_per_cycle: 4,
+            ..plan
+        };
+        let by_cycle = warmed_up(cycles, steps);
+        assert_eq!(
+            (by_cycle.frames(), by_cycle.settled()),
+            (4 * 2 * SETTLE_WINDOW as u32, true)
+        );
+        // Only whole cycles count: a cycle whose slow step grows keeps it warming up until the
+        // growth stops (here after frame 100), then two windows of cycles follow.
+        let ramp = |k: u32| {
+            if k % 4 == 3 && k < 100 {
+                3.0 + 0.1 * f64::from(k)
+            } else {
+                steps(k)
+            }
+        };
+        let frames = warmed_up(cycles, ramp).frames();
+        assert!(frames.is_multiple_of(4), "{frames}");
+        assert!(
+            (100..=100 + 4 * 2 * SETTLE_WINDOW as u32 + 4).contains(&frames),
+            "{frames}"
+        );
+    }
+
     fn warmed_up(plan: FramePlan, frame_ms: impl Fn(u32) -> f64) -> WarmUp {
         let mut w = WarmUp::new(plan);
         while w.warming() {
@@ -328,6 +392,7 @@ mod tests {
             max_warmup: 100,
             min_warmup_ms: 0,
             keep_busy_ms: 0.0,
+            frames_per_cycle: 1,
         };
         assert!(warmed_up(plan, |_| 1.0).settled());
         // Capped while still moving: growing frames, or every third frame twice as slow.

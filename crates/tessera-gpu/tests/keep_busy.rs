@@ -79,6 +79,7 @@ fn timed_frames_report_their_own_scopes_only() {
         max_warmup: 0,
         min_warmup_ms: 0,
         keep_busy_ms: 2.0,
+        frames_per_cycle: 1,
     };
     let work = gpu
         .create_buffer(

@@ -144,6 +144,7 @@ fn run_times_every_path() {
             max_warmup: 0,
             min_warmup_ms: 0,
             keep_busy_ms: 0.0,
+            frames_per_cycle: 1,
         },
     };
     let records = run(&gpu, &compiler, &opts).unwrap();

@@ -319,6 +319,11 @@ pub fn time_varying(
             .map(|v| gpu.staging_with(v.name(), v.bytes()))
             .collect::<std::result::Result<_, _>>()?;
         let dims = steps[0].dims();
+        // Each step is a different volume: the warm-up judges whole cycles through them.
+        let plan = FramePlan {
+            frames_per_cycle: steps.len() as u32,
+            ..plan
+        };
         let resident: Vec<_> = steps
             .iter()
             .map(|v| upload_samples(gpu, v, tessera_gpu::vk::BufferUsageFlags::TRANSFER_SRC))
