@@ -1,5 +1,6 @@
 //! `tessera bench growth`: every technique measured along both ladders (image pixels and data
-//! size), each record carrying the sizes the plots put on their axes; `bench interval
+//! size), each record carrying the sizes the plots put on their axes and what the renderer
+//! counted; `bench interval
 //! --variants` times only the variants asked for, its records saying when they were made and
 //! whether their warm-up settled.
 
@@ -26,6 +27,16 @@ fn growth_measures_every_technique_along_both_ladders() {
             .unwrap_or_else(|| panic!("no data size in {r}"));
         let (w, h) = (r["width"].as_u64().unwrap(), r["height"].as_u64().unwrap());
         assert_eq!(counts["pixels"].as_f64().unwrap() as u64, w * h, "{r}");
+        // What the renderer counted in its frame comes along: interval shading's scheme, the
+        // triangles an isosurface technique drew.
+        let counted = match r["technique"].as_str().unwrap() {
+            "interval" => Some("tiled_tets"),
+            "direct" | "meshlets" | "pmb" => Some("triangles_last_frame"),
+            _ => None,
+        };
+        if let Some(name) = counted {
+            assert!(counts.contains_key(name), "no {name} in {r}");
+        }
         let stages = r["stages"].as_array().unwrap();
         assert!(
             stages

@@ -141,6 +141,7 @@ pub(super) fn growth(
                     (record.width, record.height, record.warmup, record.frames) =
                         (size.0, size.1, plan.warmup, plan.frames);
                     record.stages = stages;
+                    record.add_frame_stats(&r.stats());
                     record.counts.insert(ladder.unit.into(), data_size(&data));
                     record
                         .counts

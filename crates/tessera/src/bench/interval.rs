@@ -361,9 +361,7 @@ impl MeshBench<'_> {
             stages,
         );
         record.variant = variant.label.clone();
-        for (name, &n) in &r.stats().details {
-            record.counts.insert((*name).into(), n as f64);
-        }
+        record.add_frame_stats(&r.stats());
         Ok(record)
     }
 }

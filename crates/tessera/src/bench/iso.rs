@@ -168,21 +168,6 @@ pub(super) fn iso_renderer(
     Ok(r)
 }
 
-/// The frame's counters as record counts.
-fn frame_counts(stats: &renderer::FrameStats, r: &mut BenchRecord) {
-    if let Some(t) = stats.triangles {
-        r.counts.insert("triangles_last_frame".into(), t as f64);
-    }
-    if let Some((first, new)) = stats.blocks_drawn {
-        r.counts.insert("blocks_drawn".into(), (first + new) as f64);
-        r.counts.insert("blocks_drawn_first".into(), first as f64);
-        r.counts.insert("blocks_drawn_new".into(), new as f64);
-    }
-    for (name, &n) in &stats.details {
-        r.counts.insert((*name).into(), n as f64);
-    }
-}
-
 fn run_scenario(
     gpu: &Gpu,
     config: &BenchConfig,
@@ -218,7 +203,7 @@ fn run_scenario(
                 (record.width, record.height, record.warmup, record.frames) =
                     (size.0, size.1, plan.warmup, plan.frames);
                 record.stages = stages;
-                frame_counts(&r.stats(), &mut record);
+                record.add_frame_stats(&r.stats());
                 match (t.technique, record.frame_ms()) {
                     (Technique::Raymarch, Some(ms)) => {
                         raymarch_ms.insert(size, ms);

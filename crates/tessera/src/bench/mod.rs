@@ -213,6 +213,24 @@ impl BenchRecord {
         }
     }
 
+    /// Adds what the renderer counted in its last frame: triangles, blocks drawn and its own
+    /// details (e.g. interval shading's scheme: tets binned, tiled, overflowed).
+    pub fn add_frame_stats(&mut self, stats: &crate::renderer::FrameStats) {
+        if let Some(t) = stats.triangles {
+            self.counts.insert("triangles_last_frame".into(), t as f64);
+        }
+        if let Some((first, new)) = stats.blocks_drawn {
+            self.counts
+                .insert("blocks_drawn".into(), (first + new) as f64);
+            self.counts
+                .insert("blocks_drawn_first".into(), first as f64);
+            self.counts.insert("blocks_drawn_new".into(), new as f64);
+        }
+        for (name, &n) in &stats.details {
+            self.counts.insert((*name).into(), n as f64);
+        }
+    }
+
     pub fn median_ms(&self, stage: &str) -> Option<f64> {
         self.stages
             .iter()

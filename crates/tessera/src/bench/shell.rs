@@ -269,9 +269,7 @@ impl MeshRun<'_> {
         record.frames = self.plan.frames;
         record.stages = stages;
         record.variant = label.to_string();
-        for (name, &n) in &r.stats().details {
-            record.counts.insert((*name).into(), n as f64);
-        }
+        record.add_frame_stats(&r.stats());
         record.counts.insert("tets".into(), self.tets as f64);
         record
             .counts
