@@ -1,24 +1,9 @@
 //! GPU objects free themselves when dropped and keep the device alive while they exist; a
 //! readback holds what the last submission copied into it.
 
-use tessera_gpu::{
-    vk, Binding, Gpu, GpuOptions, MemoryLocation, ShaderCompiler, Slot, Source, Timer,
-};
-
-/// The default device with validation, or `None` (after saying so) where none opens.
-fn open() -> Option<Gpu> {
-    match Gpu::new(&GpuOptions {
-        device_index: None,
-        validation: true,
-        ..GpuOptions::default()
-    }) {
-        Ok(gpu) => Some(gpu),
-        Err(e) => {
-            tessera_test::skip("", &format!("no Vulkan device ({e})"));
-            None
-        }
-    }
-}
+mod common;
+use common::open;
+use tessera_gpu::{vk, Binding, Gpu, MemoryLocation, ShaderCompiler, Slot, Source, Timer};
 
 const FILL: &str = r#"
 #version 450

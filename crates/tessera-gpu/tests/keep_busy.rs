@@ -2,24 +2,10 @@
 //! planned to run (its stored numbers match the CPU's), it is planned from the frame's time,
 //! it stays out of the frames' timed scopes, and a target of 0 leaves it out.
 
+mod common;
+use common::{assert_clean, open};
 use tessera_gpu::keep_busy::{last_state, KeepBusy, KEEP_BUSY_WORKGROUPS};
 use tessera_gpu::timing::{time_frames, FramePlan};
-use tessera_gpu::{Gpu, GpuOptions};
-
-/// The default device with validation, or `None` (after saying so) where none opens.
-fn open() -> Option<Gpu> {
-    match Gpu::new(&GpuOptions {
-        device_index: None,
-        validation: true,
-        ..GpuOptions::default()
-    }) {
-        Ok(gpu) => Some(gpu),
-        Err(e) => {
-            tessera_test::skip("", &format!("no Vulkan device ({e})"));
-            None
-        }
-    }
-}
 
 #[test]
 fn each_dispatch_stores_what_the_cpu_computes_and_follows_the_frame_time() {
@@ -63,11 +49,7 @@ fn each_dispatch_stores_what_the_cpu_computes_and_follows_the_frame_time() {
     let before = keep.last_dispatch().unwrap().0.seed;
     gpu.submit("frame alone", |rec| keep.record(rec)).unwrap();
     assert_eq!(keep.last_dispatch().unwrap().0.seed, before);
-    assert!(
-        gpu.validation_errors().is_empty(),
-        "{:?}",
-        gpu.validation_errors()
-    );
+    assert_clean(&gpu);
 }
 
 #[test]
@@ -101,11 +83,7 @@ fn timed_frames_report_their_own_scopes_only() {
     assert!(stages
         .iter()
         .all(|s| s.median_ms.is_finite() && s.median_ms >= 0.0));
-    assert!(
-        gpu.validation_errors().is_empty(),
-        "{:?}",
-        gpu.validation_errors()
-    );
+    assert_clean(&gpu);
 }
 
 #[test]
