@@ -3,8 +3,8 @@
 //! A benchmark submits a frame, waits for it, reads its timestamps and records the next one;
 //! with frames under a millisecond the GPU idles most of the time, and a GPU that idles lowers
 //! its clocks. On the H200 the SM clock fell from 1,980 MHz to 900–1,500 MHz within half a
-//! second of such frames, and sub-millisecond cells read up to 1.9× slower, by an amount that
-//! changed from process to process (docs/BENCHMARKS.md, run 107). A continuous render loop,
+//! second of such frames, and sub-millisecond cells read up to 2.7× slower, by an amount that
+//! changed from process to process (docs/BENCHMARKS.md, runs 107–108). A continuous render loop,
 //! which is what papers time, keeps the GPU busy. So after each frame's last timestamp the
 //! harness records an arithmetic-only dispatch, sized from the frame's time so that frame and
 //! dispatch take about `target_ms` together: the GPU stays loaded through the host's work
