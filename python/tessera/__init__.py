@@ -71,7 +71,10 @@ def bench(scenario, device=None, **options):
     (``counts``). Options: ``quick`` (small data, for CPU drivers), ``frames``, ``warmup`` (at
     least; more until frame times settle, up to 200 in all, except with ``quick``),
     ``iso_fraction``, ``data`` (a volume file or spec instead of the built-in phantoms),
-    ``sizes`` (a list of ``(width, height)``). Notes the scenario makes are printed."""
+    ``sizes`` (a list of ``(width, height)``), ``keep_busy_ms`` (GPU milliseconds each frame
+    plus an arithmetic-only dispatch after it take, so that the GPU's clocks stay up between
+    frames as in a render loop; 2 by default, 0 for idle gaps). Notes the scenario makes are
+    printed."""
     if device is None:
         device = Device()
     records, notes = _bench(device, scenario, **options)

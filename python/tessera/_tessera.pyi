@@ -164,4 +164,5 @@ def _bench(
     iso_fraction: float = 0.3,
     data: Optional[str] = None,
     sizes: Optional[List[Tuple[int, int]]] = None,
+    keep_busy_ms: Optional[float] = None,
 ) -> Tuple[List[str], List[str]]: ...

@@ -157,6 +157,15 @@ def test_bench_returns_the_scenario_records(device):
         assert r["stages"][0]["median_ms"] > 0 and r["counts"]["mrays_per_s"] > 0
         # At least the warm-up asked for; more only while frame times had not settled.
         assert 1 <= r["stages"][0]["warmup_frames"] <= 200
+        # The GPU kept loaded between frames, by default.
+        assert r["keep_busy_ms"] == 2.0
+    idle = tessera.bench(
+        "raymarch", device=device, frames=2, warmup=1, data="procedural:sphere:24",
+        sizes=[(48, 32)], keep_busy_ms=0.0,
+    )
+    assert [r["keep_busy_ms"] for r in idle] == [0.0]
+    with pytest.raises(tessera.DataError, match="keep_busy_ms"):
+        tessera.bench("raymarch", device=device, keep_busy_ms=-1.0)
     with pytest.raises(tessera.DataError, match="unknown scenario"):
         tessera.bench("nothing", device=device)
     with pytest.raises(tessera.DataError, match="frames"):

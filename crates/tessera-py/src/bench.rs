@@ -28,9 +28,11 @@ impl RecordSink for Collected {
 }
 
 /// Runs benchmark `scenario` (one of `tessera bench`'s) on `device`; returns its records as
-/// JSON lines and its notes. GPU timestamps, medians of `frames` after `warmup`.
+/// JSON lines and its notes. GPU timestamps, medians of `frames` after `warmup`; each frame
+/// followed by an arithmetic-only dispatch up to `keep_busy_ms` of GPU time (the library's
+/// default when `None`; 0 leaves the GPU idle between frames).
 #[pyfunction]
-#[pyo3(signature = (device, scenario, quick=false, frames=100, warmup=10, iso_fraction=0.3, data=None, sizes=None))]
+#[pyo3(signature = (device, scenario, quick=false, frames=100, warmup=10, iso_fraction=0.3, data=None, sizes=None, keep_busy_ms=None))]
 #[allow(clippy::too_many_arguments)]
 fn _bench(
     py: Python<'_>,
@@ -42,6 +44,7 @@ fn _bench(
     iso_fraction: f32,
     data: Option<String>,
     sizes: Option<Vec<(u32, u32)>>,
+    keep_busy_ms: Option<f64>,
 ) -> PyResult<(Vec<String>, Vec<String>)> {
     if !bench::SCENARIOS.contains(&scenario) {
         return Err(DataError::new_err(format!(
@@ -57,10 +60,17 @@ fn _bench(
             "iso_fraction {iso_fraction}: a fraction of the value range, 0 to 1"
         )));
     }
+    let keep_busy_ms = keep_busy_ms.unwrap_or(FramePlan::default().keep_busy_ms);
+    if !(keep_busy_ms.is_finite() && keep_busy_ms >= 0.0) {
+        return Err(DataError::new_err(format!(
+            "keep_busy_ms {keep_busy_ms}: milliseconds, 0 or more"
+        )));
+    }
     let config = BenchConfig {
         plan: FramePlan {
             warmup,
             frames,
+            keep_busy_ms,
             ..FramePlan::default()
         },
         quick,
