@@ -160,6 +160,18 @@ fn variants_that_match_nothing_are_refused() {
     assert_fails_with(&o, &["--variants", "raymarch"]);
 }
 
+#[test]
+fn a_keep_busy_target_that_is_not_a_duration_is_refused() {
+    for value in [
+        "--keep-busy-ms=-1",
+        "--keep-busy-ms=nan",
+        "--keep-busy-ms=inf",
+    ] {
+        let o = tessera(&["bench", "raymarch", "--quick", "--frames", "1", value]);
+        assert_fails_with(&o, &["--keep-busy-ms", "0 or more"]);
+    }
+}
+
 /// The JSON records of `tessera --validation bench ARGS --json FILE` (FILE in a scratch folder
 /// named `scratch_name`), after checking that it succeeded.
 fn bench_records(scratch_name: &str, args: &[&str]) -> Vec<Value> {

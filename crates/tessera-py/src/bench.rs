@@ -61,11 +61,6 @@ fn _bench(
         )));
     }
     let keep_busy_ms = keep_busy_ms.unwrap_or(FramePlan::default().keep_busy_ms);
-    if !(keep_busy_ms.is_finite() && keep_busy_ms >= 0.0) {
-        return Err(DataError::new_err(format!(
-            "keep_busy_ms {keep_busy_ms}: milliseconds, 0 or more"
-        )));
-    }
     let config = BenchConfig {
         plan: FramePlan {
             warmup,

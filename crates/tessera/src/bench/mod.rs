@@ -89,6 +89,12 @@ pub trait RecordSink {
 
 /// Runs the scenario `name` (one of [`SCENARIOS`]).
 pub fn run(gpu: &Gpu, name: &str, config: &BenchConfig, sink: &mut dyn RecordSink) -> Result<()> {
+    let keep_busy_ms = config.plan.keep_busy_ms;
+    if !(keep_busy_ms.is_finite() && keep_busy_ms >= 0.0) {
+        return Err(Error::Invalid(format!(
+            "keep_busy_ms (--keep-busy-ms) is milliseconds, 0 or more, not {keep_busy_ms}"
+        )));
+    }
     // Quick runs are smoke tests on CPU drivers, whose frame times need not settle and whose
     // clocks need no keeping up: exactly the warm-up asked for, nothing between frames.
     let plan = if config.quick {
