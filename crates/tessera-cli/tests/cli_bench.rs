@@ -1,8 +1,7 @@
 //! `tessera bench growth`: every technique measured along both ladders (image pixels and data
 //! size), each record carrying the sizes the plots put on their axes and what the renderer
-//! counted; `bench interval
-//! --variants` times only the variants asked for, its records saying when they were made and
-//! whether their warm-up settled.
+//! counted; `bench interval --variants` times only the variants asked for (at each `--sizes`
+//! size), its records saying when they were made and whether their warm-up settled.
 
 mod common;
 use common::*;
@@ -115,8 +114,19 @@ fn interval_times_only_the_variants_asked_for() {
             "0",
             "--variants",
             "scalar",
+            "--sizes",
+            "64x48,80x40",
         ],
     );
+    // Every variant and view at each size asked for, in that order.
+    let sizes: Vec<(u64, u64)> = records
+        .iter()
+        .map(|r| (r["width"].as_u64().unwrap(), r["height"].as_u64().unwrap()))
+        .collect();
+    let half = sizes.len() / 2;
+    assert!(half > 0 && sizes.len() == 2 * half, "{sizes:?}");
+    assert!(sizes[..half].iter().all(|&s| s == (64, 48)), "{sizes:?}");
+    assert!(sizes[half..].iter().all(|&s| s == (80, 40)), "{sizes:?}");
     let variants: BTreeSet<&str> = records
         .iter()
         .map(|r| r["variant"].as_str().unwrap())

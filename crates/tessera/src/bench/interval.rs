@@ -127,8 +127,8 @@ fn scheme(compute_scheme: ComputeScheme, integrand: IntegrandChoice, label: &str
 }
 
 /// Interval shading of procedural tet boxes of about 61 k, 959 k and 2.4 M tets (the sizes of
-/// paper A's Table 1), far, close and inside views, at 3840×2160 (`--quick`: small meshes and
-/// image), on both paths with their variants, and scalar integration through a transfer
+/// paper A's Table 1), far, close and inside views, at 3840×2160 or each of `config.sizes`
+/// (`--quick`: small meshes and image), on both paths with their variants, and scalar integration through a transfer
 /// function on the middle mesh; then the asteroid field. `--data` measures one mesh instead: a
 /// file (e.g. the tetgen bunny), `tets:box:N`, `tets:sphere:N` or `tets:asteroids:COUNT`.
 /// `config.variants` keeps only the variants whose label holds it: an error when none does.
@@ -175,17 +175,20 @@ fn interval_meshes(
     plan: FramePlan,
     sink: &mut dyn RecordSink,
 ) -> Result<()> {
-    let size = if config.quick {
-        (256, 144)
-    } else {
-        (3840, 2160)
+    let sizes = match (config.sizes.is_empty(), config.quick) {
+        (false, _) => config.sizes.clone(),
+        (true, true) => vec![(256, 144)],
+        (true, false) => vec![(3840, 2160)],
     };
-    let bench = MeshBench {
-        paths: &config.paths,
-        wanted: config.variants.as_deref(),
-        plan,
-        size,
-    };
+    let benches: Vec<MeshBench> = sizes
+        .into_iter()
+        .map(|size| MeshBench {
+            paths: &config.paths,
+            wanted: config.variants.as_deref(),
+            plan,
+            size,
+        })
+        .collect();
     let views = [("far", 2.4f32), ("close", 1.4), ("inside", 0.3)];
     let load = |spec: &str| Dataset::load(spec, &LoadOptions::default());
     if let Some(spec) = config
@@ -194,13 +197,17 @@ fn interval_meshes(
         .filter(|d| DataKind::of_spec(d) == DataKind::Tets)
     {
         let data = load(spec)?;
-        if spec.starts_with("tets:asteroids:") {
-            return bench.asteroids(gpu, &data, sink);
-        }
         let name = std::path::Path::new(spec)
             .file_name()
             .map_or(spec.to_string(), |n| n.to_string_lossy().into_owned());
-        return bench.run(gpu, &data, &name, &views, true, sink);
+        for bench in &benches {
+            if spec.starts_with("tets:asteroids:") {
+                bench.asteroids(gpu, &data, sink)?;
+            } else {
+                bench.run(gpu, &data, &name, &views, true, sink)?;
+            }
+        }
+        return Ok(());
     }
     // n³ cells of 6 tets each.
     let cells: &[u32] = if config.quick {
@@ -210,10 +217,16 @@ fn interval_meshes(
     };
     for (i, &n) in cells.iter().enumerate() {
         let data = load(&format!("tets:box:{n}"))?;
-        bench.run(gpu, &data, "box", &views, i == cells.len() / 2, sink)?;
+        for bench in &benches {
+            bench.run(gpu, &data, "box", &views, i == cells.len() / 2, sink)?;
+        }
     }
     let count = if config.quick { 500 } else { 10_000 };
-    bench.asteroids(gpu, &load(&format!("tets:asteroids:{count}"))?, sink)
+    let asteroids = load(&format!("tets:asteroids:{count}"))?;
+    for bench in &benches {
+        bench.asteroids(gpu, &asteroids, sink)?;
+    }
+    Ok(())
 }
 
 /// Times one mesh's views with every variant.
