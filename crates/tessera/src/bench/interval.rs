@@ -128,10 +128,11 @@ fn scheme(compute_scheme: ComputeScheme, integrand: IntegrandChoice, label: &str
 
 /// Interval shading of procedural tet boxes of about 61 k, 959 k and 2.4 M tets (the sizes of
 /// paper A's Table 1), far, close and inside views, at 3840×2160 or each of `config.sizes`
-/// (`--quick`: small meshes and image), on both paths with their variants, and scalar integration through a transfer
-/// function on the middle mesh; then the asteroid field. `--data` measures one mesh instead: a
-/// file (e.g. the tetgen bunny), `tets:box:N`, `tets:sphere:N` or `tets:asteroids:COUNT`.
-/// `config.variants` keeps only the variants whose label holds it: an error when none does.
+/// (`--quick`: small meshes and image), on both paths with their variants, and scalar
+/// integration through a transfer function on the middle mesh; then the asteroid field.
+/// `--data` measures one mesh instead: a file (e.g. the tetgen bunny), `tets:box:N`,
+/// `tets:sphere:N` or `tets:asteroids:COUNT`. `config.variants` keeps only the variants whose
+/// label holds it: an error when none does.
 pub fn interval(
     gpu: &Gpu,
     config: &BenchConfig,
