@@ -46,7 +46,8 @@ ShellHit shell_trace(RaySpace ray, bool leaving, float lo, float hi) {
                 vec2 span_b = box_span(ray, inv_dir, first + 1u);
                 bool reaches_a = span_reaches(span_a, leaving, lo, hi, best);
                 bool reaches_b = span_reaches(span_b, leaving, lo, hi, best);
-                bool b_first = reaches_b && (!reaches_a || (leaving ? span_b.x < span_a.x : span_b.y > span_a.y));
+                bool b_first = reaches_b
+                    && (!reaches_a || (leaving ? span_b.x < span_a.x : span_b.y > span_a.y));
                 if (reaches_a && reaches_b && top <= uint(BVH_MAX_DEPTH)) {
                     stack[top++] = b_first ? first : first + 1u;
                 }
