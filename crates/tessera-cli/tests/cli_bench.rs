@@ -171,6 +171,34 @@ fn variants_that_match_nothing_are_refused() {
 }
 
 #[test]
+fn the_printed_tables_head_lines_up_with_its_rows() {
+    let o = tessera(&["bench", "raymarch", "--quick", "--frames", "1"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = String::from_utf8_lossy(&o.stdout).into_owned();
+    let head = out.lines().find(|l| l.starts_with("scenario")).unwrap();
+    let row = out.lines().find(|l| l.starts_with("raymarch")).unwrap();
+    let (head, row) = (head.as_bytes(), row.as_bytes());
+    // Left-aligned columns start where their heads do; the times end where theirs do.
+    for name in ["technique", "path", "dataset", "stage"] {
+        let at = find(head, name);
+        assert!(row[at - 1] == b' ' && row[at] != b' ', "{name} at {at}");
+    }
+    for name in ["median ms", "min ms", "max ms"] {
+        let end = find(head, name) + name.len();
+        assert!(
+            row[end - 1] != b' ' && row[end] == b' ',
+            "{name} ends at {end}"
+        );
+    }
+}
+
+fn find(text: &[u8], word: &str) -> usize {
+    text.windows(word.len())
+        .position(|w| w == word.as_bytes())
+        .unwrap_or_else(|| panic!("no {word}"))
+}
+
+#[test]
 fn a_keep_busy_target_that_is_not_a_duration_is_refused() {
     for value in [
         "--keep-busy-ms=-1",

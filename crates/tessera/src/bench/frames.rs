@@ -50,9 +50,10 @@ fn time_loop(gpu: &Gpu, plan: FramePlan, timed: &mut dyn TimedFrame) -> Result<T
         recorded?;
         timed.finish(gpu)?;
         let scopes = timer.read_ms(gpu)?;
-        keep_busy.frame_done(gpu, scopes.iter().map(|s| s.1).sum())?;
+        let frame_ms = scopes.iter().map(|s| s.1).sum();
+        keep_busy.frame_done(gpu, frame_ms)?;
         if warm_up.warming() {
-            warm_up.add(scopes.iter().map(|s| s.1).sum());
+            warm_up.add(frame_ms);
         } else {
             frames.push(scopes);
         }
