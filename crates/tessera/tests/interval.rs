@@ -13,7 +13,9 @@ use common::interval::{
 use common::{assert_clean, camera, gpu, skip};
 use tessera::path::Path;
 use tessera::shaders;
-use tessera::tet::interval::{ComputeScheme, GpuTetMesh, Integrand, Interval, IntervalOptions};
+use tessera::tet::interval::{
+    ComputeScheme, GpuTetMesh, Integrand, Interval, IntervalOptions, SUBGROUP_DRAW_ABOVE_PIXELS,
+};
 use tessera_data::tet::optical::{edge_mask, optical_depth};
 use tessera_data::tet::procedural::{box_mesh, deform, sphere_mesh};
 use tessera_data::tet::TetMesh;
@@ -247,8 +249,10 @@ fn a_single_clipped_tet() {
 #[test]
 fn a_subgroup_drawing_its_tets_together_adds_what_each_invocation_adds() {
     // Every pixel, edges included: both ways test each pixel with the same arithmetic, so only
-    // the order of the atomic sums differs. Far, tets span several rows and share a subgroup;
-    // from inside, large tets, and clipped ones drawn per invocation either way.
+    // the order of the atomic sums differs. Far and near, tets span several rows and share a
+    // subgroup, and with the default limit a subgroup draws some together and leaves the rest
+    // to their invocations (in both views, breaking either way's drawing fails the default's
+    // comparison); from inside, large tets, and clipped ones drawn per invocation either way.
     let gpu = gpu();
     let caps = gpu.caps();
     if !caps.buffer_float32_atomic_add {
@@ -271,9 +275,9 @@ fn a_subgroup_drawing_its_tets_together_adds_what_each_invocation_adds() {
     mesh.validate("deformed box").unwrap();
     let gpu_mesh = GpuTetMesh::upload(&gpu, &mesh).unwrap();
     let (w, h) = (96, 72);
-    let render = |subgroup_draw: bool, distance: f32| {
+    let render = |subgroup_draw_above: Option<u32>, distance: f32| {
         let options = IntervalOptions {
-            subgroup_draw,
+            subgroup_draw_above,
             compute_scheme: ComputeScheme::PerTet,
             ..IntervalOptions::new(Path::Compute)
         };
@@ -282,13 +286,22 @@ fn a_subgroup_drawing_its_tets_together_adds_what_each_invocation_adds() {
         let cam = camera(-35.0, 25.0, distance);
         interval.render(&gpu, &gpu_mesh, &target, &cam).unwrap()
     };
-    for (view, distance, min_covered) in [("far", 2.6, 1500), ("inside", 0.3, 96 * 72)] {
-        let together = render(true, distance);
-        let alone = render(false, distance);
-        let covered = assert_same_sums(view, &together.values, &alone.values);
-        assert!(covered >= min_covered, "{view}: {covered} pixels covered");
-        assert_eq!(together.tiled, alone.tiled, "{view}: tiled tets");
-        assert_eq!(together.clipped_near, alone.clipped_near, "{view}");
+    let views = [
+        ("far", 2.6, 1500),
+        ("near", 1.2, 4000),
+        ("inside", 0.3, 96 * 72),
+    ];
+    for (view, distance, min_covered) in views {
+        let alone = render(None, distance);
+        // Every tet by the subgroup, and the default's mix of both within one subgroup.
+        for above in [0, SUBGROUP_DRAW_ABOVE_PIXELS] {
+            let together = render(Some(above), distance);
+            let view = format!("{view}, subgroup above {above} px");
+            let covered = assert_same_sums(&view, &together.values, &alone.values);
+            assert!(covered >= min_covered, "{view}: {covered} pixels covered");
+            assert_eq!(together.tiled, alone.tiled, "{view}: tiled tets");
+            assert_eq!(together.clipped_near, alone.clipped_near, "{view}");
+        }
     }
     assert_clean(&gpu);
 }

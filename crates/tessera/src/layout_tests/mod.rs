@@ -127,7 +127,7 @@ fn interval_structs(t: &mut Table) {
     let defines = Interval::defines(&IntervalOptions::new(Path::Compute));
     let raster = compile(
         &builtin_shader!("../tet/interval/interval_raster.comp.glsl"),
-        &compute_defines(&defines, TileCapacity::default(), false),
+        &compute_defines(&defines, TileCapacity::default(), None),
     );
     #[rustfmt::skip]
     t.push_constants::<IntervalParams>(&raster, "IntervalParams", host!(IntervalParams,

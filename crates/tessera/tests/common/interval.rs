@@ -229,7 +229,7 @@ pub fn variants(gpu: &Gpu, integrand: &Integrand, all: bool) -> Vec<(String, Int
                 out.push((
                     "compute, each tet drawn by its invocation".into(),
                     IntervalOptions {
-                        subgroup_draw: false,
+                        subgroup_draw_above: None,
                         ..base.clone()
                     },
                 ));

@@ -53,11 +53,12 @@ pub struct IntervalCompute {
 }
 
 /// The interval defines, the tile pass's sizes, and whether the per-tet pass's subgroups draw
-/// their tets together (`INTERVAL_SUBGROUP_DRAW`).
+/// their tets together (`INTERVAL_SUBGROUP_DRAW`) and above how many pixels of a tet's screen
+/// rectangle (`SUBGROUP_DRAW_ABOVE_PIXELS`).
 pub(crate) fn compute_defines(
     defines: &[(String, String)],
     capacity: TileCapacity,
-    subgroup_draw: bool,
+    subgroup_draw_above: Option<u32>,
 ) -> Vec<(String, String)> {
     let mut defines = defines.to_vec();
     defines.extend([
@@ -67,7 +68,11 @@ pub(crate) fn compute_defines(
         ("TILE_CAPACITY".into(), format!("{}u", capacity.tiles)),
         (
             "INTERVAL_SUBGROUP_DRAW".into(),
-            u32::from(subgroup_draw).to_string(),
+            u32::from(subgroup_draw_above.is_some()).to_string(),
+        ),
+        (
+            "SUBGROUP_DRAW_ABOVE_PIXELS".into(),
+            format!("{}u", subgroup_draw_above.unwrap_or(0)),
         ),
     ]);
     defines
@@ -81,7 +86,7 @@ impl IntervalCompute {
         capacity: TileCapacity,
         scheme: ComputeScheme,
         bin_capacity: BinCapacity,
-        subgroup_draw: bool,
+        subgroup_draw_above: Option<u32>,
     ) -> Result<IntervalCompute> {
         let caps = gpu.caps();
         if !caps.buffer_float32_atomic_add {
@@ -91,9 +96,9 @@ impl IntervalCompute {
             )));
         }
         // Asked for and possible on the device; otherwise each invocation draws its own tet.
-        let subgroup_draw =
-            subgroup_draw && caps.subgroup_arithmetic && caps.subgroup_ballot_and_shuffle;
-        let defines = compute_defines(defines, capacity, subgroup_draw);
+        let subgroup_draw_above = subgroup_draw_above
+            .filter(|_| caps.subgroup_arithmetic && caps.subgroup_ballot_and_shuffle);
+        let defines = compute_defines(defines, capacity, subgroup_draw_above);
         let slots = [Slot::StorageBuffer; super::COMMON_BINDINGS + 4];
         let raster = compiler.compile(&builtin_shader!("interval_raster.comp.glsl"), &defines)?;
         let tiles = compiler.compile(&builtin_shader!("interval_tiles.comp.glsl"), &defines)?;

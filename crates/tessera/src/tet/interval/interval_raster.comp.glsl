@@ -31,8 +31,11 @@ void main() {
     uvec2 last;
     bool here = proxy_pixel_rect(proxies, n, first, last) && drawn_here(tet, first, last);
 #if INTERVAL_SUBGROUP_DRAW
-    // A tet the near plane cut (up to three proxies) is rare enough to be drawn alone.
-    bool grouped = here && n == 1u;
+    // A tet the near plane cut (up to three proxies) is rare enough to be drawn alone; a small
+    // one is drawn faster alone than by a subgroup stepping through its tets one at a time
+    // (tet/interval/mod.rs, SUBGROUP_DRAW_ABOVE_PIXELS).
+    uvec2 extent = last - first + 1u;
+    bool grouped = here && n == 1u && extent.x * extent.y > SUBGROUP_DRAW_ABOVE_PIXELS;
     if (here && !grouped) {
         draw_proxies(tet, proxies, n, first, last);
     }
