@@ -182,44 +182,105 @@ impl StageStats {
     }
 }
 
-/// Submits warm-up frames recorded by `record` (which opens timer scopes) until [`WarmUp`]
-/// says they settled, then `plan.frames` timed frames, and returns per-stage statistics over
-/// the timed frames. Each frame is followed by [`KeepBusy`]'s dispatch, outside its scopes.
+/// One kind of timed frame for [`frame_loop`]: how frame `frame` (the warm-up's counted) is
+/// recorded, its stages in timer scopes, and what runs once its submission has completed,
+/// before its timestamps are read.
+pub trait TimedFrame {
+    type Error: From<GpuError>;
+    fn record(
+        &mut self,
+        frame: u32,
+        rec: &Recorder,
+        timer: &mut Timer,
+    ) -> std::result::Result<(), Self::Error>;
+    fn finish(&mut self, _gpu: &Gpu) -> std::result::Result<(), Self::Error> {
+        Ok(())
+    }
+}
+
+/// The frames a [`frame_loop`] timed (per frame, its scopes' GPU milliseconds in recording
+/// order) and the warm-up run before them.
+pub struct TimedFrames {
+    pub frames: Vec<Vec<(String, f64)>>,
+    pub warm_up: WarmUp,
+}
+
+impl TimedFrames {
+    /// Statistics of each scope, by position.
+    pub fn scope_stats(&self) -> Vec<StageStats> {
+        let scopes = self.frames.first().map_or(0, Vec::len);
+        (0..scopes)
+            .map(|i| {
+                let samples: Vec<f64> = self.frames.iter().map(|f| f[i].1).collect();
+                StageStats::from_samples(&self.frames[0][i].0, &samples).after_warmup(&self.warm_up)
+            })
+            .collect()
+    }
+
+    /// Statistics of each frame's scopes summed, as one stage `name`.
+    pub fn sum_stats(&self, name: &str) -> StageStats {
+        let totals: Vec<f64> = self
+            .frames
+            .iter()
+            .map(|f| f.iter().map(|s| s.1).sum())
+            .collect();
+        StageStats::from_samples(name, &totals).after_warmup(&self.warm_up)
+    }
+}
+
+/// Submits warm-up frames until [`WarmUp`] says they settled, then `plan.frames` timed frames,
+/// each recorded by `timed` with at most `max_scopes` timer scopes and followed by
+/// [`KeepBusy`]'s dispatch, outside its scopes.
+pub fn frame_loop<F: TimedFrame + ?Sized>(
+    gpu: &Gpu,
+    plan: FramePlan,
+    max_scopes: u32,
+    timed: &mut F,
+) -> std::result::Result<TimedFrames, F::Error> {
+    let mut timer = Timer::new(gpu, max_scopes)?;
+    let mut keep_busy = KeepBusy::new(gpu, plan.keep_busy_ms)?;
+    let mut frames = Vec::with_capacity(plan.frames as usize);
+    let mut warm_up = WarmUp::new(plan);
+    let mut frame = 0;
+    while frames.len() < plan.frames as usize {
+        timer.reset(gpu);
+        let mut recorded = Ok(());
+        gpu.submit("benchmark frame", |rec| {
+            recorded = timed.record(frame, rec, &mut timer);
+            keep_busy.record(rec);
+        })?;
+        recorded?;
+        timed.finish(gpu)?;
+        let scopes = timer.read_ms(gpu)?;
+        let frame_ms = scopes.iter().map(|s| s.1).sum();
+        keep_busy.frame_done(gpu, frame_ms)?;
+        if warm_up.warming() {
+            warm_up.add(frame_ms);
+        } else {
+            frames.push(scopes);
+        }
+        frame += 1;
+    }
+    Ok(TimedFrames { frames, warm_up })
+}
+
+/// [`frame_loop`] of frames that `record` records (opening timer scopes), each the same:
+/// per-stage statistics over the timed frames.
 pub fn time_frames(
     gpu: &Gpu,
     plan: FramePlan,
     max_scopes: u32,
-    mut record: impl FnMut(&Recorder, &mut Timer),
+    record: impl FnMut(&Recorder, &mut Timer),
 ) -> Result<Vec<StageStats>> {
-    let mut timer = Timer::new(gpu, max_scopes)?;
-    let mut samples: Vec<(String, Vec<f64>)> = Vec::new();
-    let mut warm_up = WarmUp::new(plan);
-    let mut keep_busy = KeepBusy::new(gpu, plan.keep_busy_ms)?;
-    let mut frame = |timer: &mut Timer| -> Result<Vec<(String, f64)>> {
-        timer.reset(gpu);
-        gpu.submit("benchmark frame", |rec| {
-            record(rec, timer);
-            keep_busy.record(rec);
-        })?;
-        let scopes = timer.read_ms(gpu)?;
-        keep_busy.frame_done(gpu, scopes.iter().map(|s| s.1).sum())?;
-        Ok(scopes)
-    };
-    while warm_up.warming() {
-        warm_up.add(frame(&mut timer)?.iter().map(|s| s.1).sum());
-    }
-    for _ in 0..plan.frames {
-        for (i, (name, ms)) in frame(&mut timer)?.into_iter().enumerate() {
-            if samples.len() <= i {
-                samples.push((name, Vec::new()));
-            }
-            samples[i].1.push(ms);
+    struct Recording<R>(R);
+    impl<R: FnMut(&Recorder, &mut Timer)> TimedFrame for Recording<R> {
+        type Error = GpuError;
+        fn record(&mut self, _frame: u32, rec: &Recorder, timer: &mut Timer) -> Result<()> {
+            (self.0)(rec, timer);
+            Ok(())
         }
     }
-    Ok(samples
-        .iter()
-        .map(|(name, s)| StageStats::from_samples(name, s).after_warmup(&warm_up))
-        .collect())
+    Ok(frame_loop(gpu, plan, max_scopes, &mut Recording(record))?.scope_stats())
 }
 
 /// Submits one frame that `record` records, timed as a whole; returns its GPU milliseconds.

@@ -10,86 +10,24 @@ use super::{FramePlan, StageStats};
 use crate::error::{Error, Result};
 use crate::renderer::{FrameOutcome, Renderer, Target, MAX_TIMER_SCOPES};
 use tessera_data::{OrbitCamera, View};
-use tessera_gpu::keep_busy::KeepBusy;
-use tessera_gpu::timing::WarmUp;
+use tessera_gpu::timing::{frame_loop, TimedFrame, TimedFrames};
 use tessera_gpu::{Gpu, Recorder, Timer};
 
 /// Sets frame `k`'s look on the renderer before it is recorded (an isovalue sweep); `None`
 /// keeps the look fixed.
 pub(super) type EachFrame<'a> = Option<&'a dyn Fn(u32, &mut dyn Renderer) -> Result<()>>;
 
-/// A kind of timed frame: how it is recorded and what is checked after it ran.
-trait TimedFrame {
-    fn record(&mut self, frame: u32, rec: &Recorder, timer: &mut Timer) -> Result<()>;
-    fn finish(&mut self, gpu: &Gpu) -> Result<()>;
-}
-
-/// A measurement's timed frames (per frame, the GPU milliseconds of its scopes in recording
-/// order) and the warm-up run before them.
-struct Timed {
-    frames: Vec<Vec<(String, f64)>>,
-    warm_up: WarmUp,
-}
-
-/// Warm-up frames until they settle ([`WarmUp`]), then `plan.frames` timed frames: their
-/// scope times and the warm-up run. Each frame is followed by [`KeepBusy`]'s dispatch,
-/// outside its scopes.
-fn time_loop(gpu: &Gpu, plan: FramePlan, timed: &mut dyn TimedFrame) -> Result<Timed> {
-    let mut timer = Timer::new(gpu, MAX_TIMER_SCOPES)?;
-    let mut keep_busy = KeepBusy::new(gpu, plan.keep_busy_ms)?;
-    let mut frames = Vec::with_capacity(plan.frames as usize);
-    let mut warm_up = WarmUp::new(plan);
-    let mut frame = 0;
-    while frames.len() < plan.frames as usize {
-        timer.reset(gpu);
-        let mut recorded = Ok(());
-        gpu.submit("benchmark frame", |rec| {
-            recorded = timed.record(frame, rec, &mut timer);
-            keep_busy.record(rec);
-        })?;
-        recorded?;
-        timed.finish(gpu)?;
-        let scopes = timer.read_ms(gpu)?;
-        let frame_ms = scopes.iter().map(|s| s.1).sum();
-        keep_busy.frame_done(gpu, frame_ms)?;
-        if warm_up.warming() {
-            warm_up.add(frame_ms);
-        } else {
-            frames.push(scopes);
-        }
-        frame += 1;
-    }
-    Ok(Timed { frames, warm_up })
-}
-
 /// The stage that sums a frame's stages when it has several.
 pub(super) const FRAME_STAGE: &str = "frame";
 
 /// Statistics per scope (by position), then, when a frame has several scopes, of their sum
 /// as [`FRAME_STAGE`] (the stages follow each other).
-fn stage_stats(timed: &Timed) -> Vec<StageStats> {
-    let frames = &timed.frames;
-    let scopes = frames.first().map_or(0, Vec::len);
-    let mut stages: Vec<StageStats> = (0..scopes)
-        .map(|i| {
-            let samples: Vec<f64> = frames.iter().map(|f| f[i].1).collect();
-            StageStats::from_samples(&frames[0][i].0, &samples).after_warmup(&timed.warm_up)
-        })
-        .collect();
-    if scopes > 1 {
-        stages.push(sum_stats(timed, FRAME_STAGE));
+fn stage_stats(timed: &TimedFrames) -> Vec<StageStats> {
+    let mut stages = timed.scope_stats();
+    if stages.len() > 1 {
+        stages.push(timed.sum_stats(FRAME_STAGE));
     }
     stages
-}
-
-/// Statistics of each frame's scopes summed, as one stage `name`.
-fn sum_stats(timed: &Timed, name: &str) -> StageStats {
-    let totals: Vec<f64> = timed
-        .frames
-        .iter()
-        .map(|f| f.iter().map(|s| s.1).sum())
-        .collect();
-    StageStats::from_samples(name, &totals).after_warmup(&timed.warm_up)
 }
 
 /// The error for a timed frame that overflowed although settling sized its buffers.
@@ -110,6 +48,8 @@ struct MonoFrames<'a> {
 }
 
 impl TimedFrame for MonoFrames<'_> {
+    type Error = Error;
+
     fn record(&mut self, _frame: u32, rec: &Recorder, timer: &mut Timer) -> Result<()> {
         self.renderer.record(rec, self.view, self.target, timer)
     }
@@ -172,7 +112,7 @@ pub(super) fn time_mono_total(
     name: &str,
 ) -> Result<StageStats> {
     let frames = mono_frames(gpu, renderer, view, plan, 1, None)?;
-    Ok(sum_stats(&frames, name))
+    Ok(frames.sum_stats(name))
 }
 
 fn mono_frames(
@@ -182,7 +122,7 @@ fn mono_frames(
     plan: FramePlan,
     distinct: u32,
     each_frame: EachFrame,
-) -> Result<Timed> {
+) -> Result<TimedFrames> {
     settle_frames(gpu, renderer, view, distinct.max(1), each_frame)?;
     renderer.prepare_frame(gpu, view)?;
     let target = Target::new(gpu, view.size.0, view.size.1)?;
@@ -193,7 +133,7 @@ fn mono_frames(
         each_frame,
         frame: 0,
     };
-    time_loop(gpu, plan, &mut timed)
+    frame_loop(gpu, plan, MAX_TIMER_SCOPES, &mut timed)
 }
 
 /// How a stereo pair is drawn.
@@ -213,6 +153,8 @@ struct StereoFrames<'p, 'a> {
 }
 
 impl TimedFrame for StereoFrames<'_, '_> {
+    type Error = Error;
+
     fn record(&mut self, _frame: u32, rec: &Recorder, timer: &mut Timer) -> Result<()> {
         match &mut self.pair {
             Pair::OnePass(r) => r.record_stereo(rec, self.eyes, self.targets, timer),
@@ -274,7 +216,7 @@ pub(super) fn time_stereo(
         eyes,
         targets: [&targets[0], &targets[1]],
     };
-    Ok(sum_stats(&time_loop(gpu, plan, &mut timed)?, name))
+    Ok(frame_loop(gpu, plan, MAX_TIMER_SCOPES, &mut timed)?.sum_stats(name))
 }
 
 /// Renders for a while right after data arrives on the GPU. Measured on the H200: with only

@@ -1,0 +1,108 @@
+//! The benchmark frame loop: every frame, warm-up included, is recorded with its number and
+//! finished once its submission completed; only the frames after the warm-up are kept, each
+//! with its scopes; an error from recording or finishing ends the loop and comes back.
+
+mod common;
+use common::{assert_clean, open};
+use tessera_gpu::timing::{frame_loop, FramePlan, TimedFrame};
+use tessera_gpu::{Buffer, GpuError, Recorder, Timer};
+
+/// Fills a buffer in one scope per frame and logs what the loop asked of it.
+struct Fills<'a> {
+    work: &'a Buffer,
+    /// "r<frame>" for each recording, "f" for each finish.
+    log: Vec<String>,
+    /// The frame whose finish fails.
+    fail_at: Option<u32>,
+}
+
+impl TimedFrame for Fills<'_> {
+    type Error = GpuError;
+
+    fn record(&mut self, frame: u32, rec: &Recorder, timer: &mut Timer) -> Result<(), GpuError> {
+        self.log.push(format!("r{frame}"));
+        timer.scope(rec, "fill", |rec| rec.fill_buffer(self.work, frame));
+        Ok(())
+    }
+
+    fn finish(&mut self, _gpu: &tessera_gpu::Gpu) -> Result<(), GpuError> {
+        self.log.push("f".into());
+        match self.fail_at {
+            Some(frame) if self.log.iter().filter(|e| *e == "f").count() as u32 == frame + 1 => {
+                Err(GpuError::Invalid(format!("frame {frame} failed")))
+            }
+            _ => Ok(()),
+        }
+    }
+}
+
+fn plan() -> FramePlan {
+    // At or below `warmup`, `max_warmup` makes the warm-up exactly `warmup` frames.
+    FramePlan {
+        warmup: 3,
+        frames: 4,
+        max_warmup: 0,
+        min_warmup_ms: 0,
+        keep_busy_ms: 2.0,
+        frames_per_cycle: 1,
+    }
+}
+
+#[test]
+fn every_frame_is_recorded_then_finished_and_only_the_timed_ones_are_kept() {
+    let Some(gpu) = open() else { return };
+    let work = gpu
+        .create_buffer(
+            "frame work",
+            1 << 16,
+            tessera_gpu::vk::BufferUsageFlags::TRANSFER_DST,
+            tessera_gpu::MemoryLocation::GpuOnly,
+        )
+        .unwrap();
+    let mut fills = Fills {
+        work: &work,
+        log: Vec::new(),
+        fail_at: None,
+    };
+    let timed = frame_loop(&gpu, plan(), 1, &mut fills).unwrap();
+    let expected: Vec<String> = (0..7).flat_map(|k| [format!("r{k}"), "f".into()]).collect();
+    assert_eq!(fills.log, expected);
+    assert_eq!(timed.warm_up.frames(), 3);
+    assert_eq!(timed.frames.len(), 4);
+    assert!(timed
+        .frames
+        .iter()
+        .all(|f| f.len() == 1 && f[0].0 == "fill" && f[0].1.is_finite() && f[0].1 >= 0.0));
+    let stats = timed.scope_stats();
+    assert_eq!(stats.len(), 1);
+    assert_eq!(
+        (stats[0].stage.as_str(), stats[0].warmup_frames),
+        ("fill", 3)
+    );
+    assert_eq!(timed.sum_stats("frame").median_ms, stats[0].median_ms);
+    assert_clean(&gpu);
+}
+
+#[test]
+fn a_failing_finish_ends_the_loop_with_its_error() {
+    let Some(gpu) = open() else { return };
+    let work = gpu
+        .create_buffer(
+            "frame work",
+            1 << 16,
+            tessera_gpu::vk::BufferUsageFlags::TRANSFER_DST,
+            tessera_gpu::MemoryLocation::GpuOnly,
+        )
+        .unwrap();
+    let mut fills = Fills {
+        work: &work,
+        log: Vec::new(),
+        fail_at: Some(4),
+    };
+    let Err(error) = frame_loop(&gpu, plan(), 1, &mut fills) else {
+        panic!("the loop went on past a failed frame");
+    };
+    assert!(error.to_string().contains("frame 4 failed"), "{error}");
+    assert_eq!(fills.log.len(), 10, "{:?}", fills.log);
+    assert_clean(&gpu);
+}
