@@ -206,13 +206,16 @@ pub struct TimedFrames {
 }
 
 impl TimedFrames {
-    /// Statistics of each scope, by position.
+    /// Statistics of each scope, by position (named as the first frame that has it names it;
+    /// a frame with fewer scopes adds no sample to the ones it lacks).
     pub fn scope_stats(&self) -> Vec<StageStats> {
-        let scopes = self.frames.first().map_or(0, Vec::len);
+        let scopes = self.frames.iter().map(Vec::len).max().unwrap_or(0);
         (0..scopes)
             .map(|i| {
-                let samples: Vec<f64> = self.frames.iter().map(|f| f[i].1).collect();
-                StageStats::from_samples(&self.frames[0][i].0, &samples).after_warmup(&self.warm_up)
+                let samples: Vec<&(String, f64)> =
+                    self.frames.iter().filter_map(|f| f.get(i)).collect();
+                let times: Vec<f64> = samples.iter().map(|s| s.1).collect();
+                StageStats::from_samples(&samples[0].0, &times).after_warmup(&self.warm_up)
             })
             .collect()
     }
@@ -323,6 +326,30 @@ mod tests {
         assert_eq!((s.median_ms, s.min_ms, s.max_ms), (2.5, 1.0, 10.0));
         let s = StageStats::from_samples("x", &[5.0, 1.0, 2.0]);
         assert_eq!(s.median_ms, 2.0);
+    }
+
+    #[test]
+    fn scope_and_summed_stats_of_timed_frames() {
+        let scope = |name: &str, ms: f64| (name.to_string(), ms);
+        let timed = TimedFrames {
+            frames: vec![
+                vec![scope("a", 1.0), scope("b", 4.0)],
+                vec![scope("a", 3.0)],
+                vec![scope("a", 2.0), scope("b", 6.0)],
+            ],
+            warm_up: WarmUp::new(FramePlan::default()),
+        };
+        let stats = timed.scope_stats();
+        let names: Vec<&str> = stats.iter().map(|s| s.stage.as_str()).collect();
+        assert_eq!(names, ["a", "b"]);
+        assert_eq!((stats[0].median_ms, stats[0].max_ms), (2.0, 3.0));
+        // The frame without "b" adds no sample to it.
+        assert_eq!((stats[1].median_ms, stats[1].min_ms), (5.0, 4.0));
+        let sum = timed.sum_stats("frame");
+        assert_eq!(
+            (sum.stage.as_str(), sum.median_ms, sum.max_ms),
+            ("frame", 5.0, 8.0)
+        );
     }
 
     fn warm_up_frames(plan: FramePlan, frame_ms: impl Fn(u32) -> f64) -> u32 {
