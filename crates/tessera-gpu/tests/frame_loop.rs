@@ -3,7 +3,7 @@
 //! with its scopes; an error from recording or finishing ends the loop and comes back.
 
 mod common;
-use common::{assert_clean, open};
+use common::{assert_clean, fill_target, open};
 use tessera_gpu::timing::{frame_loop, FramePlan, TimedFrame};
 use tessera_gpu::{Buffer, GpuError, Recorder, Timer};
 
@@ -15,6 +15,17 @@ struct Fills<'a> {
     finished: u32,
     /// The frame whose finish fails.
     fail_at: Option<u32>,
+}
+
+impl<'a> Fills<'a> {
+    fn new(work: &'a Buffer, fail_at: Option<u32>) -> Fills<'a> {
+        Fills {
+            work,
+            log: Vec::new(),
+            finished: 0,
+            fail_at,
+        }
+    }
 }
 
 impl TimedFrame for Fills<'_> {
@@ -52,20 +63,8 @@ fn plan() -> FramePlan {
 #[test]
 fn every_frame_is_recorded_then_finished_and_only_the_timed_ones_are_kept() {
     let Some(gpu) = open() else { return };
-    let work = gpu
-        .create_buffer(
-            "frame work",
-            1 << 16,
-            tessera_gpu::vk::BufferUsageFlags::TRANSFER_DST,
-            tessera_gpu::MemoryLocation::GpuOnly,
-        )
-        .unwrap();
-    let mut fills = Fills {
-        work: &work,
-        log: Vec::new(),
-        finished: 0,
-        fail_at: None,
-    };
+    let work = fill_target(&gpu);
+    let mut fills = Fills::new(&work, None);
     let timed = frame_loop(&gpu, plan(), 1, &mut fills).unwrap();
     let expected: Vec<String> = (0..7).flat_map(|k| [format!("r{k}"), "f".into()]).collect();
     assert_eq!(fills.log, expected);
@@ -88,20 +87,8 @@ fn every_frame_is_recorded_then_finished_and_only_the_timed_ones_are_kept() {
 #[test]
 fn a_failing_finish_ends_the_loop_with_its_error() {
     let Some(gpu) = open() else { return };
-    let work = gpu
-        .create_buffer(
-            "frame work",
-            1 << 16,
-            tessera_gpu::vk::BufferUsageFlags::TRANSFER_DST,
-            tessera_gpu::MemoryLocation::GpuOnly,
-        )
-        .unwrap();
-    let mut fills = Fills {
-        work: &work,
-        log: Vec::new(),
-        finished: 0,
-        fail_at: Some(4),
-    };
+    let work = fill_target(&gpu);
+    let mut fills = Fills::new(&work, Some(4));
     let Err(error) = frame_loop(&gpu, plan(), 1, &mut fills) else {
         panic!("the loop went on past a failed frame");
     };

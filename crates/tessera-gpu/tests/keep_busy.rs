@@ -3,7 +3,7 @@
 //! it stays out of the frames' timed scopes, and a target of 0 leaves it out.
 
 mod common;
-use common::{assert_clean, open};
+use common::{assert_clean, fill_target, open};
 use tessera_gpu::keep_busy::{last_state, KeepBusy, KEEP_BUSY_WORKGROUPS};
 use tessera_gpu::timing::{time_frames, FramePlan};
 
@@ -63,14 +63,7 @@ fn timed_frames_report_their_own_scopes_only() {
         keep_busy_ms: 2.0,
         frames_per_cycle: 1,
     };
-    let work = gpu
-        .create_buffer(
-            "frame work",
-            1 << 16,
-            tessera_gpu::vk::BufferUsageFlags::TRANSFER_DST,
-            tessera_gpu::MemoryLocation::GpuOnly,
-        )
-        .unwrap();
+    let work = fill_target(&gpu);
     let stages = time_frames(&gpu, plan, 2, |rec, timer| {
         rec.barrier();
         timer.scope(rec, "fill", |rec| rec.fill_buffer(&work, 7));

@@ -1,7 +1,7 @@
 //! What the tessera-gpu integration tests share: the device they run on and the check that
 //! the validation layer reported nothing.
 
-use tessera_gpu::{Gpu, GpuOptions};
+use tessera_gpu::{Buffer, Gpu, GpuOptions, MemoryLocation};
 
 /// The default device with validation, or `None` (after saying so) where none opens.
 pub fn open() -> Option<Gpu> {
@@ -23,4 +23,16 @@ pub fn open() -> Option<Gpu> {
 pub fn assert_clean(gpu: &Gpu) {
     let errors = gpu.validation_errors();
     assert!(errors.is_empty(), "{errors:?}");
+}
+
+/// A 64 KiB device buffer for frames that fill it (work to time).
+#[allow(dead_code)] // not every test file times frames
+pub fn fill_target(gpu: &Gpu) -> Buffer {
+    gpu.create_buffer(
+        "frame work",
+        1 << 16,
+        tessera_gpu::vk::BufferUsageFlags::TRANSFER_DST,
+        MemoryLocation::GpuOnly,
+    )
+    .unwrap()
 }
