@@ -25,6 +25,10 @@ use bytemuck::{Pod, Zeroable};
 pub const KEEP_BUSY_WORKGROUPS: u32 = 256;
 /// Invocations per workgroup (`local_size_x` of `keep_busy.comp.glsl`).
 pub const KEEP_BUSY_WORKGROUP_SIZE: u32 = 64;
+/// The generator the dispatch steps (a linear congruential one: state × multiplier +
+/// increment, modulo 2^32); the shader gets both as defines.
+const GENERATOR_MULTIPLIER: u32 = 1_664_525;
+const GENERATOR_INCREMENT: u32 = 1_013_904_223;
 /// Iterations of the first dispatch, before any has been timed: short on any device.
 const FIRST_ITERATIONS: u32 = 256;
 /// How much longer than the last timed dispatch the next may be planned at most, so that one
@@ -48,7 +52,9 @@ pub struct KeepBusyParams {
 pub fn last_state(params: KeepBusyParams, group: u32) -> u32 {
     let mut state = params.seed ^ (group * KEEP_BUSY_WORKGROUP_SIZE);
     for _ in 0..params.iterations {
-        state = state.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+        state = state
+            .wrapping_mul(GENERATOR_MULTIPLIER)
+            .wrapping_add(GENERATOR_INCREMENT);
     }
     state
 }
@@ -93,7 +99,13 @@ impl KeepBusy {
                 concat!(env!("CARGO_MANIFEST_DIR"), "/src/keep_busy.comp.glsl"),
                 include_str!("keep_busy.comp.glsl"),
             );
-            let spirv = ShaderCompiler::new().compile(&source, &[])?;
+            let defines = [
+                ("WORKGROUP_SIZE", KEEP_BUSY_WORKGROUP_SIZE),
+                ("GENERATOR_MULTIPLIER", GENERATOR_MULTIPLIER),
+                ("GENERATOR_INCREMENT", GENERATOR_INCREMENT),
+            ]
+            .map(|(name, value)| (name.to_string(), format!("{value}u")));
+            let spirv = ShaderCompiler::new().compile(&source, &defines)?;
             let pipeline = gpu.compute_pipeline("keep busy", &spirv, &[Slot::StorageBuffer])?;
             let sink = gpu.create_buffer(
                 "keep busy",

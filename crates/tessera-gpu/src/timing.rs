@@ -182,17 +182,12 @@ impl StageStats {
     }
 }
 
-/// One kind of timed frame for [`frame_loop`]: how frame `frame` (the warm-up's counted) is
-/// recorded, its stages in timer scopes, and what runs once its submission has completed,
-/// before its timestamps are read.
+/// One kind of timed frame for [`frame_loop`]: how a frame is recorded, its stages in timer
+/// scopes, and what runs once its submission has completed, before its timestamps are read.
 pub trait TimedFrame {
     type Error: From<GpuError>;
-    fn record(
-        &mut self,
-        frame: u32,
-        rec: &Recorder,
-        timer: &mut Timer,
-    ) -> std::result::Result<(), Self::Error>;
+    fn record(&mut self, rec: &Recorder, timer: &mut Timer)
+        -> std::result::Result<(), Self::Error>;
     fn finish(&mut self, _gpu: &Gpu) -> std::result::Result<(), Self::Error> {
         Ok(())
     }
@@ -244,12 +239,11 @@ pub fn frame_loop<F: TimedFrame + ?Sized>(
     let mut keep_busy = KeepBusy::new(gpu, plan.keep_busy_ms)?;
     let mut frames = Vec::with_capacity(plan.frames as usize);
     let mut warm_up = WarmUp::new(plan);
-    let mut frame = 0;
     while frames.len() < plan.frames as usize {
         timer.reset(gpu);
         let mut recorded = Ok(());
         gpu.submit("benchmark frame", |rec| {
-            recorded = timed.record(frame, rec, &mut timer);
+            recorded = timed.record(rec, &mut timer);
             keep_busy.record(rec);
         })?;
         recorded?;
@@ -262,7 +256,6 @@ pub fn frame_loop<F: TimedFrame + ?Sized>(
         } else {
             frames.push(scopes);
         }
-        frame += 1;
     }
     Ok(TimedFrames { frames, warm_up })
 }
@@ -278,7 +271,7 @@ pub fn time_frames(
     struct Recording<R>(R);
     impl<R: FnMut(&Recorder, &mut Timer)> TimedFrame for Recording<R> {
         type Error = GpuError;
-        fn record(&mut self, _frame: u32, rec: &Recorder, timer: &mut Timer) -> Result<()> {
+        fn record(&mut self, rec: &Recorder, timer: &mut Timer) -> Result<()> {
             (self.0)(rec, timer);
             Ok(())
         }

@@ -1,5 +1,5 @@
-//! The benchmark frame loop: every frame, warm-up included, is recorded with its number and
-//! finished once its submission completed; only the frames after the warm-up are kept, each
+//! The benchmark frame loop: every frame, warm-up included, is recorded and then finished once
+//! its submission completed; only the frames after the warm-up are kept, each
 //! with its scopes; an error from recording or finishing ends the loop and comes back.
 
 mod common;
@@ -10,7 +10,7 @@ use tessera_gpu::{Buffer, GpuError, Recorder, Timer};
 /// Fills a buffer in one scope per frame and logs what the loop asked of it.
 struct Fills<'a> {
     work: &'a Buffer,
-    /// "r<frame>" for each recording, "f" for each finish.
+    /// "r<frames finished before>" for each recording, "f" for each finish.
     log: Vec<String>,
     finished: u32,
     /// The frame whose finish fails.
@@ -31,7 +31,8 @@ impl<'a> Fills<'a> {
 impl TimedFrame for Fills<'_> {
     type Error = GpuError;
 
-    fn record(&mut self, frame: u32, rec: &Recorder, timer: &mut Timer) -> Result<(), GpuError> {
+    fn record(&mut self, rec: &Recorder, timer: &mut Timer) -> Result<(), GpuError> {
+        let frame = self.finished;
         self.log.push(format!("r{frame}"));
         timer.scope(rec, "fill", |rec| rec.fill_buffer(self.work, frame));
         Ok(())

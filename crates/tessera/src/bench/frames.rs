@@ -50,7 +50,7 @@ struct MonoFrames<'a> {
 impl TimedFrame for MonoFrames<'_> {
     type Error = Error;
 
-    fn record(&mut self, _frame: u32, rec: &Recorder, timer: &mut Timer) -> Result<()> {
+    fn record(&mut self, rec: &Recorder, timer: &mut Timer) -> Result<()> {
         self.renderer.record(rec, self.view, self.target, timer)
     }
 
@@ -155,7 +155,7 @@ struct StereoFrames<'p, 'a> {
 impl TimedFrame for StereoFrames<'_, '_> {
     type Error = Error;
 
-    fn record(&mut self, _frame: u32, rec: &Recorder, timer: &mut Timer) -> Result<()> {
+    fn record(&mut self, rec: &Recorder, timer: &mut Timer) -> Result<()> {
         match &mut self.pair {
             Pair::OnePass(r) => r.record_stereo(rec, self.eyes, self.targets, timer),
             Pair::OneRendererTwoFrames(r) => {

@@ -81,13 +81,13 @@ fn variants(gpu: &Gpu, wanted: &[Path], view: &str, scalar: bool, small: bool) -
     }
     if support.compute {
         // The pixel limit above which a tet goes to the tile pass; u32::MAX never tiles.
-        // None: the default limit.
+        // None: the default limit (DEFAULT_INLINE_PIXEL_LIMIT, so not listed again).
         let limits: &[Option<u32>] = if scalar {
             &[None]
         } else if small && view != "inside" {
-            &[None, Some(16384), Some(65536), Some(u32::MAX)]
+            &[None, Some(65536), Some(u32::MAX)]
         } else {
-            &[None, Some(16384), Some(65536)]
+            &[None, Some(65536)]
         };
         for &limit in limits {
             let tuning = IntervalTuning {
