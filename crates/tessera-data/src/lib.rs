@@ -3,6 +3,7 @@
 //! techniques are tested against.
 
 pub mod camera;
+mod clusters;
 pub mod error;
 pub mod histogram;
 pub mod image;

@@ -187,21 +187,53 @@ impl Gpu {
 
     /// Copies a buffer back to the host.
     pub fn read_buffer(&self, buffer: &Buffer) -> Result<Vec<u8>> {
+        self.read_buffer_bytes(buffer, buffer.size)
+    }
+
+    /// The whole of `buffer` as elements of `T` (a trailing part of an element is dropped).
+    pub fn read_buffer_as<T: bytemuck::Pod>(&self, buffer: &Buffer) -> Result<Vec<T>> {
+        let count = buffer.size as usize / std::mem::size_of::<T>().max(1);
+        self.read_elements(buffer, count)
+    }
+
+    /// The first `count` elements of `T` in `buffer`; only their bytes are copied back. A
+    /// buffer shorter than that is an error naming it.
+    pub fn read_elements<T: bytemuck::Pod>(&self, buffer: &Buffer, count: usize) -> Result<Vec<T>> {
+        let bytes = (count as u64).saturating_mul(std::mem::size_of::<T>() as u64);
+        if bytes > buffer.size {
+            return Err(GpuError::Invalid(format!(
+                "reading {count} elements of {} bytes from '{}', which holds {} bytes",
+                std::mem::size_of::<T>(),
+                buffer.name,
+                buffer.size
+            )));
+        }
+        let data = self.read_buffer_bytes(buffer, bytes)?;
+        Ok(bytemuck::allocation::pod_collect_to_vec(&data))
+    }
+
+    /// The first `bytes` bytes of `buffer` (at most its size).
+    fn read_buffer_bytes(&self, buffer: &Buffer, bytes: u64) -> Result<Vec<u8>> {
+        if bytes == 0 {
+            return Ok(Vec::new());
+        }
         let staging = self.create_buffer(
             &format!("{} (readback)", buffer.name),
-            buffer.size,
+            bytes,
             vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::GpuToCpu,
         )?;
-        let result = self.submit(&format!("read back {}", buffer.name), |cmd| {
-            cmd.copy_buffer(buffer, &staging, buffer.size);
-        });
-        result.map(|_| {
-            staging
-                .mapped()
-                .map(|m| m[..buffer.size as usize].to_vec())
-                .unwrap_or_default()
-        })
+        self.submit(&format!("read back {}", buffer.name), |cmd| {
+            cmd.copy_buffer(buffer, &staging, bytes);
+        })?;
+        match staging.mapped() {
+            Some(mapped) => Ok(mapped[..bytes as usize].to_vec()),
+            None => Err(GpuError::Allocation {
+                name: staging.name.clone(),
+                bytes,
+                message: "readback memory is not host-visible".into(),
+            }),
+        }
     }
 
     /// Writes `data` into an existing device buffer (e.g. to poison an output before a test).

@@ -1,10 +1,9 @@
 //! The meshlet format every meshlet producer writes (the CPU references here, later the GPU
 //! paths and `extract`'s meshlet output) and every consumer reads.
 
-use std::collections::{HashMap, HashSet};
-
 use glam::Vec3;
 
+use crate::clusters::{self, ClusterRanges};
 use crate::error::{DataError, Result};
 use crate::mesh::{SurfaceTransform, TriangleMesh};
 
@@ -132,11 +131,7 @@ impl MeshletMesh {
     /// [`crate::marching_cubes`]'s output or to export it. Out-of-range triangles are dropped
     /// as in [`Self::triangles`].
     pub fn to_triangle_mesh(&self) -> TriangleMesh {
-        TriangleMesh {
-            positions: self.positions.iter().map(|&p| Vec3::from(p)).collect(),
-            normals: self.normals.iter().map(|&n| Vec3::from(n)).collect(),
-            triangles: self.global_triangles().collect(),
-        }
+        clusters::triangle_mesh(&self.positions, &self.normals, self.global_triangles())
     }
 
     /// The same surface as one welded indexed mesh: vertices at the same position (the
@@ -145,49 +140,26 @@ impl MeshletMesh {
     /// this is the vertex list of [`crate::marching_cubes`] up to order, except that vertices
     /// of distinct edges meeting at a sample that equals the isovalue merge too.
     pub fn welded(&self) -> TriangleMesh {
-        let mut first_at: HashMap<[u32; 3], u32> = HashMap::with_capacity(self.positions.len());
-        let mut welded = TriangleMesh::default();
-        let remap: Vec<u32> = self
-            .positions
-            .iter()
-            .enumerate()
-            .map(|(i, p)| {
-                *first_at.entry(p.map(f32::to_bits)).or_insert_with(|| {
-                    welded.positions.push(Vec3::from(*p));
-                    welded
-                        .normals
-                        .push(Vec3::from(self.normals.get(i).copied().unwrap_or_default()));
-                    (welded.positions.len() - 1) as u32
-                })
-            })
-            .collect();
-        welded.triangles = self
-            .global_triangles()
-            .map(|t| t.map(|i| remap[i as usize]))
-            .collect();
-        welded
+        clusters::welded(&self.positions, &self.normals, self.global_triangles())
+    }
+
+    /// The meshlet's vertex and index ranges, or which one leaves its array.
+    fn ranges(&self, m: &Meshlet) -> std::result::Result<ClusterRanges, &'static str> {
+        ClusterRanges::new(
+            (m.vertex_offset, m.vertex_count()),
+            (
+                3 * u64::from(m.triangle_offset),
+                3 * u64::from(m.triangle_count()),
+            ),
+            self.positions.len(),
+            self.local_indices.len(),
+        )
     }
 
     /// Triangles as indices into the vertex arrays, those out of range left out.
     fn global_triangles(&self) -> impl Iterator<Item = [u32; 3]> + '_ {
-        self.meshlets.iter().flat_map(move |m| {
-            let indices = range(
-                m.triangle_offset,
-                m.triangle_count(),
-                3,
-                self.local_indices.len(),
-            )
-            .map_or(&[][..], |r| &self.local_indices[r]);
-            indices.chunks_exact(3).filter_map(move |t| {
-                let global = |i: u8| {
-                    let v = m.vertex_offset.checked_add(u32::from(i))?;
-                    let inside =
-                        u32::from(i) < m.vertex_count() && (v as usize) < self.positions.len();
-                    inside.then_some(v)
-                };
-                Some([global(t[0])?, global(t[1])?, global(t[2])?])
-            })
-        })
+        let ranges = self.meshlets.iter().map(|m| self.ranges(m).ok());
+        clusters::global_triangles(&self.local_indices, ranges)
     }
 
     /// Checks what every consumer relies on: one normal per position, the limits, ranges
@@ -212,18 +184,9 @@ impl MeshletMesh {
 
     fn check(&self, producer: bool) -> Result<()> {
         let invalid = |what: String| Err(DataError::Invalid(format!("meshlet mesh: {what}")));
-        if self.normals.len() != self.positions.len() {
-            return invalid(format!(
-                "{} normals for {} positions",
-                self.normals.len(),
-                self.positions.len()
-            ));
-        }
-        if !self.local_indices.len().is_multiple_of(3) {
-            return invalid(format!(
-                "{} local indices is not a whole number of triangles",
-                self.local_indices.len()
-            ));
+        let (positions, indices) = (self.positions.len(), self.local_indices.len());
+        if let Err(why) = clusters::check_arrays(positions, self.normals.len(), indices) {
+            return invalid(why);
         }
         for (k, m) in self.meshlets.iter().enumerate() {
             if let Err(why) = self.check_meshlet(m, producer) {
@@ -242,39 +205,11 @@ impl MeshletMesh {
                 m.triangle_count()
             ));
         }
-        let vertices = range(m.vertex_offset, m.vertex_count(), 1, self.positions.len())
-            .ok_or_else(|| "vertex range outside the vertex arrays".to_string())?;
-        let indices = range(
-            m.triangle_offset,
-            m.triangle_count(),
-            3,
-            self.local_indices.len(),
-        )
-        .ok_or_else(|| "triangle range outside the local indices".to_string())?;
-        let mut used = vec![false; vertices.len()];
-        for &i in &self.local_indices[indices] {
-            let slot = used
-                .get_mut(usize::from(i))
-                .ok_or_else(|| format!("local index {i} of {} vertices", m.vertex_count()))?;
-            *slot = true;
-        }
-        if let Some(i) = used.iter().position(|u| !u) {
-            return Err(format!("vertex {i} is used by no triangle"));
-        }
-        if !producer {
-            return Ok(());
-        }
-        let mut seen = HashSet::with_capacity(vertices.len());
-        for (i, p) in self.positions[vertices].iter().enumerate() {
-            if !seen.insert(p.map(f32::to_bits)) {
-                return Err(format!("vertex {i} repeats position {p:?}"));
-            }
-            if (0..3).any(|a| !(m.aabb_min[a] <= p[a] && p[a] <= m.aabb_max[a])) {
-                return Err(format!(
-                    "vertex {i} at {p:?} outside the bounds {:?}..{:?}",
-                    m.aabb_min, m.aabb_max
-                ));
-            }
+        let ranges = self.ranges(m)?;
+        clusters::check_indices(&self.local_indices[ranges.indices], ranges.vertices.len())?;
+        if producer {
+            let bounds = (m.aabb_min, m.aabb_max);
+            clusters::check_positions(&self.positions[ranges.vertices], "bounds", bounds)?;
         }
         Ok(())
     }
@@ -290,14 +225,7 @@ impl MeshletMesh {
         order.sort_by_key(|m| (zyx(m.block_origin()), zyx(m.subblock_origin())));
         let mut out = MeshletMesh::default();
         for m in order {
-            let vertices = range(m.vertex_offset, m.vertex_count(), 1, self.positions.len());
-            let indices = range(
-                m.triangle_offset,
-                m.triangle_count(),
-                3,
-                self.local_indices.len(),
-            );
-            let (Some(vertices), Some(indices)) = (vertices, indices) else {
+            let Ok(ClusterRanges { vertices, indices }) = self.ranges(m) else {
                 return Err(DataError::Invalid(format!(
                     "meshlet mesh: the meshlet of block {:?}, subblock {:?} reaches outside \
                      the arrays",
@@ -344,14 +272,6 @@ impl MeshletMesh {
         }
         self
     }
-}
-
-/// The index range of `count` items of `stride` elements from item `first`, when it lies in
-/// an array of `len` elements.
-fn range(first: u32, count: u32, stride: usize, len: usize) -> Option<std::ops::Range<usize>> {
-    let start = (first as usize).checked_mul(stride)?;
-    let end = start.checked_add((count as usize).checked_mul(stride)?)?;
-    (end <= len).then_some(start..end)
 }
 
 /// `(min, max)` over `points`; empty gives an inverted box that holds nothing.

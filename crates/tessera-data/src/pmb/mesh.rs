@@ -1,10 +1,8 @@
 //! The PMB output: per block a run of vertices and a run of 16-bit indices local to it.
 
-use std::collections::{HashMap, HashSet};
-use std::ops::Range;
+use std::collections::HashSet;
 
-use glam::Vec3;
-
+use crate::clusters::{self, ClusterRanges};
 use crate::error::{DataError, Result};
 use crate::mesh::TriangleMesh;
 
@@ -60,11 +58,7 @@ impl PmbMesh {
     /// vertices on block faces stay repeated). Out-of-range triangles are dropped as in
     /// [`Self::triangles`].
     pub fn to_triangle_mesh(&self) -> TriangleMesh {
-        TriangleMesh {
-            positions: self.positions.iter().map(|&p| Vec3::from(p)).collect(),
-            normals: self.normals.iter().map(|&n| Vec3::from(n)).collect(),
-            triangles: self.global_triangles().collect(),
-        }
+        clusters::triangle_mesh(&self.positions, &self.normals, self.global_triangles())
     }
 
     /// One indexed mesh with the vertices that neighbouring blocks both hold merged: two
@@ -72,23 +66,7 @@ impl PmbMesh {
     /// are one vertex, the first one's normal kept. Marching cubes' mesh of the same surface
     /// has as many vertices, unless a sample equals the isovalue (its vertices then coincide).
     pub fn welded(&self) -> TriangleMesh {
-        let mut index_of: HashMap<[u32; 3], u32> = HashMap::new();
-        let mut mesh = TriangleMesh::default();
-        let mut remap = Vec::with_capacity(self.positions.len());
-        for (i, p) in self.positions.iter().enumerate() {
-            let id = *index_of.entry(p.map(f32::to_bits)).or_insert_with(|| {
-                mesh.positions.push(Vec3::from(*p));
-                let normal = self.normals.get(i).copied().unwrap_or_default();
-                mesh.normals.push(Vec3::from(normal));
-                mesh.positions.len() as u32 - 1
-            });
-            remap.push(id);
-        }
-        mesh.triangles = self
-            .global_triangles()
-            .map(|t| t.map(|i| remap[i as usize]))
-            .collect();
-        mesh
+        clusters::welded(&self.positions, &self.normals, self.global_triangles())
     }
 
     /// Checks what every consumer relies on: one normal per position, ranges inside the
@@ -101,18 +79,9 @@ impl PmbMesh {
     /// isovalue exactly; this check reports them as repeated.
     pub fn validate(&self) -> Result<()> {
         let invalid = |what: String| Err(DataError::Invalid(format!("PMB mesh: {what}")));
-        if self.normals.len() != self.positions.len() {
-            return invalid(format!(
-                "{} normals for {} positions",
-                self.normals.len(),
-                self.positions.len()
-            ));
-        }
-        if !self.indices.len().is_multiple_of(3) {
-            return invalid(format!(
-                "{} indices is not a whole number of triangles",
-                self.indices.len()
-            ));
+        let (positions, indices) = (self.positions.len(), self.indices.len());
+        if let Err(why) = clusters::check_arrays(positions, self.normals.len(), indices) {
+            return invalid(why);
         }
         let mut listed = HashSet::with_capacity(self.blocks.len());
         for b in &self.blocks {
@@ -134,67 +103,33 @@ impl PmbMesh {
                 b.vertex_count
             ));
         }
-        let (vertices, indices) = self
-            .ranges(b)
-            .ok_or_else(|| "ranges outside the arrays".to_string())?;
-        let mut used = vec![false; vertices.len()];
-        for &i in &self.indices[indices] {
-            let slot = used
-                .get_mut(usize::from(i))
-                .ok_or_else(|| format!("local index {i} of {} vertices", b.vertex_count))?;
-            *slot = true;
-        }
-        if let Some(i) = used.iter().position(|u| !u) {
-            return Err(format!("vertex {i} is used by no triangle"));
-        }
+        let ranges = self.ranges(b)?;
+        clusters::check_indices(&self.indices[ranges.indices], ranges.vertices.len())?;
         let corner = |k: u32| -> [f32; 3] {
             std::array::from_fn(|a| {
                 (u64::from(b.block[a]) + u64::from(k)) as f32 * self.block_size[a] as f32
             })
         };
-        let (lo, hi) = (corner(0), corner(1));
-        let mut seen = HashSet::with_capacity(vertices.len());
-        for (i, p) in self.positions[vertices].iter().enumerate() {
-            if !seen.insert(p.map(f32::to_bits)) {
-                return Err(format!("vertex {i} repeats position {p:?}"));
-            }
-            if (0..3).any(|a| !(lo[a] <= p[a] && p[a] <= hi[a])) {
-                return Err(format!(
-                    "vertex {i} at {p:?} outside the box {lo:?}..{hi:?}"
-                ));
-            }
-        }
-        Ok(())
+        clusters::check_positions(
+            &self.positions[ranges.vertices],
+            "box",
+            (corner(0), corner(1)),
+        )
     }
 
-    /// The block's vertex range and index range, when both lie in the arrays.
-    fn ranges(&self, b: &PmbBlock) -> Option<(Range<usize>, Range<usize>)> {
-        let vertices = range(b.first_vertex, b.vertex_count, self.positions.len())?;
-        let index_count = b.triangle_count.checked_mul(3)?;
-        let indices = range(b.first_index, index_count, self.indices.len())?;
-        Some((vertices, indices))
+    /// The block's vertex and index ranges, or which one leaves its array.
+    fn ranges(&self, b: &PmbBlock) -> std::result::Result<ClusterRanges, &'static str> {
+        ClusterRanges::new(
+            (b.first_vertex, b.vertex_count),
+            (u64::from(b.first_index), 3 * u64::from(b.triangle_count)),
+            self.positions.len(),
+            self.indices.len(),
+        )
     }
 
     /// Triangles as indices into the vertex arrays, those out of range left out.
     fn global_triangles(&self) -> impl Iterator<Item = [u32; 3]> + '_ {
-        self.blocks.iter().flat_map(move |b| {
-            let indices = self
-                .ranges(b)
-                .map_or(&[][..], |(_, indices)| &self.indices[indices]);
-            indices.chunks_exact(3).filter_map(move |t| {
-                let global = |i: u16| {
-                    let inside = u32::from(i) < b.vertex_count;
-                    inside.then(|| b.first_vertex.checked_add(u32::from(i)))?
-                };
-                Some([global(t[0])?, global(t[1])?, global(t[2])?])
-            })
-        })
+        let ranges = self.blocks.iter().map(|b| self.ranges(b).ok());
+        clusters::global_triangles(&self.indices, ranges)
     }
-}
-
-/// `first .. first + count` when it lies in an array of `len` elements.
-fn range(first: u32, count: u32, len: usize) -> Option<Range<usize>> {
-    let start = first as usize;
-    let end = start.checked_add(count as usize)?;
-    (end <= len).then_some(start..end)
 }

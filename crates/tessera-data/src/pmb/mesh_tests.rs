@@ -79,7 +79,7 @@ fn validation_reports_what_consumers_rely_on() {
     expect(m, "listed twice");
     let mut m = two_blocks();
     m.blocks[1].first_index = 4;
-    expect(m, "ranges outside the arrays");
+    expect(m, "triangle range outside");
     let mut m = two_blocks();
     m.normals.pop();
     expect(m, "5 normals for 6 positions");

@@ -415,6 +415,19 @@ impl LodStage {
     }
 
     /// The counters of the last recorded frame.
+    /// [`Self::read_stats`] after a frame of `technique`: a frame that lost patches to full
+    /// lists is an error.
+    pub fn read_frame_stats(&self, gpu: &Gpu, technique: &str) -> Result<LodStats> {
+        let stats = self.read_stats(gpu)?;
+        if stats.dropped > 0 {
+            return Err(Error::Invalid(format!(
+                "{technique} lost {} patches to full lists of {}: raise patch_capacity",
+                stats.dropped, self.settings.capacity
+            )));
+        }
+        Ok(stats)
+    }
+
     pub fn read_stats(&self, gpu: &Gpu) -> Result<LodStats> {
         let w = tessera_gpu::timing::read_words(gpu, &self.state)?;
         let entry = |i: u32| w[(STATE_HEADER_BYTES / 4 + u64::from(i) * 4) as usize];
@@ -433,8 +446,6 @@ impl LodStage {
     /// The patches to render of the last recorded frame (in the GPU's arbitrary order).
     pub fn read_patches(&self, gpu: &Gpu) -> Result<Vec<GpuPatch>> {
         let count = self.read_stats(gpu)?.rendered.min(self.settings.capacity) as usize;
-        let bytes = gpu.read_buffer(&self.render)?;
-        let all: Vec<GpuPatch> = bytemuck::allocation::pod_collect_to_vec(&bytes);
-        Ok(all[..count.min(all.len())].to_vec())
+        Ok(gpu.read_elements(&self.render, count)?)
     }
 }

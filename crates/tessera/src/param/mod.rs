@@ -40,7 +40,7 @@ use crate::target::Target;
 use bytemuck::{Pod, Zeroable};
 use lod::{LodStage, SAMPLE_BYTES};
 use points::PointPasses;
-use tessera_data::{DepthFit, OrbitCamera, RgbaImage};
+use tessera_data::{OrbitCamera, RgbaImage};
 use tessera_gpu::{vk, Binding, Gpu, MemoryLocation, Pipeline, Recorder, ShaderCompiler, Slot};
 
 /// Settings of `param-points`.
@@ -177,12 +177,7 @@ impl ParamPoints {
         camera: &OrbitCamera,
         size: (u32, u32),
     ) -> Result<View> {
-        Ok(View::new(
-            camera,
-            size,
-            self.options.supersample,
-            DepthFit::Spheres(&scene.bounds),
-        )?)
+        scene.view(camera, size, self.options.supersample)
     }
 
     /// [`Self::record`] with the LOD stage, the points and the resolve in timer scopes "lod",
@@ -295,13 +290,7 @@ impl ParamPoints {
             self.record(rec, scene, view, frame, pixels, background);
             Ok::<(), Error>(())
         })?;
-        let stats = self.lod.read_stats(gpu)?;
-        if stats.dropped > 0 {
-            return Err(Error::Invalid(format!(
-                "param-points lost {} patches to full lists of {}: raise patch_capacity",
-                stats.dropped, self.options.patch_capacity
-            )));
-        }
+        let stats = self.lod.read_frame_stats(gpu, "param-points")?;
         Ok(ParamFrameInfo { gpu_ms, stats })
     }
 
@@ -326,9 +315,8 @@ impl ParamPoints {
         .map_err(Error::from)
         .and_then(|_| {
             let stats = self.lod.read_stats(gpu)?;
-            let bytes = gpu.read_buffer(&buffer)?;
-            let mut samples: Vec<LodSample> = bytemuck::allocation::pod_collect_to_vec(&bytes);
-            samples.truncate(stats.captured.min(capture) as usize);
+            let samples: Vec<LodSample> =
+                gpu.read_elements(&buffer, stats.captured.min(capture) as usize)?;
             Ok((self.lod.read_patches(gpu)?, stats, samples))
         })
     }
@@ -384,11 +372,7 @@ impl ParamPoints {
                 );
             })
             .map_err(Error::from)
-            .and_then(|_| {
-                let r: Vec<ProbeResult> =
-                    bytemuck::allocation::pod_collect_to_vec(&gpu.read_buffer(&output)?);
-                Ok(r[..points.len()].to_vec())
-            });
+            .and_then(|_| Ok(gpu.read_elements::<ProbeResult>(&output, points.len())?));
         result
     }
 }

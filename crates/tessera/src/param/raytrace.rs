@@ -35,7 +35,7 @@ use tessera_data::param::raytrace::{
 };
 use tessera_data::param::reference::{AMBIENT, DIFFUSE};
 use tessera_data::param::ParamFunction;
-use tessera_data::{DepthFit, View};
+use tessera_data::View;
 use tessera_data::{OrbitCamera, RgbaImage};
 use tessera_gpu::{
     vk, Binding, Buffer, Gpu, MemoryLocation, Pipeline, Recorder, ShaderCompiler, Slot,
@@ -325,12 +325,7 @@ impl ShRaytrace {
         camera: &OrbitCamera,
         size: (u32, u32),
     ) -> Result<View> {
-        Ok(View::new(
-            camera,
-            size,
-            self.options.supersample,
-            DepthFit::Spheres(&scene.scene.bounds),
-        )?)
+        scene.scene.view(camera, size, self.options.supersample)
     }
 
     fn params(view: &View, background: [f32; 3], count: u32) -> RaytraceParams {
@@ -475,11 +470,7 @@ impl ShRaytrace {
                 rec.dispatch(&self.probe, &bindings, bytemuck::bytes_of(&params), threads);
             })
             .map_err(Error::from)
-            .and_then(|_| {
-                let hits: Vec<RayHit> =
-                    bytemuck::allocation::pod_collect_to_vec(&gpu.read_buffer(&output)?);
-                Ok(hits[..raster.len()].to_vec())
-            });
+            .and_then(|_| Ok(gpu.read_elements::<RayHit>(&output, raster.len())?));
         result
     }
 }

@@ -19,6 +19,7 @@ use glam::{Mat3, Vec3};
 use tessera_data::param::{
     functions, KnitCurve, ParamFunction, RadiusNormalization, SeashellParams, ShBasis, YarnTube,
 };
+use tessera_data::{DepthFit, OrbitCamera, View};
 use tessera_gpu::{vk, Buffer, Gpu};
 
 pub use tessera_data::param::scene::{ParamObject, ParamScene, MAX_OBJECTS};
@@ -287,6 +288,17 @@ pub struct GpuParamScene {
 }
 
 impl GpuParamScene {
+    /// The view of `camera` onto the scene at `size` with `supersample` × `supersample`
+    /// samples per pixel, its depth range fitted to the objects' bounds.
+    pub fn view(&self, camera: &OrbitCamera, size: (u32, u32), supersample: u32) -> Result<View> {
+        Ok(View::new(
+            camera,
+            size,
+            supersample,
+            DepthFit::Spheres(&self.bounds),
+        )?)
+    }
+
     /// Bytes on the GPU.
     pub fn bytes(&self) -> u64 {
         self.objects.size + self.values.size

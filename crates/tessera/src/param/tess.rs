@@ -45,7 +45,7 @@ use crate::builtin_shader;
 use crate::error::{Error, Result};
 use crate::target::Target;
 use bytemuck::{Pod, Zeroable};
-use tessera_data::{DepthFit, View};
+use tessera_data::View;
 use tessera_data::{OrbitCamera, RgbaImage};
 use tessera_gpu::{
     vk, Binding, Buffer, Gpu, MemoryLocation, Pipeline, Recorder, RenderTargets, ShaderCompiler,
@@ -188,12 +188,7 @@ impl ParamTess {
         camera: &OrbitCamera,
         size: (u32, u32),
     ) -> Result<View> {
-        Ok(View::new(
-            camera,
-            size,
-            self.options.supersample,
-            DepthFit::Spheres(&scene.bounds),
-        )?)
+        scene.view(camera, size, self.options.supersample)
     }
 
     /// A frame for `view` with this technique's multisampling.
@@ -368,13 +363,7 @@ impl ParamTess {
             self.record(rec, scene, view, frame, pixels, background);
             Ok::<(), Error>(())
         })?;
-        let stats = self.lod.read_stats(gpu)?;
-        if stats.dropped > 0 {
-            return Err(Error::Invalid(format!(
-                "param-tess lost {} patches to full lists of {}: raise patch_capacity",
-                stats.dropped, self.options.patch_capacity
-            )));
-        }
+        let stats = self.lod.read_frame_stats(gpu, "param-tess")?;
         Ok(ParamFrameInfo { gpu_ms, stats })
     }
 

@@ -157,7 +157,7 @@ impl DirectExtract {
     }
 
     pub fn read_stats(&self, gpu: &Gpu) -> Result<ExtractStats> {
-        let s: Vec<u32> = bytemuck::allocation::pod_collect_to_vec(&gpu.read_buffer(&self.stats)?);
+        let s: Vec<u32> = gpu.read_buffer_as(&self.stats)?;
         Ok(ExtractStats {
             triangles: s[0],
             blocks_classified: s[1],

@@ -139,8 +139,7 @@ impl RasterTarget {
         gpu.submit("copy direct colour", |rec| {
             rec.copy_image_to_buffer(&self.color, &self.readback)
         })?;
-        let pixels: Vec<u32> =
-            bytemuck::allocation::pod_collect_to_vec(&gpu.read_buffer(&self.readback)?);
+        let pixels: Vec<u32> = gpu.read_buffer_as(&self.readback)?;
         let per_view = (self.width * self.height) as usize;
         Ok(pixels
             .chunks_exact(per_view)
@@ -401,7 +400,7 @@ impl Direct {
 
     /// What the last recorded frame emitted.
     pub fn read_stats(&self, gpu: &Gpu) -> Result<DirectStats> {
-        let s: Vec<u32> = bytemuck::allocation::pod_collect_to_vec(&gpu.read_buffer(&self.stats)?);
+        let s: Vec<u32> = gpu.read_buffer_as(&self.stats)?;
         Ok(DirectStats {
             mesh_workgroups: s[0],
             triangles: s[1],
@@ -430,8 +429,7 @@ impl Direct {
         let ms = timer.read_ms(gpu)?.first().map(|s| s.1).unwrap_or(0.0);
         let stats = self.read_stats(gpu)?;
         let triangles = if capacity > 0 {
-            let words: Vec<u32> =
-                bytemuck::allocation::pod_collect_to_vec(&gpu.read_buffer(capture)?);
+            let words: Vec<u32> = gpu.read_buffer_as(capture)?;
             let count = words[0];
             if count > capacity {
                 return Err(Error::Invalid(format!(

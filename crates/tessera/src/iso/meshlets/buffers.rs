@@ -182,30 +182,12 @@ impl GpuMeshlets {
     /// [`MeshletMesh::in_origin_order`].
     pub fn read(&self, gpu: &Gpu) -> Result<MeshletMesh> {
         let t = self.totals;
-        let read = |buffer: &Buffer, bytes: usize| -> Result<Vec<u8>> {
-            let mut data = gpu.read_buffer(buffer)?;
-            if data.len() < bytes {
-                return Err(Error::Invalid(format!(
-                    "{}: {} bytes read back, {bytes} expected",
-                    buffer.name,
-                    data.len()
-                )));
-            }
-            data.truncate(bytes);
-            Ok(data)
-        };
         let vertices = t.vertices as usize;
-        let floats = |bytes: Vec<u8>| -> Vec<[f32; 3]> {
-            bytemuck::allocation::pod_collect_to_vec::<u8, [f32; 3]>(&bytes)
-        };
         Ok(MeshletMesh {
-            positions: floats(read(&self.positions, vertices * 12)?),
-            normals: floats(read(&self.normals, vertices * 12)?),
-            local_indices: read(&self.local_indices, t.triangles as usize * 3)?,
-            meshlets: bytemuck::allocation::pod_collect_to_vec(&read(
-                &self.meshlets,
-                t.meshlets as usize * size_of::<Meshlet>(),
-            )?),
+            positions: gpu.read_elements(&self.positions, vertices)?,
+            normals: gpu.read_elements(&self.normals, vertices)?,
+            local_indices: gpu.read_elements(&self.local_indices, t.triangles as usize * 3)?,
+            meshlets: gpu.read_elements(&self.meshlets, t.meshlets as usize)?,
         })
     }
 
@@ -215,8 +197,7 @@ impl GpuMeshlets {
         let count = (block_list::count(&bytes) as usize).min(self.block_capacity as usize);
         let list: Vec<u32> = bytemuck::allocation::pod_collect_to_vec(&bytes);
         let header = size_of::<block_list::BlockListHeader>() / 4;
-        let ranges: Vec<[u32; 2]> =
-            bytemuck::allocation::pod_collect_to_vec(&gpu.read_buffer(&self.block_meshlets)?);
+        let ranges: Vec<[u32; 2]> = gpu.read_buffer_as(&self.block_meshlets)?;
         Ok((0..count).map(|i| (list[header + i], ranges[i])).collect())
     }
 }

@@ -107,8 +107,7 @@ impl MinMaxOctreeGpu {
 
     /// Reads all levels back as (min, max) pairs, level 0 first.
     pub fn read(&self, gpu: &Gpu) -> Result<Vec<[f32; 2]>> {
-        let bytes = gpu.read_buffer(&self.nodes)?;
-        Ok(bytemuck::allocation::pod_collect_to_vec(&bytes))
+        Ok(gpu.read_buffer_as(&self.nodes)?)
     }
 }
 

@@ -2,7 +2,7 @@
 //! totals, a descriptor per block with triangles, and the vertex and index arrays, sized by
 //! capacities that grow when an extraction overflows; and its readback as a [`PmbMesh`].
 
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::iso::direct::block_list;
 use bytemuck::{Pod, Zeroable};
 use std::mem::size_of;
@@ -153,34 +153,13 @@ impl GpuPmb {
     /// Reads the last extraction back (blocks in the GPU's order).
     pub fn read(&self, gpu: &Gpu) -> Result<PmbMesh> {
         let t = self.totals;
-        let read = |buffer: &Buffer, bytes: usize| -> Result<Vec<u8>> {
-            let mut data = gpu.read_buffer(buffer)?;
-            if data.len() < bytes {
-                return Err(Error::Invalid(format!(
-                    "{}: {} bytes read back, {bytes} expected",
-                    buffer.name,
-                    data.len()
-                )));
-            }
-            data.truncate(bytes);
-            Ok(data)
-        };
         let vertices = t.vertices as usize;
-        let floats = |bytes: Vec<u8>| -> Vec<[f32; 3]> {
-            bytemuck::allocation::pod_collect_to_vec::<u8, [f32; 3]>(&bytes)
-        };
         Ok(PmbMesh {
             block_size: self.block_size,
-            positions: floats(read(&self.positions, vertices * 12)?),
-            normals: floats(read(&self.normals, vertices * 12)?),
-            indices: bytemuck::allocation::pod_collect_to_vec(&read(
-                &self.indices,
-                t.triangles as usize * 3 * 2,
-            )?),
-            blocks: bytemuck::allocation::pod_collect_to_vec(&read(
-                &self.descriptors,
-                t.blocks as usize * size_of::<PmbBlock>(),
-            )?),
+            positions: gpu.read_elements(&self.positions, vertices)?,
+            normals: gpu.read_elements(&self.normals, vertices)?,
+            indices: gpu.read_elements(&self.indices, t.triangles as usize * 3)?,
+            blocks: gpu.read_elements(&self.descriptors, t.blocks as usize)?,
         })
     }
 

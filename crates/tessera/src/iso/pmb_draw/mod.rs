@@ -374,9 +374,7 @@ impl PmbDraw {
             return Ok(Vec::new());
         };
         let drawn = self.read_counters().blocks_drawn as usize;
-        let bytes = gpu.read_buffer(buffer)?;
-        let commands: Vec<DrawIndexedIndirectCommand> =
-            bytemuck::allocation::pod_collect_to_vec(&bytes);
+        let commands: Vec<DrawIndexedIndirectCommand> = gpu.read_buffer_as(buffer)?;
         Ok(commands.into_iter().take(drawn).collect())
     }
 }
