@@ -1,7 +1,8 @@
 //! `tessera bench growth`: every technique measured along both ladders (image pixels and data
 //! size), each record carrying the sizes the plots put on their axes and what the renderer
 //! counted; `bench interval --variants` times only the variants asked for (at each `--sizes`
-//! size), its records saying when they were made and whether their warm-up settled.
+//! size), its records saying when they were made and whether their warm-up settled, and the
+//! ways of the per-tet pass's subgroup drawing only when asked for.
 
 mod common;
 use common::*;
@@ -149,6 +150,50 @@ fn interval_times_only_the_variants_asked_for() {
         let stages = r["stages"].as_array().unwrap();
         assert!(stages.iter().all(|s| s["settled"] == false), "{stages:?}");
         assert_eq!(r["keep_busy_ms"].as_f64(), Some(0.0), "{r}");
+    }
+}
+
+#[test]
+fn interval_compares_the_ways_of_subgroup_drawing_when_asked() {
+    let records = bench_records(
+        "bench_subgroup_ways",
+        &[
+            "interval",
+            "--quick",
+            "--data",
+            "tets:box:3",
+            "--paths",
+            "compute",
+            "--frames",
+            "1",
+            "--warmup",
+            "0",
+            "--min-warmup-ms",
+            "0",
+            "--variants",
+            "tet absorption, tiles above 16384 px, subgroup",
+        ],
+    );
+    let variants: BTreeSet<&str> = records
+        .iter()
+        .map(|r| r["variant"].as_str().unwrap())
+        .collect();
+    // The default limit, none, a higher limit, and three set-up costs of the chosen limit;
+    // each in every view.
+    assert_eq!(variants.len(), 6, "{variants:?}");
+    assert_eq!(records.len(), 6 * 3, "{variants:?}");
+    for way in [
+        "above 64 px",
+        "off",
+        "above 256 px",
+        "chosen (set-up 32 px)",
+    ] {
+        assert!(
+            variants
+                .iter()
+                .any(|v| v.ends_with(&format!("subgroup drawing {way}"))),
+            "{way}: {variants:?}"
+        );
     }
 }
 

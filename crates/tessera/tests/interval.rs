@@ -14,7 +14,8 @@ use common::{assert_clean, camera, gpu, skip};
 use tessera::path::Path;
 use tessera::shaders;
 use tessera::tet::interval::{
-    ComputeScheme, GpuTetMesh, Integrand, Interval, IntervalOptions, SUBGROUP_DRAW_ABOVE_PIXELS,
+    ComputeScheme, GpuTetMesh, Integrand, Interval, IntervalOptions, OpticalTarget, SubgroupDraw,
+    SUBGROUP_DRAW_ABOVE_PIXELS,
 };
 use tessera_data::tet::optical::{edge_mask, optical_depth};
 use tessera_data::tet::procedural::{box_mesh, deform, sphere_mesh};
@@ -253,6 +254,8 @@ fn a_subgroup_drawing_its_tets_together_adds_what_each_invocation_adds() {
     // subgroup, and with the default limit a subgroup draws some together and leaves the rest
     // to their invocations (in both views, breaking either way's drawing fails the default's
     // comparison); from inside, large tets, and clipped ones drawn per invocation either way.
+    // Where each subgroup chooses its limit, the choice calls subgroup operations before any
+    // invocation branches off.
     let gpu = gpu();
     let caps = gpu.caps();
     if !caps.buffer_float32_atomic_add {
@@ -275,30 +278,47 @@ fn a_subgroup_drawing_its_tets_together_adds_what_each_invocation_adds() {
     mesh.validate("deformed box").unwrap();
     let gpu_mesh = GpuTetMesh::upload(&gpu, &mesh).unwrap();
     let (w, h) = (96, 72);
-    let render = |subgroup_draw_above: Option<u32>, distance: f32| {
+    let interval = |subgroup_draw: SubgroupDraw| {
         let options = IntervalOptions {
-            subgroup_draw_above,
+            subgroup_draw,
             compute_scheme: ComputeScheme::PerTet,
             ..IntervalOptions::new(Path::Compute)
         };
         let interval = Interval::new(&gpu, &compiler, &options).unwrap();
         let target = interval.target(&gpu, w, h).unwrap();
-        let cam = camera(-35.0, 25.0, distance);
-        interval.render(&gpu, &gpu_mesh, &target, &cam).unwrap()
+        (interval, target)
     };
     let views = [
         ("far", 2.6, 1500),
         ("near", 1.2, 4000),
         ("inside", 0.3, 96 * 72),
     ];
-    for (view, distance, min_covered) in views {
-        let alone = render(None, distance);
-        // Every tet by the subgroup, and the default's mix of both within one subgroup.
-        for above in [0, SUBGROUP_DRAW_ABOVE_PIXELS] {
-            let together = render(Some(above), distance);
-            let view = format!("{view}, subgroup above {above} px");
+    let render = |(interval, target): &(Interval, OpticalTarget), distance: f32| {
+        let cam = camera(-35.0, 25.0, distance);
+        interval.render(&gpu, &gpu_mesh, target, &cam).unwrap()
+    };
+    let reference = interval(SubgroupDraw::Off);
+    let alone: Vec<_> = views.iter().map(|v| render(&reference, v.1)).collect();
+    drop(reference);
+    // Every tet by the subgroup, the default's mix of both within one subgroup, and limits
+    // each subgroup chooses: with no set-up cost (mostly the smallest limit), a middling one,
+    // and one so large that the largest limit wins (most tets alone).
+    let ways = [
+        SubgroupDraw::Above(0),
+        SubgroupDraw::Above(SUBGROUP_DRAW_ABOVE_PIXELS),
+        SubgroupDraw::Chosen { setup_pixels: 0 },
+        SubgroupDraw::Chosen { setup_pixels: 64 },
+        SubgroupDraw::Chosen {
+            setup_pixels: 1 << 20,
+        },
+    ];
+    for way in ways {
+        let drawn = interval(way);
+        for ((view, distance, min_covered), alone) in views.iter().zip(&alone) {
+            let together = render(&drawn, *distance);
+            let view = format!("{view}, {}", way.name());
             let covered = assert_same_sums(&view, &together.values, &alone.values);
-            assert!(covered >= min_covered, "{view}: {covered} pixels covered");
+            assert!(covered >= *min_covered, "{view}: {covered} pixels covered");
             assert_eq!(together.tiled, alone.tiled, "{view}: tiled tets");
             assert_eq!(together.clipped_near, alone.clipped_near, "{view}");
         }

@@ -6,7 +6,10 @@ use super::{BenchConfig, BenchRecord, FramePlan, RecordSink};
 use crate::error::{Error, Result};
 use crate::path::{Path, PathChoice};
 use crate::renderer::{self, IntervalTuning, Renderer, RendererOptions, Technique};
-use crate::tet::interval::{path_support, ComputeScheme, DEFAULT_INLINE_PIXEL_LIMIT};
+use crate::tet::interval::{
+    path_support, ComputeScheme, SubgroupDraw, DEFAULT_INLINE_PIXEL_LIMIT,
+    SUBGROUP_DRAW_ABOVE_PIXELS,
+};
 use std::collections::BTreeMap;
 use tessera_data::scene::{Appearance, DataKind, Dataset, IntegrandChoice, LoadOptions};
 use tessera_data::transfer::ScalarMode;
@@ -51,8 +54,16 @@ fn wanted_support(gpu: &Gpu, wanted: &[Path]) -> crate::path::Support {
 }
 
 /// `small`: whether the untiled compute variant is affordable (it takes seconds per frame from
-/// inside meshes, and on large ones close up).
-fn variants(gpu: &Gpu, wanted: &[Path], view: &str, scalar: bool, small: bool) -> Vec<Variant> {
+/// inside meshes, and on large ones close up). `subgroup_ways`: also the per-tet pass with
+/// each way of [`SUBGROUP_WAYS`] (listed only when asked for: they multiply the cells).
+fn variants(
+    gpu: &Gpu,
+    wanted: &[Path],
+    view: &str,
+    scalar: bool,
+    small: bool,
+    subgroup_ways: bool,
+) -> Vec<Variant> {
     let support = wanted_support(gpu, wanted);
     let mut out = Vec::new();
     let (integrand, kind) = if scalar {
@@ -102,6 +113,18 @@ fn variants(gpu: &Gpu, wanted: &[Path], view: &str, scalar: bool, small: bool) -
             };
             out.push(Variant::new(Path::Compute, tuning, integrand, label));
         }
+        for way in SUBGROUP_WAYS.iter().filter(|_| subgroup_ways) {
+            let tuning = IntervalTuning {
+                compute_scheme: ComputeScheme::PerTet,
+                subgroup_draw: *way,
+                ..IntervalTuning::default()
+            };
+            let label = format!(
+                "{kind}, tiles above {DEFAULT_INLINE_PIXEL_LIMIT} px, {}",
+                way.name()
+            );
+            out.push(Variant::new(Path::Compute, tuning, integrand, label));
+        }
         out.push(scheme(
             ComputeScheme::Binned,
             integrand,
@@ -115,6 +138,18 @@ fn variants(gpu: &Gpu, wanted: &[Path], view: &str, scalar: bool, small: bool) -
     }
     out
 }
+
+/// The per-tet pass's ways of drawing with subgroups that `--variants subgroup` compares: the
+/// default (`Above(SUBGROUP_DRAW_ABOVE_PIXELS)`), none, a higher limit, and limits chosen per
+/// subgroup with three set-up costs.
+const SUBGROUP_WAYS: [SubgroupDraw; 6] = [
+    SubgroupDraw::Above(SUBGROUP_DRAW_ABOVE_PIXELS),
+    SubgroupDraw::Off,
+    SubgroupDraw::Above(256),
+    SubgroupDraw::Chosen { setup_pixels: 32 },
+    SubgroupDraw::Chosen { setup_pixels: 128 },
+    SubgroupDraw::Chosen { setup_pixels: 512 },
+];
 
 /// The compute path's binned or automatic scheme (the tile limit the automatic one, for the
 /// tets the binned lists have no room for).
@@ -259,9 +294,10 @@ impl MeshBench<'_> {
         // A renderer per variant, made (and the mesh uploaded) the first time it is needed.
         let mut renderers: BTreeMap<String, Box<dyn Renderer>> = BTreeMap::new();
         for &(view, distance) in views {
-            let mut all = variants(gpu, self.paths, view, false, small);
+            let ways = self.wanted.is_some_and(|text| text.contains("subgroup"));
+            let mut all = variants(gpu, self.paths, view, false, small, ways);
             if scalar {
-                all.extend(variants(gpu, self.paths, view, true, small));
+                all.extend(variants(gpu, self.paths, view, true, small, ways));
             }
             self.keep_wanted(&mut all);
             for variant in &all {

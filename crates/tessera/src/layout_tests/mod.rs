@@ -5,7 +5,7 @@
 
 use crate::builtin_shader;
 use crate::path::Path;
-use crate::tet::interval::{Interval, IntervalOptions, TileCapacity};
+use crate::tet::interval::{Interval, IntervalOptions, SubgroupDraw, TileCapacity};
 use std::collections::BTreeSet;
 use std::mem::{offset_of, size_of};
 use tessera_gpu::{Source, Spirv, PUSH_CONSTANT_BYTES};
@@ -127,7 +127,7 @@ fn interval_structs(t: &mut Table) {
     let defines = Interval::defines(&IntervalOptions::new(Path::Compute));
     let raster = compile(
         &builtin_shader!("../tet/interval/interval_raster.comp.glsl"),
-        &compute_defines(&defines, TileCapacity::default(), None),
+        &compute_defines(&defines, TileCapacity::default(), SubgroupDraw::Off),
     );
     #[rustfmt::skip]
     t.push_constants::<IntervalParams>(&raster, "IntervalParams", host!(IntervalParams,

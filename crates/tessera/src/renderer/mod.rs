@@ -34,7 +34,7 @@ mod technique;
 use crate::error::{Error, Result};
 use crate::path::Path;
 pub use crate::target::Target;
-pub use crate::tet::interval::{ComputeScheme, IntervalTuning};
+pub use crate::tet::interval::{ComputeScheme, IntervalTuning, SubgroupDraw};
 use std::collections::BTreeMap;
 pub use technique::{path_for, Culling, RendererOptions, Technique, OPTION_NAMES};
 pub use tessera_data::mc_ambiguity::AmbiguityRule;

@@ -6,7 +6,7 @@ use tessera::path::Path;
 use tessera::shaders;
 use tessera::tet::interval::{
     BinCapacity, ComputeScheme, GpuTetMesh, Integrand, Interval, IntervalFrame, IntervalOptions,
-    TileCapacity,
+    SubgroupDraw, TileCapacity,
 };
 use tessera_data::tet::optical::{edge_mask, optical_depth};
 use tessera_data::tet::TetMesh;
@@ -229,7 +229,7 @@ pub fn variants(gpu: &Gpu, integrand: &Integrand, all: bool) -> Vec<(String, Int
                 out.push((
                     "compute, each tet drawn by its invocation".into(),
                     IntervalOptions {
-                        subgroup_draw_above: None,
+                        subgroup_draw: SubgroupDraw::Off,
                         ..base.clone()
                     },
                 ));

@@ -9,7 +9,7 @@
 use super::binned::{BinCapacity, TetBins};
 use super::mesh::GpuTetMesh;
 use super::scheme_choice::DrawScheme;
-use super::{ComputeScheme, IntervalParams};
+use super::{ComputeScheme, IntervalParams, SubgroupDraw, SUBGROUP_DRAW_CHOICES};
 use crate::builtin_shader;
 use crate::error::{Error, Result};
 use crate::raster::{create_counts_buffer, IndirectArgs};
@@ -52,14 +52,25 @@ pub struct IntervalCompute {
     bins: Option<TetBins>,
 }
 
-/// The interval defines, the tile pass's sizes, and whether the per-tet pass's subgroups draw
-/// their tets together (`INTERVAL_SUBGROUP_DRAW`) and above how many pixels of a tet's screen
-/// rectangle (`SUBGROUP_DRAW_ABOVE_PIXELS`).
+/// The interval defines, the tile pass's sizes, and which tets the per-tet pass's subgroups
+/// draw together: none (`INTERVAL_SUBGROUP_DRAW` 0), those above a fixed number of pixels of
+/// their screen rectangle (`SUBGROUP_DRAW_ABOVE_PIXELS`), or above the limit of
+/// `SUBGROUP_DRAW_LIMITS` each subgroup chooses (`SUBGROUP_DRAW_CHOSEN` 1, a shared tet
+/// costing `SUBGROUP_DRAW_SETUP_PIXELS` beyond its pixels).
 pub(crate) fn compute_defines(
     defines: &[(String, String)],
     capacity: TileCapacity,
-    subgroup_draw_above: Option<u32>,
+    subgroup_draw: SubgroupDraw,
 ) -> Vec<(String, String)> {
+    let (above, chosen, setup) = match subgroup_draw {
+        SubgroupDraw::Off => (0, false, 0),
+        SubgroupDraw::Above(pixels) => (pixels, false, 0),
+        SubgroupDraw::Chosen { setup_pixels } => (0, true, setup_pixels),
+    };
+    let limits: Vec<String> = SUBGROUP_DRAW_CHOICES
+        .iter()
+        .map(|l| format!("{l}u"))
+        .collect();
     let mut defines = defines.to_vec();
     defines.extend([
         ("TILE".into(), TILE.to_string()),
@@ -68,11 +79,14 @@ pub(crate) fn compute_defines(
         ("TILE_CAPACITY".into(), format!("{}u", capacity.tiles)),
         (
             "INTERVAL_SUBGROUP_DRAW".into(),
-            u32::from(subgroup_draw_above.is_some()).to_string(),
+            u32::from(subgroup_draw != SubgroupDraw::Off).to_string(),
         ),
+        ("SUBGROUP_DRAW_ABOVE_PIXELS".into(), format!("{above}u")),
+        ("SUBGROUP_DRAW_CHOSEN".into(), u32::from(chosen).to_string()),
+        ("SUBGROUP_DRAW_SETUP_PIXELS".into(), format!("{setup}u")),
         (
-            "SUBGROUP_DRAW_ABOVE_PIXELS".into(),
-            format!("{}u", subgroup_draw_above.unwrap_or(0)),
+            "SUBGROUP_DRAW_LIMITS".into(),
+            format!("uint[]({})", limits.join(", ")),
         ),
     ]);
     defines
@@ -86,7 +100,7 @@ impl IntervalCompute {
         capacity: TileCapacity,
         scheme: ComputeScheme,
         bin_capacity: BinCapacity,
-        subgroup_draw_above: Option<u32>,
+        subgroup_draw: SubgroupDraw,
     ) -> Result<IntervalCompute> {
         let caps = gpu.caps();
         if !caps.buffer_float32_atomic_add {
@@ -96,9 +110,12 @@ impl IntervalCompute {
             )));
         }
         // Asked for and possible on the device; otherwise each invocation draws its own tet.
-        let subgroup_draw_above = subgroup_draw_above
-            .filter(|_| caps.subgroup_arithmetic && caps.subgroup_ballot_and_shuffle);
-        let defines = compute_defines(defines, capacity, subgroup_draw_above);
+        let subgroup_draw = if caps.subgroup_arithmetic && caps.subgroup_ballot_and_shuffle {
+            subgroup_draw
+        } else {
+            SubgroupDraw::Off
+        };
+        let defines = compute_defines(defines, capacity, subgroup_draw);
         let slots = [Slot::StorageBuffer; super::COMMON_BINDINGS + 4];
         let raster = compiler.compile(&builtin_shader!("interval_raster.comp.glsl"), &defines)?;
         let tiles = compiler.compile(&builtin_shader!("interval_tiles.comp.glsl"), &defines)?;

@@ -33,9 +33,11 @@ void main() {
 #if INTERVAL_SUBGROUP_DRAW
     // A tet the near plane cut (up to three proxies) is rare enough to be drawn alone; a small
     // one is drawn faster alone than by a subgroup stepping through its tets one at a time
-    // (tet/interval/mod.rs, SUBGROUP_DRAW_ABOVE_PIXELS).
+    // (tet/interval/mod.rs, SUBGROUP_DRAW_ABOVE_PIXELS and SubgroupDraw).
     uvec2 extent = last - first + 1u;
-    bool grouped = here && n == 1u && extent.x * extent.y > SUBGROUP_DRAW_ABOVE_PIXELS;
+    uint pixels = here ? extent.x * extent.y : 0u;
+    uint limit = subgroup_draw_limit(here && n == 1u, pixels);
+    bool grouped = here && n == 1u && pixels > limit;
     if (here && !grouped) {
         draw_proxies(tet, proxies, n, first, last);
     }

@@ -156,12 +156,42 @@ pub struct IntervalOptions {
     pub compute_scheme: ComputeScheme,
     /// Binned compute path: the lists' first capacity (they grow, see [`Interval::grow_buffers`]).
     pub bin_capacity: BinCapacity,
-    /// Compute path: the per-tet pass's subgroups draw together the tets whose screen
-    /// rectangle holds more than this many pixels, where the device has subgroup ballot,
-    /// shuffle and arithmetic; each invocation draws the smaller ones itself. `None`: each
-    /// invocation draws its own tet, as on devices without them. The image is the same either
-    /// way. [`SUBGROUP_DRAW_ABOVE_PIXELS`] by default.
-    pub subgroup_draw_above: Option<u32>,
+    /// Compute path: which tets the per-tet pass's subgroups draw together.
+    pub subgroup_draw: SubgroupDraw,
+}
+
+/// Which tets the per-tet pass's subgroups draw together, all invocations of a subgroup taking
+/// the pixels of one tet after another, where the device has subgroup ballot, shuffle and
+/// arithmetic (elsewhere each invocation draws its own tet). The image is the same every way.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SubgroupDraw {
+    /// Each invocation draws its own tet.
+    Off,
+    /// The tets whose screen rectangle holds more than this many pixels; each invocation
+    /// draws the smaller ones itself.
+    Above(u32),
+    /// Each subgroup takes the limit of [`SUBGROUP_DRAW_CHOICES`] whose estimated time is least:
+    /// the largest rectangle one of its invocations draws alone, plus, for each tet drawn
+    /// together, `setup_pixels` and its rectangle's pixels spread over the subgroup.
+    Chosen { setup_pixels: u32 },
+}
+
+impl Default for SubgroupDraw {
+    fn default() -> Self {
+        SubgroupDraw::Above(SUBGROUP_DRAW_ABOVE_PIXELS)
+    }
+}
+
+impl SubgroupDraw {
+    pub fn name(self) -> String {
+        match self {
+            SubgroupDraw::Off => "subgroup drawing off".into(),
+            SubgroupDraw::Above(pixels) => format!("subgroup drawing above {pixels} px"),
+            SubgroupDraw::Chosen { setup_pixels } => {
+                format!("subgroup drawing chosen (set-up {setup_pixels} px)")
+            }
+        }
+    }
 }
 
 /// The settings of interval shading that trade speed between meshes and views, without
@@ -175,6 +205,8 @@ pub struct IntervalTuning {
     pub inline_pixel_limit: Option<u32>,
     /// Compute path: per tet or binned.
     pub compute_scheme: ComputeScheme,
+    /// Compute path: which tets the per-tet pass's subgroups draw together.
+    pub subgroup_draw: SubgroupDraw,
 }
 
 impl Default for IntervalTuning {
@@ -183,6 +215,7 @@ impl Default for IntervalTuning {
             tets_per_workgroup: graphics::MAX_TETS_PER_WORKGROUP,
             inline_pixel_limit: None,
             compute_scheme: ComputeScheme::default(),
+            subgroup_draw: SubgroupDraw::default(),
         }
     }
 }
@@ -201,7 +234,7 @@ impl IntervalOptions {
             tile_capacity: TileCapacity::default(),
             compute_scheme: tuning.compute_scheme,
             bin_capacity: BinCapacity::default(),
-            subgroup_draw_above: Some(SUBGROUP_DRAW_ABOVE_PIXELS),
+            subgroup_draw: tuning.subgroup_draw,
         }
     }
 }
@@ -274,6 +307,9 @@ pub const DEFAULT_INLINE_PIXEL_LIMIT: u32 = 16384;
 /// box close at 1920×1080, the 2.4 M box far at 3840×2160).
 pub const SUBGROUP_DRAW_ABOVE_PIXELS: u32 = 64;
 
+/// The limits [`SubgroupDraw::Chosen`] chooses among, per subgroup.
+pub const SUBGROUP_DRAW_CHOICES: [u32; 4] = [64, 256, 1024, 4096];
+
 /// The paths interval shading can run on `caps`'s device: mesh shaders for the graphics path,
 /// float atomics for the compute path.
 pub fn path_support(caps: &tessera_gpu::Capabilities) -> crate::path::Support {
@@ -320,7 +356,7 @@ impl Interval {
                 options.tile_capacity,
                 options.compute_scheme,
                 options.bin_capacity,
-                options.subgroup_draw_above,
+                options.subgroup_draw,
             )?)),
         };
         let composite = Composite::new(gpu, compiler, &defines, options.path)?;

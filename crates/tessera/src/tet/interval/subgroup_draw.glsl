@@ -11,6 +11,33 @@
 // same drawing shared by a workgroup through shared memory lost (21-33 ms far; runs 91, 92).
 // Needs subgroup ballot, shuffle and arithmetic enabled, tet_draw.glsl and what it needs.
 
+// The number of pixels above which this subgroup draws a tet together: SUBGROUP_DRAW_ABOVE_PIXELS,
+// or with SUBGROUP_DRAW_CHOSEN the one of SUBGROUP_DRAW_LIMITS whose estimated time is least
+// for the subgroup's tets. An invocation's `pixels` is its tet's rectangle (0 where it draws
+// none; `groupable` false where the tet must be drawn alone). The estimate: the largest
+// rectangle one invocation draws alone, plus, for each tet drawn together, its rectangle
+// spread over the subgroup and SUBGROUP_DRAW_SETUP_PIXELS for the tet's set-up. Call from
+// uniform control flow.
+uint subgroup_draw_limit(bool groupable, uint pixels) {
+#if SUBGROUP_DRAW_CHOSEN
+    const uint limits[] = SUBGROUP_DRAW_LIMITS;
+    uint chosen = limits[0];
+    uint least = 0xffffffffu;
+    for (uint k = 0u; k < uint(limits.length()); ++k) {
+        bool together = groupable && pixels > limits[k];
+        uint alone = subgroupMax(together ? 0u : pixels);
+        uint spread = subgroupAdd(together ? SUBGROUP_DRAW_SETUP_PIXELS + pixels / gl_SubgroupSize : 0u);
+        if (alone + spread < least) {
+            least = alone + spread;
+            chosen = limits[k];
+        }
+    }
+    return chosen;
+#else
+    return SUBGROUP_DRAW_ABOVE_PIXELS;
+#endif
+}
+
 // Invocation `lane`'s proxy, for every invocation.
 Proxy shuffle_proxy(Proxy proxy, uint lane) {
     Proxy p;
