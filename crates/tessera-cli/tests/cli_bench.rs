@@ -100,24 +100,7 @@ fn growth_measures_every_technique_along_both_ladders() {
 fn interval_times_only_the_variants_asked_for() {
     let records = bench_records(
         "bench_variants",
-        &[
-            "interval",
-            "--quick",
-            "--data",
-            "tets:box:3",
-            "--paths",
-            "compute",
-            "--frames",
-            "1",
-            "--warmup",
-            "0",
-            "--min-warmup-ms",
-            "0",
-            "--variants",
-            "scalar",
-            "--sizes",
-            "64x48,80x40",
-        ],
+        &quick_interval(&["--variants", "scalar", "--sizes", "64x48,80x40"]),
     );
     // Every variant and view at each size asked for, in that order.
     let sizes: Vec<(u64, u64)> = records
@@ -157,22 +140,10 @@ fn interval_times_only_the_variants_asked_for() {
 fn interval_compares_the_ways_of_subgroup_drawing_when_asked() {
     let records = bench_records(
         "bench_subgroup_ways",
-        &[
-            "interval",
-            "--quick",
-            "--data",
-            "tets:box:3",
-            "--paths",
-            "compute",
-            "--frames",
-            "1",
-            "--warmup",
-            "0",
-            "--min-warmup-ms",
-            "0",
+        &quick_interval(&[
             "--variants",
             "tet absorption, tiles above 16384 px, subgroup",
-        ],
+        ]),
     );
     let variants: BTreeSet<&str> = records
         .iter()
@@ -257,6 +228,27 @@ fn a_keep_busy_target_that_is_not_a_duration_is_refused() {
 
 /// The JSON records of `tessera --validation bench ARGS --json FILE` (FILE in a scratch folder
 /// named `scratch_name`), after checking that it succeeded.
+/// `bench interval` on a small box, compute path, one frame per cell and no warm-up, then
+/// `more`.
+fn quick_interval<'a>(more: &[&'a str]) -> Vec<&'a str> {
+    let mut args = vec![
+        "interval",
+        "--quick",
+        "--data",
+        "tets:box:3",
+        "--paths",
+        "compute",
+        "--frames",
+        "1",
+        "--warmup",
+        "0",
+        "--min-warmup-ms",
+        "0",
+    ];
+    args.extend_from_slice(more);
+    args
+}
+
 fn bench_records(scratch_name: &str, args: &[&str]) -> Vec<Value> {
     let json = scratch(scratch_name).join("records.jsonl");
     let mut all = vec!["--validation", "bench"];
