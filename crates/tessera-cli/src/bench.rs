@@ -65,7 +65,8 @@ pub struct BenchArgs {
     /// `extraction` also times each extractor with stages left out, to place its time.
     #[arg(long)]
     ablations: bool,
-    /// `interval` times only the variants whose label holds this text (e.g. "scalar").
+    /// `interval` times only the variants whose label holds this text (e.g. "scalar";
+    /// "subgroup" also lists the per-tet pass's ways of drawing with a whole subgroup).
     #[arg(long)]
     variants: Option<String>,
 }
