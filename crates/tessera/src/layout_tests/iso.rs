@@ -9,8 +9,9 @@ use tessera_data::ScalarType;
 
 pub(super) fn isosurface_structs(t: &mut Table) {
     use crate::iso::direct::block_list::BlockListHeader;
-    use crate::iso::direct::compute::{ReprojectParams, ResolveParams};
+    use crate::iso::direct::compute::ReprojectParams;
     use crate::iso::direct::compute_cull::HzbTestParams;
+    use crate::iso::direct::resolve::ResolveParams;
     use crate::iso::direct::stereo::StereoViews;
     use crate::iso::direct::DirectParams;
     use crate::iso::minmax::{block_defines, rows_defines, BlockParams, GroupParams, LevelsParams};

@@ -7,12 +7,11 @@ use crate::builtin_shader;
 use crate::config::{marching_cubes_defines, volume_defines};
 use crate::error::{Error, Result};
 use crate::iso::direct::compute_cull::ComputeCullPipelines;
+use crate::iso::direct::resolve::{ShadedList, SurfaceResolve};
 use crate::iso::direct::{Direct, DirectParams};
 use crate::iso::minmax::MinMaxBuilder;
 use crate::iso::PreparedVolume;
-use crate::raster::{
-    raster_defines, resolve_groups, ComputeRasterizer, RasterFrame, TRIANGLE_BYTES,
-};
+use crate::raster::{raster_defines, ComputeRasterizer, RasterFrame, TRIANGLE_BYTES};
 use crate::target::Target;
 use bytemuck::{Pod, Zeroable};
 use tessera_data::mc_ambiguity::AmbiguityRule;
@@ -34,6 +33,14 @@ pub struct TriangleLists {
 }
 
 impl TriangleLists {
+    /// The triangles and attributes, as the resolve reads them.
+    pub fn shaded(&self) -> ShadedList<'_> {
+        ShadedList {
+            triangles: &self.triangles,
+            attributes: &self.attributes,
+        }
+    }
+
     pub fn new(gpu: &Gpu, capacity: u32) -> Result<TriangleLists> {
         let usage = vk::BufferUsageFlags::STORAGE_BUFFER
             | vk::BufferUsageFlags::TRANSFER_SRC
@@ -171,15 +178,6 @@ pub(crate) fn extract_defines(scalar: ScalarType, rule: AmbiguityRule) -> Vec<(S
     [marching_cubes_defines(scalar, rule), raster_defines()].concat()
 }
 
-/// Push constants of `resolve.comp.glsl`.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Pod, Zeroable)]
-pub struct ResolveParams {
-    pub eye_world: [f32; 4],
-    pub light: [f32; 4],
-    pub size: [u32; 4],
-}
-
 /// What a compute-path frame writes besides its pixels (which go to a [`Target`] of the
 /// caller's): the triangle lists and the rasterizer's depth|index frame.
 pub struct ComputeTarget {
@@ -214,7 +212,7 @@ pub struct DirectCompute {
     extract: DirectExtract,
     pub(super) rasterizer: ComputeRasterizer,
     pub(super) cull: ComputeCullPipelines,
-    resolve: Pipeline,
+    resolve: SurfaceResolve,
     reproject: Pipeline,
     builder: MinMaxBuilder,
 }
@@ -242,9 +240,7 @@ impl DirectCompute {
     ) -> Result<DirectCompute> {
         let rasterizer = ComputeRasterizer::new(gpu, compiler)?;
         let defines = volume_defines(scalar);
-        let resolve = compiler.compile(&builtin_shader!("resolve.comp.glsl"), &defines)?;
-        let resolve =
-            gpu.compute_pipeline("direct resolve", &resolve, &[Slot::StorageBuffer; 4])?;
+        let resolve = SurfaceResolve::new(gpu, compiler, &defines, false, "direct resolve")?;
         let reproject = compiler.compile(&builtin_shader!("reproject.comp.glsl"), &defines)?;
         let reproject =
             gpu.compute_pipeline("direct reproject", &reproject, &[Slot::StorageBuffer; 4])?;
@@ -332,27 +328,12 @@ impl DirectCompute {
         pixels: &Target,
         params: &DirectParams,
     ) {
-        let e = params.eye_world;
-        let resolve = ResolveParams {
-            eye_world: [e[0], e[1], e[2], 0.0],
-            light: params.light,
-            size: [target.frame.width, target.frame.height, 0, 0],
+        let list = ShadedList {
+            triangles: &target.lists.triangles,
+            attributes,
         };
-        rec.dispatch_groups(
-            &self.resolve,
-            &[
-                Binding::Buffer(&target.frame.depth_payload),
-                Binding::Buffer(&target.lists.triangles),
-                Binding::Buffer(attributes),
-                Binding::Buffer(&pixels.pixels),
-            ],
-            bytemuck::bytes_of(&resolve),
-            resolve_groups(
-                target.frame.width,
-                target.frame.height,
-                self.resolve.local_size[0],
-            ),
-        );
+        self.resolve
+            .record(rec, &target.frame, list, pixels, params.lighting());
     }
 
     /// Renders one frame into `pixels`: the image, the GPU time in milliseconds and what

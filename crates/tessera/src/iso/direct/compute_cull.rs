@@ -41,6 +41,7 @@ use crate::builtin_shader;
 use crate::error::Result;
 use crate::iso::direct::block_list;
 use crate::iso::direct::compute::{extract_defines, ComputeTarget, TriangleLists};
+use crate::iso::direct::resolve::SurfaceResolve;
 use crate::iso::PreparedVolume;
 use crate::raster::hzb::{hzb_bytes, HzbBuilder};
 use bytemuck::{Pod, Zeroable};
@@ -74,7 +75,7 @@ pub(crate) struct ComputeCullPipelines {
     pub(super) extract_list: Pipeline,
     pub(super) hzb: HzbBuilder,
     pub(super) test: Pipeline,
-    pub(super) resolve: Pipeline,
+    pub(super) resolve: SurfaceResolve,
     pub(super) compact: Pipeline,
     pub(super) max_groups_x: u32,
 }
@@ -95,8 +96,6 @@ impl ComputeCullPipelines {
         let sb = Slot::StorageBuffer;
         let extract =
             compiler.compile(&builtin_shader!("extract.comp.glsl"), &with("BLOCK_LIST"))?;
-        let resolve =
-            compiler.compile(&builtin_shader!("resolve.comp.glsl"), &with("TWO_LISTS"))?;
         let test = compiler.compile(&builtin_shader!("hzb_test.comp.glsl"), &defines)?;
         let compact = compiler.compile(&builtin_shader!("hzb_compact.comp.glsl"), &defines)?;
         let extract_slots = [Slot::Texture, sb, sb, sb, sb, sb, sb];
@@ -104,7 +103,8 @@ impl ComputeCullPipelines {
             gpu.compute_pipeline("direct extract (block list)", &extract, &extract_slots)?;
         let hzb = HzbBuilder::new(gpu, compiler)?;
         let test = gpu.compute_pipeline("hzb test", &test, &[sb; 5])?;
-        let resolve = gpu.compute_pipeline("direct resolve (two lists)", &resolve, &[sb; 7])?;
+        let resolve =
+            SurfaceResolve::new(gpu, compiler, &defines, true, "direct resolve (two lists)")?;
         let compact = gpu.compute_pipeline("hzb compact", &compact, &[sb; 3])?;
         Ok(ComputeCullPipelines {
             extract_list,

@@ -2,14 +2,13 @@
 
 use crate::error::{Error, Result};
 use crate::iso::direct::block_list::{self, BlockListHeader};
-use crate::iso::direct::compute::{ComputeTarget, DirectCompute, ResolveParams, TriangleLists};
+use crate::iso::direct::compute::{ComputeTarget, DirectCompute, TriangleLists};
 use crate::iso::direct::compute_cull::{
     groups_2d, ComputeCullState, ComputeCullStats, HzbTestParams,
 };
 use crate::iso::direct::{Direct, DirectParams};
 use crate::iso::PreparedVolume;
 use crate::raster::hzb::hzb_levels;
-use crate::raster::resolve_groups;
 use crate::target::Target;
 use tessera_data::{OrbitCamera, RgbaImage};
 use tessera_gpu::{Binding, Buffer, Gpu, Pipeline, Recorder, Timer};
@@ -139,25 +138,14 @@ impl DirectCompute {
         });
         // Shade, flag the blocks that own pixels, list them for next frame.
         stage("cull-resolve", &|rec| {
-            let e = params.eye_world;
-            let resolve = ResolveParams {
-                eye_world: [e[0], e[1], e[2], 0.0],
-                light: params.light,
-                size: [w, h, base, 0],
-            };
-            rec.dispatch_groups(
-                &c.resolve,
-                &[
-                    Binding::Buffer(&target.frame.depth_payload),
-                    Binding::Buffer(&a.triangles),
-                    Binding::Buffer(&a.attributes),
-                    Binding::Buffer(&pixels.pixels),
-                    Binding::Buffer(&b_lists.triangles),
-                    Binding::Buffer(&b_lists.attributes),
-                    Binding::Buffer(&state.flags),
-                ],
-                bytemuck::bytes_of(&resolve),
-                resolve_groups(w, h, c.resolve.local_size[0]),
+            c.resolve.record_two(
+                rec,
+                &target.frame,
+                (a.shaded(), b_lists.shaded()),
+                base,
+                &state.flags,
+                pixels,
+                params.lighting(),
             );
             rec.barrier();
             rec.dispatch_groups(

@@ -16,6 +16,7 @@ pub mod compute_cull;
 mod compute_cull_frame;
 pub mod cull;
 pub mod cull_choice;
+pub mod resolve;
 pub mod stereo;
 
 use crate::builtin_shader;
@@ -61,6 +62,17 @@ pub struct DirectParams {
     pub dims: [u32; 3],
     /// Triangles the mesh path's debug capture (0: off) or the compute path's list holds.
     pub triangle_capacity: u32,
+}
+
+impl DirectParams {
+    /// The eye and light the compute path's resolve shades with.
+    pub fn lighting(&self) -> resolve::Lighting {
+        let l = self.light;
+        resolve::Lighting {
+            eye: self.eye_world,
+            light: [l[0], l[1], l[2]],
+        }
+    }
 }
 
 /// What one frame did.

@@ -4,33 +4,26 @@
 //! shade alike.
 
 use super::MeshletDrawParams;
-use crate::builtin_shader;
 use crate::config::meshlet_draw_defines;
 use crate::error::{Error, Result};
-use crate::iso::direct::compute::{ComputeTarget, ResolveParams};
-use crate::raster::{resolve_groups, ComputeRasterizer, RasterFrame};
+use crate::iso::direct::compute::ComputeTarget;
+use crate::iso::direct::resolve::{Lighting, SurfaceResolve};
+use crate::raster::ComputeRasterizer;
 use crate::target::Target;
-use tessera_gpu::{Binding, Gpu, Pipeline, Recorder, ShaderCompiler, Slot};
+use tessera_gpu::{Gpu, Recorder, ShaderCompiler};
 
 pub struct ListResolve {
     rasterizer: ComputeRasterizer,
-    resolve: Pipeline,
+    resolve: SurfaceResolve,
 }
 
 impl ListResolve {
     /// The passes, their pipelines named after `what` draws.
     pub fn new(gpu: &Gpu, compiler: &ShaderCompiler, what: &str) -> Result<ListResolve> {
-        let resolve = compiler.compile(
-            &builtin_shader!("../direct/resolve.comp.glsl"),
-            &meshlet_draw_defines(),
-        )?;
+        let name = format!("{what} resolve");
         Ok(ListResolve {
             rasterizer: ComputeRasterizer::new(gpu, compiler)?,
-            resolve: gpu.compute_pipeline(
-                &format!("{what} resolve"),
-                &resolve,
-                &[Slot::StorageBuffer; 4],
-            )?,
+            resolve: SurfaceResolve::new(gpu, compiler, &meshlet_draw_defines(), false, &name)?,
         })
     }
 
@@ -52,7 +45,7 @@ impl ListResolve {
 
     /// Rasterizes `target`'s list (written and followed by a barrier; the pass that wrote it
     /// grew the raster pass's dispatch arguments, and the frame was emptied with
-    /// [`RasterFrame::record_fill_empty`] before a barrier ahead of that pass) and shades it
+    /// [`crate::raster::RasterFrame::record_fill_empty`] before a barrier ahead of that pass) and shades it
     /// into `pixels` as `params` light it.
     pub fn record(
         &self,
@@ -64,33 +57,19 @@ impl ListResolve {
         let frame = &target.frame;
         self.rasterizer
             .record_raster(rec, &target.lists.triangles, &target.lists.counts, frame);
-        let shading = resolve_params(params, frame, 0);
-        rec.dispatch_groups(
-            &self.resolve,
-            &[
-                Binding::Buffer(&frame.depth_payload),
-                Binding::Buffer(&target.lists.triangles),
-                Binding::Buffer(&target.lists.attributes),
-                Binding::Buffer(&pixels.pixels),
-            ],
-            bytemuck::bytes_of(&shading),
-            resolve_groups(frame.width, frame.height, self.resolve.local_size[0]),
-        );
+        let list = target.lists.shaded();
+        self.resolve
+            .record(rec, frame, list, pixels, params.lighting());
         rec.barrier();
     }
 }
 
-/// The shading of `direct`'s resolve for a draw with `params` into `frame`; `second_list` is
-/// the index base of the second triangle list (occlusion culling), 0 without one.
-pub(super) fn resolve_params(
-    params: &MeshletDrawParams,
-    frame: &RasterFrame,
-    second_list: u32,
-) -> ResolveParams {
-    let (e, l) = (params.eye_world, params.light);
-    ResolveParams {
-        eye_world: [e[0], e[1], e[2], 0.0],
-        light: [l[0], l[1], l[2], 0.0],
-        size: [frame.width, frame.height, second_list, 0],
+impl MeshletDrawParams {
+    /// The eye and light the compute path's resolve shades with.
+    pub(super) fn lighting(&self) -> Lighting {
+        Lighting {
+            eye: self.eye_world,
+            light: self.light,
+        }
     }
 }

@@ -16,15 +16,14 @@
 //! stands in). The flags are indexed by meshlet, so they mean nothing once
 //! the meshlets are extracted or uploaded anew: forget then.
 
-use super::list::resolve_params;
 use super::{DrawCounters, MeshletDraw, MeshletDrawParams, COUNTER_BYTES, READ_SLOTS};
 use crate::builtin_shader;
 use crate::config::meshlet_draw_defines;
 use crate::error::{Error, Result};
 use crate::iso::direct::compute::{ComputeTarget, TriangleLists};
+use crate::iso::direct::resolve::SurfaceResolve;
 use crate::iso::meshlets::GpuMeshlets;
 use crate::raster::hzb::{hzb_bytes, HzbBuilder};
-use crate::raster::resolve_groups;
 use crate::target::Target;
 use std::cell::Cell;
 use tessera_gpu::{
@@ -36,7 +35,7 @@ use tessera_gpu::{
 pub(super) struct OcclusionPasses {
     first: Pipeline,
     second: Pipeline,
-    resolve: Pipeline,
+    resolve: SurfaceResolve,
     hzb: HzbBuilder,
 }
 
@@ -65,14 +64,12 @@ impl OcclusionPasses {
                 &slots[..used],
             )?)
         };
-        let resolve = compiler.compile(
-            &builtin_shader!("../direct/resolve.comp.glsl"),
-            &with("TWO_LISTS", "1"),
-        )?;
+        let defines = meshlet_draw_defines();
+        let name = "meshlet resolve (two lists)";
         Ok(OcclusionPasses {
             first: pass("1")?,
             second: pass("2")?,
-            resolve: gpu.compute_pipeline("meshlet resolve (two lists)", &resolve, &[sb; 7])?,
+            resolve: SurfaceResolve::new(gpu, compiler, &defines, true, name)?,
             hzb: HzbBuilder::new(gpu, compiler)?,
         })
     }
@@ -247,19 +244,14 @@ impl MeshletDraw {
         }
         pass(&culling.second, second, &occlusion.second_counters, true);
         rasterizer.record_raster_with_base(rec, &second.triangles, &second.counts, frame, base);
-        rec.dispatch_groups(
-            &culling.resolve,
-            &[
-                Binding::Buffer(&frame.depth_payload),
-                Binding::Buffer(&first.triangles),
-                Binding::Buffer(&first.attributes),
-                Binding::Buffer(&pixels.pixels),
-                Binding::Buffer(&second.triangles),
-                Binding::Buffer(&second.attributes),
-                Binding::Buffer(&occlusion.flags),
-            ],
-            bytemuck::bytes_of(&resolve_params(params, frame, base)),
-            resolve_groups(frame.width, frame.height, culling.resolve.local_size[0]),
+        culling.resolve.record_two(
+            rec,
+            frame,
+            (first.shaded(), second.shaded()),
+            base,
+            &occlusion.flags,
+            pixels,
+            params.lighting(),
         );
         rec.barrier();
         self.readback

@@ -1,0 +1,135 @@
+//! The pass that shades a compute-rasterized surface frame (`resolve.comp.glsl`): `direct`'s
+//! compute path and the stored meshlet and PMB draws all shade their frames with it, from one
+//! triangle list or, with occlusion culling, from two drawn into one frame.
+
+use crate::builtin_shader;
+use crate::error::Result;
+use crate::raster::{resolve_groups, RasterFrame};
+use crate::target::Target;
+use bytemuck::{Pod, Zeroable};
+use tessera_gpu::{Binding, Buffer, Gpu, Pipeline, Recorder, ShaderCompiler, Slot};
+
+/// Push constants of `resolve.comp.glsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct ResolveParams {
+    pub eye_world: [f32; 4],
+    pub light: [f32; 4],
+    pub size: [u32; 4],
+}
+
+/// A triangle list as the resolve reads it: the rasterizer's triangles (for the
+/// barycentrics) and their shading attributes.
+#[derive(Clone, Copy)]
+pub struct ShadedList<'a> {
+    pub triangles: &'a Buffer,
+    pub attributes: &'a Buffer,
+}
+
+/// How a frame's pixels are lit: from `eye` (world space), with `light` the direction towards
+/// the light.
+#[derive(Clone, Copy, Debug)]
+pub struct Lighting {
+    pub eye: [f32; 3],
+    pub light: [f32; 3],
+}
+
+/// The resolve pipeline for one list, or for two (`TWO_LISTS`: the second list's indices
+/// start at a base, and each drawn pixel flags its triangle's block as seen).
+pub struct SurfaceResolve {
+    pipeline: Pipeline,
+    two_lists: bool,
+}
+
+impl SurfaceResolve {
+    /// The pass compiled with `defines` (plus `TWO_LISTS` when `two_lists`), its pipeline
+    /// named `name`.
+    pub fn new(
+        gpu: &Gpu,
+        compiler: &ShaderCompiler,
+        defines: &[(String, String)],
+        two_lists: bool,
+        name: &str,
+    ) -> Result<SurfaceResolve> {
+        let mut defines = defines.to_vec();
+        if two_lists {
+            defines.push(("TWO_LISTS".into(), "1".into()));
+        }
+        let spirv = compiler.compile(&builtin_shader!("resolve.comp.glsl"), &defines)?;
+        let slots = if two_lists { 7 } else { 4 };
+        let pipeline = gpu.compute_pipeline(name, &spirv, &[Slot::StorageBuffer; 7][..slots])?;
+        Ok(SurfaceResolve {
+            pipeline,
+            two_lists,
+        })
+    }
+
+    /// Records the shading of `frame`, drawn from `list`, into `pixels` (no barrier after it).
+    /// The pipeline must be a one-list one.
+    pub fn record(
+        &self,
+        rec: &Recorder,
+        frame: &RasterFrame,
+        list: ShadedList,
+        pixels: &Target,
+        lighting: Lighting,
+    ) {
+        debug_assert!(!self.two_lists, "a two-list resolve given one list");
+        let bindings = [
+            Binding::Buffer(&frame.depth_payload),
+            Binding::Buffer(list.triangles),
+            Binding::Buffer(list.attributes),
+            Binding::Buffer(&pixels.pixels),
+        ];
+        self.dispatch(rec, frame, &bindings, lighting, 0);
+    }
+
+    /// Records the shading of `frame`, drawn from `first` and from `second` with its indices
+    /// from `second_base`, into `pixels`, flagging in `block_flags` each block whose triangle
+    /// owns a pixel (no barrier after it). The pipeline must be a two-list one.
+    #[allow(clippy::too_many_arguments)]
+    pub fn record_two(
+        &self,
+        rec: &Recorder,
+        frame: &RasterFrame,
+        (first, second): (ShadedList, ShadedList),
+        second_base: u32,
+        block_flags: &Buffer,
+        pixels: &Target,
+        lighting: Lighting,
+    ) {
+        debug_assert!(self.two_lists, "a one-list resolve given two lists");
+        let bindings = [
+            Binding::Buffer(&frame.depth_payload),
+            Binding::Buffer(first.triangles),
+            Binding::Buffer(first.attributes),
+            Binding::Buffer(&pixels.pixels),
+            Binding::Buffer(second.triangles),
+            Binding::Buffer(second.attributes),
+            Binding::Buffer(block_flags),
+        ];
+        self.dispatch(rec, frame, &bindings, lighting, second_base);
+    }
+
+    fn dispatch(
+        &self,
+        rec: &Recorder,
+        frame: &RasterFrame,
+        bindings: &[Binding],
+        lighting: Lighting,
+        second_base: u32,
+    ) {
+        let (e, l) = (lighting.eye, lighting.light);
+        let params = ResolveParams {
+            eye_world: [e[0], e[1], e[2], 0.0],
+            light: [l[0], l[1], l[2], 0.0],
+            size: [frame.width, frame.height, second_base, 0],
+        };
+        rec.dispatch_groups(
+            &self.pipeline,
+            bindings,
+            bytemuck::bytes_of(&params),
+            resolve_groups(frame.width, frame.height, self.pipeline.local_size[0]),
+        );
+    }
+}
