@@ -5,7 +5,6 @@ use crate::commands::Recorder;
 use crate::context::Gpu;
 use crate::error::{GpuError, Result};
 use crate::keep_busy::KeepBusy;
-use crate::memory::Buffer;
 use crate::timer::Timer;
 use serde::Serialize;
 use std::time::{Duration, Instant};
@@ -300,13 +299,6 @@ pub fn time_once<E: From<GpuError>>(
             .map(|s| s.1)
             .unwrap_or(0.0))
     })
-}
-
-/// The `u32` words of a small GPU buffer (counters, statistics).
-pub fn read_words(gpu: &Gpu, buffer: &Buffer) -> Result<Vec<u32>> {
-    Ok(bytemuck::allocation::pod_collect_to_vec(
-        &gpu.read_buffer(buffer)?,
-    ))
 }
 
 #[cfg(test)]

@@ -65,8 +65,7 @@ fn objects_outlive_the_gpu_handle() {
     })
     .unwrap();
     assert_eq!(timer.read_ms(&gpu).unwrap().len(), 1);
-    let words: Vec<u32> =
-        bytemuck::allocation::pod_collect_to_vec(&gpu.read_buffer(&buffer).unwrap());
+    let words: Vec<u32> = gpu.read_buffer_as(&buffer).unwrap();
     assert_eq!(words[..4], [0, 3, 6, 9]);
     assert!(gpu.validation_errors().is_empty());
 
@@ -166,8 +165,7 @@ fn objects_dropped_while_recording_wait_for_the_submission() {
         baseline,
         "the scratch buffer was kept"
     );
-    let words: Vec<u32> =
-        bytemuck::allocation::pod_collect_to_vec(&gpu.read_buffer(&kept).unwrap());
+    let words: Vec<u32> = gpu.read_buffer_as(&kept).unwrap();
     assert_eq!(words[..4], [0, 3, 6, 9]);
     let errors = gpu.validation_errors();
     assert!(errors.is_empty(), "{}", errors.join("\n"));

@@ -178,7 +178,7 @@ fn rays_find_the_nearest_box_the_any_hit_shader_keeps() {
     })
     .unwrap();
     traced.unwrap();
-    let words: Vec<u32> = bytemuck::cast_slice(&gpu.read_buffer(&found).unwrap()).to_vec();
+    let words: Vec<u32> = gpu.read_buffer_as(&found).unwrap();
     let got: Vec<(u32, f32)> = words
         .chunks_exact(2)
         .map(|w| (w[0], f32::from_bits(w[1])))

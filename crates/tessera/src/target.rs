@@ -62,13 +62,11 @@ impl Target {
     }
 
     pub fn read(&self, gpu: &Gpu) -> Result<RgbaImage> {
-        let bytes = gpu.read_buffer(&self.pixels)?;
+        let count = self.width as usize * self.height as usize;
         Ok(RgbaImage {
             width: self.width,
             height: self.height,
-            pixels: bytemuck::allocation::pod_collect_to_vec(
-                &bytes[..(self.width * self.height * 4) as usize],
-            ),
+            pixels: gpu.read_elements(&self.pixels, count)?,
         })
     }
 }

@@ -62,8 +62,7 @@ fn compute_extraction_equals_cpu_marching_cubes() {
             "{}",
             volume.name()
         );
-        let counts: Vec<u32> =
-            bytemuck::allocation::pod_collect_to_vec(&gpu.read_buffer(&lists.counts).unwrap());
+        let counts: Vec<u32> = gpu.read_buffer_as(&lists.counts).unwrap();
         assert_eq!(counts[0], capacity);
         // The extraction leaves the raster pass's dispatch arguments for its triangles (none
         // at all for an empty list).
@@ -74,8 +73,7 @@ fn compute_extraction_equals_cpu_marching_cubes() {
         assert_eq!(counts[1..4], args(capacity), "{}", volume.name());
         // World positions back to grid coordinates.
         let frame = tessera_data::GridFrame::new(volume.dims(), volume.spacing());
-        let attrs: Vec<f32> =
-            bytemuck::allocation::pod_collect_to_vec(&gpu.read_buffer(&lists.attributes).unwrap());
+        let attrs: Vec<f32> = gpu.read_buffer_as(&lists.attributes).unwrap();
         let tris: Vec<[Vec3; 3]> = attrs
             .chunks_exact(24)
             .map(|a| {
@@ -102,8 +100,7 @@ fn compute_extraction_equals_cpu_marching_cubes() {
             })
             .unwrap();
             assert_eq!(extract.read_stats(&gpu).unwrap().triangles, capacity);
-            let counts: Vec<u32> =
-                bytemuck::allocation::pod_collect_to_vec(&gpu.read_buffer(&small.counts).unwrap());
+            let counts: Vec<u32> = gpu.read_buffer_as(&small.counts).unwrap();
             assert_eq!(counts[0], capacity - 1);
             assert_eq!(counts[1..4], args(capacity - 1));
         }

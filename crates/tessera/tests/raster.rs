@@ -579,7 +579,7 @@ fn hzb_pyramid_matches_cpu_levels() {
             .unwrap();
         gpu.submit("hzb", |rec| builder.record(rec, &frame, &hzb))
             .unwrap();
-        let got: Vec<f32> = bytemuck::pod_collect_to_vec(&gpu.read_buffer(&hzb).unwrap());
+        let got: Vec<f32> = gpu.read_buffer_as(&hzb).unwrap();
         let mut offset = 0;
         for (level, want) in cpu_pyramid(&depths, w, h).iter().enumerate() {
             let got = &got[offset..offset + want.len()];

@@ -111,8 +111,7 @@ fn resolve_barycentrics_are_perspective_correct() {
             )
         })
         .unwrap();
-        let got: Vec<[f32; 4]> =
-            bytemuck::allocation::pod_collect_to_vec(&gpu.read_buffer(&out).unwrap());
+        let got: Vec<[f32; 4]> = gpu.read_buffer_as(&out).unwrap();
         let mut compared = 0;
         let mut max_err = 0f64;
         for y in 0..h {

@@ -24,7 +24,7 @@ fn exclusive_scan_matches_the_cpu_and_leaves_the_rest() {
             .unwrap();
         gpu.submit("scan", |rec| scan.record(rec, &buffer, count))
             .unwrap();
-        let scanned = tessera_gpu::timing::read_words(&gpu, &buffer).unwrap();
+        let scanned = gpu.read_buffer_as::<u32>(&buffer).unwrap();
         let mut expected = values.clone();
         let mut sum = 0;
         for v in &mut expected[..count as usize] {

@@ -21,7 +21,7 @@ use std::time::{SystemTime, UNIX_EPOCH};
 use tessera_data::raw::RawOptions;
 use tessera_gpu::Gpu;
 
-pub use tessera_gpu::timing::{read_words, time_frames, time_once, FramePlan, StageStats};
+pub use tessera_gpu::timing::{time_frames, time_once, FramePlan, StageStats};
 
 /// The scenarios, by name.
 pub const SCENARIOS: &[&str] = &[

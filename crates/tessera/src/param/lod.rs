@@ -429,7 +429,7 @@ impl LodStage {
     }
 
     pub fn read_stats(&self, gpu: &Gpu) -> Result<LodStats> {
-        let w = tessera_gpu::timing::read_words(gpu, &self.state)?;
+        let w = gpu.read_buffer_as::<u32>(&self.state)?;
         let entry = |i: u32| w[(STATE_HEADER_BYTES / 4 + u64::from(i) * 4) as usize];
         Ok(LodStats {
             culled: w[0],

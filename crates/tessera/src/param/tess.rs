@@ -370,7 +370,7 @@ impl ParamTess {
     /// The last frame's indirect draw arguments: (vertices = patches per instance, instances,
     /// first vertex, first instance).
     pub fn read_draw_args(&self, gpu: &Gpu) -> Result<[u32; 4]> {
-        let w = tessera_gpu::timing::read_words(gpu, &self.draw_args)?;
+        let w = gpu.read_buffer_as::<u32>(&self.draw_args)?;
         Ok([w[0], w[1], w[2], w[3]])
     }
 

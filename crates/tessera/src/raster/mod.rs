@@ -155,10 +155,7 @@ impl RasterFrame {
 
     /// The frame's values, row-major; see [`decode`].
     pub fn read(&self, gpu: &Gpu) -> Result<Vec<u64>> {
-        let bytes = gpu.read_buffer(&self.depth_payload)?;
-        Ok(bytemuck::allocation::pod_collect_to_vec(
-            &bytes[..self.pixel_count() * 8],
-        ))
+        Ok(gpu.read_elements(&self.depth_payload, self.pixel_count())?)
     }
 }
 

@@ -98,7 +98,7 @@ mod tests {
         })
         .unwrap();
         recorded.unwrap();
-        let got: Vec<u32> = bytemuck::cast_slice(&gpu.read_buffer(&destination).unwrap()).to_vec();
+        let got: Vec<u32> = gpu.read_buffer_as(&destination).unwrap();
         let n = (copied / 4) as usize;
         assert!(got[..n] == words[..n], "copied words differ");
         assert!(

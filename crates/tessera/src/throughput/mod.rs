@@ -176,16 +176,8 @@ pub fn read_target(gpu: &Gpu, target: &Image) -> Result<Vec<u32>> {
             rec.barrier();
             rec.copy_image_to_buffer(target, &buffer);
         })
-        .and_then(|_| gpu.read_buffer(&buffer));
-    Ok(words(&result?))
-}
-
-/// Little-endian bytes as `u32` words.
-pub fn words(bytes: &[u8]) -> Vec<u32> {
-    bytes
-        .chunks_exact(4)
-        .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
-        .collect()
+        .and_then(|_| gpu.read_buffer_as(&buffer));
+    Ok(result?)
 }
 
 /// Workgroup counts for `groups` groups laid out in 2-D, so that counts past the per-axis limit

@@ -9,8 +9,8 @@
 //! here, must cover exactly the same pixels. Both timings include clearing the output (the
 //! render pass's clear, the splat's fill), which any real frame of either kind pays.
 
+use super::TARGET_FORMAT;
 use super::{create_target, record, shader_defines, spread_groups, ThroughputOptions};
-use super::{words, TARGET_FORMAT};
 use crate::bench::{time_frames, BenchRecord};
 use crate::builtin_shader;
 use crate::error::{Error, Result};
@@ -167,7 +167,7 @@ pub fn create_splat_buffer(gpu: &Gpu, width: u32, height: u32) -> Result<Buffer>
 }
 
 pub fn read_splat(gpu: &Gpu, pixels: &Buffer) -> Result<Vec<u32>> {
-    Ok(words(&gpu.read_buffer(pixels)?))
+    Ok(gpu.read_buffer_as(pixels)?)
 }
 
 /// Times the mesh path (where available) and the compute splat, and returns their records.

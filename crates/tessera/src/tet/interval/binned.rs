@@ -210,7 +210,7 @@ impl TetBins {
 
     /// The (tet, tile) entries the last frame reserved, those that did not fit included.
     pub fn read_reserved(&self, gpu: &Gpu) -> Result<u32> {
-        Ok(tessera_gpu::timing::read_words(gpu, &self.reserved)?[0])
+        Ok(gpu.read_buffer_as::<u32>(&self.reserved)?[0])
     }
 
     /// Replaces the bins by larger ones when the last frame, of a `width` × `height` image,

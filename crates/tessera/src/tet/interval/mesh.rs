@@ -197,8 +197,7 @@ impl OpticalTarget {
                 gpu.read_buffer(readback)?
             }
             OpticalStore::Buffer(buffer) => {
-                let words: Vec<f32> =
-                    bytemuck::allocation::pod_collect_to_vec(&gpu.read_buffer(buffer)?);
+                let words: Vec<f32> = gpu.read_buffer_as(buffer)?;
                 let pixels = self.width as usize * self.height as usize;
                 let at = |i, c| words[optical_index(i, c, pixels)];
                 return Ok((0..pixels)

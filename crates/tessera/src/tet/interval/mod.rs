@@ -462,7 +462,7 @@ impl Interval {
 
     /// The counters of the last frame.
     pub fn read_counts(&self, gpu: &Gpu) -> Result<IntervalCounts> {
-        let stats = tessera_gpu::timing::read_words(gpu, &self.stats)?;
+        let stats = gpu.read_buffer_as::<u32>(&self.stats)?;
         Ok(IntervalCounts {
             clipped_near: stats[0],
             tiled: stats[1].min(self.options.tile_capacity.tets),

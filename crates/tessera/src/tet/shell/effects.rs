@@ -271,8 +271,7 @@ impl EffectBuffers {
             if !on {
                 return Ok(Vec::new());
             }
-            let words: Vec<[f32; 4]> =
-                bytemuck::allocation::pod_collect_to_vec(&gpu.read_buffer(buffer)?);
+            let words: Vec<[f32; 4]> = gpu.read_buffer_as(buffer)?;
             Ok(words
                 .iter()
                 .take(self.tet_count)

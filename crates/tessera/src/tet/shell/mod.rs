@@ -72,9 +72,7 @@ impl RadianceBuffer {
 
     /// Per pixel, rows top to bottom.
     pub fn read(&self, gpu: &Gpu) -> Result<Vec<[f32; 3]>> {
-        Ok(bytemuck::allocation::pod_collect_to_vec(
-            &gpu.read_buffer(&self.buffer)?,
-        ))
+        Ok(gpu.read_buffer_as(&self.buffer)?)
     }
 }
 

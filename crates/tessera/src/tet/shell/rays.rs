@@ -170,10 +170,8 @@ impl ShellRays {
             rec.barrier();
         })?;
         recorded?;
-        let results: Vec<RayResult> =
-            bytemuck::allocation::pod_collect_to_vec(&gpu.read_buffer(&results)?);
-        let visited: Vec<VisitedTet> =
-            bytemuck::allocation::pod_collect_to_vec(&gpu.read_buffer(&visited)?);
+        let results: Vec<RayResult> = gpu.read_buffer_as(&results)?;
+        let visited: Vec<VisitedTet> = gpu.read_buffer_as(&visited)?;
         let traced = results
             .into_iter()
             .zip(visited.chunks(RECORDED_STEPS))

@@ -95,7 +95,7 @@ impl ShellTables {
 
     /// The pixel rays' counts and the secondary rays'.
     pub(crate) fn read_all_stats(&self, gpu: &Gpu) -> Result<(TraversalStats, SecondaryStats)> {
-        let w = tessera_gpu::timing::read_words(gpu, &self.stats)?;
+        let w = gpu.read_buffer_as::<u32>(&self.stats)?;
         let word = |name: &str| {
             let i = STATS.iter().position(|s| *s == name).unwrap_or(0);
             u64::from(w.get(i).copied().unwrap_or(0))
