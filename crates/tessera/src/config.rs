@@ -35,6 +35,10 @@ pub fn common_defines() -> Vec<(String, String)> {
             "RESOLVE_PIXELS".into(),
             format!("{}u", crate::raster::RESOLVE_PIXELS),
         ),
+        (
+            "RASTER_TILE".into(),
+            format!("{}u", crate::raster::RASTER_TILE),
+        ),
         ("BLOCK_Y".into(), format!("{}u", BLOCK_CELLS[1])),
         ("BLOCK_Z".into(), format!("{}u", BLOCK_CELLS[2])),
         ("STEP".into(), float(STEP)),

@@ -3,13 +3,13 @@
 
 mod common;
 
-use common::raster::{draw, draw_into, rasterizer};
+use common::raster::{draw, draw_into, rasterizer, upload_triangles};
 use common::{assert_clean, gpu};
 use glam::{DVec2, DVec3, Vec4};
 use tessera::raster::hzb::{hzb_bytes, hzb_levels, HzbBuilder};
 use tessera::raster::{
     create_counts_buffer, decode, ComputeRasterizer, RasterCounts, RasterFrame, RasterTriangle,
-    EMPTY,
+    EMPTY, RASTER_TILE,
 };
 use tessera_data::rasterize::{rasterize_clip_triangles, screen_polygon};
 use tessera_gpu::{vk, Gpu};
@@ -241,6 +241,91 @@ fn random_triangles_match_cpu_reference() {
     let groups = (tris.len() as u32).div_ceil(rast.group_size());
     assert_eq!(args.dispatch, [2, groups.div_ceil(2), 1]);
     assert!(grid_values == gpu_values, "2-D grid changed the frame");
+    assert_clean(&gpu);
+}
+
+/// The drawn-tile marks a resolve relies on to skip the rest: after each frame, every drawn
+/// pixel lies in a tile marked with the frame's number, and every tile so marked meets the
+/// pixel box of a triangle of that frame (as the CPU reference clips and snaps it). The frame
+/// is 250×190 (tiles cut at the right and bottom edges); the second frame draws the scene's
+/// other half into the same frame, so marks of the first must not pass for the second's.
+#[test]
+fn raster_marks_the_tiles_it_draws_into() {
+    let gpu = gpu();
+    let Some(rast) = rasterizer(&gpu) else {
+        return;
+    };
+    let cam = Camera {
+        width: 250,
+        height: 190,
+        tan_y: 0.45,
+        near: 0.5,
+        far: 8.0,
+    };
+    let (w, h) = (cam.width, cam.height);
+    let tile = RASTER_TILE as usize;
+    let tiles_x = (w as usize).div_ceil(tile);
+    let scene = random_scene(&cam, &mut Rng(0x0bad_cafe_f00d_1234));
+    let (first, second) = scene.split_at(scene.len() / 2);
+    let frame = RasterFrame::new(&gpu, w, h).unwrap();
+    for (k, tris) in [first, second].into_iter().enumerate() {
+        let (triangles, counts) = upload_triangles(&gpu, tris, tris.len() as u32);
+        gpu.submit("marked tiles", |rec| {
+            frame.record_begin(rec);
+            rec.barrier();
+            rast.record_prepare_dispatch(rec, &counts);
+            rast.record_raster(rec, &triangles, &counts, &frame);
+        })
+        .unwrap();
+        let number = frame.frame_number();
+        let values = frame.read(&gpu).unwrap();
+        let marks: Vec<u32> = gpu.read_buffer_as(&frame.tile_frames).unwrap();
+        let marked = |x: usize, y: usize| marks[(y / tile) * tiles_x + x / tile] == number;
+        let mut drawn = 0;
+        for (i, &v) in values.iter().enumerate() {
+            let (x, y) = (i % w as usize, i / w as usize);
+            if decode(v).is_some() {
+                drawn += 1;
+                assert!(
+                    marked(x, y),
+                    "frame {k}: pixel ({x}, {y}) drawn in an unmarked tile"
+                );
+            }
+        }
+        // The tiles the triangles' pixel boxes (with a pixel's slack) reach.
+        let mut reached = vec![false; marks.len()];
+        for t in tris {
+            let polygon = screen_polygon(t, w, h);
+            if polygon.is_empty() {
+                continue;
+            }
+            let (lo, hi) = polygon.iter().fold(
+                (DVec2::splat(f64::MAX), DVec2::splat(f64::MIN)),
+                |(lo, hi), p| (lo.min(p.truncate()), hi.max(p.truncate())),
+            );
+            let first_pixel = (lo - 1.0).max(DVec2::ZERO).floor();
+            let last_pixel = (hi + 1.0).min(DVec2::new(f64::from(w - 1), f64::from(h - 1)));
+            for ty in first_pixel.y as usize / tile..=last_pixel.y as usize / tile {
+                for tx in first_pixel.x as usize / tile..=last_pixel.x as usize / tile {
+                    reached[ty * tiles_x + tx] = true;
+                }
+            }
+        }
+        let stray = (0..marks.len())
+            .filter(|&t| marks[t] == number && !reached[t])
+            .count();
+        let marked_count = marks.iter().filter(|&&m| m == number).count();
+        assert_eq!(
+            stray, 0,
+            "frame {k}: {stray} tiles marked beyond every triangle"
+        );
+        assert!(drawn > 1000, "frame {k}: {drawn} pixels drawn");
+        assert!(
+            marked_count < marks.len(),
+            "frame {k}: every one of {} tiles marked",
+            marks.len()
+        );
+    }
     assert_clean(&gpu);
 }
 
@@ -522,6 +607,8 @@ fn cpu_pyramid(depths: &[f32], w: u32, h: u32) -> Vec<Vec<f32>> {
     levels
 }
 
+/// The pyramid of frames of many shapes against the CPU's, level by level; pixels of tiles not
+/// marked with the frame's number count as empty (those tiles hold other depths here).
 #[test]
 fn hzb_pyramid_matches_cpu_levels() {
     let gpu = gpu();
@@ -561,8 +648,25 @@ fn hzb_pyramid_matches_cpu_levels() {
                 }
             })
             .collect();
+        // Every third tile left unmarked: its pixels count as empty whatever they hold.
+        let tile = RASTER_TILE as usize;
+        let tiles_x = (w as usize).div_ceil(tile);
+        let tiles = tiles_x * (h as usize).div_ceil(tile);
+        let unmarked = |t: usize| t % 3 == 2;
+        let tile_of = |i: usize| (i / w as usize / tile) * tiles_x + (i % w as usize) / tile;
+        let depths: Vec<f32> = depths
+            .iter()
+            .enumerate()
+            .map(|(i, &d)| if unmarked(tile_of(i)) { 1.0 } else { d })
+            .collect();
         let frame = RasterFrame::new(&gpu, w, h).unwrap();
+        gpu.submit("begin", |rec| frame.record_begin(rec)).unwrap();
+        let marks: Vec<u32> = (0..tiles)
+            .map(|t| frame.frame_number() - u32::from(unmarked(t)))
+            .collect();
         gpu.write_buffer(&frame.depth_payload, bytemuck::cast_slice(&payload))
+            .unwrap();
+        gpu.write_buffer(&frame.tile_frames, bytemuck::cast_slice(&marks))
             .unwrap();
         let hzb = gpu
             .create_buffer(

@@ -70,7 +70,14 @@ pub(super) fn isosurface_structs(t: &mut Table) {
     t.push_constants::<ResolveParams>(
         &resolve,
         "ResolveParams",
-        host!(ResolveParams, eye_world, light, size),
+        host!(
+            ResolveParams,
+            eye_world,
+            light,
+            size,
+            second_base,
+            frame_number
+        ),
     );
     let reproject = compile(
         &builtin_shader!("../iso/direct/reproject.comp.glsl"),

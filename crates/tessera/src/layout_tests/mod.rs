@@ -95,7 +95,7 @@ fn raster_structs(t: &mut Table) {
     t.push_constants::<RasterParams>(
         &raster,
         "RasterParams",
-        host!(RasterParams, size, capacity, index_base),
+        host!(RasterParams, size, capacity, index_base, frame_number),
     );
     t.buffer(&raster, "RasterTriangle", host!(RasterTriangle, clip));
     let prepare = compile(&builtin_shader!("../raster/raster_prepare.comp.glsl"), &[]);
@@ -116,7 +116,7 @@ fn raster_structs(t: &mut Table) {
     t.push_constants::<HzbBuildParams>(
         &hzb,
         "HzbBuildParams",
-        host!(HzbBuildParams, size, first_level, level_count),
+        host!(HzbBuildParams, size, first_level, level_count, frame_number),
     );
 }
 

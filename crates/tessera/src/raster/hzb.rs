@@ -36,7 +36,10 @@ const HZB_TILE: u32 = 16;
 pub const HZB_LEVELS_PER_PASS: usize = HZB_TILE.ilog2() as usize + 2;
 
 pub(crate) fn build_defines() -> Vec<(String, String)> {
-    vec![("HZB_TILE".into(), format!("{HZB_TILE}u"))]
+    vec![
+        ("HZB_TILE".into(), format!("{HZB_TILE}u")),
+        ("RASTER_TILE".into(), format!("{}u", super::RASTER_TILE)),
+    ]
 }
 
 /// Push constants of `hzb_build.comp.glsl`.
@@ -46,6 +49,8 @@ pub(crate) struct HzbBuildParams {
     pub(crate) size: [u32; 2],
     pub(crate) first_level: u32,
     pub(crate) level_count: u32,
+    /// [`RasterFrame::frame_number`].
+    pub(crate) frame_number: u32,
 }
 
 /// Builds the pyramid, [`HZB_LEVELS_PER_PASS`] levels per dispatch (a barrier between
@@ -58,12 +63,12 @@ impl HzbBuilder {
     pub fn new(gpu: &Gpu, compiler: &ShaderCompiler) -> Result<HzbBuilder> {
         let spirv = compiler.compile(&builtin_shader!("hzb_build.comp.glsl"), &build_defines())?;
         Ok(HzbBuilder {
-            pipeline: gpu.compute_pipeline("hzb build", &spirv, &[Slot::StorageBuffer; 2])?,
+            pipeline: gpu.compute_pipeline("hzb build", &spirv, &[Slot::StorageBuffer; 3])?,
         })
     }
 
     /// Records the pyramid of `frame` into `hzb` (at least [`hzb_bytes`] long); ends with a
-    /// barrier.
+    /// barrier. Only the tiles marked with the frame's number are read (the rest are empty).
     pub fn record(&self, rec: &Recorder, frame: &RasterFrame, hzb: &Buffer) {
         let (w, h) = (frame.width, frame.height);
         let levels = hzb_levels(w, h);
@@ -73,11 +78,16 @@ impl HzbBuilder {
                 size: [w, h],
                 first_level: (pass * HZB_LEVELS_PER_PASS) as u32,
                 level_count: dims.len() as u32,
+                frame_number: frame.frame_number(),
             };
             let first = dims[0];
             rec.dispatch_groups(
                 &self.pipeline,
-                &[Binding::Buffer(&frame.depth_payload), Binding::Buffer(hzb)],
+                &[
+                    Binding::Buffer(&frame.depth_payload),
+                    Binding::Buffer(hzb),
+                    Binding::Buffer(&frame.tile_frames),
+                ],
                 bytemuck::bytes_of(&params),
                 [first[0].div_ceil(tile), first[1].div_ceil(tile), 1],
             );

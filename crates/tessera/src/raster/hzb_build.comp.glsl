@@ -10,15 +10,19 @@
 #include "raster/raster.glsl"
 #include "raster/hzb.glsl"
 
-// HZB_TILE (a power of two) comes from raster::hzb as a define.
+// HZB_TILE (a power of two) and RASTER_TILE come from raster::hzb and raster as defines.
 layout(local_size_x = HZB_TILE, local_size_y = HZB_TILE) in;
 layout(binding = 0) readonly buffer Frame { uvec2 depth_payload[]; };
 layout(binding = 1) buffer Hzb { float hzb[]; };
+// Per raster tile, the number of the last frame that drew into it (raster/mod.rs): pixels of
+// tiles the frame did not draw into are empty, and are not read.
+layout(binding = 2) readonly buffer TileFrames { uint tile_frames[]; };
 
 layout(push_constant) uniform HzbBuildParams {
     uvec2 size;        // frame width and height in pixels
     uint first_level;  // the level this pass starts at (its sources are the level below)
     uint level_count;  // levels this pass builds, 1 ..= ilog2(HZB_TILE) + 2
+    uint frame_number; // the number the frame's raster passes marked their tiles with
 } params;
 
 const float NO_DEPTH = -1.0;
@@ -26,6 +30,11 @@ const uint TILE = HZB_TILE;  // invocations per side; each folds a 2×2 of the f
 shared float s_depth[TILE][TILE];
 
 float pixel_depth(uvec2 p) {
+    uint tiles_x = (params.size.x + RASTER_TILE - 1u) / RASTER_TILE;
+    uvec2 tile = p / RASTER_TILE;
+    if (tile_frames[tile.y * tiles_x + tile.x] != params.frame_number) {
+        return 1.0;
+    }
     uvec2 value = depth_payload[p.y * params.size.x + p.x];
     return raster_is_empty(value) ? 1.0 : raster_depth(value);
 }

@@ -40,12 +40,22 @@
 //!   `raster_is_empty`, `raster_depth`, `raster_index`, `raster_pixel_centre` and
 //!   `raster_barycentrics` (perspective-correct weights of the original corners at a pixel).
 //!
+//! * **Drawn tiles** — `RasterFrame::tile_frames`: per tile of `RASTER_TILE` × `RASTER_TILE`
+//!   pixels (row-major, `ceil(width / RASTER_TILE)` a row), the number of the last frame whose
+//!   raster pass drew a triangle whose pixel box reaches into the tile. A resolve that reads
+//!   only the tiles of its frame's number and empties each pixel it read (the surface draws'
+//!   resolve, `iso/direct/resolve.rs`) leaves the whole frame empty, so the next frame needs no
+//!   fill: the fill of every pixel and the reads of pixels nothing was drawn to are then left
+//!   out (at 3840×2160 the fill alone writes 66 MB).
+//!
 //! # Passes
 //!
-//! [`ComputeRasterizer::record_clear`], then (after the pass that writes the triangles and the
-//! count, and a barrier) [`ComputeRasterizer::record_prepare_dispatch`] and
-//! [`ComputeRasterizer::record_raster`]; or all three with [`ComputeRasterizer::record`]. Each
-//! `record_*` ends with a barrier, so the next pass sees its writes.
+//! [`RasterFrame::record_begin`] (it fills the frame only when something drawn into it was not
+//! emptied by such a resolve) or [`ComputeRasterizer::record_clear`], then (after the pass that
+//! writes the triangles and the count, and a barrier)
+//! [`ComputeRasterizer::record_prepare_dispatch`] and [`ComputeRasterizer::record_raster`]; or
+//! clear and both with [`ComputeRasterizer::record`]. Each `record_*` of the rasterizer ends
+//! with a barrier, so the next pass sees its writes.
 
 pub mod hzb;
 pub(crate) mod indirect;
@@ -55,6 +65,7 @@ pub use indirect::IndirectArgs;
 use crate::builtin_shader;
 use crate::error::{check_image_size, Error, Result};
 use bytemuck::{Pod, Zeroable};
+use std::cell::Cell;
 use tessera_data::rasterize::{GUARD_BAND, MIN_W, SUBPIXEL_BITS};
 use tessera_gpu::{
     vk, Binding, Buffer, Gpu, MemoryLocation, Pipeline, Recorder, ShaderCompiler, Slot,
@@ -66,6 +77,8 @@ pub const TRIANGLE_BYTES: u64 = 48;
 pub const COUNTS_BYTES: u64 = 16;
 /// The value of a pixel nothing was drawn to.
 pub const EMPTY: u64 = u64::MAX;
+/// Pixels per side of the tiles the raster pass marks as drawn into ([`RasterFrame`]).
+pub const RASTER_TILE: u32 = 8;
 /// Largest frame side: keeps the guard band's snapped coordinates below 2^24 sub-pixels, where
 /// the shader's snapping and 32-bit positions are exact.
 pub const MAX_FRAME_SIDE: u32 = 8192;
@@ -92,6 +105,8 @@ pub(crate) struct RasterParams {
     pub(crate) size: [u32; 2],
     pub(crate) capacity: u32,
     pub(crate) index_base: u32,
+    /// Marked into the tiles the pass draws into ([`RasterFrame::frame_number`]).
+    pub(crate) frame_number: u32,
 }
 
 /// Splits a frame value into (NDC depth, triangle index); `None` for an empty pixel.
@@ -113,11 +128,18 @@ pub fn create_counts_buffer(gpu: &Gpu, name: &str) -> Result<Buffer> {
     )?)
 }
 
-/// The rasterizer's output: one 64-bit depth-and-payload value per pixel.
+/// The rasterizer's output: one 64-bit depth-and-payload value per pixel, and per tile the
+/// number of the last frame that drew into it (see the module's data layout).
 pub struct RasterFrame {
     pub depth_payload: Buffer,
+    pub tile_frames: Buffer,
     pub width: u32,
     pub height: u32,
+    /// The number of the frame being drawn (0 before the first).
+    frame_number: Cell<u32>,
+    /// Whether, after the commands recorded so far, every pixel is empty: false once something
+    /// is drawn, true again after a fill or an emptying resolve.
+    empty: Cell<bool>,
 }
 
 impl RasterFrame {
@@ -128,18 +150,30 @@ impl RasterFrame {
                 "raster frame {width}x{height} is larger than {MAX_FRAME_SIDE} pixels a side"
             )));
         }
+        let usage = vk::BufferUsageFlags::STORAGE_BUFFER
+            | vk::BufferUsageFlags::TRANSFER_SRC
+            | vk::BufferUsageFlags::TRANSFER_DST;
         let depth_payload = gpu.create_buffer(
             "raster depth_payload",
             width as u64 * height as u64 * 8,
-            vk::BufferUsageFlags::STORAGE_BUFFER
-                | vk::BufferUsageFlags::TRANSFER_SRC
-                | vk::BufferUsageFlags::TRANSFER_DST,
+            usage,
+            MemoryLocation::GpuOnly,
+        )?;
+        let tiles =
+            u64::from(width.div_ceil(RASTER_TILE)) * u64::from(height.div_ceil(RASTER_TILE));
+        let tile_frames = gpu.create_buffer(
+            "raster tile_frames",
+            tiles * 4,
+            usage,
             MemoryLocation::GpuOnly,
         )?;
         Ok(RasterFrame {
             depth_payload,
+            tile_frames,
             width,
             height,
+            frame_number: Cell::new(0),
+            empty: Cell::new(false),
         })
     }
 
@@ -147,6 +181,35 @@ impl RasterFrame {
     /// other buffers at the same time and end the lot with one barrier.
     pub fn record_fill_empty(&self, rec: &Recorder) {
         rec.fill_buffer(&self.depth_payload, u32::MAX);
+        self.empty.set(true);
+    }
+
+    /// Records the start of a frame, without a barrier: the fill that empties every pixel
+    /// (and the tiles' frame numbers) unless an emptying resolve already left the frame empty,
+    /// and a new frame number for the raster passes to mark their tiles with.
+    pub fn record_begin(&self, rec: &Recorder) {
+        if !self.empty.get() {
+            rec.fill_buffer(&self.tile_frames, 0);
+            self.record_fill_empty(rec);
+        }
+        self.frame_number
+            .set(self.frame_number.get().wrapping_add(1).max(1));
+    }
+
+    /// The number the raster passes of the frame being drawn mark their tiles with.
+    pub fn frame_number(&self) -> u32 {
+        self.frame_number.get()
+    }
+
+    /// Notes that a raster pass was recorded into the frame.
+    pub(crate) fn note_drawn(&self) {
+        self.empty.set(false);
+    }
+
+    /// Notes that a resolve recorded after the frame's raster passes empties every pixel it
+    /// read: the frame is empty again once it ran.
+    pub(crate) fn note_emptied(&self) {
+        self.empty.set(true);
     }
 
     pub fn pixel_count(&self) -> usize {
@@ -186,6 +249,7 @@ pub(crate) fn raster_defines() -> Vec<(String, String)> {
         ("SUBPIXEL_BITS".into(), SUBPIXEL_BITS.to_string()),
         ("MIN_W".into(), format!("{:?}", MIN_W as f32)),
         ("GUARD_BAND".into(), format!("{:?}", GUARD_BAND as f32)),
+        ("RASTER_TILE".into(), format!("{RASTER_TILE}u")),
     ]
 }
 
@@ -200,7 +264,7 @@ impl ComputeRasterizer {
             )));
         }
         let raster = compiler.compile(&builtin_shader!("raster.comp.glsl"), &raster_defines())?;
-        let raster = gpu.compute_pipeline("raster", &raster, &[Slot::StorageBuffer; 3])?;
+        let raster = gpu.compute_pipeline("raster", &raster, &[Slot::StorageBuffer; 4])?;
         let prepare = IndirectArgs::new(gpu, compiler)?;
         Ok(ComputeRasterizer { prepare, raster })
     }
@@ -255,6 +319,7 @@ impl ComputeRasterizer {
             size: [frame.width, frame.height],
             capacity: (triangles.size / TRIANGLE_BYTES).min(u32::MAX as u64) as u32,
             index_base,
+            frame_number: frame.frame_number(),
         };
         rec.dispatch_indirect(
             &self.raster,
@@ -262,11 +327,13 @@ impl ComputeRasterizer {
                 Binding::Buffer(triangles),
                 Binding::Buffer(counts),
                 Binding::Buffer(&frame.depth_payload),
+                Binding::Buffer(&frame.tile_frames),
             ],
             bytemuck::bytes_of(&params),
             counts,
             4,
         );
+        frame.note_drawn();
         rec.barrier();
     }
 

@@ -19,11 +19,14 @@ layout(binding = 1) readonly buffer Counts {
     uint dispatch[3];
 };
 layout(binding = 2) buffer Frame { uint64_t depth_payload[]; };
+// Per RASTER_TILE-square tile, the number of the last frame that drew into it (raster/mod.rs).
+layout(binding = 3) writeonly buffer TileFrames { uint tile_frames[]; };
 
 layout(push_constant) uniform RasterParams {
     uvec2 size;     // frame width, height in pixels
     uint capacity;  // triangles the triangle buffer holds; later ones are never read
     uint index_base;  // added to each triangle's index in the frame (several buffers, one frame)
+    uint frame_number;  // marked into every tile a triangle's pixel box reaches
 } params;
 
 // SUBPIXEL_BITS, MIN_W and GUARD_BAND come from tessera_data::rasterize as defines.
@@ -136,6 +139,16 @@ void draw_triangle(Corner a, Corner b, Corner c, uint index) {
     ivec2 last = min((hi - HALF_SUBPIXEL) >> SUBPIXEL_BITS, ivec2(params.size) - 1);
     if (any(greaterThan(first, last))) {
         return;
+    }
+    // Every tile the pixel box reaches: a superset of the tiles the triangle draws into, which
+    // a resolve that reads only marked tiles must all see. Every writer stores the same value.
+    uint tiles_x = (params.size.x + RASTER_TILE - 1u) / RASTER_TILE;
+    uvec2 first_tile = uvec2(first) / RASTER_TILE;
+    uvec2 last_tile = uvec2(last) / RASTER_TILE;
+    for (uint ty = first_tile.y; ty <= last_tile.y; ++ty) {
+        for (uint tx = first_tile.x; tx <= last_tile.x; ++tx) {
+            tile_frames[ty * tiles_x + tx] = params.frame_number;
+        }
     }
     // Edge i is opposite corner i; its function is corner i's unnormalized weight.
     ivec2 centre = first * SUBPIXEL + HALF_SUBPIXEL;

@@ -5,7 +5,7 @@ use tessera::raster::{
     create_counts_buffer, ComputeRasterizer, RasterCounts, RasterFrame, RasterTriangle,
 };
 use tessera::shaders;
-use tessera_gpu::{vk, Gpu};
+use tessera_gpu::{vk, Buffer, Gpu};
 
 /// The rasterizer, or `None` (said aloud) on a device without 64-bit buffer atomics.
 pub fn rasterizer(gpu: &Gpu) -> Option<ComputeRasterizer> {
@@ -19,15 +19,9 @@ pub fn rasterizer(gpu: &Gpu) -> Option<ComputeRasterizer> {
     Some(ComputeRasterizer::new(gpu, &shaders::compiler()).expect("build the rasterizer"))
 }
 
-/// Draws the first `count` of `tris` (the buffer holds all of them, at least one slot) into
-/// `frame`; returns the frame and the counts buffer as the passes left them.
-pub fn draw_into(
-    gpu: &Gpu,
-    rast: &ComputeRasterizer,
-    tris: &[[Vec4; 3]],
-    count: u32,
-    frame: &RasterFrame,
-) -> (Vec<u64>, RasterCounts) {
+/// The triangle buffer holding `tris` (at least one slot) and a counts buffer saying `count`
+/// of them are there.
+pub fn upload_triangles(gpu: &Gpu, tris: &[[Vec4; 3]], count: u32) -> (Buffer, Buffer) {
     let mut list: Vec<RasterTriangle> = tris
         .iter()
         .map(|t| RasterTriangle {
@@ -51,6 +45,19 @@ pub fn draw_into(
     };
     gpu.write_buffer(&counts, bytemuck::bytes_of(&initial))
         .unwrap();
+    (triangles, counts)
+}
+
+/// Draws the first `count` of `tris` (the buffer holds all of them, at least one slot) into
+/// `frame`; returns the frame and the counts buffer as the passes left them.
+pub fn draw_into(
+    gpu: &Gpu,
+    rast: &ComputeRasterizer,
+    tris: &[[Vec4; 3]],
+    count: u32,
+    frame: &RasterFrame,
+) -> (Vec<u64>, RasterCounts) {
+    let (triangles, counts) = upload_triangles(gpu, tris, count);
     gpu.submit("raster test", |rec| {
         rast.record(rec, &triangles, &counts, frame)
     })

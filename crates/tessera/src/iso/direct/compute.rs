@@ -268,9 +268,9 @@ impl DirectCompute {
         pixels: &Target,
         params: &DirectParams,
     ) {
-        // The frame is emptied with the extraction's counters (one barrier), and the
+        // The frame begins with the extraction's counters (one barrier), and the
         // extraction writes the raster pass's dispatch arguments as it reserves slots.
-        target.frame.record_fill_empty(rec);
+        target.frame.record_begin(rec);
         self.extract.record(rec, prepared, &target.lists, params);
         rec.barrier();
         self.rasterizer.record_raster(
@@ -310,8 +310,11 @@ impl DirectCompute {
             &first.lists.counts,
             4,
         );
+        second.frame.record_begin(rec);
         rec.barrier();
-        self.rasterizer.record(
+        self.rasterizer
+            .record_prepare_dispatch(rec, &second.lists.counts);
+        self.rasterizer.record_raster(
             rec,
             &second.lists.triangles,
             &second.lists.counts,

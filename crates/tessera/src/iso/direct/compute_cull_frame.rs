@@ -91,7 +91,7 @@ impl DirectCompute {
                 .extract_stats
                 .iter()
                 .for_each(|s| rec.fill_buffer(s, 0));
-            target.frame.record_fill_empty(rec);
+            target.frame.record_begin(rec);
             rec.barrier();
             extract(rec, a, &state.extract_stats[0], first);
             self.rasterizer

@@ -4,19 +4,24 @@
 // the mesh-shader path.
 //
 // With TWO_LISTS defined (occlusion culling) the frame holds triangles of two lists: indices
-// below params.size.z are the first list's, the rest the second's (drawn with that index base).
+// below params.second_base are the first list's, the rest the second's (drawn with that index base).
 // Each drawn pixel then also flags its triangle's block as seen (bit 0 of the block's flags).
+//
+// Only the tiles the frame's raster passes marked with its number are read (raster/mod.rs); the
+// rest are background. Each drawn pixel read is emptied again, so that the frame is empty for
+// the next one without a fill of every pixel.
 //
 // A workgroup takes RESOLVE_PIXELS × 64 pixels of one row, invocation i the pixels i, i + 64,
 // ..., so every load of the frame and store of the pixels is contiguous across a workgroup: the
-// pass streams 12 bytes a pixel, which 8×8 tiles of one pixel per invocation moved at 1.0 TB/s
-// on an H200 and rows move at 2.1 TB/s. RESOLVE_PIXELS comes from raster::RESOLVE_PIXELS.
+// pass streams up to 12 bytes a pixel, which 8×8 tiles of one pixel per invocation moved at
+// 1.0 TB/s on an H200 and rows move at 2.1 TB/s. RESOLVE_PIXELS and RASTER_TILE come from
+// raster::RESOLVE_PIXELS and raster::RASTER_TILE.
 #include "raster/raster.glsl"
 #include "common/shading.glsl"
 #include "iso/direct/attributes.glsl"
 
 layout(local_size_x = 64) in;
-layout(binding = 0) readonly buffer Frame { uvec2 depth_payload[]; };
+layout(binding = 0) buffer Frame { uvec2 depth_payload[]; };
 layout(binding = 1) readonly buffer Triangles { RasterTriangle triangles[]; };
 layout(binding = 2) readonly buffer Attributes { TriangleAttributes attributes[]; };
 layout(binding = 3) writeonly buffer Pixels { uint pixels[]; };
@@ -24,26 +29,37 @@ layout(binding = 3) writeonly buffer Pixels { uint pixels[]; };
 layout(binding = 4) readonly buffer SecondTriangles { RasterTriangle second_triangles[]; };
 layout(binding = 5) readonly buffer SecondAttributes { TriangleAttributes second_attributes[]; };
 layout(binding = 6) buffer BlockFlags { uint block_flags[]; };
+layout(binding = 7) readonly buffer TileFrames { uint tile_frames[]; };
+#else
+layout(binding = 4) readonly buffer TileFrames { uint tile_frames[]; };
 #endif
 
 layout(push_constant) uniform ResolveParams {
     vec4 eye_world;
-    vec4 light;   // xyz towards the light, world space
-    uvec4 size;   // x width, y height, z first index of the second list (TWO_LISTS)
+    vec4 light;          // xyz towards the light, world space
+    uvec2 size;          // width, height
+    uint second_base;    // first index of the second list (TWO_LISTS)
+    uint frame_number;   // the number the frame's raster passes marked their tiles with
 } params;
 
 void resolve_pixel(uvec2 pixel, uvec2 size) {
     uint i = pixel.y * size.x + pixel.x;
-    uvec2 value = depth_payload[i];
+    uint tiles_x = (size.x + RASTER_TILE - 1u) / RASTER_TILE;
+    uvec2 tile = pixel / RASTER_TILE;
     vec4 colour = BACKGROUND;
+    uvec2 value = uvec2(RASTER_EMPTY_WORD);
+    if (tile_frames[tile.y * tiles_x + tile.x] == params.frame_number) {
+        value = depth_payload[i];
+    }
     if (!raster_is_empty(value)) {
+        depth_payload[i] = uvec2(RASTER_EMPTY_WORD);
         uint t = raster_index(value);
         RasterTriangle tri;
         TriangleAttributes a;
 #ifdef TWO_LISTS
-        if (t >= params.size.z) {
-            tri = second_triangles[t - params.size.z];
-            a = second_attributes[t - params.size.z];
+        if (t >= params.second_base) {
+            tri = second_triangles[t - params.second_base];
+            a = second_attributes[t - params.second_base];
         } else {
             tri = triangles[t];
             a = attributes[t];
@@ -65,7 +81,7 @@ void resolve_pixel(uvec2 pixel, uvec2 size) {
 }
 
 void main() {
-    uvec2 size = params.size.xy;
+    uvec2 size = params.size;
     uint y = gl_WorkGroupID.y;
     uint first = gl_WorkGroupID.x * (RESOLVE_PIXELS * gl_WorkGroupSize.x) + gl_LocalInvocationID.x;
     for (uint k = 0u; k < RESOLVE_PIXELS; ++k) {

@@ -1,6 +1,8 @@
 //! The pass that shades a compute-rasterized surface frame (`resolve.comp.glsl`): `direct`'s
 //! compute path and the stored meshlet and PMB draws all shade their frames with it, from one
-//! triangle list or, with occlusion culling, from two drawn into one frame.
+//! triangle list or, with occlusion culling, from two drawn into one frame. It reads only the
+//! tiles the frame's raster passes marked and empties the pixels it reads, so the frame's
+//! next [`RasterFrame::record_begin`] fills nothing.
 
 use crate::builtin_shader;
 use crate::error::Result;
@@ -15,7 +17,11 @@ use tessera_gpu::{Binding, Buffer, Gpu, Pipeline, Recorder, ShaderCompiler, Slot
 pub struct ResolveParams {
     pub eye_world: [f32; 4],
     pub light: [f32; 4],
-    pub size: [u32; 4],
+    pub size: [u32; 2],
+    /// The first index of the second list (two lists).
+    pub second_base: u32,
+    /// [`RasterFrame::frame_number`].
+    pub frame_number: u32,
 }
 
 /// A triangle list as the resolve reads it: the rasterizer's triangles (for the
@@ -56,15 +62,16 @@ impl SurfaceResolve {
             defines.push(("TWO_LISTS".into(), "1".into()));
         }
         let spirv = compiler.compile(&builtin_shader!("resolve.comp.glsl"), &defines)?;
-        let slots = if two_lists { 7 } else { 4 };
-        let pipeline = gpu.compute_pipeline(name, &spirv, &[Slot::StorageBuffer; 7][..slots])?;
+        let slots = if two_lists { 8 } else { 5 };
+        let pipeline = gpu.compute_pipeline(name, &spirv, &[Slot::StorageBuffer; 8][..slots])?;
         Ok(SurfaceResolve {
             pipeline,
             two_lists,
         })
     }
 
-    /// Records the shading of `frame`, drawn from `list`, into `pixels` (no barrier after it).
+    /// Records the shading of `frame`, drawn from `list`, into `pixels`, emptying the frame (no
+    /// barrier after it).
     /// The pipeline must be a one-list one.
     pub fn record(
         &self,
@@ -80,13 +87,14 @@ impl SurfaceResolve {
             Binding::Buffer(list.triangles),
             Binding::Buffer(list.attributes),
             Binding::Buffer(&pixels.pixels),
+            Binding::Buffer(&frame.tile_frames),
         ];
         self.dispatch(rec, frame, &bindings, lighting, 0);
     }
 
     /// Records the shading of `frame`, drawn from `first` and from `second` with its indices
     /// from `second_base`, into `pixels`, flagging in `block_flags` each block whose triangle
-    /// owns a pixel (no barrier after it). The pipeline must be a two-list one.
+    /// owns a pixel and emptying the frame (no barrier after it). The pipeline must be a two-list one.
     #[allow(clippy::too_many_arguments)]
     pub fn record_two(
         &self,
@@ -107,6 +115,7 @@ impl SurfaceResolve {
             Binding::Buffer(second.triangles),
             Binding::Buffer(second.attributes),
             Binding::Buffer(block_flags),
+            Binding::Buffer(&frame.tile_frames),
         ];
         self.dispatch(rec, frame, &bindings, lighting, second_base);
     }
@@ -123,7 +132,9 @@ impl SurfaceResolve {
         let params = ResolveParams {
             eye_world: [e[0], e[1], e[2], 0.0],
             light: [l[0], l[1], l[2], 0.0],
-            size: [frame.width, frame.height, second_base, 0],
+            size: [frame.width, frame.height],
+            second_base,
+            frame_number: frame.frame_number(),
         };
         rec.dispatch_groups(
             &self.pipeline,
@@ -131,5 +142,6 @@ impl SurfaceResolve {
             bytemuck::bytes_of(&params),
             resolve_groups(frame.width, frame.height, self.pipeline.local_size[0]),
         );
+        frame.note_emptied();
     }
 }

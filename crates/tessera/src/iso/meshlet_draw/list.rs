@@ -45,7 +45,7 @@ impl ListResolve {
 
     /// Rasterizes `target`'s list (written and followed by a barrier; the pass that wrote it
     /// grew the raster pass's dispatch arguments, and the frame was emptied with
-    /// [`crate::raster::RasterFrame::record_fill_empty`] before a barrier ahead of that pass) and shades it
+    /// [`crate::raster::RasterFrame::record_begin`] before a barrier ahead of that pass) and shades it
     /// into `pixels` as `params` light it.
     pub fn record(
         &self,

@@ -288,7 +288,7 @@ impl MeshletDraw {
         } = passes;
         rec.fill_buffer(&self.counters, 0);
         rec.fill_buffer(&target.lists.counts, 0);
-        target.frame.record_fill_empty(rec);
+        target.frame.record_begin(rec);
         rec.barrier();
         let read = self.read_bindings(meshlets);
         let bindings: Vec<Binding> = read

@@ -236,7 +236,8 @@ impl MeshletDraw {
             rec.barrier();
         };
         let rasterizer = passes.list.rasterizer();
-        rasterizer.record_clear(rec, frame);
+        frame.record_begin(rec);
+        rec.barrier();
         if !forgetting {
             pass(&culling.first, first, &self.counters, false);
             rasterizer.record_raster(rec, &first.triangles, &first.counts, frame);

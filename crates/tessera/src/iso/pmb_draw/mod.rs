@@ -326,7 +326,7 @@ impl PmbDraw {
         self.check(pmb)?;
         ListResolve::check_sizes("PMB draw", target, pixels)?;
         rec.fill_buffer(&target.lists.counts, 0);
-        target.frame.record_fill_empty(rec);
+        target.frame.record_begin(rec);
         self.record_block_count(rec, pmb, 1);
         let bindings: Vec<Binding> = self
             .block_bindings(pmb)
