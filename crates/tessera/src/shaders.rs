@@ -185,6 +185,10 @@ const COMMON: &[(&str, &str)] = &[
         include_str!("iso/direct/block_list.glsl"),
     ),
     (
+        "iso/direct/cell_box.glsl",
+        include_str!("iso/direct/cell_box.glsl"),
+    ),
+    (
         "iso/direct/views.glsl",
         include_str!("iso/direct/views.glsl"),
     ),

@@ -14,6 +14,7 @@ pub mod surface;
 use crate::error::{Error, Result};
 use crate::gpu_volume::GpuVolume;
 use minmax::{MinMaxBuilder, MinMaxOctreeGpu};
+use std::sync::atomic::{AtomicU64, Ordering};
 use tessera_data::{ScalarType, Volume};
 use tessera_gpu::Gpu;
 
@@ -23,9 +24,19 @@ pub struct PreparedVolume {
     pub volume: GpuVolume,
     pub octree: MinMaxOctreeGpu,
     pub spacing: [f32; 3],
+    id: u64,
 }
 
+/// The id the next prepared volume gets.
+static NEXT_VOLUME_ID: AtomicU64 = AtomicU64::new(1);
+
 impl PreparedVolume {
+    /// A number no other volume prepared by this process has: what state kept from frame to
+    /// frame is checked against (e.g. culling's per-block boxes, valid for one volume only).
+    pub fn id(&self) -> u64 {
+        self.id
+    }
+
     /// Refuses a volume of another sample type than `pipelines` (named in the message) were
     /// built for.
     pub fn require_scalar(&self, scalar: ScalarType, pipelines: &str) -> Result<()> {
@@ -54,6 +65,7 @@ impl PreparedVolume {
             volume: gpu_volume,
             octree,
             spacing: volume.spacing(),
+            id: NEXT_VOLUME_ID.fetch_add(1, Ordering::Relaxed),
         };
         gpu.submit("build min-max octree", |rec| {
             builder.record(rec, &prepared.volume, &prepared.octree)

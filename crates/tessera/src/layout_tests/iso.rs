@@ -34,7 +34,9 @@ pub(super) fn isosurface_structs(t: &mut Table) {
     #[rustfmt::skip]
     t.push_constants::<DirectParams>(&extract, "DirectParams", host!(DirectParams, grid_to_clip,
         eye_world, isovalue, grid_to_world, light, dims, triangle_capacity));
-    let mut list_defines = extract_defines.clone();
+    let cull_defines =
+        crate::iso::direct::compute_cull::cull_defines(ScalarType::U8, Default::default());
+    let mut list_defines = cull_defines.clone();
     list_defines.push(("BLOCK_LIST".into(), "1".into()));
     let extract_list = compile(
         &builtin_shader!("../iso/direct/extract.comp.glsl"),
@@ -76,7 +78,8 @@ pub(super) fn isosurface_structs(t: &mut Table) {
             light,
             size,
             second_base,
-            frame_number
+            frame_number,
+            empties
         ),
     );
     let reproject = compile(
@@ -90,7 +93,7 @@ pub(super) fn isosurface_structs(t: &mut Table) {
     );
     let hzb_test = compile(
         &builtin_shader!("../iso/direct/hzb_test.comp.glsl"),
-        &u8_defines,
+        &cull_defines,
     );
     t.push_constants::<HzbTestParams>(
         &hzb_test,

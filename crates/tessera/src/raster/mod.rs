@@ -140,6 +140,8 @@ pub struct RasterFrame {
     /// Whether, after the commands recorded so far, every pixel is empty: false once something
     /// is drawn, true again after a fill or an emptying resolve.
     empty: Cell<bool>,
+    /// Whether resolves leave the drawn pixels in place (see [`Self::keep_after_resolve`]).
+    kept: Cell<bool>,
 }
 
 impl RasterFrame {
@@ -174,6 +176,7 @@ impl RasterFrame {
             height,
             frame_number: Cell::new(0),
             empty: Cell::new(false),
+            kept: Cell::new(false),
         })
     }
 
@@ -210,6 +213,17 @@ impl RasterFrame {
     /// read: the frame is empty again once it ran.
     pub(crate) fn note_emptied(&self) {
         self.empty.set(true);
+    }
+
+    /// With `keep`, resolves leave the drawn pixels in the frame, for tests and tools that read
+    /// it after a draw ([`Self::read`]); every frame then begins with a fill.
+    pub fn keep_after_resolve(&self, keep: bool) {
+        self.kept.set(keep);
+    }
+
+    /// Whether resolves are to empty the pixels they read.
+    pub(crate) fn emptied_by_resolve(&self) -> bool {
+        !self.kept.get()
     }
 
     pub fn pixel_count(&self) -> usize {

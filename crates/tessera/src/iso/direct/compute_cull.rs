@@ -13,7 +13,11 @@
 //!    reaches the near plane, or when on the pyramid level where its screen rectangle (a pixel
 //!    wider on each side) spans at most 4×4 texels some texel's max depth is at or behind the
 //!    box's nearest depth. Everything pass A drew lies in the final image, so a block that fails
-//!    the test is hidden behind it.
+//!    the test is hidden behind it. The box tested is the block's cells that made triangles
+//!    when it was last extracted at this isovalue (each extraction records it, `cell_box.glsl`;
+//!    boxes are kept per volume), else its whole cell box: on the 256³ head at 1280×720 the
+//!    blocks pass B draws in a still frame went from 1,558 to 877 (the same counts on lavapipe
+//!    and an H200 before the change).
 //! 4. **Pass B** extracts the listed blocks into a second [`TriangleLists`] (owned by the
 //!    state) and rasterizes them into the same frame with index base = pass A's capacity: a
 //!    frame index `i` refers to pass A's triangle `i` below that base, to pass B's triangle
@@ -32,7 +36,7 @@
 //!
 //! Blocks are never marked visible without owning a pixel, so the pass-A list is exactly the
 //! visible set of the last frame; a block that passes the test but owns no pixel is drawn in
-//! pass B every frame.
+//! pass B every frame (the cell boxes make those fewer).
 //!
 //! Frames are recorded by `DirectCompute::record_culled` (in `compute_cull_frame.rs`) with a
 //! [`ComputeCullState`]; the state's statistics say what each pass drew.
@@ -47,6 +51,7 @@ use crate::raster::hzb::{hzb_bytes, HzbBuilder};
 use bytemuck::{Pod, Zeroable};
 use std::cell::Cell;
 use tessera_data::mc_ambiguity::AmbiguityRule;
+use tessera_data::minmax::BLOCK_CELLS;
 use tessera_data::ScalarType;
 use tessera_gpu::{
     vk, Buffer, Gpu, MemoryLocation, Pipeline, Readback, Recorder, ShaderCompiler, Slot,
@@ -80,6 +85,16 @@ pub(crate) struct ComputeCullPipelines {
     pub(super) max_groups_x: u32,
 }
 
+/// The defines of the culling passes: the extraction's, and the cell boxes' layout.
+pub(crate) fn cull_defines(scalar: ScalarType, rule: AmbiguityRule) -> Vec<(String, String)> {
+    let mut defines = extract_defines(scalar, rule);
+    defines.extend([
+        ("CELL_BOX_BITS".into(), format!("{CELL_BOX_BITS}u")),
+        ("CELL_BOX_VALID".into(), format!("{CELL_BOX_VALID}u")),
+    ]);
+    defines
+}
+
 impl ComputeCullPipelines {
     pub(crate) fn new(
         gpu: &Gpu,
@@ -87,7 +102,7 @@ impl ComputeCullPipelines {
         scalar: ScalarType,
         rule: AmbiguityRule,
     ) -> Result<ComputeCullPipelines> {
-        let defines = extract_defines(scalar, rule);
+        let defines = cull_defines(scalar, rule);
         let with = |name: &str| {
             let mut d = defines.clone();
             d.push((name.into(), "1".into()));
@@ -98,11 +113,11 @@ impl ComputeCullPipelines {
             compiler.compile(&builtin_shader!("extract.comp.glsl"), &with("BLOCK_LIST"))?;
         let test = compiler.compile(&builtin_shader!("hzb_test.comp.glsl"), &defines)?;
         let compact = compiler.compile(&builtin_shader!("hzb_compact.comp.glsl"), &defines)?;
-        let extract_slots = [Slot::Texture, sb, sb, sb, sb, sb, sb];
+        let extract_slots = [Slot::Texture, sb, sb, sb, sb, sb, sb, sb];
         let extract_list =
             gpu.compute_pipeline("direct extract (block list)", &extract, &extract_slots)?;
         let hzb = HzbBuilder::new(gpu, compiler)?;
-        let test = gpu.compute_pipeline("hzb test", &test, &[sb; 5])?;
+        let test = gpu.compute_pipeline("hzb test", &test, &[sb; 6])?;
         let resolve =
             SurfaceResolve::new(gpu, compiler, &defines, true, "direct resolve (two lists)")?;
         let compact = gpu.compute_pipeline("hzb compact", &compact, &[sb; 3])?;
@@ -116,6 +131,21 @@ impl ComputeCullPipelines {
         })
     }
 }
+
+/// Bits per coordinate of a block's cell box (`cell_box.glsl`): six coordinates and a valid bit
+/// in 32 bits, for blocks up to 32 cells a side.
+pub const CELL_BOX_BITS: u32 = 5;
+const _: () = assert!(
+    BLOCK_CELLS[0] <= 1 << CELL_BOX_BITS
+        && BLOCK_CELLS[1] <= 1 << CELL_BOX_BITS
+        && BLOCK_CELLS[2] <= 1 << CELL_BOX_BITS
+);
+
+/// The bit of a packed cell box that says it holds one (a block without triangles has none).
+pub const CELL_BOX_VALID: u32 = 1 << 31;
+
+/// A block's cells that made triangles at an isovalue: the first and last, local to the block.
+pub type CellBox = [[u32; 3]; 2];
 
 /// What culling did in the last frame.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -160,6 +190,9 @@ pub struct ComputeCullState {
     /// The extraction's (triangles, blocks classified) of pass A and pass B.
     pub(super) extract_stats: [Buffer; 2],
     pub(super) hzb: Buffer,
+    /// Per block, the box of its cells that made triangles and the bits of the isovalue it
+    /// was made at (`cell_box.glsl`): tested in place of the block's box at that isovalue.
+    pub(super) cell_boxes: Buffer,
     /// The statistics of the last frame on the host: `stats`, then the first word of each
     /// `extract_stats`.
     readback: Readback,
@@ -169,6 +202,8 @@ pub struct ComputeCullState {
     pub(super) height: u32,
     pub(super) block_count: u32,
     pub(super) frame: Cell<usize>,
+    /// [`PreparedVolume::id`] of the volume the cell boxes were made from (0: none yet).
+    pub(super) boxes_volume: Cell<u64>,
 }
 
 impl ComputeCullState {
@@ -192,6 +227,7 @@ impl ComputeCullState {
             ("hzb cull extract stats A", 8),
             ("hzb cull extract stats B", 8),
             ("hzb", hzb_bytes(w, h)),
+            ("hzb cull cell boxes", 8 * blocks as u64),
         ];
         let usage = vk::BufferUsageFlags::STORAGE_BUFFER
             | vk::BufferUsageFlags::INDIRECT_BUFFER
@@ -202,9 +238,10 @@ impl ComputeCullState {
             made.push(gpu.create_buffer(name, bytes, usage, MemoryLocation::GpuOnly)?);
         }
         let new_lists = TriangleLists::new(gpu, target.lists.capacity)?;
-        let Ok([flags, a, b, new_blocks, stats, es_a, es_b, hzb]) = <[Buffer; 8]>::try_from(made)
+        let Ok([flags, a, b, new_blocks, stats, es_a, es_b, hzb, cell_boxes]) =
+            <[Buffer; 9]>::try_from(made)
         else {
-            unreachable!("eight buffers were made")
+            unreachable!("nine buffers were made")
         };
         let state = ComputeCullState {
             flags,
@@ -213,12 +250,14 @@ impl ComputeCullState {
             stats,
             extract_stats: [es_a, es_b],
             hzb,
+            cell_boxes,
             readback: gpu.create_readback("hzb cull stats (host)", 4 * STATS_WORDS + 12)?,
             new_lists,
             width: w,
             height: h,
             block_count: blocks,
             frame: Cell::new(0),
+            boxes_volume: Cell::new(0),
         };
         state.reset(gpu)?;
         Ok(state)
@@ -233,6 +272,7 @@ impl ComputeCullState {
                 &self.lists[0],
                 &self.lists[1],
                 &self.new_blocks,
+                &self.cell_boxes,
             ] {
                 rec.fill_buffer(b, 0);
             }
@@ -241,6 +281,21 @@ impl ComputeCullState {
             }
         })?;
         Ok(())
+    }
+
+    /// Per block, the box of the cells that made triangles when it was last extracted at `iso`
+    /// (`None` for blocks not extracted at `iso` since the last reset, or without triangles).
+    pub fn read_cell_boxes(&self, gpu: &Gpu, iso: f32) -> Result<Vec<Option<CellBox>>> {
+        let mask = (1 << CELL_BOX_BITS) - 1;
+        let boxes: Vec<[u32; 2]> = gpu.read_buffer_as(&self.cell_boxes)?;
+        Ok(boxes
+            .iter()
+            .map(|&[packed, iso_bits]| {
+                let valid = packed & CELL_BOX_VALID != 0 && iso_bits == iso.to_bits();
+                let at = |k: u32| (packed >> (k * CELL_BOX_BITS)) & mask;
+                valid.then(|| [[at(0), at(1), at(2)], [at(3), at(4), at(5)]])
+            })
+            .collect())
     }
 
     pub(super) fn first(&self) -> &Buffer {

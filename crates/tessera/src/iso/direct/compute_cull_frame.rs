@@ -66,6 +66,7 @@ impl DirectCompute {
                     Binding::Buffer(&lists.counts),
                     Binding::Buffer(stats),
                     Binding::Buffer(blocks),
+                    Binding::Buffer(&state.cell_boxes),
                 ],
                 bytemuck::bytes_of(&p),
                 blocks,
@@ -92,6 +93,10 @@ impl DirectCompute {
                 .iter()
                 .for_each(|s| rec.fill_buffer(s, 0));
             target.frame.record_begin(rec);
+            // Boxes made from another volume (the same block grid) say nothing about this one.
+            if state.boxes_volume.replace(prepared.id()) != prepared.id() {
+                rec.fill_buffer(&state.cell_boxes, 0);
+            }
             rec.barrier();
             extract(rec, a, &state.extract_stats[0], first);
             self.rasterizer
@@ -119,6 +124,7 @@ impl DirectCompute {
                     Binding::Buffer(&state.hzb),
                     Binding::Buffer(&state.new_blocks),
                     Binding::Buffer(&state.stats),
+                    Binding::Buffer(&state.cell_boxes),
                 ],
                 bytemuck::bytes_of(&test),
                 per_block(&c.test),

@@ -12,6 +12,9 @@
 #include "common/grid_world.glsl"
 #include "iso/direct/params.glsl"
 #include "iso/direct/block_list.glsl"
+#ifdef BLOCK_LIST
+#include "iso/direct/cell_box.glsl"
+#endif
 #include "iso/direct/attributes.glsl"
 #include "raster/raster.glsl"
 #include "common/indirect_args.glsl"
@@ -34,6 +37,12 @@ layout(binding = 5) buffer Stats { uint stats[]; };
 // A block list: its length, the indirect dispatch arguments (a 2-D grid of workgroups when
 // one row would exceed the device's limit), then linear block ids.
 layout(binding = 6) readonly buffer Blocks { BlockListHeader block_header; uint block_list[]; };
+// Per block, the box of its cells that made triangles (iso/direct/cell_box.glsl) and the bits
+// of the isovalue it was made at: what the occlusion test of later frames tests instead of
+// the block's whole box.
+layout(binding = 7) writeonly buffer CellBoxes { uvec2 cell_boxes[]; };
+shared uint box_lo[3];
+shared uint box_hi[3];
 #endif
 
 const uint CELLS = BLOCK_X * BLOCK_Y * BLOCK_Z;
@@ -64,8 +73,17 @@ void main() {
         return;  // uniform across the workgroup
     }
 
+#ifdef BLOCK_LIST
+    if (me < 3u) {
+        box_lo[me] = 0xffffffffu;
+        box_hi[me] = 0u;
+    }
+    barrier();
+#endif
     uint rows[PER_THREAD];  // table rows (case and ambiguous-face choices)
     uint total = 0u;
+    uvec3 made_lo = uvec3(0xffffffffu);  // the box of this invocation's cells with triangles
+    uvec3 made_hi = uvec3(0u);
     for (uint k = 0u; k < PER_THREAD; ++k) {
         uint id = me * PER_THREAD + k;
         uvec3 local = uvec3(id % BLOCK_X, (id / BLOCK_X) % BLOCK_Y, id / (BLOCK_X * BLOCK_Y));
@@ -76,7 +94,19 @@ void main() {
             rows[k] = mc_cell_row(volume_tex, cell, case_index, iso);
         }
         total += mc_tri_count(rows[k]);
+        if (mc_tri_count(rows[k]) > 0u) {
+            made_lo = min(made_lo, local);
+            made_hi = max(made_hi, local);
+        }
     }
+#ifdef BLOCK_LIST
+    if (total > 0u) {
+        for (uint a = 0u; a < 3u; ++a) {
+            atomicMin(box_lo[a], made_lo[a]);
+            atomicMax(box_hi[a], made_hi[a]);
+        }
+    }
+#endif
     prefix[me + 1u] = total;
     barrier();
     if (me == 0u) {
@@ -94,6 +124,13 @@ void main() {
             GROW_INDIRECT_ARGS3(raster_dispatch, first + kept, RASTER_GROUP_SIZE);
         }
         base = first;
+#ifdef BLOCK_LIST
+        // A block without triangles keeps its whole box (no valid bit).
+        uint box = wg_total > 0u
+            ? cell_box_pack(uvec3(box_lo[0], box_lo[1], box_lo[2]), uvec3(box_hi[0], box_hi[1], box_hi[2]))
+            : 0u;
+        cell_boxes[block_id] = uvec2(box, floatBitsToUint(iso));
+#endif
     }
     barrier();
 

@@ -6,6 +6,7 @@
 // max-depth pyramid of the first pass holds a depth at or behind the box's nearest point.
 #include "raster/hzb.glsl"
 #include "iso/direct/block_list.glsl"
+#include "iso/direct/cell_box.glsl"
 #include "common/indirect_args.glsl"
 
 layout(local_size_x = 256) in;
@@ -17,6 +18,9 @@ layout(binding = 2) readonly buffer Hzb { float hzb[]; };
 layout(binding = 3) buffer NewBlocks { BlockListHeader new_list; uint new_blocks[]; };
 // [0] occupied blocks, [1] blocks listed for pass B
 layout(binding = 4) buffer Stats { uint stats[]; };
+// Per block, the box of the cells that made triangles and the isovalue's bits when it was last
+// extracted (iso/direct/cell_box.glsl).
+layout(binding = 5) readonly buffer CellBoxes { uvec2 cell_boxes[]; };
 
 layout(push_constant) uniform HzbTestParams {
     mat4 grid_to_clip;
@@ -27,9 +31,19 @@ layout(push_constant) uniform HzbTestParams {
 
 #include "raster/hzb_test.glsl"
 
-bool may_be_visible(uvec3 block) {
+bool may_be_visible(uvec3 block, uint block_id) {
     uvec3 lo = block * uvec3(BLOCK_X, BLOCK_Y, BLOCK_Z);
     uvec3 hi = min(lo + uvec3(BLOCK_X, BLOCK_Y, BLOCK_Z), params.dims.xyz - 1u);
+    // Where the block was extracted at this isovalue, its triangles lie in the cells that
+    // made them: test their box.
+    uvec2 known = cell_boxes[block_id];
+    if ((known.x & CELL_BOX_VALID) != 0u && known.y == floatBitsToUint(params.iso.x)) {
+        uvec3 first;
+        uvec3 last;
+        cell_box_unpack(known.x, first, last);
+        hi = min(lo + last + 1u, hi);
+        lo = lo + first;
+    }
     return hzb_box_may_be_visible(params.grid_to_clip, vec3(lo), vec3(hi), params.size.xy,
                                   params.dims.w);
 }
@@ -57,7 +71,7 @@ void main() {
             atomicAdd(group_occupied, 1u);
             uvec3 block = uvec3(b % block_dims.x, (b / block_dims.x) % block_dims.y,
                                 b / (block_dims.x * block_dims.y));
-            if ((block_flags[b] & 2u) == 0u && may_be_visible(block)) {
+            if ((block_flags[b] & 2u) == 0u && may_be_visible(block, b)) {
                 listed = true;
                 slot = atomicAdd(group_new, 1u);
             }

@@ -40,6 +40,7 @@ layout(push_constant) uniform ResolveParams {
     uvec2 size;          // width, height
     uint second_base;    // first index of the second list (TWO_LISTS)
     uint frame_number;   // the number the frame's raster passes marked their tiles with
+    uint empties;        // 1: empty each drawn pixel read (0: the frame is kept for reading)
 } params;
 
 void resolve_pixel(uvec2 pixel, uvec2 size) {
@@ -52,7 +53,9 @@ void resolve_pixel(uvec2 pixel, uvec2 size) {
         value = depth_payload[i];
     }
     if (!raster_is_empty(value)) {
-        depth_payload[i] = uvec2(RASTER_EMPTY_WORD);
+        if (params.empties != 0u) {
+            depth_payload[i] = uvec2(RASTER_EMPTY_WORD);
+        }
         uint t = raster_index(value);
         RasterTriangle tri;
         TriangleAttributes a;

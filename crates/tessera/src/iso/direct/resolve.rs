@@ -22,6 +22,8 @@ pub struct ResolveParams {
     pub second_base: u32,
     /// [`RasterFrame::frame_number`].
     pub frame_number: u32,
+    /// 1: empty each drawn pixel read; 0: leave it ([`RasterFrame::keep_after_resolve`]).
+    pub empties: u32,
 }
 
 /// A triangle list as the resolve reads it: the rasterizer's triangles (for the
@@ -135,6 +137,7 @@ impl SurfaceResolve {
             size: [frame.width, frame.height],
             second_base,
             frame_number: frame.frame_number(),
+            empties: u32::from(frame.emptied_by_resolve()),
         };
         rec.dispatch_groups(
             &self.pipeline,
@@ -142,6 +145,8 @@ impl SurfaceResolve {
             bytemuck::bytes_of(&params),
             resolve_groups(frame.width, frame.height, self.pipeline.local_size[0]),
         );
-        frame.note_emptied();
+        if frame.emptied_by_resolve() {
+            frame.note_emptied();
+        }
     }
 }
