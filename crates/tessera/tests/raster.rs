@@ -3,31 +3,15 @@
 
 mod common;
 
-use common::raster::{draw, draw_into, rasterizer, upload_triangles};
+use common::raster::{draw, draw_into, rasterizer, upload_triangles, Rng};
 use common::{assert_clean, gpu};
 use glam::{DVec2, DVec3, Vec4};
-use tessera::raster::hzb::{hzb_bytes, hzb_levels, HzbBuilder};
 use tessera::raster::{
     create_counts_buffer, decode, ComputeRasterizer, RasterCounts, RasterFrame, RasterTriangle,
-    EMPTY, RASTER_TILE,
+    EMPTY,
 };
 use tessera_data::rasterize::{rasterize_clip_triangles, screen_polygon};
 use tessera_gpu::{vk, Gpu};
-
-/// xorshift64*: deterministic test data.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        (self.0.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.next()
-    }
-}
 
 /// A perspective camera like `tessera_data::Projection`: view space x right, y up, z forward.
 struct Camera {
@@ -263,8 +247,6 @@ fn raster_marks_the_tiles_it_draws_into() {
         far: 8.0,
     };
     let (w, h) = (cam.width, cam.height);
-    let tile = RASTER_TILE as usize;
-    let tiles_x = (w as usize).div_ceil(tile);
     let scene = random_scene(&cam, &mut Rng(0x0bad_cafe_f00d_1234));
     let (first, second) = scene.split_at(scene.len() / 2);
     let frame = RasterFrame::new(&gpu, w, h).unwrap();
@@ -280,10 +262,10 @@ fn raster_marks_the_tiles_it_draws_into() {
         let number = frame.frame_number();
         let values = frame.read(&gpu).unwrap();
         let marks: Vec<u32> = gpu.read_buffer_as(&frame.tile_frames).unwrap();
-        let marked = |x: usize, y: usize| marks[(y / tile) * tiles_x + x / tile] == number;
+        let marked = |x: u32, y: u32| marks[frame.tile_index(x, y)] == number;
         let mut drawn = 0;
         for (i, &v) in values.iter().enumerate() {
-            let (x, y) = (i % w as usize, i / w as usize);
+            let (x, y) = (i as u32 % w, i as u32 / w);
             if decode(v).is_some() {
                 drawn += 1;
                 assert!(
@@ -305,9 +287,9 @@ fn raster_marks_the_tiles_it_draws_into() {
             );
             let first_pixel = (lo - 1.0).max(DVec2::ZERO).floor();
             let last_pixel = (hi + 1.0).min(DVec2::new(f64::from(w - 1), f64::from(h - 1)));
-            for ty in first_pixel.y as usize / tile..=last_pixel.y as usize / tile {
-                for tx in first_pixel.x as usize / tile..=last_pixel.x as usize / tile {
-                    reached[ty * tiles_x + tx] = true;
+            for y in first_pixel.y as u32..=last_pixel.y as u32 {
+                for x in first_pixel.x as u32..=last_pixel.x as u32 {
+                    reached[frame.tile_index(x, y)] = true;
                 }
             }
         }
@@ -578,124 +560,6 @@ fn index_base_lets_two_buffers_share_a_frame() {
             "{:?}",
             decode(values[0])
         );
-    }
-    assert_clean(&gpu);
-}
-
-/// The max-depth pyramid as `raster/hzb.glsl` defines it, level by level on the CPU: each texel
-/// the max of its 2×2 sources, the last row or column repeated past the edge.
-fn cpu_pyramid(depths: &[f32], w: u32, h: u32) -> Vec<Vec<f32>> {
-    let mut levels = Vec::new();
-    let (mut src, mut src_dims) = (depths.to_vec(), [w, h]);
-    for dims in hzb_levels(w, h) {
-        let at = |x: u32, y: u32| {
-            src[(y.min(src_dims[1] - 1) * src_dims[0] + x.min(src_dims[0] - 1)) as usize]
-        };
-        let level: Vec<f32> = (0..dims[1])
-            .flat_map(|y| (0..dims[0]).map(move |x| (x, y)))
-            .map(|(x, y)| {
-                let (x, y) = (2 * x, 2 * y);
-                at(x, y)
-                    .max(at(x + 1, y))
-                    .max(at(x, y + 1))
-                    .max(at(x + 1, y + 1))
-            })
-            .collect();
-        (src, src_dims) = (level.clone(), dims);
-        levels.push(level);
-    }
-    levels
-}
-
-/// The pyramid of frames of many shapes against the CPU's, level by level; pixels of tiles not
-/// marked with the frame's number count as empty (those tiles hold other depths here).
-#[test]
-fn hzb_pyramid_matches_cpu_levels() {
-    let gpu = gpu();
-    let builder = HzbBuilder::new(&gpu, &tessera::shaders::compiler()).unwrap();
-    let mut rng = Rng(0x5eed_4a2b);
-    // Odd sides, one pixel wide or high, and frames whose pyramids take one, two and three
-    // passes (4200 wide: the second pass's first level spans two workgroups).
-    for (w, h) in [
-        (1, 1),
-        (5, 1),
-        (1, 7),
-        (33, 17),
-        (97, 45),
-        (130, 67),
-        (4200, 3),
-        (300, 200),
-    ] {
-        let n = (w * h) as usize;
-        // Depths in [0, 1) with some pixels empty (the pyramid reads them as 1.0).
-        let depths: Vec<f32> = (0..n)
-            .map(|_| {
-                if rng.next() < 0.1 {
-                    1.0
-                } else {
-                    rng.next() as f32
-                }
-            })
-            .collect();
-        let payload: Vec<u64> = depths
-            .iter()
-            .enumerate()
-            .map(|(i, &d)| {
-                if d == 1.0 {
-                    EMPTY
-                } else {
-                    u64::from(d.to_bits()) << 32 | i as u64
-                }
-            })
-            .collect();
-        // Every third tile left unmarked: its pixels count as empty whatever they hold.
-        let tile = RASTER_TILE as usize;
-        let tiles_x = (w as usize).div_ceil(tile);
-        let tiles = tiles_x * (h as usize).div_ceil(tile);
-        let unmarked = |t: usize| t % 3 == 2;
-        let tile_of = |i: usize| (i / w as usize / tile) * tiles_x + (i % w as usize) / tile;
-        let depths: Vec<f32> = depths
-            .iter()
-            .enumerate()
-            .map(|(i, &d)| if unmarked(tile_of(i)) { 1.0 } else { d })
-            .collect();
-        let frame = RasterFrame::new(&gpu, w, h).unwrap();
-        gpu.submit("begin", |rec| frame.record_begin(rec)).unwrap();
-        let marks: Vec<u32> = (0..tiles)
-            .map(|t| frame.frame_number() - u32::from(unmarked(t)))
-            .collect();
-        gpu.write_buffer(&frame.depth_payload, bytemuck::cast_slice(&payload))
-            .unwrap();
-        gpu.write_buffer(&frame.tile_frames, bytemuck::cast_slice(&marks))
-            .unwrap();
-        let hzb = gpu
-            .create_buffer(
-                "test hzb",
-                hzb_bytes(w, h),
-                vk::BufferUsageFlags::STORAGE_BUFFER
-                    | vk::BufferUsageFlags::TRANSFER_SRC
-                    | vk::BufferUsageFlags::TRANSFER_DST,
-                tessera_gpu::MemoryLocation::GpuOnly,
-            )
-            .unwrap();
-        // Poison: a level the builder skipped would keep it.
-        gpu.submit("poison hzb", |rec| rec.fill_buffer(&hzb, 0x7fc0_0000))
-            .unwrap();
-        gpu.submit("hzb", |rec| builder.record(rec, &frame, &hzb))
-            .unwrap();
-        let got: Vec<f32> = gpu.read_buffer_as(&hzb).unwrap();
-        let mut offset = 0;
-        for (level, want) in cpu_pyramid(&depths, w, h).iter().enumerate() {
-            let got = &got[offset..offset + want.len()];
-            for (i, (g, e)) in got.iter().zip(want).enumerate() {
-                assert_eq!(
-                    g.to_bits(),
-                    e.to_bits(),
-                    "{w}x{h} level {level} texel {i}: {g} != {e}"
-                );
-            }
-            offset += want.len();
-        }
     }
     assert_clean(&gpu);
 }

@@ -30,9 +30,7 @@ const uint TILE = HZB_TILE;  // invocations per side; each folds a 2×2 of the f
 shared float s_depth[TILE][TILE];
 
 float pixel_depth(uvec2 p) {
-    uint tiles_x = (params.size.x + RASTER_TILE - 1u) / RASTER_TILE;
-    uvec2 tile = p / RASTER_TILE;
-    if (tile_frames[tile.y * tiles_x + tile.x] != params.frame_number) {
+    if (tile_frames[raster_tile_index(p, params.size.x)] != params.frame_number) {
         return 1.0;
     }
     uvec2 value = depth_payload[p.y * params.size.x + p.x];

@@ -226,6 +226,13 @@ impl RasterFrame {
         !self.kept.get()
     }
 
+    /// The index in [`Self::tile_frames`] of the tile holding pixel (`x`, `y`), as the shaders
+    /// compute it (`raster_tile_index` in raster.glsl).
+    pub fn tile_index(&self, x: u32, y: u32) -> usize {
+        let tiles_per_row = self.width.div_ceil(RASTER_TILE) as usize;
+        (y / RASTER_TILE) as usize * tiles_per_row + (x / RASTER_TILE) as usize
+    }
+
     pub fn pixel_count(&self) -> usize {
         self.width as usize * self.height as usize
     }

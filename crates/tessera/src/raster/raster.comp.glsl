@@ -142,12 +142,12 @@ void draw_triangle(Corner a, Corner b, Corner c, uint index) {
     }
     // Every tile the pixel box reaches: a superset of the tiles the triangle draws into, which
     // a resolve that reads only marked tiles must all see. Every writer stores the same value.
-    uint tiles_x = (params.size.x + RASTER_TILE - 1u) / RASTER_TILE;
+    uint tiles_per_row = raster_tiles_per_row(params.size.x);
     uvec2 first_tile = uvec2(first) / RASTER_TILE;
     uvec2 last_tile = uvec2(last) / RASTER_TILE;
     for (uint ty = first_tile.y; ty <= last_tile.y; ++ty) {
         for (uint tx = first_tile.x; tx <= last_tile.x; ++tx) {
-            tile_frames[ty * tiles_x + tx] = params.frame_number;
+            tile_frames[ty * tiles_per_row + tx] = params.frame_number;
         }
     }
     // Edge i is opposite corner i; its function is corner i's unnormalized weight.

@@ -31,6 +31,20 @@ uint raster_index(uvec2 value) {
     return value.x;
 }
 
+#ifdef RASTER_TILE
+// RASTER_TILE-square tiles per row of a frame `width` pixels wide (raster/mod.rs: the tiles'
+// frame numbers, row-major).
+uint raster_tiles_per_row(uint width) {
+    return (width + RASTER_TILE - 1u) / RASTER_TILE;
+}
+
+// The index of the tile holding pixel `pixel` of a frame `width` pixels wide.
+uint raster_tile_index(uvec2 pixel, uint width) {
+    uvec2 tile = pixel / RASTER_TILE;
+    return tile.y * raster_tiles_per_row(width) + tile.x;
+}
+#endif
+
 // The centre of pixel `pixel`, in pixels; what the rasterizer samples.
 vec2 raster_pixel_centre(uvec2 pixel) {
     return vec2(pixel) + 0.5;

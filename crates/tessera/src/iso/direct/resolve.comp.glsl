@@ -45,11 +45,9 @@ layout(push_constant) uniform ResolveParams {
 
 void resolve_pixel(uvec2 pixel, uvec2 size) {
     uint i = pixel.y * size.x + pixel.x;
-    uint tiles_x = (size.x + RASTER_TILE - 1u) / RASTER_TILE;
-    uvec2 tile = pixel / RASTER_TILE;
     vec4 colour = BACKGROUND;
     uvec2 value = uvec2(RASTER_EMPTY_WORD);
-    if (tile_frames[tile.y * tiles_x + tile.x] == params.frame_number) {
+    if (tile_frames[raster_tile_index(pixel, size.x)] == params.frame_number) {
         value = depth_payload[i];
     }
     if (!raster_is_empty(value)) {

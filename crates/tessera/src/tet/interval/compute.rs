@@ -9,7 +9,8 @@
 use super::binned::{BinCapacity, TetBins};
 use super::mesh::GpuTetMesh;
 use super::scheme_choice::DrawScheme;
-use super::{ComputeScheme, IntervalParams, SubgroupDraw, SUBGROUP_DRAW_CHOICES};
+use super::subgroup_draw::{subgroup_draw_defines, SubgroupDraw};
+use super::{ComputeScheme, IntervalParams};
 use crate::builtin_shader;
 use crate::error::{Error, Result};
 use crate::raster::{create_counts_buffer, IndirectArgs};
@@ -53,42 +54,20 @@ pub struct IntervalCompute {
 }
 
 /// The interval defines, the tile pass's sizes, and which tets the per-tet pass's subgroups
-/// draw together: none (`INTERVAL_SUBGROUP_DRAW` 0), those above a fixed number of pixels of
-/// their screen rectangle (`SUBGROUP_DRAW_ABOVE_PIXELS`), or above the limit of
-/// `SUBGROUP_DRAW_LIMITS` each subgroup chooses (`SUBGROUP_DRAW_CHOSEN` 1, a shared tet
-/// costing `SUBGROUP_DRAW_SETUP_PIXELS` beyond its pixels).
+/// draw together ([`subgroup_draw_defines`]).
 pub(crate) fn compute_defines(
     defines: &[(String, String)],
     capacity: TileCapacity,
     subgroup_draw: SubgroupDraw,
 ) -> Vec<(String, String)> {
-    let (above, chosen, setup) = match subgroup_draw {
-        SubgroupDraw::Off => (0, false, 0),
-        SubgroupDraw::Above(pixels) => (pixels, false, 0),
-        SubgroupDraw::Chosen { setup_pixels } => (0, true, setup_pixels),
-    };
-    let limits: Vec<String> = SUBGROUP_DRAW_CHOICES
-        .iter()
-        .map(|l| format!("{l}u"))
-        .collect();
     let mut defines = defines.to_vec();
     defines.extend([
         ("TILE".into(), TILE.to_string()),
         ("TETS_PER_WORKGROUP".into(), TETS_PER_WORKGROUP.to_string()),
         ("TILED_CAPACITY".into(), format!("{}u", capacity.tets)),
         ("TILE_CAPACITY".into(), format!("{}u", capacity.tiles)),
-        (
-            "INTERVAL_SUBGROUP_DRAW".into(),
-            u32::from(subgroup_draw != SubgroupDraw::Off).to_string(),
-        ),
-        ("SUBGROUP_DRAW_ABOVE_PIXELS".into(), format!("{above}u")),
-        ("SUBGROUP_DRAW_CHOSEN".into(), u32::from(chosen).to_string()),
-        ("SUBGROUP_DRAW_SETUP_PIXELS".into(), format!("{setup}u")),
-        (
-            "SUBGROUP_DRAW_LIMITS".into(),
-            format!("uint[]({})", limits.join(", ")),
-        ),
     ]);
+    defines.extend(subgroup_draw_defines(subgroup_draw));
     defines
 }
 

@@ -21,10 +21,12 @@ pub mod compute;
 pub mod graphics;
 pub mod mesh;
 pub mod scheme_choice;
+pub mod subgroup_draw;
 
 pub use binned::BinCapacity;
 pub use compute::TileCapacity;
 pub use mesh::{GpuTetMesh, OpticalTarget};
+pub use subgroup_draw::{SubgroupDraw, SUBGROUP_DRAW_ABOVE_PIXELS, SUBGROUP_DRAW_CHOICES};
 
 use crate::error::{Error, Result};
 use crate::path::Path;
@@ -160,40 +162,6 @@ pub struct IntervalOptions {
     pub subgroup_draw: SubgroupDraw,
 }
 
-/// Which tets the per-tet pass's subgroups draw together, all invocations of a subgroup taking
-/// the pixels of one tet after another, where the device has subgroup ballot, shuffle and
-/// arithmetic (elsewhere each invocation draws its own tet). The image is the same every way.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum SubgroupDraw {
-    /// Each invocation draws its own tet.
-    Off,
-    /// The tets whose screen rectangle holds more than this many pixels; each invocation
-    /// draws the smaller ones itself.
-    Above(u32),
-    /// Each subgroup takes the limit of [`SUBGROUP_DRAW_CHOICES`] whose estimated time is least:
-    /// the largest rectangle one of its invocations draws alone, plus, for each tet drawn
-    /// together, `setup_pixels` and its rectangle's pixels spread over the subgroup.
-    Chosen { setup_pixels: u32 },
-}
-
-impl Default for SubgroupDraw {
-    fn default() -> Self {
-        SubgroupDraw::Above(SUBGROUP_DRAW_ABOVE_PIXELS)
-    }
-}
-
-impl SubgroupDraw {
-    pub fn name(self) -> String {
-        match self {
-            SubgroupDraw::Off => "subgroup drawing off".into(),
-            SubgroupDraw::Above(pixels) => format!("subgroup drawing above {pixels} px"),
-            SubgroupDraw::Chosen { setup_pixels } => {
-                format!("subgroup drawing chosen (set-up {setup_pixels} px)")
-            }
-        }
-    }
-}
-
 /// The settings of interval shading that trade speed between meshes and views, without
 /// changing the image (the benchmarks compare them).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -295,20 +263,6 @@ pub struct Interval {
 /// is slower (the bunny far and inside, the 64 k-tet box inside, the asteroid field) binning is
 /// faster than either, and the automatic scheme takes it.
 pub const DEFAULT_INLINE_PIXEL_LIMIT: u32 = 16384;
-
-/// The per-tet pass's subgroups draw together only the tets whose screen rectangle holds more
-/// pixels than this. A subgroup draws its tets one after another, each at least one step of
-/// all its invocations, so for small tets it spends its time setting up one tet after another
-/// while each invocation alone would have drawn its own few pixels. On the H200 at 1920×1080
-/// the 2.4 M-tet box far went from 5.38 to 3.24 ms (scalar field 4.73 to 3.59), and the other
-/// 46 per-tet cells (the 2.4 M, 584 k and 64 k-tet boxes and the bunny, far, close and inside,
-/// 1920×1080 and 3840×2160, both integrands) stayed within 1.1 % (run 116). A limit of 256
-/// gained more there (2.48 ms) but lost 1.6–4.6 % on six cells (the bunny far and the 584 k
-/// box close at 1920×1080, the 2.4 M box far at 3840×2160).
-pub const SUBGROUP_DRAW_ABOVE_PIXELS: u32 = 64;
-
-/// The limits [`SubgroupDraw::Chosen`] chooses among, per subgroup.
-pub const SUBGROUP_DRAW_CHOICES: [u32; 4] = [64, 256, 1024, 4096];
 
 /// The paths interval shading can run on `caps`'s device: mesh shaders for the graphics path,
 /// float atomics for the compute path.
