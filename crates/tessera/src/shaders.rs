@@ -189,6 +189,10 @@ const COMMON: &[(&str, &str)] = &[
         include_str!("iso/direct/cell_box.glsl"),
     ),
     (
+        "iso/direct/cell_box_record.glsl",
+        include_str!("iso/direct/cell_box_record.glsl"),
+    ),
+    (
         "iso/direct/views.glsl",
         include_str!("iso/direct/views.glsl"),
     ),

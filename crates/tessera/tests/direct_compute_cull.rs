@@ -9,8 +9,7 @@ use tessera::iso::direct::compute_cull::{ComputeCullState, ComputeCullStats};
 use tessera::raster::hzb::hzb_levels;
 use tessera::shaders;
 use tessera::target::Target;
-use tessera_data::marching_cubes::{classify_cell, marching_cubes};
-use tessera_data::minmax::BLOCK_CELLS;
+use tessera_data::marching_cubes::marching_cubes;
 use tessera_data::procedural::{generate, ProceduralKind};
 use tessera_data::{IsoValue, OrbitCamera, ScalarType, Volume};
 use tessera_gpu::Gpu;
@@ -224,121 +223,6 @@ fn compute_culling_follows_moves_zooms_and_other_volumes() {
         (128, 112),
         &path.map(|c| (0.5, c)),
     );
-    assert_clean(&gpu);
-}
-
-/// The extraction records, per block, the box of the cells that made triangles, which later
-/// frames' occlusion test uses in place of the block's whole box: after a frame that drew
-/// every block in view, each recorded box equals the box of the block's cells whose case is
-/// neither all below nor all above the isovalue, and a box made at one isovalue does not
-/// count at another.
-#[test]
-fn the_extraction_records_the_cells_that_made_triangles() {
-    let Some(gpu) = atomics_gpu() else { return };
-    let head = generate(ProceduralKind::HeadPhantom, 48, ScalarType::U8).unwrap();
-    let compiler = shaders::compiler();
-    let compute = DirectCompute::new(&gpu, &compiler, head.scalar_type()).unwrap();
-    let prepared = compute.prepare(&gpu, &head).unwrap();
-    let iso = head.iso_to_texel(IsoValue::Normalized(0.3));
-    let capacity = marching_cubes(&head, iso).triangle_count() as u32 + 16;
-    let target = ComputeTarget::new(&gpu, 96, 80, capacity).unwrap();
-    let pixels = Target::new(&gpu, 96, 80).unwrap();
-    let state = ComputeCullState::new(&gpu, &prepared, &target).unwrap();
-    // The first frame after a reset tests every block against an empty pyramid: all those in
-    // view are extracted.
-    let camera = OrbitCamera::default();
-    compute
-        .render_culled(&gpu, &prepared, &target, &pixels, &state, iso, &camera)
-        .unwrap();
-    let boxes = state.read_cell_boxes(&gpu, iso).unwrap();
-    let dims = head.dims();
-    let blocks: [u32; 3] = std::array::from_fn(|a| (dims[a] - 1).div_ceil(BLOCK_CELLS[a]));
-    assert_eq!(boxes.len() as u32, blocks.iter().product::<u32>());
-    let mut cpu: Vec<Option<[[u32; 3]; 2]>> = vec![None; boxes.len()];
-    for z in 0..dims[2] - 1 {
-        for y in 0..dims[1] - 1 {
-            for x in 0..dims[0] - 1 {
-                let case = classify_cell(&head, x, y, z, iso);
-                if case == 0 || case == 255 {
-                    continue;
-                }
-                let cell = [x, y, z];
-                let block: [u32; 3] = std::array::from_fn(|a| cell[a] / BLOCK_CELLS[a]);
-                let local: [u32; 3] = std::array::from_fn(|a| cell[a] % BLOCK_CELLS[a]);
-                let b = (block[2] * blocks[1] + block[1]) * blocks[0] + block[0];
-                let entry = cpu[b as usize].get_or_insert([local, local]);
-                for a in 0..3 {
-                    entry[0][a] = entry[0][a].min(local[a]);
-                    entry[1][a] = entry[1][a].max(local[a]);
-                }
-            }
-        }
-    }
-    let occupied = cpu.iter().filter(|b| b.is_some()).count();
-    let recorded = boxes.iter().filter(|b| b.is_some()).count();
-    let mut smaller = 0;
-    for (b, (gpu_box, cpu_box)) in boxes.iter().zip(&cpu).enumerate() {
-        if let Some(gpu_box) = gpu_box {
-            assert_eq!(Some(*gpu_box), *cpu_box, "block {b}");
-            smaller += usize::from(*gpu_box != [[0; 3], BLOCK_CELLS.map(|c| c - 1)]);
-        }
-    }
-    assert!(
-        recorded * 10 >= occupied * 9,
-        "{recorded} of {occupied} blocks recorded"
-    );
-    assert!(
-        smaller * 2 >= recorded,
-        "only {smaller} of {recorded} boxes smaller than a block"
-    );
-    // Made at another isovalue: none counts.
-    let other = head.iso_to_texel(IsoValue::Normalized(0.5));
-    let stale = state.read_cell_boxes(&gpu, other).unwrap();
-    assert!(stale.iter().all(Option::is_none));
-    assert_clean(&gpu);
-}
-
-/// A culling state drawn with one volume and then with another of the same block grid at the
-/// same isovalue: the boxes recorded from the first must not cull the second's blocks.
-#[test]
-fn boxes_from_another_volume_are_forgotten() {
-    let Some(gpu) = atomics_gpu() else { return };
-    let head = generate(ProceduralKind::HeadPhantom, 48, ScalarType::U8).unwrap();
-    let blobs = generate(ProceduralKind::Turbulence, 48, ScalarType::U8).unwrap();
-    let compiler = shaders::compiler();
-    let compute = DirectCompute::new(&gpu, &compiler, ScalarType::U8).unwrap();
-    let iso = head.iso_to_texel(IsoValue::Normalized(0.4));
-    let capacity = [&head, &blobs]
-        .map(|v| marching_cubes(v, iso).triangle_count() as u32 + 16)
-        .into_iter()
-        .max()
-        .unwrap();
-    let (w, h) = (96, 80);
-    let target = ComputeTarget::new(&gpu, w, h, capacity).unwrap();
-    let plain_target = ComputeTarget::new(&gpu, w, h, capacity).unwrap();
-    let pixels = Target::new(&gpu, w, h).unwrap();
-    let camera = OrbitCamera::default();
-    let first = compute.prepare(&gpu, &head).unwrap();
-    let state = ComputeCullState::new(&gpu, &first, &target).unwrap();
-    for _ in 0..2 {
-        compute
-            .render_culled(&gpu, &first, &target, &pixels, &state, iso, &camera)
-            .unwrap();
-    }
-    let second = compute.prepare(&gpu, &blobs).unwrap();
-    let (plain, _, _) = compute
-        .render(&gpu, &second, &plain_target, &pixels, iso, &camera)
-        .unwrap();
-    let (culled, _, _) = compute
-        .render_culled(&gpu, &second, &target, &pixels, &state, iso, &camera)
-        .unwrap();
-    let diff = culled.compare(&plain, 2);
-    assert!(
-        diff.fraction_within >= 0.999,
-        "{} pixels differ from the unculled frame",
-        diff.pixels_outside
-    );
-    assert_matches_cpu_raster("cull-other-volume", &culled, &blobs, iso, &camera);
     assert_clean(&gpu);
 }
 

@@ -44,6 +44,7 @@
 use crate::builtin_shader;
 use crate::error::Result;
 use crate::iso::direct::block_list;
+use crate::iso::direct::cell_boxes::{cell_box_defines, CellBoxes};
 use crate::iso::direct::compute::{extract_defines, ComputeTarget, TriangleLists};
 use crate::iso::direct::resolve::SurfaceResolve;
 use crate::iso::PreparedVolume;
@@ -51,7 +52,6 @@ use crate::raster::hzb::{hzb_bytes, HzbBuilder};
 use bytemuck::{Pod, Zeroable};
 use std::cell::Cell;
 use tessera_data::mc_ambiguity::AmbiguityRule;
-use tessera_data::minmax::BLOCK_CELLS;
 use tessera_data::ScalarType;
 use tessera_gpu::{
     vk, Buffer, Gpu, MemoryLocation, Pipeline, Readback, Recorder, ShaderCompiler, Slot,
@@ -88,10 +88,7 @@ pub(crate) struct ComputeCullPipelines {
 /// The defines of the culling passes: the extraction's, and the cell boxes' layout.
 pub(crate) fn cull_defines(scalar: ScalarType, rule: AmbiguityRule) -> Vec<(String, String)> {
     let mut defines = extract_defines(scalar, rule);
-    defines.extend([
-        ("CELL_BOX_BITS".into(), format!("{CELL_BOX_BITS}u")),
-        ("CELL_BOX_VALID".into(), format!("{CELL_BOX_VALID}u")),
-    ]);
+    defines.extend(cell_box_defines());
     defines
 }
 
@@ -131,21 +128,6 @@ impl ComputeCullPipelines {
         })
     }
 }
-
-/// Bits per coordinate of a block's cell box (`cell_box.glsl`): six coordinates and a valid bit
-/// in 32 bits, for blocks up to 32 cells a side.
-pub const CELL_BOX_BITS: u32 = 5;
-const _: () = assert!(
-    BLOCK_CELLS[0] <= 1 << CELL_BOX_BITS
-        && BLOCK_CELLS[1] <= 1 << CELL_BOX_BITS
-        && BLOCK_CELLS[2] <= 1 << CELL_BOX_BITS
-);
-
-/// The bit of a packed cell box that says it holds one (a block without triangles has none).
-pub const CELL_BOX_VALID: u32 = 1 << 31;
-
-/// A block's cells that made triangles at an isovalue: the first and last, local to the block.
-pub type CellBox = [[u32; 3]; 2];
 
 /// What culling did in the last frame.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -190,9 +172,9 @@ pub struct ComputeCullState {
     /// The extraction's (triangles, blocks classified) of pass A and pass B.
     pub(super) extract_stats: [Buffer; 2],
     pub(super) hzb: Buffer,
-    /// Per block, the box of its cells that made triangles and the bits of the isovalue it
-    /// was made at (`cell_box.glsl`): tested in place of the block's box at that isovalue.
-    pub(super) cell_boxes: Buffer,
+    /// Per block, the box of its cells that made triangles at the isovalue it was made at:
+    /// tested in place of the block's box at that isovalue.
+    pub cell_boxes: CellBoxes,
     /// The statistics of the last frame on the host: `stats`, then the first word of each
     /// `extract_stats`.
     readback: Readback,
@@ -202,8 +184,6 @@ pub struct ComputeCullState {
     pub(super) height: u32,
     pub(super) block_count: u32,
     pub(super) frame: Cell<usize>,
-    /// [`PreparedVolume::id`] of the volume the cell boxes were made from (0: none yet).
-    pub(super) boxes_volume: Cell<u64>,
 }
 
 impl ComputeCullState {
@@ -227,7 +207,6 @@ impl ComputeCullState {
             ("hzb cull extract stats A", 8),
             ("hzb cull extract stats B", 8),
             ("hzb", hzb_bytes(w, h)),
-            ("hzb cull cell boxes", 8 * blocks as u64),
         ];
         let usage = vk::BufferUsageFlags::STORAGE_BUFFER
             | vk::BufferUsageFlags::INDIRECT_BUFFER
@@ -238,10 +217,9 @@ impl ComputeCullState {
             made.push(gpu.create_buffer(name, bytes, usage, MemoryLocation::GpuOnly)?);
         }
         let new_lists = TriangleLists::new(gpu, target.lists.capacity)?;
-        let Ok([flags, a, b, new_blocks, stats, es_a, es_b, hzb, cell_boxes]) =
-            <[Buffer; 9]>::try_from(made)
+        let Ok([flags, a, b, new_blocks, stats, es_a, es_b, hzb]) = <[Buffer; 8]>::try_from(made)
         else {
-            unreachable!("nine buffers were made")
+            unreachable!("eight buffers were made")
         };
         let state = ComputeCullState {
             flags,
@@ -250,14 +228,13 @@ impl ComputeCullState {
             stats,
             extract_stats: [es_a, es_b],
             hzb,
-            cell_boxes,
+            cell_boxes: CellBoxes::new(gpu, "hzb cull cell boxes", blocks as u64)?,
             readback: gpu.create_readback("hzb cull stats (host)", 4 * STATS_WORDS + 12)?,
             new_lists,
             width: w,
             height: h,
             block_count: blocks,
             frame: Cell::new(0),
-            boxes_volume: Cell::new(0),
         };
         state.reset(gpu)?;
         Ok(state)
@@ -272,30 +249,15 @@ impl ComputeCullState {
                 &self.lists[0],
                 &self.lists[1],
                 &self.new_blocks,
-                &self.cell_boxes,
             ] {
                 rec.fill_buffer(b, 0);
             }
+            self.cell_boxes.record_clear(rec);
             for b in [&self.stats, &self.extract_stats[0], &self.extract_stats[1]] {
                 rec.fill_buffer(b, 0);
             }
         })?;
         Ok(())
-    }
-
-    /// Per block, the box of the cells that made triangles when it was last extracted at `iso`
-    /// (`None` for blocks not extracted at `iso` since the last reset, or without triangles).
-    pub fn read_cell_boxes(&self, gpu: &Gpu, iso: f32) -> Result<Vec<Option<CellBox>>> {
-        let mask = (1 << CELL_BOX_BITS) - 1;
-        let boxes: Vec<[u32; 2]> = gpu.read_buffer_as(&self.cell_boxes)?;
-        Ok(boxes
-            .iter()
-            .map(|&[packed, iso_bits]| {
-                let valid = packed & CELL_BOX_VALID != 0 && iso_bits == iso.to_bits();
-                let at = |k: u32| (packed >> (k * CELL_BOX_BITS)) & mask;
-                valid.then(|| [[at(0), at(1), at(2)], [at(3), at(4), at(5)]])
-            })
-            .collect())
     }
 
     pub(super) fn first(&self) -> &Buffer {

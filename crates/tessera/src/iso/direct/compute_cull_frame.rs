@@ -66,7 +66,7 @@ impl DirectCompute {
                     Binding::Buffer(&lists.counts),
                     Binding::Buffer(stats),
                     Binding::Buffer(blocks),
-                    Binding::Buffer(&state.cell_boxes),
+                    Binding::Buffer(&state.cell_boxes.buffer),
                 ],
                 bytemuck::bytes_of(&p),
                 blocks,
@@ -94,9 +94,7 @@ impl DirectCompute {
                 .for_each(|s| rec.fill_buffer(s, 0));
             target.frame.record_begin(rec);
             // Boxes made from another volume (the same block grid) say nothing about this one.
-            if state.boxes_volume.replace(prepared.id()) != prepared.id() {
-                rec.fill_buffer(&state.cell_boxes, 0);
-            }
+            state.cell_boxes.record_keep_for(rec, prepared);
             rec.barrier();
             extract(rec, a, &state.extract_stats[0], first);
             self.rasterizer
@@ -124,7 +122,7 @@ impl DirectCompute {
                     Binding::Buffer(&state.hzb),
                     Binding::Buffer(&state.new_blocks),
                     Binding::Buffer(&state.stats),
-                    Binding::Buffer(&state.cell_boxes),
+                    Binding::Buffer(&state.cell_boxes.buffer),
                 ],
                 bytemuck::bytes_of(&test),
                 per_block(&c.test),

@@ -5,11 +5,14 @@
 //! A frame: list the occupied regions; draw last frame's visible blocks (the likely
 //! occluders); draw one quad per occupied region at its nearest depth, depth-tested without
 //! writing, flagging the regions with a surviving fragment; compact the flags into this
-//! frame's newly visible blocks (drawn next) and next frame's occluder list.
+//! frame's newly visible blocks (drawn next) and next frame's occluder list. A region's quad
+//! covers its blocks' cell boxes ([`super::cell_boxes`]) where the task shader recorded them
+//! at this isovalue, else the blocks whole.
 
 use crate::builtin_shader;
 use crate::config::common_defines;
 use crate::error::Result;
+use crate::iso::direct::cell_boxes::{cell_box_defines, CellBoxes};
 use crate::iso::direct::{block_list, DirectParams, COLOR_FORMAT, DEPTH_FORMAT};
 use crate::iso::PreparedVolume;
 use std::cell::Cell;
@@ -42,7 +45,8 @@ pub struct CullPipelines {
 
 impl CullPipelines {
     pub fn new(gpu: &Gpu, compiler: &ShaderCompiler) -> Result<CullPipelines> {
-        let defines = common_defines();
+        let mut defines = common_defines();
+        defines.extend(cell_box_defines());
         let compile = |s| compiler.compile(&s, &defines);
         let setup = compile(builtin_shader!("cull_setup.comp.glsl"))?;
         let occupied = compile(builtin_shader!("cull_occupied.comp.glsl"))?;
@@ -63,7 +67,7 @@ impl CullPipelines {
             quads: gpu.graphics_pipeline_for(
                 "cull proxy quads",
                 &[&mesh, &frag],
-                &[sb, sb],
+                &[sb; 4],
                 &quad_targets,
             )?,
             compact: gpu.compute_pipeline("cull compact", &compact, &[sb, sb, sb, sb])?,
@@ -91,6 +95,8 @@ pub struct CullState {
     /// Occluder lists, used in turn: one is drawn this frame while the other is rebuilt.
     lists: [Buffer; 2],
     new_blocks: Buffer,
+    /// Per block, the cells that made triangles at the isovalue of its last extraction.
+    pub cell_boxes: CellBoxes,
     frame: Cell<usize>,
 }
 
@@ -119,6 +125,7 @@ impl CullState {
                 block_list::create(gpu, "cull occluder blocks B", blocks)?,
             ],
             new_blocks: block_list::create(gpu, "cull new blocks", blocks)?,
+            cell_boxes: CellBoxes::new(gpu, "cull cell boxes", blocks)?,
             frame: Cell::new(0),
         };
         state.reset(gpu)?;
@@ -131,6 +138,7 @@ impl CullState {
             for b in [&self.previous, &self.lists[0], &self.lists[1]] {
                 rec.fill_buffer(b, 0);
             }
+            self.cell_boxes.record_clear(rec);
         })?;
         Ok(())
     }
@@ -190,6 +198,7 @@ impl CullPipelines {
             );
             rec.barrier();
         };
+        state.cell_boxes.record_keep_for(rec, prepared);
         setup(SETUP_CLEAR);
         let r = region_dims(prepared.volume.dims);
         rec.dispatch_groups(
@@ -211,6 +220,8 @@ impl CullPipelines {
             &[
                 Binding::Buffer(&state.occupied),
                 Binding::Buffer(&state.visible),
+                Binding::Buffer(&prepared.octree.nodes),
+                Binding::Buffer(&state.cell_boxes.buffer),
             ],
             push,
             &state.occupied,

@@ -15,8 +15,12 @@ layout(local_size_x = 32) in;
 layout(binding = 0) uniform VOLUME_SAMPLER volume_tex;
 layout(binding = 1) readonly buffer Nodes { vec2 minmax_nodes[]; };
 #if BLOCK_LIST
+#include "iso/direct/cell_box_record.glsl"
 // With occlusion culling, task workgroups take their blocks from a list (linear block ids).
 layout(binding = 4) readonly buffer Blocks { BlockListHeader block_header; uint block_list[]; };
+// Per block, the box of its cells that made triangles (iso/direct/cell_box.glsl) and the bits
+// of the isovalue it was made at: the proxy quads of later frames cover only these cells.
+layout(binding = 5) writeonly buffer CellBoxes { uvec2 cell_boxes[]; };
 #endif
 
 taskPayloadSharedEXT TaskPayload payload;
@@ -32,8 +36,14 @@ shared uint list_count;
 // many lists. Every invocation calls it (it has barriers).
 uint block_lists(uvec3 block, uvec3 dims, float iso) {
     uint me = gl_LocalInvocationIndex;
+#if BLOCK_LIST
+    cell_box_record_begin();
+    barrier();
+#endif
     // Each invocation owns PER_THREAD consecutive cell ids, so compaction keeps id order.
     uint occupied = 0u;
+    uvec3 occupied_lo = uvec3(0xffffffffu);  // the box of this invocation's occupied cells
+    uvec3 occupied_hi = uvec3(0u);
     for (uint k = 0u; k < PER_THREAD; ++k) {
         uint id = me * PER_THREAD + k;
         uvec3 local = uvec3(id % BLOCK_X, (id / BLOCK_X) % BLOCK_Y, id / (BLOCK_X * BLOCK_Y));
@@ -46,8 +56,17 @@ uint block_lists(uvec3 block, uvec3 dims, float iso) {
             count = bitCount(MC_EDGE_MASK[c]);
         }
         vertex_counts[id] = count;
-        occupied += uint(count > 0u);
+        if (count > 0u) {
+            occupied += 1u;
+            occupied_lo = min(occupied_lo, local);
+            occupied_hi = max(occupied_hi, local);
+        }
     }
+#if BLOCK_LIST
+    if (occupied > 0u) {
+        cell_box_record_add(occupied_lo, occupied_hi);
+    }
+#endif
     occupied_per_thread[me] = occupied;
     barrier();
 
@@ -121,6 +140,13 @@ void main() {
     uint lists = 0u;
     if (range.x <= iso && iso <= range.y) {
         lists = block_lists(block, dims, iso);
+#if BLOCK_LIST
+        // A cell with a crossing edge makes triangles, so a block makes triangles exactly when
+        // it has lists.
+        if (gl_LocalInvocationIndex == 0u) {
+            cell_boxes[listed] = uvec2(cell_box_recorded(lists > 0u), floatBitsToUint(iso));
+        }
+#endif
     }
     EmitMeshTasksEXT(lists, 1, 1);
 }

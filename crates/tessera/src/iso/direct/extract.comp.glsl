@@ -13,7 +13,7 @@
 #include "iso/direct/params.glsl"
 #include "iso/direct/block_list.glsl"
 #ifdef BLOCK_LIST
-#include "iso/direct/cell_box.glsl"
+#include "iso/direct/cell_box_record.glsl"
 #endif
 #include "iso/direct/attributes.glsl"
 #include "raster/raster.glsl"
@@ -41,8 +41,6 @@ layout(binding = 6) readonly buffer Blocks { BlockListHeader block_header; uint 
 // of the isovalue it was made at: what the occlusion test of later frames tests instead of
 // the block's whole box.
 layout(binding = 7) writeonly buffer CellBoxes { uvec2 cell_boxes[]; };
-shared uint box_lo[3];
-shared uint box_hi[3];
 #endif
 
 const uint CELLS = BLOCK_X * BLOCK_Y * BLOCK_Z;
@@ -74,10 +72,7 @@ void main() {
     }
 
 #ifdef BLOCK_LIST
-    if (me < 3u) {
-        box_lo[me] = 0xffffffffu;
-        box_hi[me] = 0u;
-    }
+    cell_box_record_begin();
     barrier();
 #endif
     uint rows[PER_THREAD];  // table rows (case and ambiguous-face choices)
@@ -101,10 +96,7 @@ void main() {
     }
 #ifdef BLOCK_LIST
     if (total > 0u) {
-        for (uint a = 0u; a < 3u; ++a) {
-            atomicMin(box_lo[a], made_lo[a]);
-            atomicMax(box_hi[a], made_hi[a]);
-        }
+        cell_box_record_add(made_lo, made_hi);
     }
 #endif
     prefix[me + 1u] = total;
@@ -125,11 +117,7 @@ void main() {
         }
         base = first;
 #ifdef BLOCK_LIST
-        // A block without triangles keeps its whole box (no valid bit).
-        uint box = wg_total > 0u
-            ? cell_box_pack(uvec3(box_lo[0], box_lo[1], box_lo[2]), uvec3(box_hi[0], box_hi[1], box_hi[2]))
-            : 0u;
-        cell_boxes[block_id] = uvec2(box, floatBitsToUint(iso));
+        cell_boxes[block_id] = uvec2(cell_box_recorded(wg_total > 0u), floatBitsToUint(iso));
 #endif
     }
     barrier();

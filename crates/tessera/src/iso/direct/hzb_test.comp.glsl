@@ -36,14 +36,7 @@ bool may_be_visible(uvec3 block, uint block_id) {
     uvec3 hi = min(lo + uvec3(BLOCK_X, BLOCK_Y, BLOCK_Z), params.dims.xyz - 1u);
     // Where the block was extracted at this isovalue, its triangles lie in the cells that
     // made them: test their box.
-    uvec2 known = cell_boxes[block_id];
-    if ((known.x & CELL_BOX_VALID) != 0u && known.y == floatBitsToUint(params.iso.x)) {
-        uvec3 first;
-        uvec3 last;
-        cell_box_unpack(known.x, first, last);
-        hi = min(lo + last + 1u, hi);
-        lo = lo + first;
-    }
+    cell_box_narrow(cell_boxes[block_id], params.iso.x, lo, hi);
     return hzb_box_may_be_visible(params.grid_to_clip, vec3(lo), vec3(hi), params.size.xy,
                                   params.dims.w);
 }

@@ -11,6 +11,7 @@
 //! culling, in `compute` and `compute_cull`.
 
 pub mod block_list;
+pub mod cell_boxes;
 pub mod compute;
 pub mod compute_cull;
 mod compute_cull_frame;
@@ -183,14 +184,24 @@ struct ListDraw<'a> {
     prepared: &'a PreparedVolume,
     params: &'a DirectParams,
     capture: &'a Buffer,
+    /// Where the task shader records each block's cell box.
+    cell_boxes: &'a Buffer,
 }
 
 impl DrawBlockList for ListDraw<'_> {
     fn draw_blocks(&self, rec: &Recorder, list: &Buffer) -> Result<()> {
-        let bindings = self.direct.bindings(self.prepared, self.capture, list);
+        let [volume, nodes, stats, capture, blocks] =
+            self.direct.bindings(self.prepared, self.capture, list);
         rec.draw_mesh_tasks_indirect(
             &self.direct.list_pipeline,
-            &bindings,
+            &[
+                volume,
+                nodes,
+                stats,
+                capture,
+                blocks,
+                Binding::Buffer(self.cell_boxes),
+            ],
             bytemuck::bytes_of(self.params),
             list,
             block_list::ARGS_OFFSET,
@@ -222,6 +233,7 @@ impl Direct {
         let with_list = |on: bool| {
             let mut d = defines.clone();
             d.push(("BLOCK_LIST".into(), u32::from(on).to_string()));
+            d.extend(cell_boxes::cell_box_defines());
             d
         };
         let task = compiler.compile(&builtin_shader!("direct.task.glsl"), &with_list(false))?;
@@ -244,10 +256,11 @@ impl Direct {
             &slots,
             &targets,
         )?;
+        let list_slots = [&slots[..], &[Slot::StorageBuffer]].concat();
         let list_pipeline = gpu.graphics_pipeline_for(
             "direct isosurface (block list)",
             &[&list_task, &mesh, &frag],
-            &slots,
+            &list_slots,
             &targets,
         )?;
         let stats = crate::raster::create_counts_buffer(gpu, "direct stats")?;
@@ -340,6 +353,7 @@ impl Direct {
                 prepared,
                 params,
                 capture,
+                cell_boxes: &state.cell_boxes.buffer,
             };
             return self.cull.record_frame(
                 rec,
