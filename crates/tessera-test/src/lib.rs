@@ -1,7 +1,8 @@
 //! The harness GPU tests share: a device opened with the validation layer whose errors are
 //! checked after everything the test made was dropped (so releasing objects is checked too),
 //! the device features a test needs, and skips reported by the test's name on the terminal and
-//! in a log that `make test` prints at the end, so a skip is never a silent pass.
+//! in a log that `make test` prints at the end, so a skip is never a silent pass; and seeded
+//! random test data ([`Rng`]).
 //!
 //! ```ignore
 //! let Some(gpu) = TestGpu::with(&[Need::MeshShaders]) else { return };
@@ -9,6 +10,9 @@
 //! // dropped here: objects first (declared later), then the device, after a validation check
 //! ```
 
+mod random;
+
+pub use random::Rng;
 use std::io::Write;
 use std::ops::Deref;
 use tessera_gpu::{Capabilities, Gpu, GpuOptions};

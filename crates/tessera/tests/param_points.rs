@@ -100,13 +100,8 @@ fn glyph_normals_match_the_cpu() {
     let gpu = gpu();
     let compiler = shaders::compiler();
     let points = ParamPoints::new(&gpu, &compiler, points_opts!()).unwrap();
-    let mut seed = 0x2545_f491u32;
-    let mut random = move || {
-        seed ^= seed << 13;
-        seed ^= seed >> 17;
-        seed ^= seed << 5;
-        f64::from(seed) / f64::from(u32::MAX) - 0.5
-    };
+    let mut rng = common::Rng::new(0x2545_f491);
+    let mut random = move || rng.range(-0.5, 0.5);
     let place = Mat4::from_scale_rotation_translation(
         Vec3::new(0.6, 0.9, 0.4),
         glam::Quat::from_rotation_y(0.5),

@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::raster::Rng;
+use common::Rng;
 use common::{assert_clean, gpu};
 use tessera::raster::hzb::{hzb_bytes, hzb_levels, HzbBuilder};
 use tessera::raster::{RasterFrame, EMPTY};
@@ -40,7 +40,7 @@ fn cpu_pyramid(depths: &[f32], w: u32, h: u32) -> Vec<Vec<f32>> {
 fn hzb_pyramid_matches_cpu_levels() {
     let gpu = gpu();
     let builder = HzbBuilder::new(&gpu, &tessera::shaders::compiler()).unwrap();
-    let mut rng = Rng(0x5eed_4a2b);
+    let mut rng = Rng::new(0x5eed_4a2b);
     // Odd sides, one pixel wide or high, and frames whose pyramids take one, two and three
     // passes (4200 wide: the second pass's first level spans two workgroups).
     for (w, h) in [
@@ -57,10 +57,10 @@ fn hzb_pyramid_matches_cpu_levels() {
         // Depths in [0, 1) with some pixels empty (the pyramid reads them as 1.0).
         let depths: Vec<f32> = (0..n)
             .map(|_| {
-                if rng.next() < 0.1 {
+                if rng.unit() < 0.1 {
                     1.0
                 } else {
-                    rng.next() as f32
+                    rng.unit() as f32
                 }
             })
             .collect();

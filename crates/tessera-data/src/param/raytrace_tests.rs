@@ -3,25 +3,27 @@
 use super::*;
 use crate::param::sh::sh_coefficient_count;
 use crate::param::ShBasis;
+use tessera_test::Rng;
 
-/// xorshift64*: deterministic numbers in [-1, 1).
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        (self.0.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 11) as f64 / (1u64 << 52) as f64 - 1.0
-    }
-    fn vec(&mut self) -> DVec3 {
-        DVec3::new(self.next(), self.next(), self.next())
-    }
+/// Three numbers uniform in [-1, 1).
+fn random_vec(rng: &mut Rng) -> DVec3 {
+    DVec3::new(
+        rng.range(-1.0, 1.0),
+        rng.range(-1.0, 1.0),
+        rng.range(-1.0, 1.0),
+    )
 }
 
 fn glyph(rng: &mut Rng, order: u32, norm: RadiusNormalization) -> ShGlyph {
     let n = sh_coefficient_count(order).unwrap();
     let c = (0..n)
-        .map(|j| if j == 0 { 2.0 } else { 0.4 * rng.next() })
+        .map(|j| {
+            if j == 0 {
+                2.0
+            } else {
+                0.4 * rng.range(-1.0, 1.0)
+            }
+        })
         .collect();
     ShGlyph::new(ShBasis::Descoteaux07 { legacy: false }, order, c, norm).unwrap()
 }
@@ -30,7 +32,13 @@ fn glyph(rng: &mut Rng, order: u32, norm: RadiusNormalization) -> ShGlyph {
 fn negative_lobed(rng: &mut Rng, order: u32, norm: RadiusNormalization) -> ShGlyph {
     let n = sh_coefficient_count(order).unwrap();
     let c = (0..n)
-        .map(|j| if j == 0 { 0.3 } else { rng.next() - 0.3 })
+        .map(|j| {
+            if j == 0 {
+                0.3
+            } else {
+                rng.range(-1.0, 1.0) - 0.3
+            }
+        })
         .collect();
     ShGlyph::new(ShBasis::Descoteaux07 { legacy: false }, order, c, norm).unwrap()
 }
@@ -86,10 +94,10 @@ fn march(g: &ShGlyph, o: DVec3, d: DVec3) -> Option<f64> {
 
 #[test]
 fn inverse_vandermonde_recovers_homogeneous_polynomials() {
-    let mut rng = Rng(7);
+    let mut rng = Rng::new(7);
     for k in (0..=MAX_RAYTRACE_ORDER).step_by(2) {
         let n = k as usize + 1;
-        let a: Vec<f64> = (0..n).map(|_| rng.next()).collect();
+        let a: Vec<f64> = (0..n).map(|_| rng.range(-1.0, 1.0)).collect();
         let r: Vec<f64> = (0..n)
             .map(|i| {
                 let (s, c) = (i as f64 * std::f64::consts::PI / n as f64).sin_cos();
@@ -118,7 +126,7 @@ fn inverse_vandermonde_recovers_homogeneous_polynomials() {
 /// order, each normalisation, rays through the centre and rays starting inside.
 #[test]
 fn first_roots_match_marching() {
-    let mut rng = Rng(11);
+    let mut rng = Rng::new(11);
     let (mut hits, mut mismatched, mut worst) = (0, 0, 0.0f64);
     for k in (0..=MAX_RAYTRACE_ORDER).step_by(2) {
         for norm in [
@@ -134,11 +142,11 @@ fn first_roots_match_marching() {
             };
             let b = glyph_bound(&g);
             for ray in 0..40 {
-                let o = rng.vec().normalize() * 3.0 * b;
+                let o = random_vec(&mut rng).normalize() * 3.0 * b;
                 let target = if ray == 0 {
                     DVec3::ZERO
                 } else {
-                    rng.vec() * 0.6 * b
+                    random_vec(&mut rng) * 0.6 * b
                 };
                 let d = (target - o).normalize();
                 let got = intersect_glyph(&g, o, d, 0.0, f64::INFINITY);
@@ -160,11 +168,11 @@ fn first_roots_match_marching() {
                 drawn_radius(&g, g.raw_radius(theta, phi)).min(b)
             };
             let start = (0..8)
-                .map(|_| rng.vec().normalize())
+                .map(|_| random_vec(&mut rng).normalize())
                 .max_by(|x, y| radius(*x).total_cmp(&radius(*y)))
                 .unwrap();
             let o = start * 0.5 * radius(start);
-            let d = rng.vec().normalize();
+            let d = random_vec(&mut rng).normalize();
             let t = intersect_glyph(&g, o, d, 0.0, f64::INFINITY);
             let m = march(&g, o, d);
             assert!(
@@ -182,7 +190,7 @@ fn first_roots_match_marching() {
 }
 
 fn field(nx: u32, ny: u32) -> Vec<ParamFunction> {
-    let mut rng = Rng(3);
+    let mut rng = Rng::new(3);
     (0..nx * ny)
         .map(|i| ParamFunction::ShGlyph(glyph(&mut rng, 2 * (i % 7), RadiusNormalization::MinMax)))
         .collect()
@@ -214,11 +222,13 @@ fn grid_walk_matches_testing_every_glyph() {
     let single = GlyphGrid::build(&spheres, 1e6).unwrap();
     assert!(fine.dims.iter().product::<u32>() >= 30, "{:?}", fine.dims);
     assert_eq!(single.dims, [1, 1, 1]);
-    let mut rng = Rng(5);
+    let mut rng = Rng::new(5);
     let mut hits = 0;
     for _ in 0..300 {
-        let eye = Vec3::new(2.5, 2.0, 6.0) + rng.vec().as_vec3() * Vec3::new(4.0, 4.0, 1.0);
-        let target = Vec3::new(2.5, 2.0, 0.0) + rng.vec().as_vec3() * Vec3::new(3.0, 2.5, 0.3);
+        let eye =
+            Vec3::new(2.5, 2.0, 6.0) + random_vec(&mut rng).as_vec3() * Vec3::new(4.0, 4.0, 1.0);
+        let target =
+            Vec3::new(2.5, 2.0, 0.0) + random_vec(&mut rng).as_vec3() * Vec3::new(3.0, 2.5, 0.3);
         let dir = (target - eye).normalize();
         let a = trace_glyphs(&objects, &fine, eye, dir);
         let b = trace_glyphs(&objects, &single, eye, dir);

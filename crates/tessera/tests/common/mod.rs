@@ -18,7 +18,7 @@ use tessera_gpu::Gpu;
 
 // Not every test binary uses every piece.
 #[allow(unused_imports)]
-pub use tessera_test::{skip, Need, TestGpu};
+pub use tessera_test::{skip, Need, Rng, TestGpu};
 
 /// An orbit camera at `azimuth_deg`, `elevation_deg` and `distance`, the rest default.
 pub fn camera(azimuth_deg: f32, elevation_deg: f32, distance: f32) -> tessera_data::OrbitCamera {

@@ -72,20 +72,3 @@ pub fn draw(gpu: &Gpu, rast: &ComputeRasterizer, tris: &[[Vec4; 3]], w: u32, h: 
     let (values, _) = draw_into(gpu, rast, tris, tris.len() as u32, &frame);
     values
 }
-
-/// xorshift64*: deterministic test data.
-#[allow(dead_code)] // not every test file draws random data
-pub struct Rng(pub u64);
-
-#[allow(dead_code)] // not every test file draws random data
-impl Rng {
-    pub fn next(&mut self) -> f64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        (self.0.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 11) as f64 / (1u64 << 53) as f64
-    }
-    pub fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.next()
-    }
-}

@@ -1,7 +1,7 @@
 //! What the shell-traversal tests share: meshes, the optical model, cameras, the ways of
 //! tracing the device runs, a reproducible generator and a poisoned-target GPU image.
 
-use super::{skip, Need, TestGpu};
+use super::{skip, Need, Rng, TestGpu};
 use glam::DVec3;
 use tessera::path::Path;
 use tessera::target::Target;
@@ -45,20 +45,13 @@ pub fn layouts_and_paths(paths: &[Path]) -> Vec<(LayoutKind, Path)> {
         .collect()
 }
 
-/// A small deterministic generator (xorshift), so failures reproduce.
-pub struct Rng(pub u64);
-
-impl Rng {
-    pub fn next(&mut self) -> f64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
-    }
-
-    pub fn in_box(&mut self, half: f64) -> DVec3 {
-        DVec3::new(self.next(), self.next(), self.next()) * (2.0 * half) - DVec3::splat(half)
-    }
+/// A point uniform in the cube of half-width `half` around the origin.
+pub fn in_box(rng: &mut Rng, half: f64) -> DVec3 {
+    DVec3::new(
+        rng.range(-half, half),
+        rng.range(-half, half),
+        rng.range(-half, half),
+    )
 }
 
 /// A pixel the shader never wrote keeps this (alpha 0x12; written pixels are opaque).
