@@ -5,7 +5,7 @@
 mod common;
 
 use common::{assert_clean, assert_matches_cpu_raster, Need, TestGpu};
-use tessera::iso::direct::cell_boxes::CellBox;
+use tessera::iso::direct::cell_boxes::{CellBox, CellBoxes};
 use tessera::iso::direct::compute::{ComputeTarget, DirectCompute};
 use tessera::iso::direct::compute_cull::ComputeCullState;
 use tessera::iso::direct::cull::CullState;
@@ -16,6 +16,7 @@ use tessera_data::marching_cubes::{classify_cell, marching_cubes};
 use tessera_data::minmax::BLOCK_CELLS;
 use tessera_data::procedural::{generate, ProceduralKind};
 use tessera_data::{IsoValue, OrbitCamera, ScalarType, Volume};
+use tessera_gpu::Gpu;
 
 /// Per block, the box of its cells whose case is neither all below nor all above `iso`.
 fn cpu_cell_boxes(volume: &Volume, iso: f32) -> Vec<Option<CellBox>> {
@@ -44,10 +45,11 @@ fn cpu_cell_boxes(volume: &Volume, iso: f32) -> Vec<Option<CellBox>> {
     boxes
 }
 
-/// After a frame that extracted every block in view: each recorded box equals the CPU's, at
-/// least 90 % of the occupied blocks are recorded, and at least half the boxes are smaller
-/// than a block.
-fn assert_recorded(recorded: &[Option<CellBox>], volume: &Volume, iso: f32) {
+/// After a frame that extracted every block in view at `iso`: each recorded box equals the
+/// CPU's, at least 90 % of the occupied blocks are recorded, at least half the boxes are
+/// smaller than a block, and none counts at another isovalue.
+fn assert_recorded(gpu: &Gpu, boxes: &CellBoxes, volume: &Volume, iso: f32) {
+    let recorded = boxes.read(gpu, iso).unwrap();
     let cpu = cpu_cell_boxes(volume, iso);
     assert_eq!(recorded.len(), cpu.len());
     let occupied = cpu.iter().filter(|b| b.is_some()).count();
@@ -66,6 +68,13 @@ fn assert_recorded(recorded: &[Option<CellBox>], volume: &Volume, iso: f32) {
     assert!(
         smaller * 2 >= count,
         "only {smaller} of {count} boxes smaller than a block"
+    );
+    let other = volume.iso_to_texel(IsoValue::Normalized(0.5));
+    assert_ne!(other, iso);
+    let stale = boxes.read(gpu, other).unwrap();
+    assert!(
+        stale.iter().all(Option::is_none),
+        "boxes count at another isovalue"
     );
 }
 
@@ -94,13 +103,7 @@ fn the_compute_extraction_records_the_cells_that_made_triangles() {
     compute
         .render_culled(&gpu, &prepared, &target, &pixels, &state, iso, &camera)
         .unwrap();
-    assert_recorded(&state.cell_boxes.read(&gpu, iso).unwrap(), &head, iso);
-    let other = head.iso_to_texel(IsoValue::Normalized(0.5));
-    let stale = state.cell_boxes.read(&gpu, other).unwrap();
-    assert!(
-        stale.iter().all(Option::is_none),
-        "boxes count at another isovalue"
-    );
+    assert_recorded(&gpu, &state.cell_boxes, &head, iso);
     assert_clean(&gpu);
 }
 
@@ -131,13 +134,7 @@ fn the_task_shader_records_the_cells_that_made_triangles() {
             &options,
         )
         .unwrap();
-    assert_recorded(&state.cell_boxes.read(&gpu, iso).unwrap(), &head, iso);
-    let other = head.iso_to_texel(IsoValue::Normalized(0.5));
-    let stale = state.cell_boxes.read(&gpu, other).unwrap();
-    assert!(
-        stale.iter().all(Option::is_none),
-        "boxes count at another isovalue"
-    );
+    assert_recorded(&gpu, &state.cell_boxes, &head, iso);
     assert_clean(&gpu);
 }
 
