@@ -33,6 +33,8 @@ static NEXT_VOLUME_ID: AtomicU64 = AtomicU64::new(1);
 impl PreparedVolume {
     /// A number no other volume prepared by this process has: what state kept from frame to
     /// frame is checked against (e.g. culling's per-block boxes, valid for one volume only).
+    /// Samples copied into `volume` in place (playback into one upload) keep the id: reset the
+    /// culling states that drew the old samples.
     pub fn id(&self) -> u64 {
         self.id
     }

@@ -33,7 +33,8 @@ pub(crate) fn cell_box_defines() -> [(String, String); 2] {
 }
 
 /// The boxes of one volume's blocks: two words per block, the packed box and the bits of the
-/// isovalue it was recorded at.
+/// isovalue it was recorded at. Forgotten when the state meets another [`PreparedVolume`] or
+/// is reset; samples rewritten in place in the same prepared volume need a reset.
 pub struct CellBoxes {
     pub(super) buffer: Buffer,
     /// [`PreparedVolume::id`] of the volume the boxes were made from (0: none yet).
