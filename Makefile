@@ -9,6 +9,7 @@ deps:
 	@./scripts/ensure-deps.sh
 	@./scripts/fetch-bunny.sh
 	@./scripts/fetch-dwi.sh
+	@./scripts/fetch-frog.sh
 
 # Tests a device cannot run are reported as skipped by name; the list is printed at the end.
 SKIP_LOG := $(CURDIR)/target/skipped-tests.txt

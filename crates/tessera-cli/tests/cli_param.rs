@@ -140,16 +140,7 @@ fn renders_user_functions_and_names_their_errors() {
 /// the point variant draw the same silhouettes and colours. Skipped where the file is missing.
 #[test]
 fn renders_diffusion_glyphs_from_a_coefficient_volume() {
-    let base = std::env::var_os("TESSERA_DATA")
-        .map(PathBuf::from)
-        .or_else(|| {
-            std::env::var_os("XDG_CACHE_HOME")
-                .map(PathBuf::from)
-                .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".cache")))
-                .map(|c| c.join("tessera/data"))
-        })
-        .unwrap();
-    let file = base.join("dwi/small_64D_csa8.nii.gz");
+    let file = tessera_test::data_file("dwi/small_64D_csa8.nii.gz");
     if !file.exists() {
         let reason = format!("{} not found (scripts/fetch-dwi.sh)", file.display());
         tessera_test::skip("", &reason);

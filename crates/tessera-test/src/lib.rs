@@ -14,6 +14,7 @@ mod random;
 
 pub use random::Rng;
 use std::io::Write;
+use std::path::PathBuf;
 use std::ops::Deref;
 use tessera_gpu::{Capabilities, Gpu, GpuOptions};
 
@@ -164,4 +165,20 @@ impl Drop for TestGpu {
             self.assert_clean();
         }
     }
+}
+
+/// Where the fetch scripts (`make test`'s dependencies: `scripts/fetch-*.sh`) put real data:
+/// `path` under `$TESSERA_DATA`, else under `$XDG_CACHE_HOME/tessera/data`, else under
+/// `~/.cache/tessera/data`.
+pub fn data_file(path: &str) -> PathBuf {
+    let base = std::env::var_os("TESSERA_DATA")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| {
+            std::env::var_os("XDG_CACHE_HOME")
+                .map(PathBuf::from)
+                .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".cache")))
+                .unwrap_or_else(|| PathBuf::from("/tmp"))
+                .join("tessera/data")
+        });
+    base.join(path)
 }

@@ -35,6 +35,25 @@ fn brainsmall() -> Option<Volume> {
     Some(load_raw(path, &opts).expect("brainsmall.den loads"))
 }
 
+/// pyvista's frog tissue labels (`scripts/fetch-frog.sh`): 500×470×136 uint8 labels 0 to 29,
+/// spacing 1 × 1 × 1.5.
+fn frog() -> Option<Volume> {
+    let path = tessera_test::data_file("frog/frog_tissues.vti");
+    if !path.exists() {
+        skip(
+            "",
+            &format!("{} not found (scripts/fetch-frog.sh)", path.display()),
+        );
+        return None;
+    }
+    let volume = tessera_data::load::load_volume(&path, &RawOptions::default()).expect("frog");
+    assert_eq!(
+        (volume.dims(), volume.spacing(), volume.value_range()),
+        ([500, 470, 136], [1.0, 1.0, 1.5], (0.0, 29.0))
+    );
+    Some(volume)
+}
+
 fn raymarch_matches_reference(volume: &Volume, isos: &[f32], camera: &OrbitCamera) {
     let gpu = gpu();
     let compiler = shaders::compiler();
@@ -109,6 +128,20 @@ fn raymarch_t1_brain_template_matches_cpu_reference() {
     );
 }
 
+/// Labels, not intensities, on an anisotropic grid: the body (every label above 0) and the
+/// tissues labelled 4 and above.
+#[test]
+fn raymarch_frog_labels_match_cpu_reference() {
+    let Some(volume) = frog() else { return };
+    let camera = OrbitCamera {
+        azimuth_deg: 35.0,
+        elevation_deg: 30.0,
+        distance: 1.7,
+        ..OrbitCamera::default()
+    };
+    raymarch_matches_reference(&volume, &[0.5, 3.5], &camera);
+}
+
 #[test]
 fn direct_mri_head_triangles_equal_cpu_marching_cubes() {
     let Some(volume) = brainsmall() else { return };
@@ -173,6 +206,7 @@ fn meshlets_and_pmb_of_real_scans_equal_the_cpu_reference() {
     use tessera_data::meshlets::extract_meshlets;
     let mut volumes = Vec::new();
     volumes.extend(brainsmall().map(|v| (v, 60.5)));
+    volumes.extend(frog().map(|v| (v, 0.5)));
     let path = Path::new(T1_TEMPLATE);
     if path.exists() {
         let ch2 = tessera_data::load::load_volume(path, &RawOptions::default()).unwrap();

@@ -17,14 +17,7 @@ use tessera_data::transfer::{IntegrandTable, ScalarMode, TransferFunction};
 use tessera_data::OrbitCamera;
 
 fn bunny_dir() -> PathBuf {
-    if let Some(d) = std::env::var_os("TESSERA_DATA") {
-        return PathBuf::from(d).join("bunny");
-    }
-    let cache = std::env::var_os("XDG_CACHE_HOME")
-        .map(PathBuf::from)
-        .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".cache")))
-        .unwrap_or_else(|| PathBuf::from("/tmp"));
-    cache.join("tessera/data/bunny")
+    tessera_test::data_file("bunny")
 }
 
 fn bunny() -> Option<TetMesh> {

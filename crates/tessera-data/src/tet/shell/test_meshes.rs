@@ -1,7 +1,6 @@
 //! Meshes the shell tests share: convex, curved, non-convex with a gap, and the tetgen bunny
 //! when scripts/fetch-bunny.sh has fetched it.
 
-use std::path::PathBuf;
 
 use crate::tet::procedural::{box_mesh, exploded, sphere_mesh};
 use crate::tet::{load_tet_mesh, TetMesh};
@@ -24,22 +23,9 @@ pub fn named_meshes() -> Vec<(&'static str, TetMesh)> {
     meshes
 }
 
-fn bunny_node() -> PathBuf {
-    let data = std::env::var_os("TESSERA_DATA")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| {
-            std::env::var_os("XDG_CACHE_HOME")
-                .map(PathBuf::from)
-                .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".cache")))
-                .unwrap_or_else(|| PathBuf::from("/tmp"))
-                .join("tessera/data")
-        });
-    data.join("bunny/bunny.1.node")
-}
-
 /// The tetgen bunny, or `None` with the skip reported by the running test's name.
 pub fn bunny() -> Option<TetMesh> {
-    let node = bunny_node();
+    let node = tessera_test::data_file("bunny/bunny.1.node");
     if !node.exists() {
         tessera_test::skip(
             "bunny",
