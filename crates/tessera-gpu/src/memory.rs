@@ -98,6 +98,16 @@ impl Gpu {
         if location == MemoryLocation::GpuOnly {
             self.check_fits(name, size)?;
         }
+        // Buffers are bound whole: one past the range would be bound out of bounds.
+        let range = self.caps().max_storage_buffer_range;
+        if usage.contains(vk::BufferUsageFlags::STORAGE_BUFFER) && size > range {
+            return Err(GpuError::TooLarge {
+                name: name.to_string(),
+                bytes: size,
+                limit: range,
+                what: "its largest storage buffer",
+            });
+        }
         let info = vk::BufferCreateInfo::default()
             .size(size)
             .usage(usage | vk::BufferUsageFlags::SHADER_DEVICE_ADDRESS)

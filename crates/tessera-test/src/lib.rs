@@ -14,8 +14,8 @@ mod random;
 
 pub use random::Rng;
 use std::io::Write;
-use std::path::PathBuf;
 use std::ops::Deref;
+use std::path::PathBuf;
 use tessera_gpu::{Capabilities, Gpu, GpuOptions};
 
 /// Environment variable naming the file skipped tests are appended to.

@@ -496,7 +496,9 @@ impl Renderer for IsoRenderer {
                     let limit = TriangleLists::default_capacity(gpu);
                     if made > limit {
                         return Err(Error::Invalid(format!(
-                            "the isosurface has {made} triangles, more than fit in device memory ({limit})"
+                            "the isosurface has {made} triangles, more than a triangle list holds \
+                             on this device ({limit}: a share of its memory, within its largest \
+                             storage buffer); culling draws only the visible ones"
                         )));
                     }
                     // Headroom, so that the next frames of a moving camera or isovalue

@@ -1,7 +1,6 @@
 //! Meshes the shell tests share: convex, curved, non-convex with a gap, and the tetgen bunny
 //! when scripts/fetch-bunny.sh has fetched it.
 
-
 use crate::tet::procedural::{box_mesh, exploded, sphere_mesh};
 use crate::tet::{load_tet_mesh, TetMesh};
 

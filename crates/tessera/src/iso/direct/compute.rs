@@ -72,10 +72,14 @@ impl TriangleLists {
         })
     }
 
-    /// The capacity that fits a share of the device's memory, for frames of unknown size.
+    /// The capacity that fits a share of the device's memory and its largest storage buffer
+    /// (the attributes are the larger list), for frames of unknown size; no list holds more.
     pub fn default_capacity(gpu: &Gpu) -> u32 {
-        let budget = gpu.caps().device_local_bytes / 8;
-        (budget / (TRIANGLE_BYTES + ATTRIBUTE_BYTES)).min(64 << 20) as u32
+        let caps = gpu.caps();
+        let budget = caps.device_local_bytes / 8;
+        (budget / (TRIANGLE_BYTES + ATTRIBUTE_BYTES))
+            .min(caps.max_storage_buffer_range / ATTRIBUTE_BYTES)
+            .min(64 << 20) as u32
     }
 }
 
