@@ -4,8 +4,10 @@
 
 mod common;
 
-use common::{assert_clean, assert_same_triangles, checkerboard, field, gpu, Need, TestGpu};
-use glam::Vec3;
+use common::{
+    assert_clean, assert_same_triangles, checkerboard, field, gpu, list_triangles_in_grid, Need,
+    TestGpu,
+};
 use tessera::iso::direct::compute::{DirectExtract, TriangleLists};
 use tessera::iso::direct::{Direct, FrameOptions, RasterTarget};
 use tessera::iso::minmax::MinMaxBuilder;
@@ -75,20 +77,7 @@ fn compute_extraction_equals_cpu_on_ambiguous_cells() {
             .unwrap();
             let stats = extract.read_stats(&gpu).unwrap();
             assert_eq!(stats.triangles as usize, cpu.triangle_count(), "{name}");
-            // The list holds world positions beside each triangle; back to grid coordinates.
-            let frame = tessera_data::GridFrame::new(volume.dims(), volume.spacing());
-            let attrs: Vec<f32> = bytemuck::allocation::pod_collect_to_vec(
-                &gpu.read_buffer(&lists.attributes).unwrap(),
-            );
-            let tris: Vec<[Vec3; 3]> = attrs
-                .chunks_exact(24)
-                .map(|a| {
-                    [0, 1, 2].map(|j| {
-                        Vec3::from_slice(&a[12 + 4 * j..15 + 4 * j]) / frame.grid_to_world
-                            + frame.centre()
-                    })
-                })
-                .collect();
+            let tris = list_triangles_in_grid(&gpu, &lists, &params);
             assert_same_triangles(&name, &tris, &cpu, 1e-4);
         }
     }

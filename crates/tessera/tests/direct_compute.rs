@@ -4,10 +4,9 @@
 mod common;
 
 use common::{
-    assert_clean, assert_matches_cpu_raster, assert_same_triangles, checkerboard, gpu, Need,
-    TestGpu,
+    assert_clean, assert_matches_cpu_raster, assert_same_triangles, checkerboard, gpu,
+    list_triangles_in_grid, Need, TestGpu,
 };
-use glam::Vec3;
 use tessera::iso::direct::compute::{ComputeTarget, DirectCompute, DirectExtract, TriangleLists};
 use tessera::iso::direct::Direct;
 use tessera::iso::minmax::MinMaxBuilder;
@@ -48,7 +47,8 @@ fn compute_extraction_equals_cpu_marching_cubes() {
         let lists = TriangleLists::new(&gpu, capacity).unwrap();
         let params = Direct::params(&prepared, iso, &OrbitCamera::default(), 64, 64, capacity);
         gpu.submit("poison", |rec| {
-            rec.fill_buffer(&lists.attributes, 0x7fc0_0000)
+            rec.fill_buffer(&lists.attributes, 0x7fc0_0000);
+            rec.fill_buffer(&lists.triangles, 0x7fc0_0000);
         })
         .unwrap();
         gpu.submit("extract", |rec| {
@@ -71,18 +71,7 @@ fn compute_extraction_equals_cpu_marching_cubes() {
             n => [n.div_ceil(RASTER_GROUP_SIZE), 1, 1],
         };
         assert_eq!(counts[1..4], args(capacity), "{}", volume.name());
-        // World positions back to grid coordinates.
-        let frame = tessera_data::GridFrame::new(volume.dims(), volume.spacing());
-        let attrs: Vec<f32> = gpu.read_buffer_as(&lists.attributes).unwrap();
-        let tris: Vec<[Vec3; 3]> = attrs
-            .chunks_exact(24)
-            .map(|a| {
-                [0, 1, 2].map(|j| {
-                    Vec3::from_slice(&a[12 + 4 * j..15 + 4 * j]) / frame.grid_to_world
-                        + frame.centre()
-                })
-            })
-            .collect();
+        let tris = list_triangles_in_grid(&gpu, &lists, &params);
         assert_same_triangles(volume.name(), &tris, &cpu, 1e-4);
         // One triangle short of what is needed: the count still says how many there were.
         if capacity > 1 {
@@ -168,19 +157,10 @@ fn compute_stereo_second_view_equals_a_mono_render_from_that_eye() {
     let second = ComputeTarget::new(&gpu, w, h, capacity).unwrap();
     let pixels = [(); 2].map(|_| Target::new(&gpu, w, h).unwrap());
     let params = [left, right].map(|c| Direct::params(&prepared, iso, &c, w, h, capacity));
-    let frame = tessera_data::GridFrame::new(volume.dims(), volume.spacing());
-    let right_projection = tessera_data::Projection::new(&right, &frame, w, h);
     gpu.submit("stereo", |rec| {
         compute.record(rec, &prepared, &first, &pixels[0], &params[0]);
         rec.barrier();
-        compute.record_second_view(
-            rec,
-            &first,
-            &second,
-            &pixels[1],
-            &params[1],
-            right_projection.world_to_clip,
-        );
+        compute.record_second_view(rec, (&first, &params[0]), &second, &pixels[1], &params[1]);
     })
     .unwrap();
     let left_image = pixels[0].read(&gpu).unwrap();

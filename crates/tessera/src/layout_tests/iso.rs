@@ -74,6 +74,7 @@ pub(super) fn isosurface_structs(t: &mut Table) {
         "ResolveParams",
         host!(
             ResolveParams,
+            clip_to_world,
             eye_world,
             light,
             size,
@@ -89,7 +90,7 @@ pub(super) fn isosurface_structs(t: &mut Table) {
     t.push_constants::<ReprojectParams>(
         &reproject,
         "ReprojectParams",
-        host!(ReprojectParams, world_to_clip, capacity),
+        host!(ReprojectParams, first_clip_to_second_clip, capacity),
     );
     let hzb_test = compile(
         &builtin_shader!("../iso/direct/hzb_test.comp.glsl"),

@@ -249,3 +249,25 @@ pub fn assert_same_triangles(
         );
     }
 }
+
+/// The triangles of a compute-path list drawn with `params`, in grid coordinates: each
+/// clip-space corner taken back through the inverse of `params.grid_to_clip`.
+pub fn list_triangles_in_grid(
+    gpu: &Gpu,
+    lists: &tessera::iso::direct::compute::TriangleLists,
+    params: &tessera::iso::direct::DirectParams,
+) -> Vec<[Vec3; 3]> {
+    let clip_to_grid = glam::Mat4::from_cols_array_2d(&params.grid_to_clip)
+        .as_dmat4()
+        .inverse();
+    let corners: Vec<[[f32; 4]; 3]> = gpu.read_buffer_as(&lists.triangles).unwrap();
+    corners
+        .iter()
+        .map(|t| {
+            t.map(|c| {
+                let grid = clip_to_grid * glam::Vec4::from(c).as_dvec4();
+                (grid.truncate() / grid.w).as_vec3()
+            })
+        })
+        .collect()
+}

@@ -20,8 +20,9 @@ use tessera_gpu::{
     vk, Binding, Buffer, Gpu, MemoryLocation, Pipeline, Recorder, ShaderCompiler, Slot, Timer,
 };
 
-/// Bytes per triangle of shading attributes: three world normals and three world positions.
-pub const ATTRIBUTE_BYTES: u64 = 96;
+/// Bytes per triangle of shading attributes: three world normals (positions come from the
+/// clip-space corners).
+pub const ATTRIBUTE_BYTES: u64 = 48;
 
 /// The generated triangles of a frame, sized for `capacity` triangles.
 pub struct TriangleLists {
@@ -225,7 +226,7 @@ pub struct DirectCompute {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct ReprojectParams {
-    pub world_to_clip: [[f32; 4]; 4],
+    pub first_clip_to_second_clip: [[f32; 4]; 4],
     pub capacity: [u32; 4],
 }
 
@@ -287,25 +288,27 @@ impl DirectCompute {
     }
 
     /// Records the second view of a stereo pair after [`Self::record`] drew the first into
-    /// `first`: the extracted triangles are re-projected for `params` (the second eye's) into
-    /// `second`, rasterized and shaded; nothing is extracted again.
+    /// `first` with `first_params`: the extracted triangles are re-projected for `params` (the
+    /// second eye's) into `second`, rasterized and shaded; nothing is extracted again.
     pub fn record_second_view(
         &self,
         rec: &Recorder,
-        first: &ComputeTarget,
+        (first, first_params): (&ComputeTarget, &DirectParams),
         second: &ComputeTarget,
         second_pixels: &Target,
         params: &DirectParams,
-        world_to_clip: glam::Mat4,
     ) {
+        let grid_to_clip = |p: &DirectParams| glam::Mat4::from_cols_array_2d(&p.grid_to_clip);
+        let first_to_second =
+            grid_to_clip(params).as_dmat4() * grid_to_clip(first_params).as_dmat4().inverse();
         let reproject = ReprojectParams {
-            world_to_clip: world_to_clip.to_cols_array_2d(),
+            first_clip_to_second_clip: first_to_second.as_mat4().to_cols_array_2d(),
             capacity: [second.lists.capacity, 0, 0, 0],
         };
         rec.dispatch_indirect(
             &self.reproject,
             &[
-                Binding::Buffer(&first.lists.attributes),
+                Binding::Buffer(&first.lists.triangles),
                 Binding::Buffer(&first.lists.counts),
                 Binding::Buffer(&second.lists.triangles),
                 Binding::Buffer(&second.lists.counts),

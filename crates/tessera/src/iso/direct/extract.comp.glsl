@@ -143,7 +143,6 @@ void main() {
                 triangles[slot].clip[j] = params.grid_to_clip * vec4(p, 1.0);
                 float tag = j == 0u ? uintBitsToFloat(block_id) : 0.0;  // bits kept: no arithmetic
                 attributes[slot].normal_world[j] = vec4(grid_normal_to_world(normal, params.grid_to_world.xyz), tag);
-                attributes[slot].position_world[j] = vec4(grid_point_to_world(p, dims, params.grid_to_world.xyz), 1.0);
             }
         }
     }

@@ -66,12 +66,17 @@ pub struct DirectParams {
 }
 
 impl DirectParams {
-    /// The eye and light the compute path's resolve shades with.
+    /// The eye, light and world positions the compute path's resolve shades with.
     pub fn lighting(&self) -> resolve::Lighting {
-        let l = self.light;
+        let (l, s) = (self.light, self.grid_to_world);
         resolve::Lighting {
             eye: self.eye_world,
             light: [l[0], l[1], l[2]],
+            clip_to_world: resolve::clip_to_world(
+                &self.grid_to_clip,
+                [s[0], s[1], s[2]],
+                self.dims,
+            ),
         }
     }
 }

@@ -1,18 +1,17 @@
 #version 460
-// A second view of already extracted triangles (stereo): their world-space corners, kept with
-// the shading attributes, are projected again, so the second eye costs rasterization and
-// resolve but no extraction.
+// A second view of already extracted triangles (stereo): the first view's clip-space corners
+// are taken to the second view's clip space (one matrix: the views share the grid), so the
+// second eye costs rasterization and resolve but no extraction.
 #include "raster/raster.glsl"
-#include "iso/direct/attributes.glsl"
 
 layout(local_size_x = 64) in;
-layout(binding = 0) readonly buffer Attributes { TriangleAttributes attributes[]; };
+layout(binding = 0) readonly buffer FirstTriangles { RasterTriangle first_triangles[]; };
 layout(binding = 1) readonly buffer FirstCounts { uint first_count; };
 layout(binding = 2) writeonly buffer Triangles { RasterTriangle triangles[]; };
 layout(binding = 3) buffer SecondCounts { uint second_count; };
 
 layout(push_constant) uniform ReprojectParams {
-    mat4 world_to_clip;
+    mat4 first_clip_to_second_clip;
     uvec4 capacity;  // x: triangles the second list holds
 } params;
 
@@ -28,6 +27,6 @@ void main() {
         return;
     }
     for (uint j = 0u; j < 3u; ++j) {
-        triangles[t].clip[j] = params.world_to_clip * vec4(attributes[t].position_world[j].xyz, 1.0);
+        triangles[t].clip[j] = params.first_clip_to_second_clip * first_triangles[t].clip[j];
     }
 }

@@ -1,7 +1,7 @@
 #version 460
 // Turns the compute rasterizer's depth|triangle frame into colour: each pixel interpolates its
-// triangle's attributes with perspective-correct barycentrics and is shaded like a fragment of
-// the mesh-shader path.
+// triangle's attributes with perspective-correct barycentrics (its world position from the
+// clip-space corners) and is shaded like a fragment of the mesh-shader path.
 //
 // With TWO_LISTS defined (occlusion culling) the frame holds triangles of two lists: indices
 // below params.second_base are the first list's, the rest the second's (drawn with that index base).
@@ -35,6 +35,7 @@ layout(binding = 4) readonly buffer TileFrames { uint tile_frames[]; };
 #endif
 
 layout(push_constant) uniform ResolveParams {
+    mat4 clip_to_world;  // from the rasterizer's clip space to the world positions shaded
     vec4 eye_world;
     vec4 light;          // xyz towards the light, world space
     uvec2 size;          // width, height
@@ -75,7 +76,11 @@ void resolve_pixel(uvec2 pixel, uvec2 size) {
 #endif
         vec3 b = raster_barycentrics(tri.clip[0], tri.clip[1], tri.clip[2], raster_pixel_centre(pixel), size);
         vec3 normal = b.x * a.normal_world[0].xyz + b.y * a.normal_world[1].xyz + b.z * a.normal_world[2].xyz;
-        vec3 position = b.x * a.position_world[0].xyz + b.y * a.position_world[1].xyz + b.z * a.position_world[2].xyz;
+        // Clip space is linear in world space, so the clip point the weights pick is the clip
+        // point of the world point they pick.
+        vec4 clip = b.x * tri.clip[0] + b.y * tri.clip[1] + b.z * tri.clip[2];
+        vec4 world = params.clip_to_world * clip;
+        vec3 position = world.xyz / world.w;
         colour = vec4(shade_surface(normal, position, params.eye_world.xyz, params.light.xyz), 1.0);
     }
     pixels[i] = packUnorm4x8(colour);

@@ -15,6 +15,7 @@ use tessera_gpu::{Binding, Buffer, Gpu, Pipeline, Recorder, ShaderCompiler, Slot
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct ResolveParams {
+    pub clip_to_world: [[f32; 4]; 4],
     pub eye_world: [f32; 4],
     pub light: [f32; 4],
     pub size: [u32; 2],
@@ -35,11 +36,31 @@ pub struct ShadedList<'a> {
 }
 
 /// How a frame's pixels are lit: from `eye` (world space), with `light` the direction towards
-/// the light.
+/// the light; `clip_to_world` takes the rasterizer's clip space to the world positions shaded
+/// ([`clip_to_world`]).
 #[derive(Clone, Copy, Debug)]
 pub struct Lighting {
     pub eye: [f32; 3],
     pub light: [f32; 3],
+    pub clip_to_world: [[f32; 4]; 4],
+}
+
+/// The map from clip space to world space of a surface whose grid points (sample-index units)
+/// reach clip space through `grid_to_clip` and world space as `common/grid_world.glsl` places
+/// them: centred at the origin, `grid_to_world` world units per grid unit. Inverted in f64.
+pub fn clip_to_world(
+    grid_to_clip: &[[f32; 4]; 4],
+    grid_to_world: [f32; 3],
+    dims: [u32; 3],
+) -> [[f32; 4]; 4] {
+    let scale = glam::Vec3::from(grid_to_world).as_dvec3();
+    let centre = glam::UVec3::from(dims).as_dvec3().map(|d| 0.5 * (d - 1.0));
+    let grid_to_world =
+        glam::DMat4::from_translation(-centre * scale) * glam::DMat4::from_scale(scale);
+    let grid_to_clip = glam::Mat4::from_cols_array_2d(grid_to_clip).as_dmat4();
+    (grid_to_world * grid_to_clip.inverse())
+        .as_mat4()
+        .to_cols_array_2d()
 }
 
 /// The resolve pipeline for one list, or for two (`TWO_LISTS`: the second list's indices
@@ -132,6 +153,7 @@ impl SurfaceResolve {
     ) {
         let (e, l) = (lighting.eye, lighting.light);
         let params = ResolveParams {
+            clip_to_world: lighting.clip_to_world,
             eye_world: [e[0], e[1], e[2], 0.0],
             light: [l[0], l[1], l[2], 0.0],
             size: [frame.width, frame.height],

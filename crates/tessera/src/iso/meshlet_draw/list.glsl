@@ -18,7 +18,6 @@ void write_list_corner(uint slot, uint j, SurfaceCorner c, uint maker) {
     triangles[slot].clip[j] = c.clip;
     float tag = j == 0u ? uintBitsToFloat(maker) : 0.0;
     attributes[slot].normal_world[j] = vec4(c.normal_world, tag);
-    attributes[slot].position_world[j] = vec4(c.position_world, 1.0);
 }
 
 // Reserves the list's slots of `count` triangles after `first` more were drawn (counted

@@ -7,7 +7,7 @@ use super::MeshletDrawParams;
 use crate::config::meshlet_draw_defines;
 use crate::error::{Error, Result};
 use crate::iso::direct::compute::ComputeTarget;
-use crate::iso::direct::resolve::{Lighting, SurfaceResolve};
+use crate::iso::direct::resolve::{clip_to_world, Lighting, SurfaceResolve};
 use crate::raster::ComputeRasterizer;
 use crate::target::Target;
 use tessera_gpu::{Gpu, Recorder, ShaderCompiler};
@@ -65,11 +65,12 @@ impl ListResolve {
 }
 
 impl MeshletDrawParams {
-    /// The eye and light the compute path's resolve shades with.
+    /// The eye, light and world positions the compute path's resolve shades with.
     pub(super) fn lighting(&self) -> Lighting {
         Lighting {
             eye: self.eye_world,
             light: self.light,
+            clip_to_world: clip_to_world(&self.grid_to_clip, self.grid_to_world, self.dims),
         }
     }
 }
