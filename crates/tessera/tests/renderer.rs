@@ -527,3 +527,56 @@ fn frames_recorded_together_draw_what_one_frame_draws() {
     }
     assert_clean(&gpu);
 }
+
+/// A surface larger than the compute path's triangle list holds on the device (lavapipe's
+/// 128 MiB storage buffers: 2,796,202 triangles; the 512³ head has 3,741,616): with the path
+/// left to the renderer, `direct` draws it on the graphics path, which keeps no list; asked for
+/// the compute path, it says why it cannot. Where the lists hold it, it stays on the compute path.
+#[test]
+fn direct_takes_the_graphics_path_for_a_surface_the_lists_cannot_hold() {
+    use tessera::iso::direct::compute::TriangleLists;
+    use tessera::path::Path;
+    const SURFACE: u64 = 3_741_616;
+    let gpu = gpu();
+    let data = load("procedural:head:512:uint8");
+    let look = Appearance {
+        iso: IsoValue::Normalized(0.3),
+        ..Appearance::default()
+    };
+    let fits = SURFACE <= u64::from(TriangleLists::default_capacity(&gpu));
+    let graphics = gpu.caps().mesh_shader && gpu.caps().task_shader;
+    for choice in [PathChoice::Auto, PathChoice::Compute] {
+        let options = RendererOptions {
+            path: choice,
+            culling: Culling::Off,
+            ..RendererOptions::default()
+        };
+        let Ok(mut r) = renderer::create(&gpu, Technique::Direct, &options) else {
+            skip("", "no path for direct");
+            return;
+        };
+        r.set_data(&gpu, &data).unwrap();
+        r.set_appearance(&gpu, &look).unwrap();
+        let started_on = r.path();
+        let drawn = renderer::render_image(&gpu, r.as_mut(), &camera(), SIZE);
+        if started_on == Path::Graphics || fits || (choice == PathChoice::Auto && graphics) {
+            let image = drawn.unwrap().image;
+            assert_eq!(r.stats().triangles, Some(SURFACE), "{choice:?}");
+            assert!(!image.pixels.contains(&u32::MAX), "{choice:?}");
+            let moved = started_on == Path::Compute && !fits;
+            let expected = if moved { Path::Graphics } else { started_on };
+            assert_eq!(r.path(), expected, "{choice:?}");
+        } else {
+            let message = drawn
+                .err()
+                .expect("a surface larger than a list")
+                .to_string();
+            assert!(
+                message.contains(&format!("{SURFACE} triangles"))
+                    && message.contains("largest storage buffer"),
+                "{message}"
+            );
+        }
+    }
+    assert_clean(&gpu);
+}

@@ -14,7 +14,7 @@ use crate::iso::direct::stereo::DirectMultiview;
 use crate::iso::direct::{Direct, RasterTarget};
 use crate::iso::raymarch::Raymarch;
 use crate::iso::PreparedVolume;
-use crate::path::Path;
+use crate::path::{Path, PathChoice};
 use tessera_data::mc_ambiguity::AmbiguityRule;
 use tessera_data::scene::{Appearance, Dataset};
 use tessera_data::{ScalarType, View, Volume};
@@ -42,6 +42,9 @@ enum FrameBuffers {
 pub(super) struct IsoRenderer {
     technique: Technique,
     path: Path,
+    /// The path asked for: under `Auto` a surface too large for the compute path's lists moves
+    /// `direct` to the graphics path, which keeps no list.
+    path_choice: PathChoice,
     culling: Culling,
     /// Compute path with automatic culling: whether the next frame culls.
     auto_culling: Option<AutoCulling>,
@@ -88,6 +91,7 @@ impl IsoRenderer {
         Ok(IsoRenderer {
             technique,
             path,
+            path_choice: options.path,
             culling,
             auto_culling: (culling == Culling::Auto && path == Path::Compute)
                 .then(|| AutoCulling::new(CullingCosts::H200)),
@@ -136,6 +140,44 @@ impl IsoRenderer {
             self.pipelines = Some((scalar, pipelines));
         }
         Ok(&self.pipelines.as_ref().expect("just built").1)
+    }
+
+    /// A compute-path frame made `made` triangles, more than a list on this device holds
+    /// (`limit`): with the path left to the renderer and task and mesh shaders at hand, the
+    /// frame is drawn again on the graphics path (the prepared volume kept), else an error.
+    fn outgrown_lists(&mut self, gpu: &Gpu, made: u32, limit: u32) -> Result<FrameOutcome> {
+        let caps = gpu.caps();
+        let graphics = caps.mesh_shader && caps.task_shader;
+        let prepared = self.prepared.as_ref();
+        match (self.path_choice, graphics, &self.pipelines, prepared) {
+            (PathChoice::Auto, true, Some((scalar, _)), Some(prepared)) => {
+                let scalar = *scalar;
+                self.frame = FrameBuffers::None;
+                self.second_eye = None;
+                self.auto_culling = None;
+                self.mesh_culling = match self.culling.enabled() {
+                    true => Some(CullState::new(gpu, prepared)?),
+                    false => None,
+                };
+                if self.no_capture.is_none() {
+                    self.no_capture = Some(Direct::no_capture(gpu)?);
+                }
+                self.path = Path::Graphics;
+                self.pipelines = None;
+                self.pipelines_for(gpu, scalar)?;
+                Ok(FrameOutcome::Retry)
+            }
+            (_, graphics, _, _) => Err(Error::Invalid(format!(
+                "the isosurface has {made} triangles, more than the compute path's triangle list \
+                 holds on this device ({limit}: a share of its memory, within its largest storage \
+                 buffer){}",
+                if graphics {
+                    "; the graphics path (task and mesh shaders) keeps no list"
+                } else {
+                    ""
+                }
+            ))),
+        }
     }
 
     fn resolve_iso(&mut self, volume: Option<&Volume>) -> Result<()> {
@@ -488,11 +530,7 @@ impl Renderer for IsoRenderer {
                 if made > capacity {
                     let limit = TriangleLists::default_capacity(gpu);
                     if made > limit {
-                        return Err(Error::Invalid(format!(
-                            "the isosurface has {made} triangles, more than a triangle list holds \
-                             on this device ({limit}: a share of its memory, within its largest \
-                             storage buffer); culling draws only the visible ones"
-                        )));
+                        return self.outgrown_lists(gpu, made, limit);
                     }
                     // Headroom, so that the next frames of a moving camera or isovalue
                     // rarely overflow again.
