@@ -567,15 +567,7 @@ fn direct_takes_the_graphics_path_for_a_surface_the_lists_cannot_hold() {
             let expected = if moved { Path::Graphics } else { started_on };
             assert_eq!(r.path(), expected, "{choice:?}");
         } else {
-            let message = drawn
-                .err()
-                .expect("a surface larger than a list")
-                .to_string();
-            assert!(
-                message.contains(&format!("{SURFACE} triangles"))
-                    && message.contains("largest storage buffer"),
-                "{message}"
-            );
+            common::assert_refused_for_the_lists(drawn, SURFACE);
         }
     }
     assert_clean(&gpu);

@@ -271,3 +271,17 @@ pub fn list_triangles_in_grid(
         })
         .collect()
 }
+
+/// Asserts `drawn` is the compute path's refusal of a surface of `triangles` triangles that its
+/// triangle list cannot hold on the device: the error names the count and the limit.
+pub fn assert_refused_for_the_lists<T>(drawn: tessera::error::Result<T>, triangles: u64) {
+    let message = match drawn {
+        Ok(_) => panic!("a surface of {triangles} triangles, larger than a list, was drawn"),
+        Err(e) => e.to_string(),
+    };
+    assert!(
+        message.contains(&format!("{triangles} triangles"))
+            && message.contains("largest storage buffer"),
+        "{message}"
+    );
+}
