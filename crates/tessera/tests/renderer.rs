@@ -566,6 +566,10 @@ fn direct_takes_the_graphics_path_for_a_surface_the_lists_cannot_hold() {
             let moved = started_on == Path::Compute && !fits;
             let expected = if moved { Path::Graphics } else { started_on };
             assert_eq!(r.path(), expected, "{choice:?}");
+            // New data starts again on the path chosen at first.
+            r.set_data(&gpu, &load("procedural:head:32:uint8")).unwrap();
+            renderer::render_image(&gpu, r.as_mut(), &camera(), SIZE).unwrap();
+            assert_eq!(r.path(), started_on, "{choice:?}");
         } else {
             common::assert_refused_for_the_lists(drawn, SURFACE);
         }

@@ -43,8 +43,10 @@ pub(super) struct IsoRenderer {
     technique: Technique,
     path: Path,
     /// The path asked for: under `Auto` a surface too large for the compute path's lists moves
-    /// `direct` to the graphics path, which keeps no list.
+    /// `direct` to the graphics path, which keeps no list, until new data comes.
     path_choice: PathChoice,
+    /// The path chosen when the renderer was made, where new data starts.
+    chosen_path: Path,
     culling: Culling,
     /// Compute path with automatic culling: whether the next frame culls.
     auto_culling: Option<AutoCulling>,
@@ -92,6 +94,7 @@ impl IsoRenderer {
             technique,
             path,
             path_choice: options.path,
+            chosen_path: path,
             culling,
             auto_culling: (culling == Culling::Auto && path == Path::Compute)
                 .then(|| AutoCulling::new(CullingCosts::H200)),
@@ -218,6 +221,14 @@ impl Renderer for IsoRenderer {
         self.prepared = None;
         self.mesh_culling = None;
         self.frame = FrameBuffers::None;
+        if self.path != self.chosen_path {
+            // An earlier surface moved direct off the compute path; new data starts afresh.
+            self.second_eye = None;
+            self.path = self.chosen_path;
+            self.pipelines = None;
+            self.auto_culling = (self.culling == Culling::Auto && self.path == Path::Compute)
+                .then(|| AutoCulling::new(CullingCosts::H200));
+        }
         let prepared = match self.pipelines_for(gpu, volume.scalar_type())? {
             Pipelines::Raymarch(r) => r.prepare(gpu, volume)?,
             Pipelines::Mesh(d) => d.prepare(gpu, volume)?,
