@@ -9,6 +9,7 @@ use crate::error::Result;
 use crate::raster::{resolve_groups, RasterFrame};
 use crate::target::Target;
 use bytemuck::{Pod, Zeroable};
+use tessera_data::GridFrame;
 use tessera_gpu::{Binding, Buffer, Gpu, Pipeline, Recorder, ShaderCompiler, Slot};
 
 /// Push constants of `resolve.comp.glsl`.
@@ -47,18 +48,19 @@ pub struct Lighting {
 
 /// The map from clip space to world space of a surface whose grid points (sample-index units)
 /// reach clip space through `grid_to_clip` and world space as `common/grid_world.glsl` places
-/// them: centred at the origin, `grid_to_world` world units per grid unit. Inverted in f64.
+/// them: centred at the origin, `grid_to_world` world units per grid unit
+/// ([`GridFrame::grid_to_world_matrix`]). Inverted in f64.
 pub fn clip_to_world(
     grid_to_clip: &[[f32; 4]; 4],
     grid_to_world: [f32; 3],
     dims: [u32; 3],
 ) -> [[f32; 4]; 4] {
-    let scale = glam::Vec3::from(grid_to_world).as_dvec3();
-    let centre = glam::UVec3::from(dims).as_dvec3().map(|d| 0.5 * (d - 1.0));
-    let grid_to_world =
-        glam::DMat4::from_translation(-centre * scale) * glam::DMat4::from_scale(scale);
+    let frame = GridFrame {
+        dims,
+        grid_to_world: grid_to_world.into(),
+    };
     let grid_to_clip = glam::Mat4::from_cols_array_2d(grid_to_clip).as_dmat4();
-    (grid_to_world * grid_to_clip.inverse())
+    (frame.grid_to_world_matrix().as_dmat4() * grid_to_clip.inverse())
         .as_mat4()
         .to_cols_array_2d()
 }
