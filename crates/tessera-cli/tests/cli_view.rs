@@ -17,7 +17,9 @@ struct VirtualDisplay {
 impl VirtualDisplay {
     /// A fresh server on a display number the server picks itself (`-displayfd`), so tests
     /// running side by side never share one; `None` (the test reported as skipped) when Xvfb
-    /// is not installed.
+    /// is not installed. `-noreset` keeps the server up between clients: by default it resets
+    /// when its last client leaves, and a viewer connecting during that reset (a probe such as
+    /// `xdotool search` had just left) is refused.
     fn start() -> Option<VirtualDisplay> {
         let spawned = Command::new("Xvfb")
             .args([
@@ -28,6 +30,7 @@ impl VirtualDisplay {
                 "640x480x24",
                 "-nolisten",
                 "tcp",
+                "-noreset",
             ])
             .stdout(Stdio::piped())
             .stderr(Stdio::null())
