@@ -37,6 +37,7 @@ mod test_files;
 mod test_volumes;
 pub mod tet;
 pub mod transfer;
+pub mod unit_vector;
 pub mod view;
 pub mod volume;
 pub mod vti;

@@ -7,8 +7,11 @@ use common::{
     assert_clean, assert_matches_cpu_raster, assert_same_triangles, checkerboard, gpu,
     list_triangles_in_grid, Need, TestGpu,
 };
-use tessera::iso::direct::compute::{ComputeTarget, DirectCompute, DirectExtract, TriangleLists};
-use tessera::iso::direct::Direct;
+use std::collections::HashMap;
+use tessera::iso::direct::compute::{
+    ComputeTarget, DirectCompute, DirectExtract, TriangleAttributes, TriangleLists,
+};
+use tessera::iso::direct::{Direct, DirectParams};
 use tessera::iso::minmax::MinMaxBuilder;
 use tessera::iso::PreparedVolume;
 use tessera::raster::RASTER_GROUP_SIZE;
@@ -73,6 +76,8 @@ fn compute_extraction_equals_cpu_marching_cubes() {
         assert_eq!(counts[1..4], args(capacity), "{}", volume.name());
         let tris = list_triangles_in_grid(&gpu, &lists, &params);
         assert_same_triangles(volume.name(), &tris, &cpu, 1e-4);
+        let attributes: Vec<TriangleAttributes> = gpu.read_buffer_as(&lists.attributes).unwrap();
+        assert_attributes_match(volume, &tris, &attributes, &cpu, &params);
         // One triangle short of what is needed: the count still says how many there were.
         if capacity > 1 {
             let small = TriangleLists::new(&gpu, capacity - 1).unwrap();
@@ -95,6 +100,57 @@ fn compute_extraction_equals_cpu_marching_cubes() {
         }
     }
     assert_clean(&gpu);
+}
+
+/// Each listed triangle's attributes: every corner's packed normal is the CPU's normal at that
+/// vertex taken to world space (within 1e-3 rad), and its maker is the block holding it.
+fn assert_attributes_match(
+    volume: &Volume,
+    tris: &[[glam::Vec3; 3]],
+    attributes: &[TriangleAttributes],
+    cpu: &tessera_data::mesh::TriangleMesh,
+    params: &DirectParams,
+) {
+    let mut vertices: HashMap<glam::IVec3, Vec<usize>> = HashMap::new();
+    for (i, p) in cpu.positions.iter().enumerate() {
+        vertices.entry(p.floor().as_ivec3()).or_default().push(i);
+    }
+    let nearest = |p: glam::Vec3| {
+        let cell = p.floor().as_ivec3();
+        (0..27)
+            .map(|n| cell + glam::IVec3::new(n % 3 - 1, n / 3 % 3 - 1, n / 9 - 1))
+            .filter_map(|c| vertices.get(&c))
+            .flatten()
+            .copied()
+            .min_by(|&a, &b| {
+                let (da, db) = (cpu.positions[a].distance(p), cpu.positions[b].distance(p));
+                da.total_cmp(&db)
+            })
+            .filter(|&i| cpu.positions[i].distance(p) < 1e-3)
+            .unwrap_or_else(|| panic!("{}: no CPU vertex at {p}", volume.name()))
+    };
+    let grid_to_world = glam::Vec4::from(params.grid_to_world).truncate();
+    let [bx, by, bz] = tessera_data::minmax::BLOCK_CELLS;
+    let dims = volume.dims();
+    let blocks = [(dims[0] - 2) / bx + 1, (dims[1] - 2) / by + 1];
+    for (t, (corners, a)) in tris.iter().zip(attributes).enumerate() {
+        for (j, &p) in corners.iter().enumerate() {
+            let expected = (cpu.normals[nearest(p)] / grid_to_world).normalize();
+            let got = tessera_data::unit_vector::unpack(a.corner_normals[j]);
+            let angle = expected.cross(got).length().atan2(expected.dot(got));
+            assert!(
+                angle < 1e-3,
+                "{}: triangle {t} corner {j}: normal {got}, CPU {expected}",
+                volume.name()
+            );
+        }
+        let cell = ((corners[0] + corners[1] + corners[2]) / 3.0)
+            .floor()
+            .as_uvec3();
+        let block = [cell.x / bx, cell.y / by, cell.z / bz];
+        let id = block[0] + blocks[0] * (block[1] + blocks[1] * block[2]);
+        assert_eq!(a.maker, id, "{}: triangle {t}'s maker", volume.name());
+    }
 }
 
 #[test]

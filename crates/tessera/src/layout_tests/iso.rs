@@ -9,7 +9,7 @@ use tessera_data::ScalarType;
 
 pub(super) fn isosurface_structs(t: &mut Table) {
     use crate::iso::direct::block_list::BlockListHeader;
-    use crate::iso::direct::compute::ReprojectParams;
+    use crate::iso::direct::compute::{ReprojectParams, TriangleAttributes};
     use crate::iso::direct::compute_cull::HzbTestParams;
     use crate::iso::direct::resolve::ResolveParams;
     use crate::iso::direct::stereo::StereoViews;
@@ -82,6 +82,11 @@ pub(super) fn isosurface_structs(t: &mut Table) {
             frame_number,
             empties
         ),
+    );
+    t.buffer(
+        &resolve,
+        "TriangleAttributes",
+        host!(TriangleAttributes, corner_normals, maker),
     );
     let reproject = compile(
         &builtin_shader!("../iso/direct/reproject.comp.glsl"),

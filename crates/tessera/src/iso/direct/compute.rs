@@ -20,9 +20,18 @@ use tessera_gpu::{
     vk, Binding, Buffer, Gpu, MemoryLocation, Pipeline, Recorder, ShaderCompiler, Slot, Timer,
 };
 
-/// Bytes per triangle of shading attributes: three world normals (positions come from the
-/// clip-space corners).
-pub const ATTRIBUTE_BYTES: u64 = 48;
+/// A list triangle's shading attributes (`iso/direct/attributes.glsl`): its corners' world
+/// normals, packed (`common/unit_vector.glsl`, decoded by [`tessera_data::unit_vector`]), and
+/// the id of the block or meshlet that made it. Positions come from the clip-space corners.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Pod, Zeroable)]
+pub struct TriangleAttributes {
+    pub corner_normals: [u32; 3],
+    pub maker: u32,
+}
+
+/// Bytes per triangle of shading attributes.
+pub const ATTRIBUTE_BYTES: u64 = std::mem::size_of::<TriangleAttributes>() as u64;
 
 /// The generated triangles of a frame, sized for `capacity` triangles.
 pub struct TriangleLists {
@@ -74,12 +83,12 @@ impl TriangleLists {
     }
 
     /// The capacity that fits a share of the device's memory and its largest storage buffer
-    /// (the attributes are the larger list), for frames of unknown size; no list holds more.
+    /// (the triangles are the larger list), for frames of unknown size; no list holds more.
     pub fn default_capacity(gpu: &Gpu) -> u32 {
         let caps = gpu.caps();
         let budget = caps.device_local_bytes / 8;
         (budget / (TRIANGLE_BYTES + ATTRIBUTE_BYTES))
-            .min(caps.max_storage_buffer_range / ATTRIBUTE_BYTES)
+            .min(caps.max_storage_buffer_range / TRIANGLE_BYTES.max(ATTRIBUTE_BYTES))
             .min(64 << 20) as u32
     }
 }
