@@ -5,6 +5,7 @@
 pub mod camera;
 mod clusters;
 pub mod error;
+pub mod facing;
 pub mod histogram;
 pub mod image;
 pub mod input;
@@ -37,7 +38,6 @@ mod test_files;
 mod test_volumes;
 pub mod tet;
 pub mod transfer;
-pub mod unit_vector;
 pub mod view;
 pub mod volume;
 pub mod vti;

@@ -155,6 +155,35 @@ fn rasterize_counting(
     out
 }
 
+/// The winding of a triangle on screen, as the rasterizers see it after snapping: the sign of
+/// (b - a) × (c - a) on the snapped grid (x right, y down), for the fan triangles of what
+/// clipping leaves. Zero-area triangles have none and draw nothing either way.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ScreenWinding {
+    Positive,
+    Negative,
+}
+
+impl ScreenWinding {
+    /// The winding of a triangle whose doubled signed area is `area`; `None` for zero (or NaN).
+    pub fn of_area(area: f64) -> Option<ScreenWinding> {
+        if area > 0.0 {
+            Some(ScreenWinding::Positive)
+        } else if area < 0.0 {
+            Some(ScreenWinding::Negative)
+        } else {
+            None
+        }
+    }
+
+    pub fn opposite(self) -> ScreenWinding {
+        match self {
+            ScreenWinding::Positive => ScreenWinding::Negative,
+            ScreenWinding::Negative => ScreenWinding::Positive,
+        }
+    }
+}
+
 /// Rasterizes triangles given directly as clip-space corners (the input of the GPU compute
 /// rasterizer) under the rules of [`rasterize_mesh`]. Returns, per pixel (row-major, top row
 /// first), the NDC depth and the index in `triangles` of the visible triangle, or `None` where
@@ -164,8 +193,22 @@ pub fn rasterize_clip_triangles(
     width: u32,
     height: u32,
 ) -> Vec<Option<(f32, u32)>> {
+    rasterize_clip_triangles_hiding(triangles, width, height, None)
+}
+
+/// [`rasterize_clip_triangles`], drawing nothing of the fan triangles whose [`ScreenWinding`]
+/// is `hidden` (see [`crate::facing::hidden_winding`] for when that leaves the image as it was).
+pub fn rasterize_clip_triangles_hiding(
+    triangles: &[[Vec4; 3]],
+    width: u32,
+    height: u32,
+    hidden: Option<ScreenWinding>,
+) -> Vec<Option<(f32, u32)>> {
     let mut out: Vec<Option<(f32, u32)>> = vec![None; width as usize * height as usize];
-    let mut clipper = Clipper::default();
+    let mut clipper = Clipper {
+        hidden,
+        ..Clipper::default()
+    };
     for (index, t) in triangles.iter().enumerate() {
         let corners = t.map(ClipVertex::bare);
         clipper.draw(corners, width, height, |pixel, z, _, _| {
@@ -204,6 +247,8 @@ pub fn screen_polygon(clip: &[Vec4; 3], width: u32, height: u32) -> Vec<DVec3> {
 struct Clipper {
     polygon: Vec<ClipVertex>,
     scratch: Vec<ClipVertex>,
+    /// Fan triangles of this winding draw nothing.
+    hidden: Option<ScreenWinding>,
 }
 
 impl Clipper {
@@ -227,6 +272,10 @@ impl Clipper {
             .collect();
         for k in 1..screen.len().saturating_sub(1) {
             let tri = [screen[0], screen[k], screen[k + 1]];
+            let area = edge(&tri[0], &tri[1], tri[2].x, tri[2].y);
+            if self.hidden.is_some() && ScreenWinding::of_area(area) == self.hidden {
+                continue;
+            }
             raster_triangle(&tri, width, height, |index, b| {
                 let z = (b[0] * tri[0].z + b[1] * tri[1].z + b[2] * tri[2].z) as f32;
                 fragment(index, z.clamp(0.0, 1.0), &tri, b);

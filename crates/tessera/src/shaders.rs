@@ -47,10 +47,6 @@ const COMMON: &[(&str, &str)] = &[
         include_str!("shaders/common/grid_world.glsl"),
     ),
     (
-        "common/unit_vector.glsl",
-        include_str!("shaders/common/unit_vector.glsl"),
-    ),
-    (
         "common/frustum.glsl",
         include_str!("shaders/common/frustum.glsl"),
     ),

@@ -14,11 +14,14 @@ use tessera::iso::direct::compute::{
 use tessera::iso::direct::{Direct, DirectParams};
 use tessera::iso::minmax::MinMaxBuilder;
 use tessera::iso::PreparedVolume;
-use tessera::raster::RASTER_GROUP_SIZE;
+use tessera::raster::{decode, RASTER_GROUP_SIZE};
 use tessera::shaders;
 use tessera::target::Target;
 use tessera_data::marching_cubes::marching_cubes;
 use tessera_data::procedural::{generate, ProceduralKind};
+use tessera_data::rasterize::{
+    rasterize_clip_triangles, rasterize_clip_triangles_hiding, screen_polygon, ScreenWinding,
+};
 use tessera_data::{IsoValue, OrbitCamera, ScalarType, Volume};
 
 #[test]
@@ -102,8 +105,8 @@ fn compute_extraction_equals_cpu_marching_cubes() {
     assert_clean(&gpu);
 }
 
-/// Each listed triangle's attributes: every corner's packed normal is the CPU's normal at that
-/// vertex taken to world space (within 1e-3 rad), and its maker is the block holding it.
+/// Each listed triangle's attributes: every corner's normal is the CPU's normal at that vertex
+/// taken to world space (within 1e-3 rad), and every corner names the block holding it.
 fn assert_attributes_match(
     volume: &Volume,
     tris: &[[glam::Vec3; 3]],
@@ -134,22 +137,22 @@ fn assert_attributes_match(
     let dims = volume.dims();
     let blocks = [(dims[0] - 2) / bx + 1, (dims[1] - 2) / by + 1];
     for (t, (corners, a)) in tris.iter().zip(attributes).enumerate() {
-        for (j, &p) in corners.iter().enumerate() {
-            let expected = (cpu.normals[nearest(p)] / grid_to_world).normalize();
-            let got = tessera_data::unit_vector::unpack(a.corner_normals[j]);
-            let angle = expected.cross(got).length().atan2(expected.dot(got));
-            assert!(
-                angle < 1e-3,
-                "{}: triangle {t} corner {j}: normal {got}, CPU {expected}",
-                volume.name()
-            );
-        }
         let cell = ((corners[0] + corners[1] + corners[2]) / 3.0)
             .floor()
             .as_uvec3();
         let block = [cell.x / bx, cell.y / by, cell.z / bz];
         let id = block[0] + blocks[0] * (block[1] + blocks[1] * block[2]);
-        assert_eq!(a.maker, id, "{}: triangle {t}'s maker", volume.name());
+        for (j, (&p, corner)) in corners.iter().zip(&a.corners).enumerate() {
+            let expected = (cpu.normals[nearest(p)] / grid_to_world).normalize();
+            let got = glam::Vec3::from(corner.normal_world);
+            let angle = expected.cross(got).length().atan2(expected.dot(got));
+            assert!(
+                angle < 1e-3 && (got.length() - 1.0).abs() < 1e-5,
+                "{}: triangle {t} corner {j}: normal {got}, CPU {expected}",
+                volume.name()
+            );
+            assert_eq!(corner.maker, id, "{}: triangle {t}'s maker", volume.name());
+        }
     }
 }
 
@@ -237,5 +240,100 @@ fn compute_stereo_second_view_equals_a_mono_render_from_that_eye() {
         left_image, right_image,
         "the eyes must see different images"
     );
+    assert_clean(&gpu);
+}
+
+/// Seen from outside, the head's closed surfaces draw with the triangles turned away from the
+/// eye left out (most of the list's triangles on screen): each pixel shows the triangle the
+/// CPU reference shows with every triangle drawn. The Marschner–Lobb surface meets the grid's
+/// boundary, so it keeps both sides.
+#[test]
+fn compute_frames_of_closed_surfaces_leave_out_the_side_turned_away() {
+    let Some(gpu) = TestGpu::with(&[Need::BufferInt64Atomics]) else {
+        return;
+    };
+    let compiler = shaders::compiler();
+    let (w, h) = (128, 96);
+    for (volume, closed) in [
+        (
+            generate(ProceduralKind::HeadPhantom, 40, ScalarType::U8).unwrap(),
+            true,
+        ),
+        (
+            generate(ProceduralKind::MarschnerLobb, 33, ScalarType::U16).unwrap(),
+            false,
+        ),
+    ] {
+        let compute = DirectCompute::new(&gpu, &compiler, volume.scalar_type()).unwrap();
+        let builder = MinMaxBuilder::new(&gpu, &compiler, volume.scalar_type()).unwrap();
+        let prepared = PreparedVolume::new(&gpu, &builder, &volume).unwrap();
+        let iso = volume.iso_to_texel(IsoValue::Normalized(0.3));
+        for camera in ["30,20,1.8", "210,-40,1.6"] {
+            let camera = OrbitCamera::parse(camera).unwrap();
+            let capacity = marching_cubes(&volume, iso).triangle_count() as u32;
+            let target = ComputeTarget::new(&gpu, w, h, capacity).unwrap();
+            target.frame.keep_after_resolve(true);
+            let pixels = Target::new(&gpu, w, h).unwrap();
+            compute
+                .render(&gpu, &prepared, &target, &pixels, iso, &camera)
+                .unwrap();
+            let params = Direct::params(&prepared, iso, &camera, w, h, capacity);
+            let hidden = Direct::hidden_winding(&prepared, &params);
+            assert_eq!(hidden.is_some(), closed, "{}", volume.name());
+            assert_eq!(
+                target.frame.hidden_winding(),
+                hidden,
+                "what the raster passes hid"
+            );
+            let tris: Vec<[glam::Vec4; 3]> = gpu
+                .read_buffer_as::<[[f32; 4]; 3]>(&target.lists.triangles)
+                .unwrap()
+                .iter()
+                .map(|t| t.map(glam::Vec4::from))
+                .collect();
+            let every = rasterize_clip_triangles(&tris, w, h);
+            let frame = target.frame.read(&gpu).unwrap();
+            let same = frame
+                .iter()
+                .zip(&every)
+                .filter(|(g, c)| decode(**g).map(|v| v.1) == c.map(|v| v.1))
+                .count();
+            let covered = every.iter().filter(|c| c.is_some()).count();
+            eprintln!(
+                "{} {camera:?}: {same} of {} pixels as every triangle drawn",
+                volume.name(),
+                frame.len()
+            );
+            assert!(covered > 1000 && same as f64 >= 0.999 * frame.len() as f64);
+            if let Some(hidden) = hidden {
+                let turned = tris
+                    .iter()
+                    .filter(|t| {
+                        let p = screen_polygon(t, w, h);
+                        let area = (p.len() >= 3).then(|| {
+                            (p[1].x - p[0].x) * (p[2].y - p[0].y)
+                                - (p[1].y - p[0].y) * (p[2].x - p[0].x)
+                        });
+                        area.and_then(ScreenWinding::of_area) == Some(hidden)
+                    })
+                    .count();
+                let on_screen = tris
+                    .iter()
+                    .filter(|t| screen_polygon(t, w, h).len() >= 3)
+                    .count();
+                eprintln!("  {turned} of {on_screen} triangles on screen left out");
+                assert!(turned * 10 > on_screen * 3, "{turned} of {on_screen}");
+                // Those triangles do draw when not left out: leaving out the other side moves
+                // most pixels.
+                let other = rasterize_clip_triangles_hiding(&tris, w, h, Some(hidden.opposite()));
+                let moved = other
+                    .iter()
+                    .zip(&every)
+                    .filter(|(a, b)| a.map(|v| v.1) != b.map(|v| v.1))
+                    .count();
+                assert!(moved * 2 > covered, "{moved} of {covered}");
+            }
+        }
+    }
     assert_clean(&gpu);
 }

@@ -6,6 +6,7 @@ mod common;
 use common::{assert_clean, assert_matches_cpu_raster, Need, TestGpu};
 use tessera::iso::direct::compute::{ComputeTarget, DirectCompute};
 use tessera::iso::direct::compute_cull::{ComputeCullState, ComputeCullStats};
+use tessera::iso::direct::Direct;
 use tessera::raster::hzb::hzb_levels;
 use tessera::shaders;
 use tessera::target::Target;
@@ -64,6 +65,15 @@ fn run_path(
             plain_stats.triangles
         );
         assert!(!culled.pixels.contains(&u32::MAX), "unwritten pixels");
+        // Both passes leave out what no pixel of a closed surface shows, as the plain frame does.
+        let params = Direct::params(&prepared, iso, camera, w, h, capacity);
+        let hidden = Direct::hidden_winding(&prepared, &params);
+        assert_eq!(
+            target.frame.hidden_winding(),
+            hidden,
+            "{name} frame {frame}"
+        );
+        assert_eq!(plain_target.frame.hidden_winding(), hidden);
         // Depths do not depend on which of two tying triangles wins, so they must be equal at
         // every pixel: a wrongly culled block shows here even where it would hardly change a
         // colour.

@@ -11,7 +11,9 @@ use tessera::raster::{
     create_counts_buffer, decode, ComputeRasterizer, RasterCounts, RasterFrame, RasterTriangle,
     EMPTY,
 };
-use tessera_data::rasterize::{rasterize_clip_triangles, screen_polygon};
+use tessera_data::rasterize::{
+    rasterize_clip_triangles, rasterize_clip_triangles_hiding, screen_polygon, ScreenWinding,
+};
 use tessera_gpu::{vk, Gpu};
 
 /// A perspective camera like `tessera_data::Projection`: view space x right, y up, z forward.
@@ -226,6 +228,66 @@ fn random_triangles_match_cpu_reference() {
     let groups = (tris.len() as u32).div_ceil(rast.group_size());
     assert_eq!(args.dispatch, [2, groups.div_ceil(2), 1]);
     assert!(grid_values == gpu_values, "2-D grid changed the frame");
+    assert_clean(&gpu);
+}
+
+/// A frame that hides one winding draws what the reference draws without those triangles, for
+/// either winding, and a frame's next beginning draws both sides again.
+#[test]
+fn hidden_windings_are_left_out_as_the_reference_leaves_them() {
+    let gpu = gpu();
+    let Some(rast) = rasterizer(&gpu) else {
+        return;
+    };
+    let cam = Camera {
+        width: 160,
+        height: 120,
+        tan_y: 0.45,
+        near: 0.5,
+        far: 8.0,
+    };
+    let (w, h) = (cam.width, cam.height);
+    let tris = random_scene(&cam, &mut Rng::new(0x005e_ed0f_f1de));
+    let both = rasterize_clip_triangles(&tris, w, h);
+    let frame = RasterFrame::new(&gpu, w, h).unwrap();
+    for hidden in [ScreenWinding::Positive, ScreenWinding::Negative] {
+        frame.hide_winding(Some(hidden));
+        let (values, _) = draw_into(&gpu, &rast, &tris, tris.len() as u32, &frame);
+        let cpu = rasterize_clip_triangles_hiding(&tris, w, h, Some(hidden));
+        let same = values
+            .iter()
+            .zip(&cpu)
+            .filter(|(g, c)| decode(**g).map(|v| v.1) == c.map(|v| v.1))
+            .count();
+        let moved = cpu
+            .iter()
+            .zip(&both)
+            .filter(|(c, b)| c.map(|v| v.1) != b.map(|v| v.1))
+            .count();
+        eprintln!(
+            "{hidden:?} hidden: {same} of {} pixels as the reference, {moved} moved",
+            cpu.len()
+        );
+        assert!(
+            same as f64 >= 0.999 * cpu.len() as f64,
+            "{hidden:?}: {same} agree"
+        );
+        assert!(
+            moved > cpu.len() / 10,
+            "{hidden:?}: hiding moved {moved} pixels"
+        );
+    }
+    gpu.submit("begin", |rec| frame.record_begin(rec)).unwrap();
+    let (values, _) = draw_into(&gpu, &rast, &tris, tris.len() as u32, &frame);
+    let same = values
+        .iter()
+        .zip(&both)
+        .filter(|(g, c)| decode(**g).map(|v| v.1) == c.map(|v| v.1))
+        .count();
+    assert!(
+        same as f64 >= 0.999 * both.len() as f64,
+        "after a new frame: {same} agree"
+    );
     assert_clean(&gpu);
 }
 

@@ -292,9 +292,8 @@ fn direct_culling_choices_draw_the_same_frog() {
 }
 
 /// The frog's whole body, 1,511,860 triangles: a list of them with 96 bytes of attributes each
-/// would pass lavapipe's largest storage buffer (128 MiB); with 16 (and 48 of clip-space
-/// corners) it fits, and the compute path draws it, binding nothing out of range (the
-/// validation layer is watching). A device
+/// would pass lavapipe's largest storage buffer (128 MiB); with 48 it fits, and the compute
+/// path draws it, binding nothing out of range (the validation layer is watching). A device
 /// whose lists hold fewer says so, naming the triangles and the limit.
 #[test]
 fn direct_compute_draws_the_frogs_whole_body_or_says_it_cannot() {

@@ -319,7 +319,12 @@ pub fn time_varying(
             .collect();
         let t = techniques(gpu, &compiler, scalar)?;
         let builder = crate::iso::minmax::MinMaxBuilder::new(gpu, &compiler, scalar)?;
-        let prepared = PreparedVolume::new(gpu, &builder, &steps[0])?;
+        let mut prepared = PreparedVolume::new(gpu, &builder, &steps[0])?;
+        // The steps are copied into its samples in turn: the boundary of all of them.
+        prepared.boundary_range = steps
+            .iter()
+            .map(tessera_data::facing::boundary_range)
+            .fold(prepared.boundary_range, |a, b| (a.0.min(b.0), a.1.max(b.1)));
         // Each frame copies the next time step in and rebuilds the octree; returns its index.
         let next_step =
             |rec: &tessera_gpu::Recorder, timer: &mut tessera_gpu::Timer, frame: &mut usize| {

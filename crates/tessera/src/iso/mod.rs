@@ -24,6 +24,10 @@ pub struct PreparedVolume {
     pub volume: GpuVolume,
     pub octree: MinMaxOctreeGpu,
     pub spacing: [f32; 3],
+    /// The lowest and highest sample on the grid's six faces
+    /// ([`tessera_data::facing::boundary_range`]): whether a surface is closed. Whoever copies
+    /// other samples into `volume` sets it for them (the range of all of them).
+    pub boundary_range: (f32, f32),
     id: u64,
 }
 
@@ -67,6 +71,7 @@ impl PreparedVolume {
             volume: gpu_volume,
             octree,
             spacing: volume.spacing(),
+            boundary_range: tessera_data::facing::boundary_range(volume),
             id: NEXT_VOLUME_ID.fetch_add(1, Ordering::Relaxed),
         };
         gpu.submit("build min-max octree", |rec| {

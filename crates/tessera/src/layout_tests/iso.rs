@@ -9,7 +9,7 @@ use tessera_data::ScalarType;
 
 pub(super) fn isosurface_structs(t: &mut Table) {
     use crate::iso::direct::block_list::BlockListHeader;
-    use crate::iso::direct::compute::{ReprojectParams, TriangleAttributes};
+    use crate::iso::direct::compute::{CornerAttributes, ReprojectParams, TriangleAttributes};
     use crate::iso::direct::compute_cull::HzbTestParams;
     use crate::iso::direct::resolve::ResolveParams;
     use crate::iso::direct::stereo::StereoViews;
@@ -86,7 +86,12 @@ pub(super) fn isosurface_structs(t: &mut Table) {
     t.buffer(
         &resolve,
         "TriangleAttributes",
-        host!(TriangleAttributes, corner_normals, maker),
+        host!(TriangleAttributes, corners),
+    );
+    t.buffer(
+        &resolve,
+        "CornerAttributes",
+        host!(CornerAttributes, normal_world, maker),
     );
     let reproject = compile(
         &builtin_shader!("../iso/direct/reproject.comp.glsl"),

@@ -95,7 +95,14 @@ fn raster_structs(t: &mut Table) {
     t.push_constants::<RasterParams>(
         &raster,
         "RasterParams",
-        host!(RasterParams, size, capacity, index_base, frame_number),
+        host!(
+            RasterParams,
+            size,
+            capacity,
+            index_base,
+            frame_number,
+            hidden_winding
+        ),
     );
     t.buffer(&raster, "RasterTriangle", host!(RasterTriangle, clip));
     let prepare = compile(&builtin_shader!("../raster/raster_prepare.comp.glsl"), &[]);

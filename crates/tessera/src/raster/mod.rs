@@ -6,7 +6,8 @@
 //!
 //! The rules are those of the CPU reference [`tessera_data::rasterize`]: clipping in clip space
 //! against w > 0, the near (z >= 0) and far (z <= w) planes and a guard band, fan drawing,
-//! positions snapped to 1/256 pixel, pixel centres, the top-left rule, double-sided, NDC depth
+//! positions snapped to 1/256 pixel, pixel centres, the top-left rule, double-sided (unless a
+//! frame leaves one winding out, [`RasterFrame::hide_winding`]), NDC depth
 //! linear in screen space tested LESS against 1.0. Coverage uses exact integer edge functions,
 //! and positions are snapped in double-float arithmetic so that they land on the reference's
 //! (f64) grid points, so the frame equals
@@ -66,7 +67,7 @@ use crate::builtin_shader;
 use crate::error::{check_image_size, Error, Result};
 use bytemuck::{Pod, Zeroable};
 use std::cell::Cell;
-use tessera_data::rasterize::{GUARD_BAND, MIN_W, SUBPIXEL_BITS};
+use tessera_data::rasterize::{ScreenWinding, GUARD_BAND, MIN_W, SUBPIXEL_BITS};
 use tessera_gpu::{
     vk, Binding, Buffer, Gpu, MemoryLocation, Pipeline, Recorder, ShaderCompiler, Slot,
 };
@@ -107,6 +108,9 @@ pub(crate) struct RasterParams {
     pub(crate) index_base: u32,
     /// Marked into the tiles the pass draws into ([`RasterFrame::frame_number`]).
     pub(crate) frame_number: u32,
+    /// 1 or -1: the sign of the snapped area of triangles that draw nothing; 0: none
+    /// ([`RasterFrame::hide_winding`]).
+    pub(crate) hidden_winding: i32,
 }
 
 /// Splits a frame value into (NDC depth, triangle index); `None` for an empty pixel.
@@ -142,6 +146,8 @@ pub struct RasterFrame {
     empty: Cell<bool>,
     /// Whether resolves leave the drawn pixels in place (see [`Self::keep_after_resolve`]).
     kept: Cell<bool>,
+    /// The winding of the triangles the frame's raster passes leave out.
+    hidden_winding: Cell<Option<ScreenWinding>>,
 }
 
 impl RasterFrame {
@@ -177,6 +183,7 @@ impl RasterFrame {
             frame_number: Cell::new(0),
             empty: Cell::new(false),
             kept: Cell::new(false),
+            hidden_winding: Cell::new(None),
         })
     }
 
@@ -197,6 +204,21 @@ impl RasterFrame {
         }
         self.frame_number
             .set(self.frame_number.get().wrapping_add(1).max(1));
+        self.hidden_winding.set(None);
+    }
+
+    /// Leaves out of the frame's raster passes (recorded after this, until the next
+    /// [`Self::record_begin`]) every triangle of `winding` on screen, as
+    /// [`tessera_data::rasterize::rasterize_clip_triangles_hiding`] does: for a closed surface
+    /// whose hidden side [`tessera_data::facing::hidden_winding`] found, the same frame from
+    /// about half the triangles.
+    pub fn hide_winding(&self, winding: Option<ScreenWinding>) {
+        self.hidden_winding.set(winding);
+    }
+
+    /// The winding the frame's raster passes leave out.
+    pub fn hidden_winding(&self) -> Option<ScreenWinding> {
+        self.hidden_winding.get()
     }
 
     /// The number the raster passes of the frame being drawn mark their tiles with.
@@ -341,6 +363,11 @@ impl ComputeRasterizer {
             capacity: (triangles.size / TRIANGLE_BYTES).min(u32::MAX as u64) as u32,
             index_base,
             frame_number: frame.frame_number(),
+            hidden_winding: match frame.hidden_winding.get() {
+                None => 0,
+                Some(ScreenWinding::Positive) => 1,
+                Some(ScreenWinding::Negative) => -1,
+            },
         };
         rec.dispatch_indirect(
             &self.raster,

@@ -6,7 +6,8 @@
 // exactly: integer edge functions on the snapped grid with the top-left rule, sampled at pixel
 // centres. Depth is NDC z interpolated linearly in screen space; the visible fragment per pixel
 // is kept with a 64-bit atomicMin on (depth bits << 32 | triangle index), which equals the
-// reference's LESS test in list order (equal depths keep the lower index).
+// reference's LESS test in list order (equal depths keep the lower index). Triangles of one
+// winding may be left out, as the reference's rasterize_clip_triangles_hiding does.
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_EXT_shader_atomic_int64 : require
 #include "common/exact.glsl"
@@ -27,6 +28,9 @@ layout(push_constant) uniform RasterParams {
     uint capacity;  // triangles the triangle buffer holds; later ones are never read
     uint index_base;  // added to each triangle's index in the frame (several buffers, one frame)
     uint frame_number;  // marked into every tile a triangle's pixel box reaches
+    // 1: triangles of positive area on the snapped grid draw nothing; -1: those of negative
+    // area; 0: both sides draw (tessera_data::rasterize::ScreenWinding, tessera_data::facing).
+    int hidden_winding;
 } params;
 
 // SUBPIXEL_BITS, MIN_W and GUARD_BAND come from tessera_data::rasterize as defines.
@@ -125,6 +129,9 @@ void draw_triangle(Corner a, Corner b, Corner c, uint index) {
     int64_t area = edge(a.p, b.p, c.p);
     if (area == 0) {
         return;  // zero area: no fragments
+    }
+    if (params.hidden_winding != 0 && (area > 0) == (params.hidden_winding > 0)) {
+        return;  // turned away from every view ray's first surface
     }
     if (area < 0) {  // double-sided: turn it around
         Corner t = b;

@@ -20,14 +20,20 @@ use tessera_gpu::{
     vk, Binding, Buffer, Gpu, MemoryLocation, Pipeline, Recorder, ShaderCompiler, Slot, Timer,
 };
 
-/// A list triangle's shading attributes (`iso/direct/attributes.glsl`): its corners' world
-/// normals, packed (`common/unit_vector.glsl`, decoded by [`tessera_data::unit_vector`]), and
-/// the id of the block or meshlet that made it. Positions come from the clip-space corners.
+/// One corner of a list triangle's shading attributes (`iso/direct/attributes.glsl`): its world
+/// normal and the id of the block or meshlet that made the triangle (the same in all three).
 #[repr(C)]
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Pod, Zeroable)]
-pub struct TriangleAttributes {
-    pub corner_normals: [u32; 3],
+#[derive(Debug, Clone, Copy, Default, PartialEq, Pod, Zeroable)]
+pub struct CornerAttributes {
+    pub normal_world: [f32; 3],
     pub maker: u32,
+}
+
+/// A list triangle's shading attributes. Positions come from the clip-space corners.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Pod, Zeroable)]
+pub struct TriangleAttributes {
+    pub corners: [CornerAttributes; 3],
 }
 
 /// Bytes per triangle of shading attributes.
@@ -285,6 +291,9 @@ impl DirectCompute {
         // The frame begins with the extraction's counters (one barrier), and the
         // extraction writes the raster pass's dispatch arguments as it reserves slots.
         target.frame.record_begin(rec);
+        target
+            .frame
+            .hide_winding(Direct::hidden_winding(prepared, params));
         self.extract.record(rec, prepared, &target.lists, params);
         rec.barrier();
         self.rasterizer.record_raster(

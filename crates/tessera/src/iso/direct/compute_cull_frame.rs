@@ -93,6 +93,9 @@ impl DirectCompute {
                 .iter()
                 .for_each(|s| rec.fill_buffer(s, 0));
             target.frame.record_begin(rec);
+            target
+                .frame
+                .hide_winding(Direct::hidden_winding(prepared, params));
             // Boxes made from another volume (the same block grid) say nothing about this one.
             state.cell_boxes.record_keep_for(rec, prepared);
             rec.barrier();

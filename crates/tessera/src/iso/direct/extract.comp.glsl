@@ -15,7 +15,6 @@
 #ifdef BLOCK_LIST
 #include "iso/direct/cell_box_record.glsl"
 #endif
-#include "common/unit_vector.glsl"
 #include "iso/direct/attributes.glsl"
 #include "raster/raster.glsl"
 #include "common/indirect_args.glsl"
@@ -142,9 +141,8 @@ void main() {
                 vec3 normal;
                 mc_edge_vertex(volume_tex, cell, mc_tri_edge(row, 3u * t + j), iso, dims, p, normal);
                 triangles[slot].clip[j] = params.grid_to_clip * vec4(p, 1.0);
-                attributes[slot].corner_normals[j] = pack_unit_vector(grid_normal_to_world(normal, params.grid_to_world.xyz));
+                attributes[slot].corners[j] = CornerAttributes(grid_normal_to_world(normal, params.grid_to_world.xyz), block_id);
             }
-            attributes[slot].maker = block_id;
         }
     }
 }

@@ -314,6 +314,22 @@ impl Direct {
         }
     }
 
+    /// The screen winding of the triangles no pixel of the frame `params` describes can show:
+    /// `Some` when the surface is closed (no boundary sample on the far side of the isovalue)
+    /// and the whole grid lies before the near plane ([`tessera_data::facing`]); the compute
+    /// path's raster passes then leave them out.
+    pub fn hidden_winding(
+        prepared: &PreparedVolume,
+        params: &DirectParams,
+    ) -> Option<tessera_data::rasterize::ScreenWinding> {
+        tessera_data::facing::hidden_winding(
+            glam::Mat4::from_cols_array_2d(&params.grid_to_clip),
+            params.dims,
+            prepared.boundary_range,
+            params.isovalue,
+        )
+    }
+
     pub(crate) fn bindings<'a>(
         &'a self,
         prepared: &'a PreparedVolume,

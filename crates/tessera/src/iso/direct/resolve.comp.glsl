@@ -18,7 +18,6 @@
 // raster::RESOLVE_PIXELS and raster::RASTER_TILE.
 #include "raster/raster.glsl"
 #include "common/shading.glsl"
-#include "common/unit_vector.glsl"
 #include "iso/direct/attributes.glsl"
 
 layout(local_size_x = 64) in;
@@ -67,16 +66,16 @@ void resolve_pixel(uvec2 pixel, uvec2 size) {
             tri = triangles[t];
             a = attributes[t];
         }
-        if (a.maker < uint(block_flags.length())) {
-            block_flags[a.maker] = 1u;  // every writer stores the same value
+        uint block = a.corners[0].maker;
+        if (block < uint(block_flags.length())) {
+            block_flags[block] = 1u;  // every writer stores the same value
         }
 #else
         tri = triangles[t];
         a = attributes[t];
 #endif
         vec3 b = raster_barycentrics(tri.clip[0], tri.clip[1], tri.clip[2], raster_pixel_centre(pixel), size);
-        vec3 normal = b.x * unpack_unit_vector(a.corner_normals[0]) + b.y * unpack_unit_vector(a.corner_normals[1])
-                      + b.z * unpack_unit_vector(a.corner_normals[2]);
+        vec3 normal = b.x * a.corners[0].normal_world + b.y * a.corners[1].normal_world + b.z * a.corners[2].normal_world;
         // Clip space is linear in world space, so the clip point the weights pick is the clip
         // point of the world point they pick.
         vec4 clip = b.x * tri.clip[0] + b.y * tri.clip[1] + b.z * tri.clip[2];

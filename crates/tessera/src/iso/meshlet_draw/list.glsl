@@ -3,8 +3,7 @@
 // including shader defines it past its own): clip-space triangles, their shading attributes
 // (iso/direct/attributes.glsl, shaded by direct's resolve) and raster::RasterCounts, whose
 // dispatch arguments grow as slots are reserved (zero before the pass). Needs
-// raster/raster.glsl, iso/direct/attributes.glsl (with common/unit_vector.glsl) and
-// iso/meshlet_draw/corner.glsl.
+// raster/raster.glsl, iso/direct/attributes.glsl and iso/meshlet_draw/corner.glsl.
 
 #include "common/indirect_args.glsl"
 
@@ -17,10 +16,7 @@ layout(binding = SURFACE_LIST_BINDING + 2) buffer Counts { uint triangle_count; 
 // flags as seen under occlusion culling; iso/direct/attributes.glsl).
 void write_list_corner(uint slot, uint j, SurfaceCorner c, uint maker) {
     triangles[slot].clip[j] = c.clip;
-    attributes[slot].corner_normals[j] = pack_unit_vector(c.normal_world);
-    if (j == 0u) {
-        attributes[slot].maker = maker;
-    }
+    attributes[slot].corners[j] = CornerAttributes(c.normal_world, maker);
 }
 
 // Reserves the list's slots of `count` triangles after `first` more were drawn (counted

@@ -10,7 +10,6 @@
 // for the resolve, which flags the meshlets owning pixels.
 #include "raster/raster.glsl"
 #include "common/grid_world.glsl"
-#include "common/unit_vector.glsl"
 #include "iso/direct/attributes.glsl"
 #include "iso/meshlet_draw/params.glsl"
 #include "iso/meshlet_draw/buffers.glsl"

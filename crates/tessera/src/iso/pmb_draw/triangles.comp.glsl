@@ -7,7 +7,6 @@
 #extension GL_EXT_shader_16bit_storage : require
 #include "raster/raster.glsl"
 #include "common/grid_world.glsl"
-#include "common/unit_vector.glsl"
 #include "iso/direct/attributes.glsl"
 #include "iso/meshlet_draw/params.glsl"
 #include "iso/meshlet_draw/corner.glsl"
