@@ -18,7 +18,8 @@ use glam::{DMat4, DVec4, Mat4};
 /// below the isovalue (its normals' side; checked by a test here).
 const CROSS_POINTS_BELOW: bool = true;
 
-/// The lowest and highest sample on the grid's six faces, as [`Volume::texel`] gives them.
+/// The lowest and highest sample on the grid's six faces, as [`Volume::texel`] gives them (a
+/// volume's samples are finite).
 pub fn boundary_range(volume: &Volume) -> (f32, f32) {
     let [nx, ny, nz] = volume.dims();
     let mut range = (f32::INFINITY, f32::NEG_INFINITY);
@@ -40,26 +41,39 @@ pub fn boundary_range(volume: &Volume) -> (f32, f32) {
     range
 }
 
-/// The screen winding of the triangles no pixel shows, for marching cubes' surface at `iso`
-/// (texel units) of a grid of `dims` samples whose boundary samples span `boundary`
-/// ([`boundary_range`]), seen through `grid_to_clip` (grid coordinates, sample (x, y, z) at
-/// (x, y, z), to Vulkan clip space). `None` when every triangle may show: the boundary
-/// straddles the isovalue (the surface is open there), or part of the grid lies behind the
-/// near plane, or the projection has no eye point (parallel).
+/// The side of an isovalue a grid's boundary samples lie on, when they all lie on one: the
+/// surface at that isovalue is then closed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BoundarySide {
+    /// Every boundary sample below the isovalue.
+    Below,
+    /// Every boundary sample at or above it.
+    AtOrAbove,
+}
+
+/// Where the boundary samples spanning `boundary` ([`boundary_range`]) lie against `iso`
+/// (texel units); `None` when they straddle it (the surface may end on the boundary).
+pub fn boundary_side(boundary: (f32, f32), iso: f32) -> Option<BoundarySide> {
+    // A corner is below when its value is below the isovalue (as marching cubes classifies).
+    if boundary.1 < iso {
+        Some(BoundarySide::Below)
+    } else if boundary.0 >= iso {
+        Some(BoundarySide::AtOrAbove)
+    } else {
+        None
+    }
+}
+
+/// The screen winding of the triangles no pixel shows, for marching cubes' closed surface on
+/// a grid of `dims` samples whose boundary lies on `side` of the isovalue, seen through
+/// `grid_to_clip` (grid coordinates, sample (x, y, z) at (x, y, z), to Vulkan clip space).
+/// `None` when every triangle may show: part of the grid lies behind the near plane, or the
+/// projection has no eye point (parallel).
 pub fn hidden_winding(
     grid_to_clip: Mat4,
     dims: [u32; 3],
-    boundary: (f32, f32),
-    iso: f32,
+    side: BoundarySide,
 ) -> Option<ScreenWinding> {
-    // A corner is below when its value is below the isovalue (as marching cubes classifies).
-    let rays_start_below = if boundary.1 < iso {
-        true
-    } else if boundary.0 >= iso {
-        false
-    } else {
-        return None;
-    };
     let m = grid_to_clip.as_dmat4();
     let far = dims.map(|d| f64::from(d.max(1) - 1));
     for c in 0..8 {
@@ -76,7 +90,7 @@ pub fn hidden_winding(
     }
     let facing = facing_eye_winding(&m)?;
     // The triangles seen first face the eye with the side the rays start in.
-    let seen = if rays_start_below == CROSS_POINTS_BELOW {
+    let seen = if (side == BoundarySide::Below) == CROSS_POINTS_BELOW {
         facing
     } else {
         facing.opposite()

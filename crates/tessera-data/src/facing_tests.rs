@@ -100,7 +100,8 @@ fn hiding_the_winding_keeps_the_frame_of_a_closed_surface() {
     ] {
         let camera = OrbitCamera::parse(camera).unwrap();
         let (tris, grid_to_clip, iso) = clip_triangles(&volume, fraction, &camera, size);
-        let hidden = hidden_winding(grid_to_clip, volume.dims(), boundary, iso)
+        let side = boundary_side(boundary, iso).expect("a closed surface");
+        let hidden = hidden_winding(grid_to_clip, volume.dims(), side)
             .unwrap_or_else(|| panic!("{camera:?}: nothing hidden"));
         let all = rasterize_clip_triangles(&tris, size.0, size.1);
         let kept = rasterize_clip_triangles_hiding(&tris, size.0, size.1, Some(hidden));
@@ -140,10 +141,17 @@ fn nothing_is_hidden_where_the_surface_is_open_or_the_grid_reaches_the_eye() {
         (64, 48),
     );
     let boundary = boundary_range(&volume);
-    assert!(hidden_winding(grid_to_clip, volume.dims(), boundary, iso).is_some());
+    assert_eq!(boundary_side(boundary, iso), Some(BoundarySide::Below));
+    assert!(hidden_winding(grid_to_clip, volume.dims(), BoundarySide::Below).is_some());
     // A boundary sample on either side of the isovalue: the surface may end there.
-    let open = (boundary.0.min(iso - 1.0), iso + 1.0);
-    assert_eq!(hidden_winding(grid_to_clip, volume.dims(), open, iso), None);
+    assert_eq!(
+        boundary_side((boundary.0.min(iso - 1.0), iso + 1.0), iso),
+        None
+    );
+    assert_eq!(
+        boundary_side((iso, iso + 5.0), iso),
+        Some(BoundarySide::AtOrAbove)
+    );
     // The eye inside the grid.
     let (_, inside, _) = clip_triangles(
         &volume,
@@ -151,12 +159,15 @@ fn nothing_is_hidden_where_the_surface_is_open_or_the_grid_reaches_the_eye() {
         &OrbitCamera::parse("30,20,0.2").unwrap(),
         (64, 48),
     );
-    assert_eq!(hidden_winding(inside, volume.dims(), boundary, iso), None);
-    // Every boundary sample at or above the isovalue: the rays start above it.
-    let above = (iso, iso + 5.0);
     assert_eq!(
-        hidden_winding(grid_to_clip, volume.dims(), above, iso),
-        hidden_winding(grid_to_clip, volume.dims(), boundary, iso).map(ScreenWinding::opposite)
+        hidden_winding(inside, volume.dims(), BoundarySide::Below),
+        None
+    );
+    // Rays that start above the isovalue see the other side first.
+    assert_eq!(
+        hidden_winding(grid_to_clip, volume.dims(), BoundarySide::AtOrAbove),
+        hidden_winding(grid_to_clip, volume.dims(), BoundarySide::Below)
+            .map(ScreenWinding::opposite)
     );
 }
 

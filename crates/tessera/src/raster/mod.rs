@@ -204,11 +204,10 @@ impl RasterFrame {
         }
         self.frame_number
             .set(self.frame_number.get().wrapping_add(1).max(1));
-        self.hidden_winding.set(None);
     }
 
-    /// Leaves out of the frame's raster passes (recorded after this, until the next
-    /// [`Self::record_begin`]) every triangle of `winding` on screen, as
+    /// Leaves out of the frame's raster passes recorded after this (until it is called
+    /// again; `None`, the start, draws both sides) every triangle of `winding` on screen, as
     /// [`tessera_data::rasterize::rasterize_clip_triangles_hiding`] does: for a closed surface
     /// whose hidden side [`tessera_data::facing::hidden_winding`] found, the same frame from
     /// about half the triangles.

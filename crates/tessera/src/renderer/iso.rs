@@ -538,6 +538,10 @@ impl Renderer for IsoRenderer {
                         .details
                         .insert("culled", u64::from(self.last_culled));
                 }
+                let one_side = target.frame.hidden_winding().is_some();
+                self.stats
+                    .details
+                    .insert("one_side_drawn", u64::from(one_side));
                 if made > capacity {
                     let limit = TriangleLists::default_capacity(gpu);
                     if made > limit {

@@ -203,6 +203,7 @@ impl Renderer for MeshletRenderer {
             }
         };
         self.producer = Some(producer);
+        self.frame.set_volume(volume);
         self.volume = Some(volume.clone());
         self.level.set_volume(volume, &mut self.counters)
     }
@@ -279,9 +280,15 @@ impl Renderer for MeshletRenderer {
                 None => draw.record_compute(rec, meshlets, frame, target, params),
             },
         };
-        let drawn =
-            self.frame
-                .record_draw(rec, timer, view, volume, self.bounds, target, &surface_draw);
+        let drawn = self.frame.record_draw(
+            rec,
+            timer,
+            view,
+            (volume, self.level.iso),
+            self.bounds,
+            target,
+            &surface_draw,
+        );
         if let (true, Some(totals)) = (self.extracting, &self.totals) {
             rec.barrier();
             totals.record_copy(rec, &surface.meshlets.counters, 0, TOTALS_BYTES);
@@ -351,6 +358,9 @@ impl Renderer for MeshletRenderer {
                 "meshlets_drawn_second",
                 u64::from(passes.second.meshlets_drawn),
             );
+        }
+        if let Some(one_side) = self.frame.one_side_drawn() {
+            details.insert("one_side_drawn", one_side);
         }
         if matches!(self.producer, Some(Producer::Offline)) {
             details.insert(

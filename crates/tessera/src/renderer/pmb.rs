@@ -113,6 +113,7 @@ impl Renderer for PmbRenderer {
             pmb,
             made_at: f32::NAN,
         });
+        self.frame.set_volume(volume);
         self.volume = Some(volume.clone());
         self.level.set_volume(volume, &mut self.counters)
     }
@@ -159,9 +160,15 @@ impl Renderer for PmbRenderer {
             graphics: &|rec, raster, params| draw.record_graphics(rec, pmb, raster, params),
             compute: &|rec, frame, params| draw.record_compute(rec, pmb, frame, target, params),
         };
-        let drawn =
-            self.frame
-                .record_draw(rec, timer, view, volume, self.bounds, target, &surface_draw);
+        let drawn = self.frame.record_draw(
+            rec,
+            timer,
+            view,
+            (volume, self.level.iso),
+            self.bounds,
+            target,
+            &surface_draw,
+        );
         if self.extracting {
             rec.barrier();
             surface
@@ -201,16 +208,20 @@ impl Renderer for PmbRenderer {
             return Ok(FrameOutcome::Retry);
         }
         let totals = surface.pmb.totals;
+        let mut details: std::collections::BTreeMap<&'static str, u64> = [
+            ("blocks", u64::from(totals.blocks)),
+            ("blocks_drawn", u64::from(drawn.blocks_drawn)),
+            ("surface_vertices", u64::from(totals.vertices)),
+            ("surface_triangles", u64::from(totals.triangles)),
+            ("surface_bytes", totals.stored_bytes()),
+        ]
+        .into();
+        if let Some(one_side) = self.frame.one_side_drawn() {
+            details.insert("one_side_drawn", one_side);
+        }
         self.stats = FrameStats {
             triangles: Some(u64::from(drawn.triangles_drawn)),
-            details: [
-                ("blocks", u64::from(totals.blocks)),
-                ("blocks_drawn", u64::from(drawn.blocks_drawn)),
-                ("surface_vertices", u64::from(totals.vertices)),
-                ("surface_triangles", u64::from(totals.triangles)),
-                ("surface_bytes", totals.stored_bytes()),
-            ]
-            .into(),
+            details,
             ..FrameStats::default()
         };
         Ok(FrameOutcome::Done)

@@ -33,6 +33,10 @@ pub(super) struct SurfaceFrame {
     pub(super) buffers: FrameBuffers,
     /// Compute path: triangles a frame's list holds (grown on overflow).
     capacity: u32,
+    /// The range of the volume's boundary samples ([`tessera_data::facing::boundary_range`]):
+    /// at an isovalue outside it the surface is closed, and the compute path's raster passes
+    /// leave out the side no pixel shows. `None` before a volume.
+    boundary_range: Option<(f32, f32)>,
 }
 
 impl SurfaceFrame {
@@ -40,7 +44,24 @@ impl SurfaceFrame {
         SurfaceFrame {
             buffers: FrameBuffers::None,
             capacity: 0,
+            boundary_range: None,
         }
+    }
+
+    /// Compute path: 1 when the last frame's raster passes left out the side of the surface
+    /// no pixel shows, else 0 (a stats detail, `one_side_drawn`); `None` on the graphics path.
+    pub(super) fn one_side_drawn(&self) -> Option<u64> {
+        match &self.buffers {
+            FrameBuffers::Compute(target) => {
+                Some(u64::from(target.frame.hidden_winding().is_some()))
+            }
+            _ => None,
+        }
+    }
+
+    /// Notes the volume whose surfaces are drawn next.
+    pub(super) fn set_volume(&mut self, volume: &Volume) {
+        self.boundary_range = Some(tessera_data::facing::boundary_range(volume));
     }
 
     /// Makes the buffers `view` needs on `path`; nothing when they exist.
@@ -75,16 +96,16 @@ impl SurfaceFrame {
         Ok(())
     }
 
-    /// Records `draw` of the surface of `volume` seen in `view` into `target`, on the path the
-    /// buffers were prepared for, in its timer scope (the graphics path's image is copied to
-    /// `target` after it).
+    /// Records `draw` of the surface of `volume` at `iso` (texel units) seen in `view` into
+    /// `target`, on the path the buffers were prepared for, in its timer scope (the graphics
+    /// path's image is copied to `target` after it).
     #[allow(clippy::too_many_arguments)]
     pub(super) fn record_draw(
         &self,
         rec: &Recorder,
         timer: &mut Timer,
         view: &View,
-        volume: &Volume,
+        (volume, iso): (&Volume, f32),
         bounds: MeshletBounds,
         target: &Target,
         draw: &SurfaceDraw,
@@ -101,6 +122,14 @@ impl SurfaceFrame {
             FrameBuffers::Compute(frame) => {
                 let params =
                     MeshletDrawParams::new(view, dims, spacing, bounds, frame.lists.capacity);
+                let hidden = self
+                    .boundary_range
+                    .and_then(|range| tessera_data::facing::boundary_side(range, iso))
+                    .and_then(|side| {
+                        let grid_to_clip = glam::Mat4::from_cols_array_2d(&params.grid_to_clip);
+                        tessera_data::facing::hidden_winding(grid_to_clip, dims, side)
+                    });
+                frame.frame.hide_winding(hidden);
                 timer.scope(rec, draw.scope, |rec| (draw.compute)(rec, frame, &params))
             }
             FrameBuffers::None => Err(Error::Invalid(format!(

@@ -322,11 +322,11 @@ impl Direct {
         prepared: &PreparedVolume,
         params: &DirectParams,
     ) -> Option<tessera_data::rasterize::ScreenWinding> {
+        let side = tessera_data::facing::boundary_side(prepared.boundary_range, params.isovalue)?;
         tessera_data::facing::hidden_winding(
             glam::Mat4::from_cols_array_2d(&params.grid_to_clip),
             params.dims,
-            prepared.boundary_range,
-            params.isovalue,
+            side,
         )
     }
 
