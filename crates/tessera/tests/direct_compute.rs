@@ -199,47 +199,73 @@ fn compute_path_images_match_cpu_rasterized_marching_cubes() {
     assert_clean(&gpu);
 }
 
+/// The second eye's view re-projects the first eye's triangles; it equals a mono render from
+/// that eye, on an open surface (Marschner–Lobb) and on a closed one (the head), where both
+/// views leave out the side their eye cannot see.
 #[test]
 fn compute_stereo_second_view_equals_a_mono_render_from_that_eye() {
     let Some(gpu) = TestGpu::with(&[Need::BufferInt64Atomics]) else {
         return;
     };
     let compiler = shaders::compiler();
-    let volume = generate(ProceduralKind::MarschnerLobb, 33, ScalarType::U8).unwrap();
-    let iso = volume.iso_to_texel(IsoValue::Normalized(0.5));
-    let compute = DirectCompute::new(&gpu, &compiler, ScalarType::U8).unwrap();
-    let prepared = compute.prepare(&gpu, &volume).unwrap();
-    let capacity = marching_cubes(&volume, iso).triangle_count() as u32;
-    let (w, h) = (96, 72);
-    let [left, right] = OrbitCamera::default().stereo_pair(0.3);
-    let first = ComputeTarget::new(&gpu, w, h, capacity).unwrap();
-    let second = ComputeTarget::new(&gpu, w, h, capacity).unwrap();
-    let pixels = [(); 2].map(|_| Target::new(&gpu, w, h).unwrap());
-    let params = [left, right].map(|c| Direct::params(&prepared, iso, &c, w, h, capacity));
-    gpu.submit("stereo", |rec| {
-        compute.record(rec, &prepared, &first, &pixels[0], &params[0]);
-        rec.barrier();
-        compute.record_second_view(rec, (&first, &params[0]), &second, &pixels[1], &params[1]);
-    })
-    .unwrap();
-    let left_image = pixels[0].read(&gpu).unwrap();
-    let right_image = pixels[1].read(&gpu).unwrap();
-    let mono = ComputeTarget::new(&gpu, w, h, capacity).unwrap();
-    let mono_pixels = Target::new(&gpu, w, h).unwrap();
-    let render = |camera| compute.render(&gpu, &prepared, &mono, &mono_pixels, iso, camera);
-    let (mono_right, _, _) = render(&right).unwrap();
-    let (mono_left, _, _) = render(&left).unwrap();
-    assert_eq!(left_image, mono_left);
-    let diff = right_image.compare(&mono_right, 2);
-    assert!(
-        diff.fraction_within >= 0.999,
-        "{} pixels differ",
-        diff.pixels_outside
-    );
-    assert_ne!(
-        left_image, right_image,
-        "the eyes must see different images"
-    );
+    for (volume, fraction, closed) in [
+        (
+            generate(ProceduralKind::MarschnerLobb, 33, ScalarType::U8).unwrap(),
+            0.5,
+            false,
+        ),
+        (
+            generate(ProceduralKind::HeadPhantom, 40, ScalarType::U8).unwrap(),
+            0.3,
+            true,
+        ),
+    ] {
+        let iso = volume.iso_to_texel(IsoValue::Normalized(fraction));
+        let compute = DirectCompute::new(&gpu, &compiler, ScalarType::U8).unwrap();
+        let prepared = compute.prepare(&gpu, &volume).unwrap();
+        let capacity = marching_cubes(&volume, iso).triangle_count() as u32;
+        let (w, h) = (96, 72);
+        let [left, right] = OrbitCamera::default().stereo_pair(0.3);
+        let first = ComputeTarget::new(&gpu, w, h, capacity).unwrap();
+        let second = ComputeTarget::new(&gpu, w, h, capacity).unwrap();
+        let pixels = [(); 2].map(|_| Target::new(&gpu, w, h).unwrap());
+        let params = [left, right].map(|c| Direct::params(&prepared, iso, &c, w, h, capacity));
+        gpu.submit("stereo", |rec| {
+            compute.record(rec, &prepared, &first, &pixels[0], &params[0]);
+            rec.barrier();
+            compute.record_second_view(
+                rec,
+                &prepared,
+                (&first, &params[0]),
+                &second,
+                &pixels[1],
+                &params[1],
+            );
+        })
+        .unwrap();
+        let hidden = Direct::hidden_winding(&prepared, &params[1]);
+        assert_eq!(hidden.is_some(), closed, "{}", volume.name());
+        assert_eq!(second.frame.hidden_winding(), hidden, "{}", volume.name());
+        let left_image = pixels[0].read(&gpu).unwrap();
+        let right_image = pixels[1].read(&gpu).unwrap();
+        let mono = ComputeTarget::new(&gpu, w, h, capacity).unwrap();
+        let mono_pixels = Target::new(&gpu, w, h).unwrap();
+        let render = |camera| compute.render(&gpu, &prepared, &mono, &mono_pixels, iso, camera);
+        let (mono_right, _, _) = render(&right).unwrap();
+        let (mono_left, _, _) = render(&left).unwrap();
+        assert_eq!(left_image, mono_left, "{}", volume.name());
+        let diff = right_image.compare(&mono_right, 2);
+        assert!(
+            diff.fraction_within >= 0.999,
+            "{}: {} pixels differ",
+            volume.name(),
+            diff.pixels_outside
+        );
+        assert_ne!(
+            left_image, right_image,
+            "the eyes must see different images"
+        );
+    }
     assert_clean(&gpu);
 }
 

@@ -440,7 +440,14 @@ impl Renderer for IsoRenderer {
                 timer.scope(rec, "direct-compute-stereo", |rec| {
                     d.record(rec, prepared, first, targets[0], &params[0]);
                     rec.barrier();
-                    d.record_second_view(rec, (first, &params[0]), second, targets[1], &params[1]);
+                    d.record_second_view(
+                        rec,
+                        prepared,
+                        (first, &params[0]),
+                        second,
+                        targets[1],
+                        &params[1],
+                    );
                 });
                 Ok(())
             }

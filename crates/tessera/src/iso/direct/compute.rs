@@ -305,12 +305,14 @@ impl DirectCompute {
         self.record_resolve(rec, target, &target.lists.attributes, pixels, params);
     }
 
-    /// Records the second view of a stereo pair after [`Self::record`] drew the first into
-    /// `first` with `first_params`: the extracted triangles are re-projected for `params` (the
-    /// second eye's) into `second`, rasterized and shaded; nothing is extracted again.
+    /// Records the second view of a stereo pair after [`Self::record`] drew the first of
+    /// `prepared` into `first` with `first_params`: the extracted triangles are re-projected for
+    /// `params` (the second eye's) into `second`, rasterized (the side no pixel of this eye
+    /// shows left out, as [`Self::record`] does) and shaded; nothing is extracted again.
     pub fn record_second_view(
         &self,
         rec: &Recorder,
+        prepared: &PreparedVolume,
         (first, first_params): (&ComputeTarget, &DirectParams),
         second: &ComputeTarget,
         second_pixels: &Target,
@@ -336,6 +338,9 @@ impl DirectCompute {
             4,
         );
         second.frame.record_begin(rec);
+        second
+            .frame
+            .hide_winding(Direct::hidden_winding(prepared, params));
         rec.barrier();
         self.rasterizer
             .record_prepare_dispatch(rec, &second.lists.counts);
