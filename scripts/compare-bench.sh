@@ -23,8 +23,11 @@ fi
 "$after" info > "$out/info.txt" 2>&1
 nvidia-smi --query-gpu=name,driver_version,clocks.max.sm --format=csv > "$out/nvidia-smi.csv" 2>&1
 date -u +%Y-%m-%dT%H:%M:%SZ > "$out/date.txt"
+index=0
 for scenario in "$@"; do
-  name=${scenario%% *}
+  # Numbered, so that one scenario on two data sets keeps both.
+  index=$((index + 1))
+  name=$index-${scenario%% *}
   turn=0
   for side in $order; do
     turn=$((turn + 1))
@@ -58,8 +61,8 @@ def records(path):
             rows[key] = total if len(ms) > 2 and abs(rest - total) <= 0.01 * total else sum(ms)
     return rows
 print(f"{'technique':<14} {'path':<10} {'dataset':<40} {'size':<10} {'before ms':>15} {'after ms':>15} {'change':>8}")
-for scenario in scenarios:
-    name = scenario.split()[0]
+for index, scenario in enumerate(scenarios, start=1):
+    name = f"{index}-{scenario.split()[0]}"
     turns = {"before": [], "after": []}
     for turn, side in enumerate(order, start=1):
         turns[side].append(records(f"{out}/{side}-{turn}-{name}.jsonl"))
