@@ -5,6 +5,7 @@
 pub mod interval;
 pub mod param;
 pub mod raster;
+pub mod raster_scene;
 pub mod shell;
 pub mod surface;
 pub mod volumes;
