@@ -323,6 +323,14 @@ impl Recorder<'_> {
         }
     }
 
+    /// Sets which faces the following draws cull, for pipelines made with
+    /// `RenderTargets::dynamic_cull_mode` (front faces counter-clockwise in Vulkan's sense).
+    pub fn set_cull_mode(&self, cull: vk::CullModeFlags) {
+        // SAFETY: `self.cmd` is recording; the cull mode is dynamic state of Vulkan 1.3, the
+        // version the device was made for.
+        unsafe { self.gpu.device.cmd_set_cull_mode(self.cmd, cull) };
+    }
+
     pub fn end_rendering(&self) {
         // SAFETY: `self.cmd` is recording inside the rendering begun by `begin_rendering*`.
         unsafe { self.gpu.device.cmd_end_rendering(self.cmd) };

@@ -125,6 +125,10 @@ pub struct RenderTargets {
     /// Control points per patch when the shaders include tessellation stages (the topology is
     /// then `PATCH_LIST`); ignored otherwise.
     pub patch_control_points: u32,
+    /// Whether the cull mode is set while recording ([`crate::Recorder::set_cull_mode`],
+    /// before every draw with the pipeline); otherwise nothing is culled. Front faces are
+    /// counter-clockwise in Vulkan's sense either way.
+    pub dynamic_cull_mode: bool,
 }
 
 impl RenderTargets {
@@ -140,6 +144,7 @@ impl RenderTargets {
             views: 1,
             samples: 1,
             patch_control_points: 1,
+            dynamic_cull_mode: false,
         }
     }
 
@@ -356,7 +361,10 @@ impl Gpu {
                 vk::ColorComponentFlags::empty()
             })];
         let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&attachment);
-        let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
+        let mut dynamic_states = vec![vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
+        if targets.dynamic_cull_mode {
+            dynamic_states.push(vk::DynamicState::CULL_MODE);
+        }
         let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
         let formats = [color_format];
         let mut rendering =

@@ -197,6 +197,7 @@ impl DrawBlockList for ListDraw<'_> {
     fn draw_blocks(&self, rec: &Recorder, list: &Buffer) -> Result<()> {
         let [volume, nodes, stats, capture, blocks] =
             self.direct.bindings(self.prepared, self.capture, list);
+        rec.set_cull_mode(Direct::cull_mode(self.prepared, self.params));
         rec.draw_mesh_tasks_indirect(
             &self.direct.list_pipeline,
             &[
@@ -254,7 +255,10 @@ impl Direct {
             Slot::StorageBuffer,
             Slot::StorageBuffer,
         ];
-        let targets = RenderTargets::color_depth(COLOR_FORMAT, DEPTH_FORMAT);
+        let targets = RenderTargets {
+            dynamic_cull_mode: true,
+            ..RenderTargets::color_depth(COLOR_FORMAT, DEPTH_FORMAT)
+        };
         let pipeline = gpu.graphics_pipeline_for(
             "direct isosurface",
             &[&task, &mesh, &frag],
@@ -330,6 +334,19 @@ impl Direct {
         )
     }
 
+    /// The faces the mesh path's draws cull: those of [`Self::hidden_winding`]. Vulkan takes a
+    /// triangle for front-facing (counter-clockwise) when -1/2 Σ (x_i y_i+1 - x_i+1 y_i) over its
+    /// framebuffer corners is positive, the opposite sign of
+    /// [`tessera_data::rasterize::ScreenWinding`]'s area on the same grid (x right, y down).
+    pub fn cull_mode(prepared: &PreparedVolume, params: &DirectParams) -> vk::CullModeFlags {
+        use tessera_data::rasterize::ScreenWinding;
+        match Self::hidden_winding(prepared, params) {
+            None => vk::CullModeFlags::NONE,
+            Some(ScreenWinding::Positive) => vk::CullModeFlags::BACK,
+            Some(ScreenWinding::Negative) => vk::CullModeFlags::FRONT,
+        }
+    }
+
     pub(crate) fn bindings<'a>(
         &'a self,
         prepared: &'a PreparedVolume,
@@ -388,6 +405,7 @@ impl Direct {
             );
         }
         rec.begin_rendering_with_depth(&target.color, Some(&target.depth), BACKGROUND);
+        rec.set_cull_mode(Self::cull_mode(prepared, params));
         // The whole grid is drawn; the list binding is unused, any buffer will do.
         let bindings = self.bindings(prepared, capture, &self.stats);
         let drawn = rec.draw_mesh_tasks(
