@@ -202,8 +202,11 @@ impl Renderer for MeshletRenderer {
                 }
             }
         };
+        self.frame.set_boundary_range(match &producer {
+            Producer::Extraction { prepared, .. } => prepared.boundary_range,
+            Producer::Offline => tessera_data::facing::boundary_range(volume),
+        });
         self.producer = Some(producer);
-        self.frame.set_volume(volume);
         self.volume = Some(volume.clone());
         self.level.set_volume(volume, &mut self.counters)
     }

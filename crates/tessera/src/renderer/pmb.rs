@@ -101,6 +101,7 @@ impl Renderer for PmbRenderer {
         let extractor = PmbExtractor::new(gpu, &compiler, scalar, self.ambiguity, self.block_size)?;
         self.counters.pipeline_builds += 1;
         let prepared = PreparedVolume::new(gpu, &builder, volume)?;
+        self.frame.set_boundary_range(prepared.boundary_range);
         let pmb = extractor.buffers(gpu, &prepared, Default::default())?;
         if let Some(draw) = &mut self.draw {
             draw.prepare(gpu, &pmb)?;
@@ -113,7 +114,6 @@ impl Renderer for PmbRenderer {
             pmb,
             made_at: f32::NAN,
         });
-        self.frame.set_volume(volume);
         self.volume = Some(volume.clone());
         self.level.set_volume(volume, &mut self.counters)
     }

@@ -59,9 +59,10 @@ impl SurfaceFrame {
         }
     }
 
-    /// Notes the volume whose surfaces are drawn next.
-    pub(super) fn set_volume(&mut self, volume: &Volume) {
-        self.boundary_range = Some(tessera_data::facing::boundary_range(volume));
+    /// Notes the boundary range of the volume whose surfaces are drawn next (a prepared
+    /// volume's, where there is one, so that the faces are scanned once).
+    pub(super) fn set_boundary_range(&mut self, range: (f32, f32)) {
+        self.boundary_range = Some(range);
     }
 
     /// Makes the buffers `view` needs on `path`; nothing when they exist.
