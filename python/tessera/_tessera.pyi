@@ -118,6 +118,7 @@ class Renderer:
         ao_radius: Optional[float] = None,
         gradient: bool = False,
         pmb_block: str = "8x8x4",
+        hidden_side: str = "skip",
     ) -> None: ...
     def set_data(self, data: _Data) -> None: ...
     def render(

@@ -136,6 +136,19 @@ def test_culling_choices_draw_the_same_image(device):
         tessera.Renderer(device, "direct", culling="sometimes")
 
 
+def test_drawing_the_hidden_side_draws_the_same_image(device):
+    volume = tessera.Volume(sphere())
+    images = []
+    for hidden_side, one_side in (("skip", 1), ("draw", 0)):
+        r = tessera.Renderer(device, "direct", path="compute", hidden_side=hidden_side)
+        r.set_data(volume)
+        images.append(r.render(camera=(30, 20), size=SIZE, iso=30.0))
+        assert r.stats["one_side_drawn"] == one_side, hidden_side
+    assert np.array_equal(images[0], images[1])
+    with pytest.raises(tessera.DataError, match="hidden side 'both'"):
+        tessera.Renderer(device, "direct", hidden_side="both")
+
+
 def test_unknown_names_raise():
     with pytest.raises(tessera.DataError, match="unknown technique"):
         tessera.Renderer(tessera.Device(), "nope")

@@ -56,7 +56,8 @@ pub struct BenchArgs {
     pub(crate) data: Option<String>,
     #[command(flatten)]
     volume: crate::data::VolumeArgs,
-    /// Paths for `interval`, `shell`, `extraction`, `param`, `growth` (default: every path there).
+    /// Paths for `interval`, `shell`, `extraction`, `param`, `growth`, `isosurface`, `iso-sweep`
+    /// (default: every path there; the isosurfaces' reference, ray marching, runs on any).
     #[arg(long, value_delimiter = ',', value_parser = parse_path)]
     pub(crate) paths: Vec<Path>,
     /// Image sizes to measure, in this order (default 1280x720,1920x1080,3840x2160).
@@ -66,7 +67,8 @@ pub struct BenchArgs {
     #[arg(long)]
     ablations: bool,
     /// `interval` times only the variants whose label holds this text (e.g. "scalar";
-    /// "subgroup" also lists the per-tet pass's ways of drawing with a whole subgroup).
+    /// "subgroup" also lists the per-tet pass's ways of drawing with a whole subgroup);
+    /// `isosurface`, `iso-sweep`: "hidden-side" times each draw again drawing hidden sides.
     #[arg(long)]
     variants: Option<String>,
 }
@@ -149,9 +151,10 @@ pub fn run(options: &GpuOptions, args: &BenchArgs) -> Result<()> {
             SCENARIOS.join(", ")
         ),
     };
-    if args.variants.is_some() && !scenarios.contains(&"interval") {
+    let with_variants = ["interval", "isosurface", "iso-sweep"];
+    if args.variants.is_some() && !scenarios.iter().any(|s| with_variants.contains(s)) {
         bail!(
-            "--variants picks interval's variants; '{}' has none",
+            "--variants picks interval's, isosurface's or iso-sweep's variants; '{}' has none",
             args.scenario
         );
     }

@@ -2,7 +2,8 @@
 //! size), each record carrying the sizes the plots put on their axes and what the renderer
 //! counted; `bench interval --variants` times only the variants asked for (at each `--sizes`
 //! size), its records saying when they were made and whether their warm-up settled, and the
-//! ways of the per-tet pass's subgroup drawing only when asked for.
+//! ways of the per-tet pass's subgroup drawing only when asked for; `bench isosurface
+//! --variants hidden-side` times each surface draw again with the hidden side drawn.
 
 mod common;
 use common::*;
@@ -184,6 +185,71 @@ fn variants_that_match_nothing_are_refused() {
     assert_fails_with(&tessera(&args), &["no interval variant", "no such variant"]);
     let o = tessera(&["bench", "raymarch", "--quick", "--variants", "binned"]);
     assert_fails_with(&o, &["--variants", "raymarch"]);
+    let o = tessera(&["bench", "isosurface", "--quick", "--variants", "binned"]);
+    assert_fails_with(&o, &["one variant, 'hidden-side'", "binned"]);
+}
+
+#[test]
+fn isosurface_times_each_draw_again_with_the_hidden_side_drawn_when_asked() {
+    let records = bench_records(
+        "bench_hidden_side",
+        &[
+            "isosurface",
+            "--quick",
+            "--data",
+            "procedural:head:40:uint8",
+            "--paths",
+            "compute",
+            "--sizes",
+            "64x48",
+            "--frames",
+            "1",
+            "--warmup",
+            "0",
+            "--min-warmup-ms",
+            "0",
+            "--variants",
+            "hidden-side",
+        ],
+    );
+    let name = |r: &Value| format!("{} {} {}", r["technique"], r["path"], r["variant"]);
+    let one_side = |r: &Value| r["counts"]["one_side_drawn"].as_f64();
+    // Ray marching alone, then each surface draw (compute path only) followed by its twin.
+    assert_eq!(records[0]["technique"], "raymarch");
+    let draws = &records[1..];
+    assert!(
+        draws.len() >= 2 * 4 && draws.len() % 2 == 0,
+        "{}",
+        draws.len()
+    );
+    for pair in draws.chunks(2) {
+        let (first, twin) = (&pair[0], &pair[1]);
+        assert_eq!(first["path"], "compute", "{}", name(first));
+        assert_eq!(first["technique"], twin["technique"], "{}", name(twin));
+        let variant = first["variant"].as_str().unwrap_or(""); // absent when empty
+        let expected = match variant {
+            "" => "hidden side drawn".to_string(),
+            v => format!("{v}, hidden side drawn"),
+        };
+        assert_eq!(twin["variant"].as_str(), Some(expected.as_str()));
+        // The head's surface is closed: one side drawn, then both.
+        assert_eq!(one_side(first), Some(1.0), "{}", name(first));
+        assert_eq!(one_side(twin), Some(0.0), "{}", name(twin));
+    }
+    let techniques: BTreeSet<&str> = draws
+        .iter()
+        .map(|r| r["technique"].as_str().unwrap())
+        .collect();
+    for t in [
+        "direct",
+        "direct+hzb",
+        "direct+auto",
+        "meshlets",
+        "offline",
+        "pmb",
+    ] {
+        assert!(techniques.contains(t), "{t}: {techniques:?}");
+    }
 }
 
 #[test]

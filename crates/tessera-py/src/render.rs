@@ -11,7 +11,7 @@ use pyo3::types::PyDict;
 use tessera::path::PathChoice;
 use tessera::renderer::{
     self, Accumulation, AmbientOcclusion, AmbiguityRule, Culling, Frame, FrameStats, FrameTimes,
-    LayoutKind, Light, RendererOptions, Technique,
+    HiddenSide, LayoutKind, Light, RendererOptions, Technique,
 };
 use tessera_data::pmb::PmbBlockSize;
 use tessera_data::scene::parse::parse_colour;
@@ -56,7 +56,9 @@ struct State {
 /// default (raymarch, interval, param-points). Options as the CLI's flags: `culling`
 /// (direct, meshlets, pmb: True, False, "on", "off" or "auto", the default), `supersample`, `msaa`, `pre_split` (parametric), `ambiguity` (direct's
 /// marching cubes), `layout` (shell: tet32, tet20 or tet16), `pmb_block` (pmb: "4x4x4",
-/// "8x4x4", "8x8x4" or "8x8x8"), and shell traversal's effects:
+/// "8x4x4", "8x8x4" or "8x8x8"), `hidden_side` (direct, meshlets, offline, pmb: "skip", the
+/// default, leaves out the side of a closed surface no pixel shows; "draw" draws it, for
+/// measuring), and shell traversal's effects:
 /// `shadows` (with `light=(x, y, z)` or `light_dir=(x, y, z)`; default a sun above +y),
 /// `ao` (rays per tet, with `ao_radius`) and `gradient`.
 #[pyclass(module = "tessera", frozen)]
@@ -239,7 +241,7 @@ impl CullingArg {
 #[pymethods]
 impl Renderer {
     #[new]
-    #[pyo3(signature = (device, technique=None, path="auto", culling=CullingArg::Name("auto".into()), supersample=1, msaa=1, pre_split=None, ambiguity="decider", layout="tet20", shadows=false, light=None, light_dir=None, ao=None, ao_radius=None, gradient=false, pmb_block="8x8x4"))]
+    #[pyo3(signature = (device, technique=None, path="auto", culling=CullingArg::Name("auto".into()), supersample=1, msaa=1, pre_split=None, ambiguity="decider", layout="tet20", shadows=false, light=None, light_dir=None, ao=None, ao_radius=None, gradient=false, pmb_block="8x8x4", hidden_side="skip"))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         device: &Bound<'_, Device>,
@@ -258,6 +260,7 @@ impl Renderer {
         ao_radius: Option<f32>,
         gradient: bool,
         pmb_block: &str,
+        hidden_side: &str,
     ) -> PyResult<Self> {
         if let Some(name) = &technique {
             Technique::parse(name).map_err(from_tessera)?;
@@ -286,6 +289,7 @@ impl Renderer {
             ao,
             gradient,
             pmb_block: PmbBlockSize::parse(pmb_block).map_err(from_data)?,
+            hidden_side: HiddenSide::parse(hidden_side).map_err(from_tessera)?,
             ..RendererOptions::default()
         };
         Ok(Renderer {

@@ -372,14 +372,23 @@ fn multiview_stereo_through_the_trait_equals_two_mono_frames() {
 }
 
 /// A stereo pair drawn in one pass (the compute path re-projects one extraction, the mesh
-/// path draws both eyes with multiview) equals two mono frames of the eyes.
+/// path draws both eyes with multiview) equals two mono frames of the eyes; on a closed
+/// surface (the head) seen from outside, with the side neither eye sees left out.
 fn stereo_equals_two_mono_frames(gpu: &Gpu, path: PathChoice) {
-    let data = load("procedural:marschner-lobb:33:uint8");
+    for (spec, closed) in [
+        ("procedural:marschner-lobb:33:uint8", false),
+        ("procedural:head:40:uint8", true),
+    ] {
+        stereo_pair_equals_two_mono_frames(gpu, path, &load(spec), closed);
+    }
+}
+
+fn stereo_pair_equals_two_mono_frames(gpu: &Gpu, path: PathChoice, data: &Dataset, closed: bool) {
     let options = RendererOptions {
         path,
         ..RendererOptions::default()
     };
-    let mut stereo = with_data(gpu, Technique::Direct, options, &data);
+    let mut stereo = with_data(gpu, Technique::Direct, options, data);
     let eyes = stereo.view(&camera(), SIZE).unwrap().stereo_pair(0.3);
     assert!(
         stereo.prepare_stereo(gpu, &eyes).unwrap(),
@@ -395,6 +404,12 @@ fn stereo_equals_two_mono_frames(gpu: &Gpu, path: PathChoice) {
     let times =
         renderer::render_stereo(gpu, stereo.as_mut(), &eyes, &mut left, &mut right).unwrap();
     assert_eq!(
+        stereo.stats().details.get("one_side_drawn"),
+        Some(&u64::from(closed)),
+        "{path:?} {}",
+        data.name()
+    );
+    assert_eq!(
         times.scopes.len(),
         1,
         "one pass for both eyes: {:?}",
@@ -409,7 +424,7 @@ fn stereo_equals_two_mono_frames(gpu: &Gpu, path: PathChoice) {
         culling: Culling::Off,
         ..options
     };
-    let mut mono = with_data(gpu, Technique::Direct, no_culling, &data);
+    let mut mono = with_data(gpu, Technique::Direct, no_culling, data);
     let mut frame = Frame::new(gpu, SIZE).unwrap();
     for (eye, image) in eyes.iter().zip(&pair) {
         assert!(!image.pixels.contains(&u32::MAX), "unwritten pixels");

@@ -11,8 +11,8 @@ use crate::iso::direct::{Direct, RasterTarget};
 use crate::iso::minmax::upload_samples;
 use crate::iso::raymarch::Raymarch;
 use crate::iso::PreparedVolume;
-use crate::path::PathChoice;
-use crate::renderer::{self, Culling, Renderer, RendererOptions, Technique};
+use crate::path::{Path, PathChoice};
+use crate::renderer::{self, Culling, HiddenSide, Renderer, RendererOptions, Technique};
 use crate::target::Target;
 use std::collections::BTreeMap;
 use tessera_data::pmb::PmbBlockSize;
@@ -144,6 +144,50 @@ pub(super) fn meshlet_techniques(gpu: &Gpu) -> Vec<IsoTechnique> {
     out
 }
 
+/// The isosurface scenarios' one variant (`--variants hidden-side`): each draw that can
+/// leave out a closed surface's hidden side is timed again drawing it, right after itself.
+pub const HIDDEN_SIDE_VARIANT: &str = "hidden-side";
+
+/// `techniques`, each followed by its variants' twins when `variants` asks for them.
+fn with_variants(
+    techniques: Vec<IsoTechnique>,
+    variants: Option<&str>,
+) -> Result<Vec<IsoTechnique>> {
+    match variants {
+        None => return Ok(techniques),
+        Some(HIDDEN_SIDE_VARIANT) => {}
+        Some(other) => {
+            return Err(Error::Invalid(format!(
+                "the isosurface scenarios have one variant, '{HIDDEN_SIDE_VARIANT}', not '{other}'"
+            )))
+        }
+    }
+    let mut out = Vec::with_capacity(2 * techniques.len());
+    for t in techniques {
+        // The stored surfaces' graphics draws draw both sides whatever the option says.
+        let hides = t.technique.reads_options().contains(&"hidden_side")
+            && (t.path == "compute" || t.technique == Technique::Direct);
+        let twin = hides.then(|| IsoTechnique {
+            technique: t.technique,
+            options: RendererOptions {
+                hidden_side: HiddenSide::Draw,
+                ..t.options
+            },
+            name: t.name,
+            path: t.path,
+            variant: [t.variant.as_str(), "hidden side drawn"]
+                .iter()
+                .filter(|v| !v.is_empty())
+                .copied()
+                .collect::<Vec<_>>()
+                .join(", "),
+        });
+        out.push(t);
+        out.extend(twin);
+    }
+    Ok(out)
+}
+
 /// The look of frame `k`: the scenario's isovalue, or the sweep's.
 fn look_of(config: &BenchConfig, sweep: Sweep, k: u32) -> Appearance {
     let fraction = sweep.map_or(config.iso_fraction, |f| f(k));
@@ -179,6 +223,17 @@ fn run_scenario(
     let camera = OrbitCamera::default();
     let mut techniques = iso_techniques(gpu, sink);
     techniques.extend(meshlet_techniques(gpu));
+    // Ray marching, the reference every speed-up counts against, runs whatever the paths.
+    techniques.retain(|t| {
+        let path = match t.options.path {
+            PathChoice::Graphics => Path::Graphics,
+            _ => Path::Compute,
+        };
+        t.technique == Technique::Raymarch
+            || config.paths.is_empty()
+            || config.paths.contains(&path)
+    });
+    let techniques = with_variants(techniques, config.variants.as_deref())?;
     for spec in bench_volumes(config) {
         let data = Dataset::Volume(make_volume(gpu, &spec, config)?);
         let volume_name = data.name().to_string();

@@ -52,15 +52,17 @@ pub struct BenchConfig {
     pub data: Option<String>,
     /// How to read `data` when it is a raw volume.
     pub raw: RawOptions,
-    /// Paths `interval` and `extraction` measure (empty: every path the device has;
-    /// `extraction`'s graphics path is the task/mesh extraction).
+    /// Paths `interval`, `extraction`, `isosurface` and `iso-sweep` measure (empty: every path
+    /// the device has; `extraction`'s graphics path is the task/mesh extraction; the
+    /// isosurface scenarios' ray marching runs on any).
     pub paths: Vec<Path>,
     /// Image sizes to measure, in this order (empty: each scenario's own).
     pub sizes: Vec<(u32, u32)>,
     /// `extraction` also times each extractor with stages left out
     /// ([`crate::iso::ablation::Ablation`]), for performance work.
     pub ablations: bool,
-    /// `interval` times only the variants whose label holds this text (all when `None`).
+    /// `interval` times only the variants whose label holds this text (all when `None`);
+    /// `isosurface` and `iso-sweep` take "hidden-side" only.
     pub variants: Option<String>,
 }
 

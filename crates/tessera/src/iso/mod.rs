@@ -28,7 +28,43 @@ pub struct PreparedVolume {
     /// ([`tessera_data::facing::boundary_range`]): whether a surface is closed. Whoever copies
     /// other samples into `volume` sets it for them (the range of all of them).
     pub boundary_range: (f32, f32),
+    /// Whether draws of this volume's closed surfaces leave out the side no pixel shows.
+    pub hidden_side: HiddenSide,
     id: u64,
+}
+
+/// What the isosurface draws do with the side of a closed surface that no pixel shows
+/// ([`tessera_data::facing`]). The image is the same either way; drawing it measures what
+/// leaving it out saves.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum HiddenSide {
+    /// Left out of the raster passes, where the surface is closed and the grid lies wholly
+    /// before the near plane.
+    #[default]
+    Skip,
+    /// Drawn, as every triangle of an open surface is.
+    Draw,
+}
+
+impl HiddenSide {
+    /// The name the options give it: `skip` or `draw`.
+    pub fn name(self) -> &'static str {
+        match self {
+            HiddenSide::Skip => "skip",
+            HiddenSide::Draw => "draw",
+        }
+    }
+
+    /// The choice named `skip` or `draw`.
+    pub fn parse(text: &str) -> Result<HiddenSide> {
+        match text {
+            "skip" => Ok(HiddenSide::Skip),
+            "draw" => Ok(HiddenSide::Draw),
+            other => Err(Error::Invalid(format!(
+                "hidden side '{other}': choose skip or draw"
+            ))),
+        }
+    }
 }
 
 /// The id the next prepared volume gets.
@@ -41,6 +77,15 @@ impl PreparedVolume {
     /// culling states that drew the old samples.
     pub fn id(&self) -> u64 {
         self.id
+    }
+
+    /// The side of `iso` (texel units) every boundary sample lies on, when the surface there
+    /// is closed and [`Self::hidden_side`] lets draws leave its hidden side out; else `None`.
+    pub fn closed_side(&self, iso: f32) -> Option<tessera_data::facing::BoundarySide> {
+        match self.hidden_side {
+            HiddenSide::Skip => tessera_data::facing::boundary_side(self.boundary_range, iso),
+            HiddenSide::Draw => None,
+        }
     }
 
     /// Refuses a volume of another sample type than `pipelines` (named in the message) were
@@ -72,6 +117,7 @@ impl PreparedVolume {
             octree,
             spacing: volume.spacing(),
             boundary_range: tessera_data::facing::boundary_range(volume),
+            hidden_side: HiddenSide::default(),
             id: NEXT_VOLUME_ID.fetch_add(1, Ordering::Relaxed),
         };
         gpu.submit("build min-max octree", |rec| {

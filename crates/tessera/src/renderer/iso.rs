@@ -13,7 +13,7 @@ use crate::iso::direct::cull_choice::{AutoCulling, CullingCosts};
 use crate::iso::direct::stereo::DirectMultiview;
 use crate::iso::direct::{Direct, RasterTarget};
 use crate::iso::raymarch::Raymarch;
-use crate::iso::PreparedVolume;
+use crate::iso::{HiddenSide, PreparedVolume};
 use crate::path::{Path, PathChoice};
 use tessera_data::mc_ambiguity::AmbiguityRule;
 use tessera_data::scene::{Appearance, Dataset};
@@ -54,6 +54,8 @@ pub(super) struct IsoRenderer {
     last_culled: bool,
     /// How marching cubes cuts ambiguous faces (direct only).
     ambiguity: AmbiguityRule,
+    /// Whether `direct` leaves out a closed surface's hidden side (set on each prepared volume).
+    hidden_side: HiddenSide,
     pipelines: Option<(ScalarType, Pipelines)>,
     prepared: Option<PreparedVolume>,
     /// The isovalue in texel units, and the look it came from (kept to re-resolve against new
@@ -73,6 +75,9 @@ pub(super) struct IsoRenderer {
     stereo_raster: Option<Box<RasterTarget>>,
     /// Whether the last recording was a stereo pair (drawn without culling).
     stereo: bool,
+    /// Mesh path: whether the last recording culled the side of a closed surface no pixel
+    /// shows (the compute path's frame says it itself).
+    mesh_one_side: bool,
     /// Compute path: triangles a frame's list holds (grown on overflow).
     capacity: u32,
     stats: FrameStats,
@@ -100,6 +105,7 @@ impl IsoRenderer {
                 .then(|| AutoCulling::new(CullingCosts::H200)),
             last_culled: false,
             ambiguity: options.ambiguity,
+            hidden_side: options.hidden_side,
             pipelines: None,
             prepared: None,
             iso: 0.0,
@@ -112,6 +118,7 @@ impl IsoRenderer {
             multiview: None,
             stereo_raster: None,
             stereo: false,
+            mesh_one_side: false,
             // A modest list first; an overflow reports the exact count for the retry.
             capacity: 0,
             stats: FrameStats::default(),
@@ -229,11 +236,12 @@ impl Renderer for IsoRenderer {
             self.auto_culling = (self.culling == Culling::Auto && self.path == Path::Compute)
                 .then(|| AutoCulling::new(CullingCosts::H200));
         }
-        let prepared = match self.pipelines_for(gpu, volume.scalar_type())? {
+        let mut prepared = match self.pipelines_for(gpu, volume.scalar_type())? {
             Pipelines::Raymarch(r) => r.prepare(gpu, volume)?,
             Pipelines::Mesh(d) => d.prepare(gpu, volume)?,
             Pipelines::Compute(d) => d.prepare(gpu, volume)?,
         };
+        prepared.hidden_side = self.hidden_side;
         if matches!(self.pipelines, Some((_, Pipelines::Mesh(_)))) {
             if self.culling.enabled() {
                 self.mesh_culling = Some(CullState::new(gpu, &prepared)?);
@@ -318,6 +326,7 @@ impl Renderer for IsoRenderer {
             }
             (Pipelines::Mesh(d), FrameBuffers::Mesh { target: raster }) => {
                 let params = Direct::params_for_view(prepared, self.iso, view, 0);
+                self.mesh_one_side = Direct::hidden_winding(prepared, &params).is_some();
                 let capture = self.no_capture.as_ref().expect("made with the data");
                 let recorded = timer.scope(rec, "direct", |rec| {
                     d.record(
@@ -457,6 +466,7 @@ impl Renderer for IsoRenderer {
                     return Err(before_prepare());
                 };
                 let params = eyes.map(|eye| Direct::params_for_view(prepared, self.iso, &eye, 0));
+                self.mesh_one_side = Direct::pair_hidden_winding(prepared, &params).is_some();
                 let capture = self.no_capture.as_ref().expect("made with the data");
                 let recorded = timer.scope(rec, "direct-multiview", |rec| {
                     multiview.record(rec, d, prepared, raster, &params, capture)
@@ -481,9 +491,11 @@ impl Renderer for IsoRenderer {
             (Pipelines::Mesh(d), _) => {
                 let s = d.read_stats(gpu)?;
                 self.stats.triangles = Some(u64::from(s.triangles));
-                self.stats
-                    .details
-                    .insert("mesh_workgroups", u64::from(s.mesh_workgroups));
+                let details = [
+                    ("mesh_workgroups", u64::from(s.mesh_workgroups)),
+                    ("one_side_drawn", u64::from(self.mesh_one_side)),
+                ];
+                self.stats.details.extend(details);
                 if let Some(state) = self.mesh_culling.as_ref().filter(|_| !self.stereo) {
                     let s = state.read_stats(gpu)?;
                     self.stats.blocks_drawn = Some((

@@ -99,7 +99,7 @@ impl MeshletRenderer {
             extracting: false,
             level: SurfaceLevel::new(),
             totals: None,
-            frame: SurfaceFrame::new(),
+            frame: SurfaceFrame::new(options.hidden_side),
             extraction_ms: 0.0,
             stats: FrameStats::default(),
             counters: WorkCounters::default(),

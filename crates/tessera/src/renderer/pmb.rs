@@ -70,7 +70,7 @@ impl PmbRenderer {
             surface: None,
             extracting: false,
             level: SurfaceLevel::new(),
-            frame: SurfaceFrame::new(),
+            frame: SurfaceFrame::new(options.hidden_side),
             stats: FrameStats::default(),
             counters: WorkCounters::default(),
         })

@@ -7,6 +7,7 @@ use crate::error::{Error, Result};
 use crate::iso::direct::compute::{ComputeTarget, TriangleLists};
 use crate::iso::direct::RasterTarget;
 use crate::iso::meshlet_draw::{MeshletBounds, MeshletDrawParams};
+use crate::iso::HiddenSide;
 use crate::path::Path;
 use tessera_data::scene::Appearance;
 use tessera_data::{View, Volume};
@@ -37,14 +38,17 @@ pub(super) struct SurfaceFrame {
     /// at an isovalue outside it the surface is closed, and the compute path's raster passes
     /// leave out the side no pixel shows. `None` before a volume.
     boundary_range: Option<(f32, f32)>,
+    /// Whether they may ([`crate::renderer::RendererOptions::hidden_side`]).
+    hidden_side: HiddenSide,
 }
 
 impl SurfaceFrame {
-    pub(super) fn new() -> SurfaceFrame {
+    pub(super) fn new(hidden_side: HiddenSide) -> SurfaceFrame {
         SurfaceFrame {
             buffers: FrameBuffers::None,
             capacity: 0,
             boundary_range: None,
+            hidden_side,
         }
     }
 
@@ -125,6 +129,7 @@ impl SurfaceFrame {
                     MeshletDrawParams::new(view, dims, spacing, bounds, frame.lists.capacity);
                 let hidden = self
                     .boundary_range
+                    .filter(|_| self.hidden_side == HiddenSide::Skip)
                     .and_then(|range| tessera_data::facing::boundary_side(range, iso))
                     .and_then(|side| {
                         let grid_to_clip = glam::Mat4::from_cols_array_2d(&params.grid_to_clip);

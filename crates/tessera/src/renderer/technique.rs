@@ -3,6 +3,7 @@
 //! about the others) and the path `auto` picks on a device.
 
 use crate::error::{Error, Result};
+use crate::iso::HiddenSide;
 use crate::path::{Path, PathChoice};
 use crate::tet::interval::IntervalTuning;
 use tessera_data::mc_ambiguity::AmbiguityRule;
@@ -195,6 +196,9 @@ pub struct RendererOptions {
     pub gradient: bool,
     /// The block size of `pmb`'s extraction.
     pub pmb_block: PmbBlockSize,
+    /// Whether the isosurface draws leave out the side of a closed surface no pixel shows
+    /// (the image is the same; drawing it measures what leaving it out saves).
+    pub hidden_side: HiddenSide,
 }
 
 impl RendererOptions {
@@ -223,12 +227,14 @@ impl Default for RendererOptions {
             ao: None,
             gradient: false,
             pmb_block: PmbBlockSize::default(),
+            hidden_side: HiddenSide::default(),
         }
     }
 }
 
-/// The settings of [`RendererOptions`] by name (as the CLI's flags spell them, `_` for `-`).
-pub const OPTION_NAMES: [&str; 12] = [
+/// The settings of [`RendererOptions`] by name (as the CLI's flags spell them, `_` for `-`;
+/// `hidden_side`, for measuring, has no flag).
+pub const OPTION_NAMES: [&str; 13] = [
     "path",
     "culling",
     "supersample",
@@ -241,6 +247,7 @@ pub const OPTION_NAMES: [&str; 12] = [
     "ao",
     "gradient",
     "pmb_block",
+    "hidden_side",
 ];
 
 impl Technique {
@@ -250,9 +257,9 @@ impl Technique {
         match self {
             Technique::Raymarch => &[],
             Technique::Direct | Technique::Meshlets | Technique::Offline => {
-                &["path", "culling", "ambiguity"]
+                &["path", "culling", "ambiguity", "hidden_side"]
             }
-            Technique::Pmb => &["path", "culling", "ambiguity", "pmb_block"],
+            Technique::Pmb => &["path", "culling", "ambiguity", "pmb_block", "hidden_side"],
             Technique::Interval => &["path", "interval"],
             Technique::Shell => &["path", "layout", "shadows", "ao", "gradient"],
             Technique::ParamPoints => &["supersample", "pre_split"],
@@ -280,6 +287,7 @@ impl RendererOptions {
             self.ao != d.ao,
             self.gradient != d.gradient,
             self.pmb_block != d.pmb_block,
+            self.hidden_side != d.hidden_side,
         ];
         OPTION_NAMES
             .into_iter()

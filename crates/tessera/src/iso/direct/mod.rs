@@ -320,13 +320,14 @@ impl Direct {
 
     /// The screen winding of the triangles no pixel of the frame `params` describes can show:
     /// `Some` when the surface is closed (no boundary sample on the far side of the isovalue)
-    /// and the whole grid lies before the near plane ([`tessera_data::facing`]); the compute
-    /// path's raster passes then leave them out.
+    /// and the whole grid lies before the near plane ([`tessera_data::facing`]), unless the
+    /// volume's [`PreparedVolume::hidden_side`] says to draw it; the compute path's raster
+    /// passes then leave them out.
     pub fn hidden_winding(
         prepared: &PreparedVolume,
         params: &DirectParams,
     ) -> Option<tessera_data::rasterize::ScreenWinding> {
-        let side = tessera_data::facing::boundary_side(prepared.boundary_range, params.isovalue)?;
+        let side = prepared.closed_side(params.isovalue)?;
         tessera_data::facing::hidden_winding(
             glam::Mat4::from_cols_array_2d(&params.grid_to_clip),
             params.dims,
@@ -339,8 +340,25 @@ impl Direct {
     /// framebuffer corners is positive, the opposite sign of
     /// [`tessera_data::rasterize::ScreenWinding`]'s area on the same grid (x right, y down).
     pub fn cull_mode(prepared: &PreparedVolume, params: &DirectParams) -> vk::CullModeFlags {
+        Self::cull_mode_of(Self::hidden_winding(prepared, params))
+    }
+
+    /// The winding both eyes of a pair hide, where they agree (one cull mode serves both
+    /// views of a multiview pass); `None` when either eye must draw both sides.
+    pub fn pair_hidden_winding(
+        prepared: &PreparedVolume,
+        eyes: &[DirectParams; 2],
+    ) -> Option<tessera_data::rasterize::ScreenWinding> {
+        let [first, second] = eyes.map(|eye| Self::hidden_winding(prepared, &eye));
+        first.filter(|_| first == second)
+    }
+
+    /// The faces Vulkan culls to leave out triangles of `hidden` winding (see [`Self::cull_mode`]).
+    pub(crate) fn cull_mode_of(
+        hidden: Option<tessera_data::rasterize::ScreenWinding>,
+    ) -> vk::CullModeFlags {
         use tessera_data::rasterize::ScreenWinding;
-        match Self::hidden_winding(prepared, params) {
+        match hidden {
             None => vk::CullModeFlags::NONE,
             Some(ScreenWinding::Positive) => vk::CullModeFlags::BACK,
             Some(ScreenWinding::Negative) => vk::CullModeFlags::FRONT,

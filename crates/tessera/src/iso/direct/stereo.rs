@@ -70,6 +70,7 @@ impl DirectMultiview {
         let frag = compiler.compile(&builtin_shader!("direct.frag.glsl"), &defines)?;
         let targets = RenderTargets {
             views: 2,
+            dynamic_cull_mode: true,
             ..RenderTargets::color_depth(COLOR_FORMAT, DEPTH_FORMAT)
         };
         let mut slots = vec![Slot::Texture];
@@ -91,7 +92,8 @@ impl DirectMultiview {
 
     /// Records both eyes into the two layers of `target` (made with
     /// [`RasterTarget::with_views`]); the first eye's parameters supply the isovalue, light and
-    /// volume.
+    /// volume. The side of a closed surface neither eye can see is culled
+    /// ([`Direct::pair_hidden_winding`]).
     pub fn record(
         &self,
         rec: &Recorder,
@@ -106,6 +108,9 @@ impl DirectMultiview {
         rec.discard_to_general(&target.color);
         rec.discard_to_general(&target.depth);
         rec.begin_rendering_with_depth(&target.color, Some(&target.depth), BACKGROUND);
+        rec.set_cull_mode(Direct::cull_mode_of(Direct::pair_hidden_winding(
+            prepared, eyes,
+        )));
         let [tex, nodes, stats, capture_binding, _] = direct.bindings(prepared, capture, capture);
         let drawn = rec.draw_mesh_tasks(
             &self.pipeline,
