@@ -218,7 +218,7 @@ fn isosurface_times_each_draw_again_with_the_hidden_side_drawn_when_asked() {
     assert_eq!(records[0]["technique"], "raymarch");
     let draws = &records[1..];
     assert!(
-        draws.len() >= 2 * 4 && draws.len() % 2 == 0,
+        draws.len() >= 2 * 4 && draws.len().is_multiple_of(2),
         "{}",
         draws.len()
     );
