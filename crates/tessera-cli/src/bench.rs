@@ -68,7 +68,7 @@ pub struct BenchArgs {
     ablations: bool,
     /// `interval` times only the variants whose label holds this text (e.g. "scalar";
     /// "subgroup" also lists the per-tet pass's ways of drawing with a whole subgroup);
-    /// `isosurface`, `iso-sweep`: "hidden-side" times each draw again drawing hidden sides.
+    /// `isosurface`, `iso-sweep`: "hidden-side", "raster-in-extraction" time draws both ways.
     #[arg(long)]
     variants: Option<String>,
 }

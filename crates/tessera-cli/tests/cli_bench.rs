@@ -186,7 +186,7 @@ fn variants_that_match_nothing_are_refused() {
     let o = tessera(&["bench", "raymarch", "--quick", "--variants", "binned"]);
     assert_fails_with(&o, &["--variants", "raymarch"]);
     let o = tessera(&["bench", "isosurface", "--quick", "--variants", "binned"]);
-    assert_fails_with(&o, &["one variant, 'hidden-side'", "binned"]);
+    assert_fails_with(&o, &["variants are 'hidden-side' and", "binned"]);
 }
 
 #[test]

@@ -198,6 +198,10 @@ const COMMON: &[(&str, &str)] = &[
     ),
     ("raster/raster.glsl", include_str!("raster/raster.glsl")),
     (
+        "raster/raster_draw.glsl",
+        include_str!("raster/raster_draw.glsl"),
+    ),
+    (
         "iso/direct/attributes.glsl",
         include_str!("iso/direct/attributes.glsl"),
     ),

@@ -12,7 +12,9 @@ use crate::iso::minmax::upload_samples;
 use crate::iso::raymarch::Raymarch;
 use crate::iso::PreparedVolume;
 use crate::path::{Path, PathChoice};
-use crate::renderer::{self, Culling, HiddenSide, Renderer, RendererOptions, Technique};
+use crate::renderer::{
+    self, Culling, DirectRaster, HiddenSide, Renderer, RendererOptions, Technique,
+};
 use crate::target::Target;
 use std::collections::BTreeMap;
 use tessera_data::pmb::PmbBlockSize;
@@ -144,43 +146,70 @@ pub(super) fn meshlet_techniques(gpu: &Gpu) -> Vec<IsoTechnique> {
     out
 }
 
-/// The isosurface scenarios' one variant (`--variants hidden-side`): each draw that can
-/// leave out a closed surface's hidden side is timed again drawing it, right after itself.
-pub const HIDDEN_SIDE_VARIANT: &str = "hidden-side";
+/// A variant of the isosurface scenarios (`--variants NAME`): each draw it applies to is timed
+/// again with one option changed, right after itself.
+struct IsoVariant {
+    name: &'static str,
+    /// Added to the twin's record variant.
+    label: &'static str,
+    applies: fn(&IsoTechnique) -> bool,
+    change: fn(&mut RendererOptions),
+}
 
-/// `techniques`, each followed by its variants' twins when `variants` asks for them.
+const ISO_VARIANTS: [IsoVariant; 2] = [
+    IsoVariant {
+        name: "hidden-side",
+        label: "hidden side drawn",
+        // The stored surfaces' graphics draws draw both sides whatever the option says.
+        applies: |t| {
+            t.technique.reads_options().contains(&"hidden_side")
+                && (t.path == "compute" || t.technique == Technique::Direct)
+        },
+        change: |o| o.hidden_side = HiddenSide::Draw,
+    },
+    IsoVariant {
+        name: "raster-in-extraction",
+        label: "raster in extraction",
+        applies: |t| t.technique == Technique::Direct && t.path == "compute",
+        change: |o| o.direct_raster = DirectRaster::InExtraction,
+    },
+];
+
+/// `techniques`, each followed by its twin where the variant `variants` names applies.
 fn with_variants(
     techniques: Vec<IsoTechnique>,
     variants: Option<&str>,
 ) -> Result<Vec<IsoTechnique>> {
-    match variants {
-        None => return Ok(techniques),
-        Some(HIDDEN_SIDE_VARIANT) => {}
-        Some(other) => {
-            return Err(Error::Invalid(format!(
-                "the isosurface scenarios have one variant, '{HIDDEN_SIDE_VARIANT}', not '{other}'"
-            )))
-        }
-    }
+    let Some(wanted) = variants else {
+        return Ok(techniques);
+    };
+    let Some(variant) = ISO_VARIANTS.iter().find(|v| v.name == wanted) else {
+        let names: Vec<_> = ISO_VARIANTS
+            .iter()
+            .map(|v| format!("'{}'", v.name))
+            .collect();
+        return Err(Error::Invalid(format!(
+            "the isosurface scenarios' variants are {}, not '{wanted}'",
+            names.join(" and ")
+        )));
+    };
     let mut out = Vec::with_capacity(2 * techniques.len());
     for t in techniques {
-        // The stored surfaces' graphics draws draw both sides whatever the option says.
-        let hides = t.technique.reads_options().contains(&"hidden_side")
-            && (t.path == "compute" || t.technique == Technique::Direct);
-        let twin = hides.then(|| IsoTechnique {
-            technique: t.technique,
-            options: RendererOptions {
-                hidden_side: HiddenSide::Draw,
-                ..t.options
-            },
-            name: t.name,
-            path: t.path,
-            variant: [t.variant.as_str(), "hidden side drawn"]
-                .iter()
-                .filter(|v| !v.is_empty())
-                .copied()
-                .collect::<Vec<_>>()
-                .join(", "),
+        let twin = (variant.applies)(&t).then(|| {
+            let mut options = t.options;
+            (variant.change)(&mut options);
+            IsoTechnique {
+                technique: t.technique,
+                options,
+                name: t.name,
+                path: t.path,
+                variant: [t.variant.as_str(), variant.label]
+                    .iter()
+                    .filter(|v| !v.is_empty())
+                    .copied()
+                    .collect::<Vec<_>>()
+                    .join(", "),
+            }
         });
         out.push(t);
         out.extend(twin);

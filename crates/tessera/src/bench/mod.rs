@@ -62,7 +62,7 @@ pub struct BenchConfig {
     /// ([`crate::iso::ablation::Ablation`]), for performance work.
     pub ablations: bool,
     /// `interval` times only the variants whose label holds this text (all when `None`);
-    /// `isosurface` and `iso-sweep` take "hidden-side" only.
+    /// `isosurface` and `iso-sweep` take "hidden-side" or "raster-in-extraction".
     pub variants: Option<String>,
 }
 

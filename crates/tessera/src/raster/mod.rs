@@ -56,7 +56,9 @@
 //! writes the triangles and the count, and a barrier)
 //! [`ComputeRasterizer::record_prepare_dispatch`] and [`ComputeRasterizer::record_raster`]; or
 //! clear and both with [`ComputeRasterizer::record`]. Each `record_*` of the rasterizer ends
-//! with a barrier, so the next pass sees its writes.
+//! with a barrier, so the next pass sees its writes. A pass that makes triangles may also draw
+//! them itself, with `raster/raster_draw.glsl` and the parameters
+//! [`RasterFrame::record_pass_params`] writes, leaving out the raster pass.
 
 pub mod hzb;
 pub(crate) mod indirect;
@@ -78,6 +80,8 @@ pub const TRIANGLE_BYTES: u64 = 48;
 pub const COUNTS_BYTES: u64 = 16;
 /// The value of a pixel nothing was drawn to.
 pub const EMPTY: u64 = u64::MAX;
+/// Bytes of [`RasterParams`] in a buffer ([`RasterFrame::record_pass_params`]).
+pub const RASTER_PASS_PARAMS_BYTES: u64 = std::mem::size_of::<RasterParams>() as u64;
 /// Pixels per side of the tiles the raster pass marks as drawn into ([`RasterFrame`]).
 pub const RASTER_TILE: u32 = 8;
 /// Largest frame side: keeps the guard band's snapped coordinates below 2^24 sub-pixels, where
@@ -99,7 +103,8 @@ pub struct RasterCounts {
     pub dispatch: [u32; 3],
 }
 
-/// Push constants of `raster.comp.glsl`.
+/// Push constants of `raster.comp.glsl`; also what a pass that draws its own triangles
+/// (`raster/raster_draw.glsl`) reads from a buffer ([`RasterFrame::record_pass_params`]).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub(crate) struct RasterParams {
@@ -218,6 +223,39 @@ impl RasterFrame {
     /// The winding the frame's raster passes leave out.
     pub fn hidden_winding(&self) -> Option<ScreenWinding> {
         self.hidden_winding.get()
+    }
+
+    /// How a pass draws triangles `index_base + i` (i below `capacity`) into the frame, as
+    /// things stand now.
+    pub(crate) fn pass_params(&self, capacity: u32, index_base: u32) -> RasterParams {
+        RasterParams {
+            size: [self.width, self.height],
+            capacity,
+            index_base,
+            frame_number: self.frame_number(),
+            hidden_winding: match self.hidden_winding.get() {
+                None => 0,
+                Some(ScreenWinding::Positive) => 1,
+                Some(ScreenWinding::Negative) => -1,
+            },
+        }
+    }
+
+    /// Writes into `params` (at least [`RASTER_PASS_PARAMS_BYTES`], a transfer destination)
+    /// what a pass that draws its own triangles `index_base + i` into the frame reads, and notes
+    /// that one is recorded next; a barrier must follow before that pass.
+    pub(crate) fn record_pass_params(
+        &self,
+        rec: &Recorder,
+        params: &Buffer,
+        capacity: u32,
+        index_base: u32,
+    ) {
+        rec.update_buffer(
+            params,
+            bytemuck::bytes_of(&self.pass_params(capacity, index_base)),
+        );
+        self.note_drawn();
     }
 
     /// The number the raster passes of the frame being drawn mark their tiles with.
@@ -357,17 +395,8 @@ impl ComputeRasterizer {
         frame: &RasterFrame,
         index_base: u32,
     ) {
-        let params = RasterParams {
-            size: [frame.width, frame.height],
-            capacity: (triangles.size / TRIANGLE_BYTES).min(u32::MAX as u64) as u32,
-            index_base,
-            frame_number: frame.frame_number(),
-            hidden_winding: match frame.hidden_winding.get() {
-                None => 0,
-                Some(ScreenWinding::Positive) => 1,
-                Some(ScreenWinding::Negative) => -1,
-            },
-        };
+        let capacity = (triangles.size / TRIANGLE_BYTES).min(u32::MAX as u64) as u32;
+        let params = frame.pass_params(capacity, index_base);
         rec.dispatch_indirect(
             &self.raster,
             &[

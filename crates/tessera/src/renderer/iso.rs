@@ -6,7 +6,7 @@ use super::{
     Technique, WorkCounters,
 };
 use crate::error::{Error, Result};
-use crate::iso::direct::compute::{ComputeTarget, DirectCompute, TriangleLists};
+use crate::iso::direct::compute::{ComputeTarget, DirectCompute, DirectRaster, TriangleLists};
 use crate::iso::direct::compute_cull::ComputeCullState;
 use crate::iso::direct::cull::CullState;
 use crate::iso::direct::cull_choice::{AutoCulling, CullingCosts};
@@ -56,6 +56,8 @@ pub(super) struct IsoRenderer {
     ambiguity: AmbiguityRule,
     /// Whether `direct` leaves out a closed surface's hidden side (set on each prepared volume).
     hidden_side: HiddenSide,
+    /// Where the compute path draws its triangles.
+    direct_raster: DirectRaster,
     pipelines: Option<(ScalarType, Pipelines)>,
     prepared: Option<PreparedVolume>,
     /// The isovalue in texel units, and the look it came from (kept to re-resolve against new
@@ -106,6 +108,7 @@ impl IsoRenderer {
             last_culled: false,
             ambiguity: options.ambiguity,
             hidden_side: options.hidden_side,
+            direct_raster: options.direct_raster,
             pipelines: None,
             prepared: None,
             iso: 0.0,
@@ -139,11 +142,12 @@ impl IsoRenderer {
                     scalar,
                     self.ambiguity,
                 )?)),
-                (_, Path::Compute) => Pipelines::Compute(Box::new(DirectCompute::with_rule(
+                (_, Path::Compute) => Pipelines::Compute(Box::new(DirectCompute::with_raster(
                     gpu,
                     &compiler,
                     scalar,
                     self.ambiguity,
+                    self.direct_raster,
                 )?)),
             };
             self.counters.pipeline_builds += 1;

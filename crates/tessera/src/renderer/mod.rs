@@ -32,6 +32,7 @@ mod surface_frame;
 mod technique;
 
 use crate::error::{Error, Result};
+pub use crate::iso::direct::compute::DirectRaster;
 pub use crate::iso::HiddenSide;
 use crate::path::Path;
 pub use crate::target::Target;

@@ -3,6 +3,7 @@
 //! about the others) and the path `auto` picks on a device.
 
 use crate::error::{Error, Result};
+use crate::iso::direct::compute::DirectRaster;
 use crate::iso::HiddenSide;
 use crate::path::{Path, PathChoice};
 use crate::tet::interval::IntervalTuning;
@@ -199,6 +200,9 @@ pub struct RendererOptions {
     /// Whether the isosurface draws leave out the side of a closed surface no pixel shows
     /// (the image is the same; drawing it measures what leaving it out saves).
     pub hidden_side: HiddenSide,
+    /// Where `direct`'s compute path draws its triangles (the frames are the same; for
+    /// measuring which is faster).
+    pub direct_raster: DirectRaster,
 }
 
 impl RendererOptions {
@@ -228,13 +232,14 @@ impl Default for RendererOptions {
             gradient: false,
             pmb_block: PmbBlockSize::default(),
             hidden_side: HiddenSide::default(),
+            direct_raster: DirectRaster::default(),
         }
     }
 }
 
 /// The settings of [`RendererOptions`] by name (as the CLI's flags spell them, `_` for `-`;
-/// `hidden_side`, for measuring, has no flag).
-pub const OPTION_NAMES: [&str; 13] = [
+/// `hidden_side` and `direct_raster`, for measuring, have none).
+pub const OPTION_NAMES: [&str; 14] = [
     "path",
     "culling",
     "supersample",
@@ -248,6 +253,7 @@ pub const OPTION_NAMES: [&str; 13] = [
     "gradient",
     "pmb_block",
     "hidden_side",
+    "direct_raster",
 ];
 
 impl Technique {
@@ -256,7 +262,14 @@ impl Technique {
     pub fn reads_options(self) -> &'static [&'static str] {
         match self {
             Technique::Raymarch => &[],
-            Technique::Direct | Technique::Meshlets | Technique::Offline => {
+            Technique::Direct => &[
+                "path",
+                "culling",
+                "ambiguity",
+                "hidden_side",
+                "direct_raster",
+            ],
+            Technique::Meshlets | Technique::Offline => {
                 &["path", "culling", "ambiguity", "hidden_side"]
             }
             Technique::Pmb => &["path", "culling", "ambiguity", "pmb_block", "hidden_side"],
@@ -288,6 +301,7 @@ impl RendererOptions {
             self.gradient != d.gradient,
             self.pmb_block != d.pmb_block,
             self.hidden_side != d.hidden_side,
+            self.direct_raster != d.direct_raster,
         ];
         OPTION_NAMES
             .into_iter()

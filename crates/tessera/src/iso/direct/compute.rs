@@ -11,7 +11,9 @@ use crate::iso::direct::resolve::{ShadedList, SurfaceResolve};
 use crate::iso::direct::{Direct, DirectParams};
 use crate::iso::minmax::MinMaxBuilder;
 use crate::iso::PreparedVolume;
-use crate::raster::{raster_defines, ComputeRasterizer, RasterFrame, TRIANGLE_BYTES};
+use crate::raster::{
+    raster_defines, ComputeRasterizer, RasterFrame, RASTER_PASS_PARAMS_BYTES, TRIANGLE_BYTES,
+};
 use crate::target::Target;
 use bytemuck::{Pod, Zeroable};
 use tessera_data::mc_ambiguity::AmbiguityRule;
@@ -39,6 +41,17 @@ pub struct TriangleAttributes {
 /// Bytes per triangle of shading attributes.
 pub const ATTRIBUTE_BYTES: u64 = std::mem::size_of::<TriangleAttributes>() as u64;
 
+/// Where the compute path's triangles are drawn into the frame: by the rasterizer's pass after
+/// the extraction (one invocation a triangle), or by the extraction's workgroup that made them,
+/// with no pass, barrier or list read between. The frames are the same; which is faster is
+/// measured (`tessera bench isosurface --variants raster-in-extraction`).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum DirectRaster {
+    #[default]
+    Pass,
+    InExtraction,
+}
+
 /// The generated triangles of a frame, sized for `capacity` triangles.
 pub struct TriangleLists {
     pub triangles: Buffer,
@@ -46,6 +59,9 @@ pub struct TriangleLists {
     /// `triangle_count` then the rasterizer's indirect dispatch arguments.
     pub counts: Buffer,
     pub capacity: u32,
+    /// How an extraction that draws the list's triangles draws them
+    /// ([`RasterFrame::record_pass_params`]).
+    pub raster_pass: Buffer,
 }
 
 impl TriangleLists {
@@ -80,11 +96,18 @@ impl TriangleLists {
             usage | vk::BufferUsageFlags::INDIRECT_BUFFER,
             MemoryLocation::GpuOnly,
         )?;
+        let raster_pass = gpu.create_buffer(
+            "direct raster pass",
+            RASTER_PASS_PARAMS_BYTES,
+            vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuOnly,
+        )?;
         Ok(TriangleLists {
             triangles,
             attributes,
             counts,
             capacity,
+            raster_pass,
         })
     }
 
@@ -108,6 +131,16 @@ pub struct ExtractStats {
     pub blocks_classified: u32,
 }
 
+/// The bindings of the extraction over the block grid.
+const EXTRACT_SLOTS: [Slot; 6] = [
+    Slot::Texture,
+    Slot::StorageBuffer,
+    Slot::StorageBuffer,
+    Slot::StorageBuffer,
+    Slot::StorageBuffer,
+    Slot::StorageBuffer,
+];
+
 pub struct DirectExtract {
     extract: Pipeline,
     stats: Buffer,
@@ -130,18 +163,7 @@ impl DirectExtract {
             &builtin_shader!("extract.comp.glsl"),
             &extract_defines(scalar, rule),
         )?;
-        let extract = gpu.compute_pipeline(
-            "direct extract",
-            &spirv,
-            &[
-                Slot::Texture,
-                Slot::StorageBuffer,
-                Slot::StorageBuffer,
-                Slot::StorageBuffer,
-                Slot::StorageBuffer,
-                Slot::StorageBuffer,
-            ],
-        )?;
+        let extract = gpu.compute_pipeline("direct extract", &spirv, &EXTRACT_SLOTS)?;
         let stats = gpu.create_buffer(
             "direct extract stats",
             8,
@@ -162,22 +184,43 @@ impl DirectExtract {
         lists: &TriangleLists,
         params: &DirectParams,
     ) {
+        self.record_with(rec, &self.extract, prepared, lists, None, params);
+    }
+
+    /// Records the extraction with `pipeline`: this one, or one made by
+    /// [`drawing_extraction`] that also draws the triangles into `frame`.
+    fn record_with(
+        &self,
+        rec: &Recorder,
+        pipeline: &Pipeline,
+        prepared: &PreparedVolume,
+        lists: &TriangleLists,
+        frame: Option<&RasterFrame>,
+        params: &DirectParams,
+    ) {
         rec.fill_buffer(&self.stats, 0);
         rec.fill_buffer(&lists.counts, 0);
+        if let Some(frame) = frame {
+            frame.record_pass_params(rec, &lists.raster_pass, lists.capacity, 0);
+        }
         rec.barrier();
+        let mut bindings = vec![
+            Binding::Texture {
+                image: &prepared.volume.texture,
+                linear: false,
+            },
+            Binding::Buffer(&prepared.octree.nodes),
+            Binding::Buffer(&lists.triangles),
+            Binding::Buffer(&lists.attributes),
+            Binding::Buffer(&lists.counts),
+            Binding::Buffer(&self.stats),
+        ];
+        if let Some(frame) = frame {
+            bindings.extend(frame_bindings(frame, lists));
+        }
         rec.dispatch_groups(
-            &self.extract,
-            &[
-                Binding::Texture {
-                    image: &prepared.volume.texture,
-                    linear: false,
-                },
-                Binding::Buffer(&prepared.octree.nodes),
-                Binding::Buffer(&lists.triangles),
-                Binding::Buffer(&lists.attributes),
-                Binding::Buffer(&lists.counts),
-                Binding::Buffer(&self.stats),
-            ],
+            pipeline,
+            &bindings,
             bytemuck::bytes_of(params),
             prepared.octree.level_dims[0],
         );
@@ -196,6 +239,35 @@ impl DirectExtract {
 /// arguments it writes.
 pub(crate) fn extract_defines(scalar: ScalarType, rule: AmbiguityRule) -> Vec<(String, String)> {
     [marching_cubes_defines(scalar, rule), raster_defines()].concat()
+}
+
+/// `extract.comp.glsl` with the given defines (`extract_defines`, and the culling's), also
+/// drawing its triangles into a frame: [`frame_bindings`] follow the extraction's own.
+pub(crate) fn drawing_extraction(
+    gpu: &Gpu,
+    compiler: &ShaderCompiler,
+    defines: &[(String, String)],
+    slots: &[Slot],
+    name: &str,
+) -> Result<Pipeline> {
+    let mut defines = defines.to_vec();
+    defines.push(("RASTER_IN_EXTRACTION".into(), "1".into()));
+    let spirv = compiler.compile(&builtin_shader!("extract.comp.glsl"), &defines)?;
+    let slots = [slots, &[Slot::StorageBuffer; 3]].concat();
+    Ok(gpu.compute_pipeline(name, &spirv, &slots)?)
+}
+
+/// What an extraction that draws its triangles binds after its own bindings: the frame, its
+/// tiles, and how it draws `lists` ([`RasterFrame::record_pass_params`]).
+pub(crate) fn frame_bindings<'a>(
+    frame: &'a RasterFrame,
+    lists: &'a TriangleLists,
+) -> [Binding<'a>; 3] {
+    [
+        Binding::Buffer(&frame.depth_payload),
+        Binding::Buffer(&frame.tile_frames),
+        Binding::Buffer(&lists.raster_pass),
+    ]
 }
 
 /// What a compute-path frame writes besides its pixels (which go to a [`Target`] of the
@@ -230,6 +302,8 @@ pub(super) fn check_pixels(target: &ComputeTarget, pixels: &Target) -> Result<()
 /// with occlusion culling through [`Self::record_culled`] (`compute_cull`).
 pub struct DirectCompute {
     extract: DirectExtract,
+    /// The extraction that also draws its triangles ([`DirectRaster::InExtraction`]).
+    drawing_extract: Option<Pipeline>,
     pub(super) rasterizer: ComputeRasterizer,
     pub(super) cull: ComputeCullPipelines,
     resolve: SurfaceResolve,
@@ -258,6 +332,27 @@ impl DirectCompute {
         scalar: ScalarType,
         rule: AmbiguityRule,
     ) -> Result<DirectCompute> {
+        Self::with_raster(gpu, compiler, scalar, rule, DirectRaster::Pass)
+    }
+
+    /// The compute path with ambiguous faces cut by `rule`, its triangles drawn as `raster` says.
+    pub fn with_raster(
+        gpu: &Gpu,
+        compiler: &ShaderCompiler,
+        scalar: ScalarType,
+        rule: AmbiguityRule,
+        raster: DirectRaster,
+    ) -> Result<DirectCompute> {
+        let drawing_extract = match raster {
+            DirectRaster::Pass => None,
+            DirectRaster::InExtraction => Some(drawing_extraction(
+                gpu,
+                compiler,
+                &extract_defines(scalar, rule),
+                &EXTRACT_SLOTS,
+                "direct extract (drawing)",
+            )?),
+        };
         let rasterizer = ComputeRasterizer::new(gpu, compiler)?;
         let defines = volume_defines(scalar);
         let resolve = SurfaceResolve::new(gpu, compiler, &defines, false, "direct resolve")?;
@@ -266,8 +361,9 @@ impl DirectCompute {
             gpu.compute_pipeline("direct reproject", &reproject, &[Slot::StorageBuffer; 4])?;
         Ok(DirectCompute {
             extract: DirectExtract::with_rule(gpu, compiler, scalar, rule)?,
+            drawing_extract,
             rasterizer,
-            cull: ComputeCullPipelines::new(gpu, compiler, scalar, rule)?,
+            cull: ComputeCullPipelines::new(gpu, compiler, scalar, rule, raster)?,
             resolve,
             reproject,
             builder: MinMaxBuilder::new(gpu, compiler, scalar)?,
@@ -276,6 +372,14 @@ impl DirectCompute {
 
     pub fn prepare(&self, gpu: &Gpu, volume: &tessera_data::Volume) -> Result<PreparedVolume> {
         PreparedVolume::new(gpu, &self.builder, volume)
+    }
+
+    /// Where the triangles are drawn.
+    pub fn raster(&self) -> DirectRaster {
+        match self.drawing_extract {
+            Some(_) => DirectRaster::InExtraction,
+            None => DirectRaster::Pass,
+        }
     }
 
     /// Records a frame shaded into `pixels` (of the frame's size); `params.triangle_capacity` must be
@@ -294,14 +398,22 @@ impl DirectCompute {
         target
             .frame
             .hide_winding(Direct::hidden_winding(prepared, params));
-        self.extract.record(rec, prepared, &target.lists, params);
-        rec.barrier();
-        self.rasterizer.record_raster(
-            rec,
-            &target.lists.triangles,
-            &target.lists.counts,
-            &target.frame,
-        );
+        let lists = &target.lists;
+        match &self.drawing_extract {
+            Some(drawing) => {
+                let frame = Some(&target.frame);
+                self.extract
+                    .record_with(rec, drawing, prepared, lists, frame, params);
+                rec.barrier();
+            }
+            None => {
+                self.extract.record(rec, prepared, lists, params);
+                rec.barrier();
+                let frame = &target.frame;
+                self.rasterizer
+                    .record_raster(rec, &lists.triangles, &lists.counts, frame);
+            }
+        }
         self.record_resolve(rec, target, &target.lists.attributes, pixels, params);
     }
 

@@ -45,6 +45,7 @@ use crate::builtin_shader;
 use crate::error::Result;
 use crate::iso::direct::block_list;
 use crate::iso::direct::cell_boxes::{cell_box_defines, CellBoxes};
+use crate::iso::direct::compute::{drawing_extraction, DirectRaster};
 use crate::iso::direct::compute::{extract_defines, ComputeTarget, TriangleLists};
 use crate::iso::direct::resolve::SurfaceResolve;
 use crate::iso::PreparedVolume;
@@ -78,6 +79,8 @@ pub(super) fn groups_2d(threads: u32, local: u32, max_x: u32) -> [u32; 3] {
 /// The culling pipelines, built with [`crate::iso::direct::compute::DirectCompute`].
 pub(crate) struct ComputeCullPipelines {
     pub(super) extract_list: Pipeline,
+    /// Whether `extract_list` draws its triangles into the frame (no raster passes).
+    pub(super) raster: DirectRaster,
     pub(super) hzb: HzbBuilder,
     pub(super) test: Pipeline,
     pub(super) resolve: SurfaceResolve,
@@ -98,6 +101,7 @@ impl ComputeCullPipelines {
         compiler: &ShaderCompiler,
         scalar: ScalarType,
         rule: AmbiguityRule,
+        raster: DirectRaster,
     ) -> Result<ComputeCullPipelines> {
         let defines = cull_defines(scalar, rule);
         let with = |name: &str| {
@@ -106,13 +110,23 @@ impl ComputeCullPipelines {
             d
         };
         let sb = Slot::StorageBuffer;
-        let extract =
-            compiler.compile(&builtin_shader!("extract.comp.glsl"), &with("BLOCK_LIST"))?;
         let test = compiler.compile(&builtin_shader!("hzb_test.comp.glsl"), &defines)?;
         let compact = compiler.compile(&builtin_shader!("hzb_compact.comp.glsl"), &defines)?;
         let extract_slots = [Slot::Texture, sb, sb, sb, sb, sb, sb, sb];
-        let extract_list =
-            gpu.compute_pipeline("direct extract (block list)", &extract, &extract_slots)?;
+        let extract_list = match raster {
+            DirectRaster::Pass => {
+                let spirv =
+                    compiler.compile(&builtin_shader!("extract.comp.glsl"), &with("BLOCK_LIST"))?;
+                gpu.compute_pipeline("direct extract (block list)", &spirv, &extract_slots)?
+            }
+            DirectRaster::InExtraction => drawing_extraction(
+                gpu,
+                compiler,
+                &with("BLOCK_LIST"),
+                &extract_slots,
+                "direct extract (block list, drawing)",
+            )?,
+        };
         let hzb = HzbBuilder::new(gpu, compiler)?;
         let test = gpu.compute_pipeline("hzb test", &test, &[sb; 6])?;
         let resolve =
@@ -120,6 +134,7 @@ impl ComputeCullPipelines {
         let compact = gpu.compute_pipeline("hzb compact", &compact, &[sb; 3])?;
         Ok(ComputeCullPipelines {
             extract_list,
+            raster,
             hzb,
             test,
             resolve,

@@ -2,7 +2,9 @@
 
 use crate::error::{Error, Result};
 use crate::iso::direct::block_list::{self, BlockListHeader};
-use crate::iso::direct::compute::{ComputeTarget, DirectCompute, TriangleLists};
+use crate::iso::direct::compute::{
+    frame_bindings, ComputeTarget, DirectCompute, DirectRaster, TriangleLists,
+};
 use crate::iso::direct::compute_cull::{
     groups_2d, ComputeCullState, ComputeCullStats, HzbTestParams,
 };
@@ -53,21 +55,27 @@ impl DirectCompute {
             image: &prepared.volume.texture,
             linear: false,
         };
+        // Where the extraction draws its triangles itself, no raster pass follows it.
+        let drawing = c.raster == DirectRaster::InExtraction;
         let extract = |rec: &Recorder, lists: &TriangleLists, stats: &Buffer, blocks: &Buffer| {
             let mut p = *params;
             p.triangle_capacity = lists.capacity;
+            let mut bindings = vec![
+                volume,
+                Binding::Buffer(&prepared.octree.nodes),
+                Binding::Buffer(&lists.triangles),
+                Binding::Buffer(&lists.attributes),
+                Binding::Buffer(&lists.counts),
+                Binding::Buffer(stats),
+                Binding::Buffer(blocks),
+                Binding::Buffer(&state.cell_boxes.buffer),
+            ];
+            if drawing {
+                bindings.extend(frame_bindings(&target.frame, lists));
+            }
             rec.dispatch_indirect(
                 &c.extract_list,
-                &[
-                    volume,
-                    Binding::Buffer(&prepared.octree.nodes),
-                    Binding::Buffer(&lists.triangles),
-                    Binding::Buffer(&lists.attributes),
-                    Binding::Buffer(&lists.counts),
-                    Binding::Buffer(stats),
-                    Binding::Buffer(blocks),
-                    Binding::Buffer(&state.cell_boxes.buffer),
-                ],
+                &bindings,
                 bytemuck::bytes_of(&p),
                 blocks,
                 block_list::ARGS_OFFSET,
@@ -96,12 +104,19 @@ impl DirectCompute {
             target
                 .frame
                 .hide_winding(Direct::hidden_winding(prepared, params));
+            if drawing {
+                let frame = &target.frame;
+                frame.record_pass_params(rec, &a.raster_pass, a.capacity, 0);
+                frame.record_pass_params(rec, &b_lists.raster_pass, b_lists.capacity, base);
+            }
             // Boxes made from another volume (the same block grid) say nothing about this one.
             state.cell_boxes.record_keep_for(rec, prepared);
             rec.barrier();
             extract(rec, a, &state.extract_stats[0], first);
-            self.rasterizer
-                .record_raster(rec, &a.triangles, &a.counts, &target.frame);
+            if !drawing {
+                self.rasterizer
+                    .record_raster(rec, &a.triangles, &a.counts, &target.frame);
+            }
         });
         // The pyramid and the occlusion test.
         stage("cull-test", &|rec| {
@@ -135,13 +150,15 @@ impl DirectCompute {
         // Pass B: blocks that may have come into view, into the same frame.
         stage("cull-pass-b", &|rec| {
             extract(rec, b_lists, &state.extract_stats[1], &state.new_blocks);
-            self.rasterizer.record_raster_with_base(
-                rec,
-                &b_lists.triangles,
-                &b_lists.counts,
-                &target.frame,
-                base,
-            );
+            if !drawing {
+                self.rasterizer.record_raster_with_base(
+                    rec,
+                    &b_lists.triangles,
+                    &b_lists.counts,
+                    &target.frame,
+                    base,
+                );
+            }
         });
         // Shade, flag the blocks that own pixels, list them for next frame.
         stage("cull-resolve", &|rec| {

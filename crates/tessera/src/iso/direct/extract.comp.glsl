@@ -2,10 +2,15 @@
 // Compute path of direct isosurface extraction: the task and mesh stages' work in one compute
 // workgroup per 8×8×4 block, for GPUs whose graphics stages run on few units. Triangles go to
 // the shared compute rasterizer's list (clip-space corners) with their shading attributes
-// beside them; the workgroup reserves its slots with one atomic. Each triangle's first normal
-// carries its block's linear id in .w (as uintBitsToFloat), so a resolve knows which blocks
-// own pixels. With BLOCK_LIST defined (occlusion culling), workgroups take their blocks from a
-// list (linear ids) instead of the block grid.
+// beside them; the workgroup reserves its slots with one atomic. Each corner's attributes carry
+// its block's linear id (`maker`), so a resolve knows which blocks own pixels. With BLOCK_LIST
+// defined (occlusion culling), workgroups take their blocks from a list (linear ids) instead
+// of the block grid. With RASTER_IN_EXTRACTION defined, the workgroup then draws its triangles
+// into the frame itself (raster/raster_draw.glsl), with no raster pass after it.
+#ifdef RASTER_IN_EXTRACTION
+#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+#extension GL_EXT_shader_atomic_int64 : require
+#endif
 #include "common/volume.glsl"
 #include "common/mc_tables.glsl"
 #include "common/mc_cell.glsl"
@@ -22,7 +27,12 @@
 layout(local_size_x = 32) in;
 layout(binding = 0) uniform VOLUME_SAMPLER volume_tex;
 layout(binding = 1) readonly buffer Nodes { vec2 minmax_nodes[]; };
+#ifdef RASTER_IN_EXTRACTION
+// Read back by the workgroup's other invocations, which draw them.
+layout(binding = 2) coherent buffer Triangles { RasterTriangle triangles[]; };
+#else
 layout(binding = 2) writeonly buffer Triangles { RasterTriangle triangles[]; };
+#endif
 layout(binding = 3) writeonly buffer Attributes { TriangleAttributes attributes[]; };
 // The rasterizer's counts: triangle_count, then its dispatch arguments, grown here as slots
 // are reserved (zero before the pass), so the raster pass may follow without a pass between.
@@ -41,6 +51,23 @@ layout(binding = 6) readonly buffer Blocks { BlockListHeader block_header; uint 
 // of the isovalue it was made at: what the occlusion test of later frames tests instead of
 // the block's whole box.
 layout(binding = 7) writeonly buffer CellBoxes { uvec2 cell_boxes[]; };
+#define RASTER_BINDING 8
+#else
+#define RASTER_BINDING 6
+#endif
+#ifdef RASTER_IN_EXTRACTION
+// The frame the triangles are drawn into (raster/mod.rs), and how: the raster pass's push
+// constants (RasterParams), written into a buffer since this pass's are full.
+layout(binding = RASTER_BINDING) buffer Frame { uint64_t depth_payload[]; };
+layout(binding = RASTER_BINDING + 1) writeonly buffer TileFrames { uint tile_frames[]; };
+layout(binding = RASTER_BINDING + 2) readonly buffer RasterPassParams {
+    uvec2 size;
+    uint capacity;
+    uint index_base;
+    uint frame_number;
+    int hidden_winding;
+} raster_pass;
+#include "raster/raster_draw.glsl"
 #endif
 
 const uint CELLS = BLOCK_X * BLOCK_Y * BLOCK_Z;
@@ -145,4 +172,16 @@ void main() {
             }
         }
     }
+#ifdef RASTER_IN_EXTRACTION
+    // The workgroup's triangles, drawn as the raster pass draws them. Invocation i takes every
+    // 32nd from the i-th, so that cells with many triangles keep no invocation waiting.
+    memoryBarrierBuffer();
+    barrier();
+    RasterPass pass = RasterPass(raster_pass.size, raster_pass.frame_number, raster_pass.hidden_winding);
+    uint end = min(base + prefix[32], capacity);
+    for (uint s = base + me; s < end; s += 32u) {
+        raster_draw_triangle(pass, triangles[s].clip[0], triangles[s].clip[1], triangles[s].clip[2],
+                             raster_pass.index_base + s);
+    }
+#endif
 }

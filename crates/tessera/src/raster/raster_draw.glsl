@@ -1,0 +1,246 @@
+// The compute rasterizer's drawing of one clip-space triangle, following the CPU reference
+// `tessera_data::rasterize` rule for rule. Clip in homogeneous space (Sutherland-Hodgman,
+// w > MIN_W, near z >= 0, far z <= w, guard band |x|, |y| <= GUARD_BAND w), map the polygon to the
+// viewport with positions snapped to 1/SUBPIXEL pixel, draw it as a fan. Coverage is decided
+// exactly: integer edge functions on the snapped grid with the top-left rule, sampled at pixel
+// centres. Depth is NDC z interpolated linearly in screen space; the visible fragment per pixel
+// is kept with a 64-bit atomicMin on (depth bits << 32 | triangle index), which equals the
+// reference's LESS test in list order (equal depths keep the lower index). Triangles of one
+// winding may be left out, as the reference's rasterize_clip_triangles_hiding does.
+//
+// Used by the raster pass (raster.comp.glsl) and by passes that draw the triangles they make
+// themselves. The includer declares the frame's buffers by these names:
+//   buffer ... { uint64_t depth_payload[]; };   // the frame (raster/mod.rs)
+//   writeonly buffer ... { uint tile_frames[]; };  // per RASTER_TILE tile, the last frame number
+// enables GL_EXT_shader_explicit_arithmetic_types_int64 and GL_EXT_shader_atomic_int64 (before
+// any code), and defines SUBPIXEL_BITS, MIN_W, GUARD_BAND and RASTER_TILE
+// (raster::raster_defines).
+
+#ifndef RASTER_RASTER_DRAW_GLSL
+#define RASTER_RASTER_DRAW_GLSL
+
+#include "common/exact.glsl"
+#include "raster/raster.glsl"
+
+// What a raster pass draws into, and how (RasterParams on the host).
+struct RasterPass {
+    uvec2 size;          // frame width, height in pixels
+    uint frame_number;   // marked into every tile a triangle's pixel box reaches
+    // 1: triangles of positive area on the snapped grid draw nothing; -1: those of negative
+    // area; 0: both sides draw (tessera_data::rasterize::ScreenWinding, tessera_data::facing).
+    int hidden_winding;
+};
+
+const int SUBPIXEL = 1 << SUBPIXEL_BITS;
+const int HALF_SUBPIXEL = SUBPIXEL / 2;
+const int PLANES = 7;
+// Each plane adds at most one corner to a convex polygon; the slack absorbs rounding.
+const int MAX_CORNERS = 12;
+
+// Signed distance to clip plane `plane`, inside where >= 0 (the reference's order).
+float plane_distance(int plane, vec4 c) {
+    switch (plane) {
+    case 0: return c.w - MIN_W;
+    case 1: return c.z;
+    case 2: return c.w - c.z;
+    case 3: return GUARD_BAND * c.w - c.x;
+    case 4: return GUARD_BAND * c.w + c.x;
+    case 5: return GUARD_BAND * c.w - c.y;
+    default: return GUARD_BAND * c.w + c.y;
+    }
+}
+
+// Bit p set where the corner is not inside plane p (NaN counts as outside, as in the reference).
+uint outside_mask(vec4 c) {
+    uint mask = 0u;
+    for (int p = 0; p < PLANES; ++p) {
+        mask |= (plane_distance(p, c) >= 0.0) ? 0u : (1u << p);
+    }
+    return mask;
+}
+
+bool lexically_before_or_equal(vec4 a, vec4 b) {
+    for (int i = 0; i < 4; ++i) {
+        if (a[i] != b[i]) {
+            return a[i] < b[i];
+        }
+    }
+    return true;
+}
+
+// Where edge a-b crosses a plane. Computed from the lexically smaller end, so triangles sharing
+// an edge get bit-identical new corners and stay watertight.
+vec4 intersect(vec4 a, float da, vec4 b, float db) {
+    return lexically_before_or_equal(a, b) ? mix(a, b, da / (da - db)) : mix(b, a, db / (db - da));
+}
+
+// round(s * (x / w + 1)) with halves away from zero, as if computed exactly: a double-float
+// evaluation (~2^-44 relative), so the snapped grid point agrees with the reference's f64 one
+// except within ~1e-6 sub-pixel of a rounding tie. Plain f32 put ~0.1% of corners on a
+// neighbouring grid point in a 256-pixel frame (measured), and more the larger the frame.
+int snap(float x, float w, float s) {
+    precise float q = x / w;
+    precise float qw = q * w;
+    precise float rest = (x - qw) - product_error(q, w, qw);  // x - q w, x - qw being exact
+    precise float q_rest = rest / w;                           // x / w = q + q_rest
+    precise float p = q * s;
+    precise float p_err = product_error(q, s, p);             // q s = p + p_err
+    precise float t = p + s;                                   // two-sum: p + s = t + t_err
+    precise float b = t - p;
+    precise float t_err = (p - (t - b)) + (s - b);
+    precise float tail = t_err + p_err + q_rest * s;
+    precise float n = roundEven(t);  // |t| < 2^24, so n and t - n are exact
+    precise float f = (t - n) + tail + 0.5;  // value - n + 1/2
+    precise float k = floor(f);
+    if (f == k && t < 0.0) {
+        k -= 1.0;  // an exact half below zero rounds away from zero
+    }
+    return int(n) + int(k);
+}
+
+// A corner on screen: position in 1/SUBPIXEL pixels, NDC depth.
+struct Corner {
+    ivec2 p;
+    float z;
+};
+
+Corner to_screen(uvec2 size, vec4 c) {
+    vec2 s = vec2(size) * float(HALF_SUBPIXEL);
+    return Corner(ivec2(snap(c.x, c.w, s.x), snap(c.y, c.w, s.y)), c.z / c.w);
+}
+
+// Twice the signed area of (a, b, p) on the snapped grid; positive when p lies to the right of
+// a->b on screen (x right, y down). Exact: |coordinates| < 2^24.
+int64_t edge(ivec2 a, ivec2 b, ivec2 p) {
+    return int64_t(b.x - a.x) * int64_t(p.y - a.y) - int64_t(b.y - a.y) * int64_t(p.x - a.x);
+}
+
+// Top-left rule for edge a->b of a triangle with positive area: a top edge is horizontal and
+// runs right, a left edge runs up. Pixel centres exactly on other edges stay out.
+int64_t edge_bias(ivec2 a, ivec2 b) {
+    ivec2 d = b - a;
+    return (d.y < 0 || (d.y == 0 && d.x > 0)) ? int64_t(0) : int64_t(1);
+}
+
+void draw_fan_triangle(RasterPass pass, Corner a, Corner b, Corner c, uint index) {
+    int64_t area = edge(a.p, b.p, c.p);
+    if (area == 0) {
+        return;  // zero area: no fragments
+    }
+    if (pass.hidden_winding != 0 && (area > 0) == (pass.hidden_winding > 0)) {
+        return;  // turned away from every view ray's first surface
+    }
+    if (area < 0) {  // double-sided: turn it around
+        Corner t = b;
+        b = c;
+        c = t;
+        area = -area;
+    }
+    ivec2 lo = min(a.p, min(b.p, c.p));
+    ivec2 hi = max(a.p, max(b.p, c.p));
+    // Pixels whose centre (x + 1/2) lies in [lo, hi], inside the viewport.
+    ivec2 first = max((lo + (HALF_SUBPIXEL - 1)) >> SUBPIXEL_BITS, ivec2(0));
+    ivec2 last = min((hi - HALF_SUBPIXEL) >> SUBPIXEL_BITS, ivec2(pass.size) - 1);
+    if (any(greaterThan(first, last))) {
+        return;
+    }
+    // Every tile the pixel box reaches: a superset of the tiles the triangle draws into, which
+    // a resolve that reads only marked tiles must all see. Every writer stores the same value.
+    uint tiles_per_row = raster_tiles_per_row(pass.size.x);
+    uvec2 first_tile = uvec2(first) / RASTER_TILE;
+    uvec2 last_tile = uvec2(last) / RASTER_TILE;
+    for (uint ty = first_tile.y; ty <= last_tile.y; ++ty) {
+        for (uint tx = first_tile.x; tx <= last_tile.x; ++tx) {
+            tile_frames[ty * tiles_per_row + tx] = pass.frame_number;
+        }
+    }
+    // Edge i is opposite corner i; its function is corner i's unnormalized weight.
+    ivec2 centre = first * SUBPIXEL + HALF_SUBPIXEL;
+    i64vec3 bias = i64vec3(edge_bias(b.p, c.p), edge_bias(c.p, a.p), edge_bias(a.p, b.p));
+    i64vec3 row = i64vec3(edge(b.p, c.p, centre), edge(c.p, a.p, centre), edge(a.p, b.p, centre));
+    row -= bias;  // inside <=> every biased edge function >= 0
+    i64vec3 step_x = -i64vec3(c.p.y - b.p.y, a.p.y - c.p.y, b.p.y - a.p.y) * SUBPIXEL;
+    i64vec3 step_y = i64vec3(c.p.x - b.p.x, a.p.x - c.p.x, b.p.x - a.p.x) * SUBPIXEL;
+    // Depth relative to corner a: exact where the triangle has one depth.
+    vec2 dz = vec2(b.z - a.z, c.z - a.z);
+    float inv_area = 1.0 / float(area);
+    for (int y = first.y; y <= last.y; ++y) {
+        i64vec3 e = row;
+        for (int x = first.x; x <= last.x; ++x) {
+            if ((e.x | e.y | e.z) >= 0) {
+                vec2 weights = vec2(e.yz + bias.yz) * inv_area;
+                float depth = a.z + weights.x * dz.x + weights.y * dz.y;
+                depth = depth > 0.0 ? depth : 0.0;
+                // The reference tests LESS against a buffer cleared to 1.0.
+                if (depth < 1.0) {
+                    uint pixel = uint(y) * pass.size.x + uint(x);
+                    uint64_t value = packUint2x32(uvec2(index, floatBitsToUint(depth)));
+                    atomicMin(depth_payload[pixel], value);
+                }
+            }
+            e += step_x;
+        }
+        row += step_y;
+    }
+}
+
+// Draws the triangle with clip-space corners c0, c1, c2 into the frame as `payload` (its index
+// in the frame): clipped plane by plane as the reference does, then drawn as a fan.
+void raster_draw_triangle(RasterPass pass, vec4 c0, vec4 c1, vec4 c2, uint payload) {
+    uint m0 = outside_mask(c0), m1 = outside_mask(c1), m2 = outside_mask(c2);
+    if ((m0 & m1 & m2) != 0u) {
+        return;  // wholly outside one plane
+    }
+    if ((m0 | m1 | m2) == 0u) {  // the common case
+        draw_fan_triangle(pass, to_screen(pass.size, c0), to_screen(pass.size, c1),
+                          to_screen(pass.size, c2), payload);
+        return;
+    }
+    vec4 polygon[MAX_CORNERS];
+    vec4 clipped[MAX_CORNERS];
+    polygon[0] = c0;
+    polygon[1] = c1;
+    polygon[2] = c2;
+    int n = 3;
+    for (int plane = 0; plane < PLANES; ++plane) {
+        int inside = 0;
+        for (int i = 0; i < n; ++i) {
+            inside += plane_distance(plane, polygon[i]) >= 0.0 ? 1 : 0;
+        }
+        if (inside == n) {
+            continue;
+        }
+        if (inside == 0) {
+            return;
+        }
+        int m = 0;
+        for (int i = 0; i < n; ++i) {
+            vec4 a = polygon[i];
+            vec4 b = polygon[i + 1 < n ? i + 1 : 0];
+            float da = plane_distance(plane, a);
+            float db = plane_distance(plane, b);
+            if (da >= 0.0 && m < MAX_CORNERS) {
+                clipped[m++] = a;
+            }
+            if ((da >= 0.0) != (db >= 0.0) && m < MAX_CORNERS) {
+                clipped[m++] = intersect(a, da, b, db);
+            }
+        }
+        n = m;
+        for (int i = 0; i < n; ++i) {
+            polygon[i] = clipped[i];
+        }
+        if (n < 3) {
+            return;
+        }
+    }
+    Corner first = to_screen(pass.size, polygon[0]);
+    Corner previous = to_screen(pass.size, polygon[1]);
+    for (int k = 2; k < n; ++k) {
+        Corner next = to_screen(pass.size, polygon[k]);
+        draw_fan_triangle(pass, first, previous, next, payload);
+        previous = next;
+    }
+}
+
+#endif

@@ -1,0 +1,182 @@
+//! `direct`'s compute path with each extraction workgroup drawing its own triangles
+//! (`DirectRaster::InExtraction`) draws the frames the raster pass after the extraction draws:
+//! the same depth at every pixel and the same image, culled or not, with the near plane
+//! cutting the volume, with the hidden side left out or drawn, and on open surfaces.
+
+mod common;
+
+use common::{assert_clean, Need, TestGpu};
+use tessera::iso::direct::compute::{ComputeTarget, DirectCompute, DirectRaster};
+use tessera::iso::direct::compute_cull::{ComputeCullState, ComputeCullStats};
+use tessera::iso::{HiddenSide, PreparedVolume};
+use tessera::shaders;
+use tessera::target::Target;
+use tessera_data::marching_cubes::marching_cubes;
+use tessera_data::procedural::{generate, ProceduralKind};
+use tessera_data::{IsoValue, OrbitCamera, RgbaImage, ScalarType, Volume};
+use tessera_gpu::Gpu;
+
+/// What one frame left: its image, the depth bits at every pixel, and what it counted.
+struct Drawn {
+    image: RgbaImage,
+    depths: Vec<u32>,
+    triangles: u32,
+    culling: Option<ComputeCullStats>,
+}
+
+/// One way of drawing: its pipelines, the volume prepared for them, and its buffers.
+struct Way {
+    compute: DirectCompute,
+    prepared: PreparedVolume,
+    target: ComputeTarget,
+    state: ComputeCullState,
+    pixels: Target,
+}
+
+impl Way {
+    fn new(
+        gpu: &Gpu,
+        volume: &Volume,
+        raster: DirectRaster,
+        size: (u32, u32),
+        capacity: u32,
+    ) -> Way {
+        let compiler = shaders::compiler();
+        let compute = DirectCompute::with_raster(
+            gpu,
+            &compiler,
+            volume.scalar_type(),
+            Default::default(),
+            raster,
+        )
+        .unwrap();
+        assert_eq!(compute.raster(), raster);
+        let prepared = compute.prepare(gpu, volume).unwrap();
+        let target = ComputeTarget::new(gpu, size.0, size.1, capacity).unwrap();
+        // Resolves keep the frame, so that its depths can be read.
+        target.frame.keep_after_resolve(true);
+        let state = ComputeCullState::new(gpu, &prepared, &target).unwrap();
+        let pixels = Target::new(gpu, size.0, size.1).unwrap();
+        Way {
+            compute,
+            prepared,
+            target,
+            state,
+            pixels,
+        }
+    }
+
+    fn draw(&self, gpu: &Gpu, iso: f32, camera: &OrbitCamera, culled: bool) -> Drawn {
+        self.pixels.poison(gpu, u32::MAX).unwrap();
+        let (image, triangles, culling) = if culled {
+            let (image, _, stats) = self
+                .compute
+                .render_culled(
+                    gpu,
+                    &self.prepared,
+                    &self.target,
+                    &self.pixels,
+                    &self.state,
+                    iso,
+                    camera,
+                )
+                .unwrap();
+            (image, stats.triangles(), Some(stats))
+        } else {
+            let (image, _, stats) = self
+                .compute
+                .render(gpu, &self.prepared, &self.target, &self.pixels, iso, camera)
+                .unwrap();
+            (image, stats.triangles, None)
+        };
+        assert!(!image.pixels.contains(&u32::MAX), "unwritten pixels");
+        let depths = self
+            .target
+            .frame
+            .read(gpu)
+            .unwrap()
+            .iter()
+            .map(|v| (v >> 32) as u32)
+            .collect();
+        Drawn {
+            image,
+            depths,
+            triangles,
+            culling,
+        }
+    }
+}
+
+/// Draws `path` both ways, culled and not, and holds every frame of the one to the other's.
+fn compare_ways(gpu: &Gpu, name: &str, volume: &Volume, fraction: f32, path: &[OrbitCamera]) {
+    let size = (96, 80);
+    let iso = volume.iso_to_texel(IsoValue::Normalized(fraction));
+    let capacity = marching_cubes(volume, iso).triangle_count() as u32 + 16;
+    for hidden_side in [HiddenSide::Skip, HiddenSide::Draw] {
+        let [mut pass, mut fused] = [DirectRaster::Pass, DirectRaster::InExtraction]
+            .map(|raster| Way::new(gpu, volume, raster, size, capacity));
+        pass.prepared.hidden_side = hidden_side;
+        fused.prepared.hidden_side = hidden_side;
+        for culled in [false, true] {
+            for (frame, camera) in path.iter().enumerate() {
+                let what = format!(
+                    "{name} hidden side {} culled {culled} frame {frame}",
+                    hidden_side.name()
+                );
+                let expected = pass.draw(gpu, iso, camera, culled);
+                let got = fused.draw(gpu, iso, camera, culled);
+                assert_eq!(got.triangles, expected.triangles, "{what}");
+                assert_eq!(got.culling, expected.culling, "{what}");
+                let drawn = expected.depths.iter().filter(|&&d| d != u32::MAX).count();
+                assert!(drawn > 100, "{what}: {drawn} pixels drawn");
+                let wrong = got
+                    .depths
+                    .iter()
+                    .zip(&expected.depths)
+                    .filter(|(a, b)| a != b)
+                    .count();
+                assert_eq!(wrong, 0, "{what}: {wrong} of {drawn} pixels' depths differ");
+                // Colours may differ only where two triangles tie in depth.
+                let diff = got.image.compare(&expected.image, 2);
+                assert!(
+                    diff.fraction_within >= 0.999,
+                    "{what}: {} pixels differ",
+                    diff.pixels_outside
+                );
+            }
+        }
+    }
+}
+
+fn cam(azimuth_deg: f32, elevation_deg: f32, distance: f32) -> OrbitCamera {
+    OrbitCamera {
+        azimuth_deg,
+        elevation_deg,
+        distance,
+        ..OrbitCamera::default()
+    }
+}
+
+#[test]
+fn extraction_that_draws_its_triangles_draws_the_raster_passes_frames() {
+    let Some(gpu) = TestGpu::with(&[Need::BufferInt64Atomics]) else {
+        return;
+    };
+    // A closed surface seen from outside, turning; then from inside the grid, where the near
+    // plane cuts triangles (the clipping path) and both sides draw.
+    let head = generate(ProceduralKind::HeadPhantom, 56, ScalarType::U8).unwrap();
+    let outside = [
+        cam(30.0, 20.0, 1.8),
+        cam(30.0, 20.0, 1.8),
+        cam(100.0, -30.0, 1.2),
+    ];
+    compare_ways(&gpu, "head", &head, 0.3, &outside);
+    let inside = [cam(20.0, 10.0, 0.25), cam(60.0, 10.0, 0.1)];
+    compare_ways(&gpu, "head inside", &head, 0.3, &inside);
+    // A surface that meets the grid's boundary, and one in many pieces.
+    let lobb = generate(ProceduralKind::MarschnerLobb, 33, ScalarType::U16).unwrap();
+    compare_ways(&gpu, "marschner-lobb", &lobb, 0.5, &outside[..2]);
+    let blobs = generate(ProceduralKind::Turbulence, 48, ScalarType::U8).unwrap();
+    compare_ways(&gpu, "turbulence", &blobs, 0.5, &outside[..2]);
+    assert_clean(&gpu);
+}
