@@ -63,7 +63,7 @@ pub struct BenchArgs {
     /// Image sizes to measure, in this order (default 1280x720,1920x1080,3840x2160).
     #[arg(long, value_delimiter = ',', value_parser = crate::data::parse_size)]
     pub(crate) sizes: Vec<(u32, u32)>,
-    /// `extraction` also times each extractor with stages left out, to place its time.
+    /// `extraction`, `isosurface` also time extractors, direct's rasterizer with stages left out.
     #[arg(long)]
     ablations: bool,
     /// `interval` times only the variants whose label holds this text (e.g. "scalar";

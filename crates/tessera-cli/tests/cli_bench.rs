@@ -3,7 +3,8 @@
 //! counted; `bench interval --variants` times only the variants asked for (at each `--sizes`
 //! size), its records saying when they were made and whether their warm-up settled, and the
 //! ways of the per-tet pass's subgroup drawing only when asked for; `bench isosurface
-//! --variants hidden-side` times each surface draw again with the hidden side drawn.
+//! --variants hidden-side` times each surface draw again with the hidden side drawn, and
+//! `--ablations` `direct`'s compute frame with each of the rasterizer's ways.
 
 mod common;
 use common::*;
@@ -327,4 +328,52 @@ fn bench_records(scratch_name: &str, args: &[&str]) -> Vec<Value> {
         .lines()
         .map(|l| serde_json::from_str(l).unwrap())
         .collect()
+}
+
+#[test]
+fn isosurface_ablations_time_each_of_the_rasterizers_ways() {
+    let records = bench_records(
+        "bench_raster_ablations",
+        &[
+            "isosurface",
+            "--quick",
+            "--data",
+            "procedural:head:32:uint8",
+            "--paths",
+            "compute",
+            "--sizes",
+            "64x48",
+            "--frames",
+            "1",
+            "--warmup",
+            "0",
+            "--min-warmup-ms",
+            "0",
+            "--ablations",
+        ],
+    );
+    let ways: Vec<(String, String)> = records
+        .iter()
+        .filter(|r| {
+            r["variant"]
+                .as_str()
+                .is_some_and(|v| v.starts_with("raster "))
+        })
+        .map(|r| {
+            let technique = r["technique"].as_str().unwrap().to_string();
+            (technique, r["variant"].as_str().unwrap().to_string())
+        })
+        .collect();
+    // Each way unculled, in the raster pass and in the extraction; the exact ones culled too.
+    for place in ["", ", in extraction"] {
+        for way in ["exact", "read before atomic", "no atomics", "set-up only"] {
+            let variant = format!("raster {way}{place}");
+            let culled = !way.starts_with("no") && !way.starts_with("set");
+            for (technique, timed) in [("direct", true), ("direct+hzb", culled)] {
+                let found = ways.contains(&(technique.to_string(), variant.clone()));
+                assert_eq!(found, timed, "{technique} {variant}: {ways:?}");
+            }
+        }
+    }
+    assert_eq!(ways.len(), 12, "{ways:?}");
 }

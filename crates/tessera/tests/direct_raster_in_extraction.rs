@@ -1,7 +1,9 @@
 //! `direct`'s compute path with each extraction workgroup drawing its own triangles
-//! (`DirectRaster::InExtraction`) draws the frames the raster pass after the extraction draws:
-//! the same depth at every pixel and the same image, culled or not, with the near plane
-//! cutting the volume, with the hidden side left out or drawn, and on open surfaces.
+//! (`DirectRaster::InExtraction`), and the rasterizer reading each pixel before its atomic
+//! (`RasterVariant::ReadBeforeAtomic`), draw the frames the raster pass after the extraction
+//! draws: the same depth at every pixel and the same image, culled or not, with the near plane
+//! cutting the volume, with the hidden side left out or drawn, and on open surfaces. The
+//! rasterizer's ablations draw nothing but mark the tiles.
 
 mod common;
 
@@ -9,6 +11,7 @@ use common::{assert_clean, Need, TestGpu};
 use tessera::iso::direct::compute::{ComputeTarget, DirectCompute, DirectRaster};
 use tessera::iso::direct::compute_cull::{ComputeCullState, ComputeCullStats};
 use tessera::iso::{HiddenSide, PreparedVolume};
+use tessera::raster::RasterVariant;
 use tessera::shaders;
 use tessera::target::Target;
 use tessera_data::marching_cubes::marching_cubes;
@@ -37,19 +40,14 @@ impl Way {
     fn new(
         gpu: &Gpu,
         volume: &Volume,
-        raster: DirectRaster,
+        (raster, variant): (DirectRaster, RasterVariant),
         size: (u32, u32),
         capacity: u32,
     ) -> Way {
         let compiler = shaders::compiler();
-        let compute = DirectCompute::with_raster(
-            gpu,
-            &compiler,
-            volume.scalar_type(),
-            Default::default(),
-            raster,
-        )
-        .unwrap();
+        let compute =
+            DirectCompute::for_measuring(gpu, &compiler, volume.scalar_type(), raster, variant)
+                .unwrap();
         assert_eq!(compute.raster(), raster);
         let prepared = compute.prepare(gpu, volume).unwrap();
         let target = ComputeTarget::new(gpu, size.0, size.1, capacity).unwrap();
@@ -107,42 +105,57 @@ impl Way {
     }
 }
 
-/// Draws `path` both ways, culled and not, and holds every frame of the one to the other's.
+/// The ways held to the raster pass's exact frames.
+const CANDIDATES: [(DirectRaster, RasterVariant); 3] = [
+    (DirectRaster::InExtraction, RasterVariant::Exact),
+    (DirectRaster::Pass, RasterVariant::ReadBeforeAtomic),
+    (DirectRaster::InExtraction, RasterVariant::ReadBeforeAtomic),
+];
+
+/// Draws `path` the raster pass's way and each candidate's, culled and not, and holds every
+/// candidate's frame to the raster pass's.
 fn compare_ways(gpu: &Gpu, name: &str, volume: &Volume, fraction: f32, path: &[OrbitCamera]) {
     let size = (96, 80);
     let iso = volume.iso_to_texel(IsoValue::Normalized(fraction));
     let capacity = marching_cubes(volume, iso).triangle_count() as u32 + 16;
+    let exact = (DirectRaster::Pass, RasterVariant::Exact);
     for hidden_side in [HiddenSide::Skip, HiddenSide::Draw] {
-        let [mut pass, mut fused] = [DirectRaster::Pass, DirectRaster::InExtraction]
-            .map(|raster| Way::new(gpu, volume, raster, size, capacity));
-        pass.prepared.hidden_side = hidden_side;
-        fused.prepared.hidden_side = hidden_side;
+        let mut ways: Vec<Way> = [exact]
+            .iter()
+            .chain(&CANDIDATES)
+            .map(|&way| Way::new(gpu, volume, way, size, capacity))
+            .collect();
+        for way in &mut ways {
+            way.prepared.hidden_side = hidden_side;
+        }
         for culled in [false, true] {
             for (frame, camera) in path.iter().enumerate() {
-                let what = format!(
-                    "{name} hidden side {} culled {culled} frame {frame}",
-                    hidden_side.name()
-                );
-                let expected = pass.draw(gpu, iso, camera, culled);
-                let got = fused.draw(gpu, iso, camera, culled);
-                assert_eq!(got.triangles, expected.triangles, "{what}");
-                assert_eq!(got.culling, expected.culling, "{what}");
+                let expected = ways[0].draw(gpu, iso, camera, culled);
                 let drawn = expected.depths.iter().filter(|&&d| d != u32::MAX).count();
-                assert!(drawn > 100, "{what}: {drawn} pixels drawn");
-                let wrong = got
-                    .depths
-                    .iter()
-                    .zip(&expected.depths)
-                    .filter(|(a, b)| a != b)
-                    .count();
-                assert_eq!(wrong, 0, "{what}: {wrong} of {drawn} pixels' depths differ");
-                // Colours may differ only where two triangles tie in depth.
-                let diff = got.image.compare(&expected.image, 2);
-                assert!(
-                    diff.fraction_within >= 0.999,
-                    "{what}: {} pixels differ",
-                    diff.pixels_outside
-                );
+                for (way, candidate) in ways[1..].iter().zip(CANDIDATES) {
+                    let what = format!(
+                        "{name} {candidate:?} hidden side {} culled {culled} frame {frame}",
+                        hidden_side.name()
+                    );
+                    assert!(drawn > 100, "{what}: {drawn} pixels drawn");
+                    let got = way.draw(gpu, iso, camera, culled);
+                    assert_eq!(got.triangles, expected.triangles, "{what}");
+                    assert_eq!(got.culling, expected.culling, "{what}");
+                    let wrong = got
+                        .depths
+                        .iter()
+                        .zip(&expected.depths)
+                        .filter(|(a, b)| a != b)
+                        .count();
+                    assert_eq!(wrong, 0, "{what}: {wrong} of {drawn} pixels' depths differ");
+                    // Colours may differ only where two triangles tie in depth.
+                    let diff = got.image.compare(&expected.image, 2);
+                    assert!(
+                        diff.fraction_within >= 0.999,
+                        "{what}: {} pixels differ",
+                        diff.pixels_outside
+                    );
+                }
             }
         }
     }
@@ -178,5 +191,44 @@ fn extraction_that_draws_its_triangles_draws_the_raster_passes_frames() {
     compare_ways(&gpu, "marschner-lobb", &lobb, 0.5, &outside[..2]);
     let blobs = generate(ProceduralKind::Turbulence, 48, ScalarType::U8).unwrap();
     compare_ways(&gpu, "turbulence", &blobs, 0.5, &outside[..2]);
+    assert_clean(&gpu);
+}
+
+/// The ablations leave the fragments out: nothing is drawn, yet every tile a triangle reaches
+/// is marked as the exact rasterizer marks it.
+#[test]
+fn raster_ablations_draw_nothing_and_mark_the_tiles() {
+    let Some(gpu) = TestGpu::with(&[Need::BufferInt64Atomics]) else {
+        return;
+    };
+    let head = generate(ProceduralKind::HeadPhantom, 40, ScalarType::U8).unwrap();
+    let iso = head.iso_to_texel(IsoValue::Normalized(0.3));
+    let capacity = marching_cubes(&head, iso).triangle_count() as u32 + 16;
+    let camera = cam(30.0, 20.0, 1.8);
+    let tiles =
+        |way: &Way| -> Vec<u32> { gpu.read_buffer_as(&way.target.frame.tile_frames).unwrap() };
+    let exact = Way::new(
+        &gpu,
+        &head,
+        (DirectRaster::Pass, RasterVariant::Exact),
+        (96, 80),
+        capacity,
+    );
+    exact.draw(&gpu, iso, &camera, false);
+    let marked = tiles(&exact);
+    assert!(marked.iter().filter(|&&t| t != 0).count() > 10);
+    for raster in [DirectRaster::Pass, DirectRaster::InExtraction] {
+        for variant in [RasterVariant::NoAtomics, RasterVariant::SetupOnly] {
+            assert!(!variant.is_exact());
+            let way = Way::new(&gpu, &head, (raster, variant), (96, 80), capacity);
+            let drawn = way.draw(&gpu, iso, &camera, false);
+            assert!(
+                drawn.depths.iter().all(|&d| d == u32::MAX),
+                "{raster:?} {variant:?}"
+            );
+            assert!(drawn.triangles > 0);
+            assert_eq!(tiles(&way), marked, "{raster:?} {variant:?}");
+        }
+    }
     assert_clean(&gpu);
 }

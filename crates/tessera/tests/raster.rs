@@ -10,7 +10,7 @@ use common::{assert_clean, gpu};
 use glam::{DVec2, DVec3, Vec4};
 use tessera::raster::{
     create_counts_buffer, decode, ComputeRasterizer, RasterCounts, RasterFrame, RasterTriangle,
-    EMPTY,
+    RasterVariant, EMPTY,
 };
 use tessera_data::rasterize::{
     rasterize_clip_triangles, rasterize_clip_triangles_hiding, screen_polygon, ScreenWinding,
@@ -118,6 +118,17 @@ fn random_triangles_match_cpu_reference() {
     let groups = (tris.len() as u32).div_ceil(rast.group_size());
     assert_eq!(args.dispatch, [2, groups.div_ceil(2), 1]);
     assert!(grid_values == gpu_values, "2-D grid changed the frame");
+
+    // Reading each pixel before its atomic leaves the same frame, bit for bit; the scene draws
+    // over itself (many triangles per pixel), so most fragments find a nearer value held.
+    let compiler = tessera::shaders::compiler();
+    let reading =
+        ComputeRasterizer::with_variant(&gpu, &compiler, RasterVariant::ReadBeforeAtomic).unwrap();
+    let read_first = draw(&gpu, &reading, &tris, w, h);
+    assert!(
+        read_first == gpu_values,
+        "reading before the atomic changed the frame"
+    );
     assert_clean(&gpu);
 }
 

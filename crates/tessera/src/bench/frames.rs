@@ -89,6 +89,24 @@ fn settle_frames(
     Ok(())
 }
 
+/// Times `plan` frames that `record` records, for scenarios driven below the front door.
+/// Stages are its scopes, and their sum as [`FRAME_STAGE`] when there are several.
+pub(super) fn time_recorded(
+    gpu: &Gpu,
+    plan: FramePlan,
+    record: impl FnMut(&Recorder, &mut Timer) -> Result<()>,
+) -> Result<Vec<StageStats>> {
+    struct Recorded<R>(R);
+    impl<R: FnMut(&Recorder, &mut Timer) -> Result<()>> TimedFrame for Recorded<R> {
+        type Error = Error;
+        fn record(&mut self, rec: &Recorder, timer: &mut Timer) -> Result<()> {
+            (self.0)(rec, timer)
+        }
+    }
+    let frames = frame_loop(gpu, plan, MAX_TIMER_SCOPES, &mut Recorded(record))?;
+    Ok(stage_stats(&frames))
+}
+
 /// Times `plan` frames of `view` after settling on the first `distinct` frames' looks.
 /// Stages are the renderer's scopes, and their sum as [`FRAME_STAGE`] when there are several.
 pub(super) fn time_mono(

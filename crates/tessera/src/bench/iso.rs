@@ -3,6 +3,7 @@
 
 use super::basic::{bench_sizes, bench_volumes, make_volume};
 use super::frames::{settle_after_upload, time_mono, EachFrame};
+use super::raster_ablation::raster_ablations;
 use super::{time_frames, BenchRecord, FramePlan};
 use super::{BenchConfig, RecordSink};
 use crate::error::{Error, Result};
@@ -304,11 +305,18 @@ fn run_scenario(
                 sink.emit(&record)?;
             }
         }
+        if config.ablations && sweep.is_none() {
+            if let Dataset::Volume(volume) = &data {
+                raster_ablations(gpu, config, plan, sink, volume, &volume_name)?;
+            }
+        }
     }
     Ok(())
 }
 
-/// `raymarch` against `direct` on the same volumes, sizes and camera.
+/// `raymarch` against `direct` on the same volumes, sizes and camera; with
+/// `config.ablations` also where `direct`'s compute frame spends its time
+/// (`raster_ablation`).
 pub fn isosurface(
     gpu: &Gpu,
     config: &BenchConfig,

@@ -9,6 +9,7 @@ mod growth;
 mod interval;
 mod iso;
 mod param;
+mod raster_ablation;
 pub mod repeat;
 mod shell;
 mod stereo;
@@ -59,7 +60,8 @@ pub struct BenchConfig {
     /// Image sizes to measure, in this order (empty: each scenario's own).
     pub sizes: Vec<(u32, u32)>,
     /// `extraction` also times each extractor with stages left out
-    /// ([`crate::iso::ablation::Ablation`]), for performance work.
+    /// ([`crate::iso::ablation::Ablation`]), `isosurface` `direct`'s compute frame with each of
+    /// the rasterizer's ways ([`crate::raster::RasterVariant`]), for performance work.
     pub ablations: bool,
     /// `interval` times only the variants whose label holds this text (all when `None`);
     /// `isosurface` and `iso-sweep` take "hidden-side" or "raster-in-extraction".

@@ -333,17 +333,79 @@ pub(crate) fn raster_defines() -> Vec<(String, String)> {
     ]
 }
 
+/// Ways the rasterizer may draw, for performance work (`tessera bench isosurface
+/// --ablations`): the exact one every renderer uses, a candidate that draws the same frames,
+/// and stages left out, whose frames are wrong, to tell where the time goes where no profiler
+/// reads the GPU's counters.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum RasterVariant {
+    #[default]
+    Exact,
+    /// Exact, each fragment's atomic left out where a relaxed read of the pixel already holds a
+    /// value at or below its own.
+    ReadBeforeAtomic,
+    /// Fragments computed but never written.
+    NoAtomics,
+    /// Triangles clipped, snapped and set up, their tiles marked; no pixel visited.
+    SetupOnly,
+}
+
+impl RasterVariant {
+    pub const ALL: [RasterVariant; 4] = [
+        RasterVariant::Exact,
+        RasterVariant::ReadBeforeAtomic,
+        RasterVariant::NoAtomics,
+        RasterVariant::SetupOnly,
+    ];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            RasterVariant::Exact => "exact",
+            RasterVariant::ReadBeforeAtomic => "read before atomic",
+            RasterVariant::NoAtomics => "no atomics",
+            RasterVariant::SetupOnly => "set-up only",
+        }
+    }
+
+    /// Whether its frames are the exact ones.
+    pub fn is_exact(self) -> bool {
+        matches!(self, RasterVariant::Exact | RasterVariant::ReadBeforeAtomic)
+    }
+
+    /// The `RASTER_VARIANT` define `raster/raster_draw.glsl` reads.
+    pub(crate) fn define(self) -> (String, String) {
+        let code = match self {
+            RasterVariant::Exact => 0,
+            RasterVariant::ReadBeforeAtomic => 1,
+            RasterVariant::NoAtomics => 2,
+            RasterVariant::SetupOnly => 3,
+        };
+        ("RASTER_VARIANT".into(), code.to_string())
+    }
+}
+
 impl ComputeRasterizer {
     /// Builds the passes; the device must have 64-bit buffer atomics
     /// (`caps().buffer_int64_atomics`).
     pub fn new(gpu: &Gpu, compiler: &ShaderCompiler) -> Result<ComputeRasterizer> {
+        Self::with_variant(gpu, compiler, RasterVariant::Exact)
+    }
+
+    /// Builds the passes drawing as `variant` says.
+    pub fn with_variant(
+        gpu: &Gpu,
+        compiler: &ShaderCompiler,
+        variant: RasterVariant,
+    ) -> Result<ComputeRasterizer> {
         if !gpu.caps().buffer_int64_atomics {
             return Err(Error::Invalid(format!(
                 "the compute rasterizer needs 64-bit buffer atomics, which {} lacks",
                 gpu.caps().device_name
             )));
         }
-        let raster = compiler.compile(&builtin_shader!("raster.comp.glsl"), &raster_defines())?;
+        let mut defines = raster_defines();
+        defines.push(variant.define());
+        let raster = compiler.compile(&builtin_shader!("raster.comp.glsl"), &defines)?;
         let raster = gpu.compute_pipeline("raster", &raster, &[Slot::StorageBuffer; 4])?;
         let prepare = IndirectArgs::new(gpu, compiler)?;
         Ok(ComputeRasterizer { prepare, raster })

@@ -3,6 +3,7 @@
 // by raster/raster_draw.glsl (the CPU reference tessera_data::rasterize's rules).
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_EXT_shader_atomic_int64 : require
+#extension GL_KHR_memory_scope_semantics : require
 #include "raster/raster.glsl"
 
 layout(local_size_x = RASTER_GROUP_SIZE) in;

@@ -12,8 +12,8 @@
 // themselves. The includer declares the frame's buffers by these names:
 //   buffer ... { uint64_t depth_payload[]; };   // the frame (raster/mod.rs)
 //   writeonly buffer ... { uint tile_frames[]; };  // per RASTER_TILE tile, the last frame number
-// enables GL_EXT_shader_explicit_arithmetic_types_int64 and GL_EXT_shader_atomic_int64 (before
-// any code), and defines SUBPIXEL_BITS, MIN_W, GUARD_BAND and RASTER_TILE
+// enables GL_EXT_shader_explicit_arithmetic_types_int64, GL_EXT_shader_atomic_int64 and
+// GL_KHR_memory_scope_semantics (before any code), and defines SUBPIXEL_BITS, MIN_W, GUARD_BAND and RASTER_TILE
 // (raster::raster_defines).
 
 #ifndef RASTER_RASTER_DRAW_GLSL
@@ -21,6 +21,13 @@
 
 #include "common/exact.glsl"
 #include "raster/raster.glsl"
+
+// The rasterizer's variant (raster::RasterVariant): 0 exact; 1 exact, each fragment's atomic
+// left out where the frame already holds a nearer value; for measuring where the time goes,
+// 2 fragments computed but not written, 3 triangles set up and their tiles marked, no pixels.
+#ifndef RASTER_VARIANT
+#define RASTER_VARIANT 0
+#endif
 
 // What a raster pass draws into, and how (RasterParams on the host).
 struct RasterPass {
@@ -154,6 +161,9 @@ void draw_fan_triangle(RasterPass pass, Corner a, Corner b, Corner c, uint index
             tile_frames[ty * tiles_per_row + tx] = pass.frame_number;
         }
     }
+#if RASTER_VARIANT == 3
+    return;
+#endif
     // Edge i is opposite corner i; its function is corner i's unnormalized weight.
     ivec2 centre = first * SUBPIXEL + HALF_SUBPIXEL;
     i64vec3 bias = i64vec3(edge_bias(b.p, c.p), edge_bias(c.p, a.p), edge_bias(a.p, b.p));
@@ -175,7 +185,20 @@ void draw_fan_triangle(RasterPass pass, Corner a, Corner b, Corner c, uint index
                 if (depth < 1.0) {
                     uint pixel = uint(y) * pass.size.x + uint(x);
                     uint64_t value = packUint2x32(uvec2(index, floatBitsToUint(depth)));
+#if RASTER_VARIANT == 1
+                    // Values only fall: one at or below ours already keeps ours out.
+                    uint64_t held = atomicLoad(depth_payload[pixel], gl_ScopeDevice,
+                                               gl_StorageSemanticsNone, gl_SemanticsRelaxed);
+                    if (value < held) {
+                        atomicMin(depth_payload[pixel], value);
+                    }
+#elif RASTER_VARIANT == 2
+                    if (index == 0xffffffffu) {  // never: keeps the fragment's arithmetic
+                        depth_payload[pixel] = value;
+                    }
+#else
                     atomicMin(depth_payload[pixel], value);
+#endif
                 }
             }
             e += step_x;

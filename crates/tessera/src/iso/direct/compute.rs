@@ -12,7 +12,8 @@ use crate::iso::direct::{Direct, DirectParams};
 use crate::iso::minmax::MinMaxBuilder;
 use crate::iso::PreparedVolume;
 use crate::raster::{
-    raster_defines, ComputeRasterizer, RasterFrame, RASTER_PASS_PARAMS_BYTES, TRIANGLE_BYTES,
+    raster_defines, ComputeRasterizer, RasterFrame, RasterVariant, RASTER_PASS_PARAMS_BYTES,
+    TRIANGLE_BYTES,
 };
 use crate::target::Target;
 use bytemuck::{Pod, Zeroable};
@@ -249,9 +250,11 @@ pub(crate) fn drawing_extraction(
     defines: &[(String, String)],
     slots: &[Slot],
     name: &str,
+    variant: RasterVariant,
 ) -> Result<Pipeline> {
     let mut defines = defines.to_vec();
     defines.push(("RASTER_IN_EXTRACTION".into(), "1".into()));
+    defines.push(variant.define());
     let spirv = compiler.compile(&builtin_shader!("extract.comp.glsl"), &defines)?;
     let slots = [slots, &[Slot::StorageBuffer; 3]].concat();
     Ok(gpu.compute_pipeline(name, &spirv, &slots)?)
@@ -343,6 +346,36 @@ impl DirectCompute {
         rule: AmbiguityRule,
         raster: DirectRaster,
     ) -> Result<DirectCompute> {
+        Self::build(gpu, compiler, scalar, rule, raster, RasterVariant::Exact)
+    }
+
+    /// The compute path drawing as `raster` and `variant` say, for performance work: with a
+    /// variant that is not [`RasterVariant::is_exact`] its images are wrong.
+    pub fn for_measuring(
+        gpu: &Gpu,
+        compiler: &ShaderCompiler,
+        scalar: ScalarType,
+        raster: DirectRaster,
+        variant: RasterVariant,
+    ) -> Result<DirectCompute> {
+        Self::build(
+            gpu,
+            compiler,
+            scalar,
+            AmbiguityRule::default(),
+            raster,
+            variant,
+        )
+    }
+
+    fn build(
+        gpu: &Gpu,
+        compiler: &ShaderCompiler,
+        scalar: ScalarType,
+        rule: AmbiguityRule,
+        raster: DirectRaster,
+        variant: RasterVariant,
+    ) -> Result<DirectCompute> {
         let drawing_extract = match raster {
             DirectRaster::Pass => None,
             DirectRaster::InExtraction => Some(drawing_extraction(
@@ -351,9 +384,10 @@ impl DirectCompute {
                 &extract_defines(scalar, rule),
                 &EXTRACT_SLOTS,
                 "direct extract (drawing)",
+                variant,
             )?),
         };
-        let rasterizer = ComputeRasterizer::new(gpu, compiler)?;
+        let rasterizer = ComputeRasterizer::with_variant(gpu, compiler, variant)?;
         let defines = volume_defines(scalar);
         let resolve = SurfaceResolve::new(gpu, compiler, &defines, false, "direct resolve")?;
         let reproject = compiler.compile(&builtin_shader!("reproject.comp.glsl"), &defines)?;
@@ -363,7 +397,7 @@ impl DirectCompute {
             extract: DirectExtract::with_rule(gpu, compiler, scalar, rule)?,
             drawing_extract,
             rasterizer,
-            cull: ComputeCullPipelines::new(gpu, compiler, scalar, rule, raster)?,
+            cull: ComputeCullPipelines::new(gpu, compiler, scalar, rule, (raster, variant))?,
             resolve,
             reproject,
             builder: MinMaxBuilder::new(gpu, compiler, scalar)?,

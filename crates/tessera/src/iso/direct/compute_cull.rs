@@ -50,6 +50,7 @@ use crate::iso::direct::compute::{extract_defines, ComputeTarget, TriangleLists}
 use crate::iso::direct::resolve::SurfaceResolve;
 use crate::iso::PreparedVolume;
 use crate::raster::hzb::{hzb_bytes, HzbBuilder};
+use crate::raster::RasterVariant;
 use bytemuck::{Pod, Zeroable};
 use std::cell::Cell;
 use tessera_data::mc_ambiguity::AmbiguityRule;
@@ -101,7 +102,7 @@ impl ComputeCullPipelines {
         compiler: &ShaderCompiler,
         scalar: ScalarType,
         rule: AmbiguityRule,
-        raster: DirectRaster,
+        (raster, variant): (DirectRaster, RasterVariant),
     ) -> Result<ComputeCullPipelines> {
         let defines = cull_defines(scalar, rule);
         let with = |name: &str| {
@@ -125,6 +126,7 @@ impl ComputeCullPipelines {
                 &with("BLOCK_LIST"),
                 &extract_slots,
                 "direct extract (block list, drawing)",
+                variant,
             )?,
         };
         let hzb = HzbBuilder::new(gpu, compiler)?;

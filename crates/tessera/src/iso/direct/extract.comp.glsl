@@ -10,6 +10,7 @@
 #ifdef RASTER_IN_EXTRACTION
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_EXT_shader_atomic_int64 : require
+#extension GL_KHR_memory_scope_semantics : require
 #endif
 #include "common/volume.glsl"
 #include "common/mc_tables.glsl"
