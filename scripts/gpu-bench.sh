@@ -5,9 +5,11 @@
 # OUT/SCENARIO.txt), then the plots (when matplotlib is there) and a one-line-per-cell summary;
 # where nvidia-smi is, the GPU's clocks through the run in OUT/clocks.csv.
 # The set is split in seven parts (below), for machines that run a command at most ten
-# minutes; no part = all of them.
+# minutes; no part = all of them. The part `direct` (only when named) times `direct`'s
+# candidates on the head phantom of DIRECT_SIZE (default 256) cubed: each draw with the hidden
+# side drawn again, and the compute frame with each of the rasterizer's ways.
 # Usage: scripts/gpu-bench.sh OUT_DIR [TESSERA_BINARY] [PART]
-# PART: volumes, isosurface, iso-sweep, surfaces, meshes, param or growth.
+# PART: volumes, isosurface, iso-sweep, surfaces, meshes, param, growth or direct.
 # Environment: REPEAT (default 2), FRAMES (default 50), SCANS (a folder holding ch2.nii.gz),
 # EXTRA (more flags for every scenario, e.g. --quick for a smoke run on a CPU driver), WARM
 # (0: no throw-away run before each scenario), PACK (a file: the output folder packed into it
@@ -17,8 +19,8 @@ out=${1:?output folder}
 bin=${2:-target/release/tessera}
 part=${3:-all}
 case $part in
-  all | volumes | isosurface | iso-sweep | surfaces | meshes | param | growth) ;;
-  *) echo "gpu-bench.sh: unknown part '$part' (volumes, isosurface, iso-sweep, surfaces, meshes, param, growth or none)" >&2; exit 2 ;;
+  all | volumes | isosurface | iso-sweep | surfaces | meshes | param | growth | direct) ;;
+  *) echo "gpu-bench.sh: unknown part '$part' (volumes, isosurface, iso-sweep, surfaces, meshes, param, growth, direct or none)" >&2; exit 2 ;;
 esac
 [ -x "$bin" ] || { echo "gpu-bench.sh: no tessera binary at $bin" >&2; exit 2; }
 repeat=${REPEAT:-2}
@@ -97,6 +99,13 @@ fi
 if in_part growth; then
   run growth 570 growth --frames 30
 fi
+if [ "$part" = direct ]; then
+  head="procedural:head:${DIRECT_SIZE:-256}:uint8"
+  run direct-hidden-side 280 isosurface --data "$head" --sizes 1280x720,3840x2160 \
+    --frames "$frames" --variants hidden-side
+  run direct-ablations 280 isosurface --data "$head" --sizes 1280x720,3840x2160 \
+    --paths compute --frames "$frames" --ablations
+fi
 
 if [ -n "${clock_log:-}" ]; then
   kill "$clock_log" 2> /dev/null
@@ -113,7 +122,7 @@ for line in open(sys.argv[1]):
     frame = stages.get("frame", r["stages"][-1]["median_ms"])
     size = f'{r["width"]}x{r["height"]}' if r["width"] else "-"
     print(f'{r["scenario"][:12]:12} {r["technique"][:12]:12} {r["path"][:8]:8} '
-          f'{r.get("variant", "")[:18]:18} {r["dataset"][:28]:28} {size:9} {frame:9.3f} ms')
+          f'{r.get("variant", "")[:42]:42} {r["dataset"][:28]:28} {size:9} {frame:9.3f} ms')
 PY
 if [ -n "${PACK:-}" ]; then
   tar czf "$PACK" -C "$out" .

@@ -232,3 +232,52 @@ fn raster_ablations_draw_nothing_and_mark_the_tiles() {
     }
     assert_clean(&gpu);
 }
+
+/// Through the front door, `RendererOptions::direct_raster` draws the same images, with
+/// culling off, on and chosen per frame, over a few frames of a turning camera.
+#[test]
+fn the_front_doors_raster_choice_draws_the_same_images() {
+    use tessera::renderer::{self, Culling, RendererOptions, Technique};
+    use tessera_data::scene::{Appearance, Dataset};
+    let Some(gpu) = TestGpu::with(&[Need::BufferInt64Atomics]) else {
+        return;
+    };
+    let data = Dataset::Volume(generate(ProceduralKind::HeadPhantom, 48, ScalarType::U8).unwrap());
+    let look = Appearance {
+        iso: IsoValue::Normalized(0.3),
+        ..Appearance::default()
+    };
+    for culling in [Culling::Off, Culling::On, Culling::Auto] {
+        let mut images = Vec::new();
+        for direct_raster in [DirectRaster::Pass, DirectRaster::InExtraction] {
+            let options = RendererOptions {
+                path: tessera::path::PathChoice::Compute,
+                culling,
+                direct_raster,
+                ..RendererOptions::default()
+            };
+            let mut r = renderer::create(&gpu, Technique::Direct, &options).unwrap();
+            r.set_appearance(&gpu, &look).unwrap();
+            r.set_data(&gpu, &data).unwrap();
+            let mut frame = renderer::Frame::new(&gpu, (80, 64)).unwrap();
+            let mut frames = Vec::new();
+            for azimuth in [30.0, 30.0, 80.0] {
+                let view = r.view(&cam(azimuth, 20.0, 1.8), (80, 64)).unwrap();
+                frame.target.poison(&gpu, u32::MAX).unwrap();
+                frame.render(&gpu, r.as_mut(), &view).unwrap();
+                frames.push(frame.target.read(&gpu).unwrap());
+            }
+            images.push(frames);
+        }
+        for (k, (pass, fused)) in images[0].iter().zip(&images[1]).enumerate() {
+            assert!(!fused.pixels.contains(&u32::MAX), "{culling:?} frame {k}");
+            let diff = fused.compare(pass, 2);
+            assert!(
+                diff.fraction_within >= 0.999,
+                "{culling:?} frame {k}: {} pixels differ",
+                diff.pixels_outside
+            );
+        }
+    }
+    assert_clean(&gpu);
+}
