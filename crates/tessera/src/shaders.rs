@@ -181,6 +181,10 @@ const COMMON: &[(&str, &str)] = &[
     ("raster/hzb.glsl", include_str!("raster/hzb.glsl")),
     ("raster/hzb_test.glsl", include_str!("raster/hzb_test.glsl")),
     (
+        "iso/direct/block_samples.glsl",
+        include_str!("iso/direct/block_samples.glsl"),
+    ),
+    (
         "iso/direct/block_list.glsl",
         include_str!("iso/direct/block_list.glsl"),
     ),

@@ -1,6 +1,7 @@
 #version 460
 // Compute path of direct isosurface extraction: the task and mesh stages' work in one compute
-// workgroup per 8×8×4 block, for GPUs whose graphics stages run on few units. Triangles go to
+// workgroup per 8×8×4 block, for GPUs whose graphics stages run on few units, reading the
+// block's samples from shared memory (iso/direct/block_samples.glsl). Triangles go to
 // the shared compute rasterizer's list (clip-space corners) with their shading attributes
 // beside them; the workgroup reserves its slots with one atomic. Each corner's attributes carry
 // its block's linear id (`maker`), so a resolve knows which blocks own pixels. With BLOCK_LIST
@@ -28,6 +29,7 @@
 layout(local_size_x = 32) in;
 layout(binding = 0) uniform VOLUME_SAMPLER volume_tex;
 layout(binding = 1) readonly buffer Nodes { vec2 minmax_nodes[]; };
+#include "iso/direct/block_samples.glsl"
 #ifdef RASTER_IN_EXTRACTION
 // Read back by the workgroup's other invocations, which draw them.
 layout(binding = 2) coherent buffer Triangles { RasterTriangle triangles[]; };
@@ -98,6 +100,7 @@ void main() {
     if (iso < range.x || iso > range.y) {
         return;  // uniform across the workgroup
     }
+    block_samples_load(block, dims);
 
 #ifdef BLOCK_LIST
     cell_box_record_begin();
@@ -113,8 +116,9 @@ void main() {
         uvec3 cell = block * uvec3(BLOCK_X, BLOCK_Y, BLOCK_Z) + local;
         rows[k] = 0u;  // case 0's row: no triangles
         if (all(lessThan(cell, dims - 1u))) {
-            uint case_index = mc_cell_case(volume_tex, cell, iso);
-            rows[k] = mc_cell_row(volume_tex, cell, case_index, iso);
+            float corners[8];
+            block_cell_corners(cell, corners);
+            rows[k] = mc_row_of_corners(corners, mc_case_of_corners(corners, iso), iso);
         }
         total += mc_tri_count(rows[k]);
         if (mc_tri_count(rows[k]) > 0u) {
@@ -167,7 +171,7 @@ void main() {
             for (uint j = 0u; j < 3u; ++j) {
                 vec3 p;
                 vec3 normal;
-                mc_edge_vertex(volume_tex, cell, mc_tri_edge(row, 3u * t + j), iso, dims, p, normal);
+                block_edge_vertex(cell, mc_tri_edge(row, 3u * t + j), iso, dims, p, normal);
                 triangles[slot].clip[j] = params.grid_to_clip * vec4(p, 1.0);
                 attributes[slot].corners[j] = CornerAttributes(grid_normal_to_world(normal, params.grid_to_world.xyz), block_id);
             }

@@ -95,25 +95,29 @@ vec3 mc_grid_gradient(VOLUME_SAMPLER vol, uvec3 p, uvec3 dims) {
     return g;
 }
 
-// The vertex where edge `edge` of `cell` crosses iso, in grid coordinates, with its normal
-// pointing toward lower values like the triangles (the gradient blended along the edge and
-// negated; the edge direction pointing from the above end to the below end where the
-// gradient vanishes).
-void mc_edge_vertex(VOLUME_SAMPLER vol, uvec3 cell, uint edge, float iso, uvec3 dims,
-                    out vec3 position, out vec3 normal) {
-    uint corners = MC_EDGE_CORNERS[edge];
-    uvec3 pa = cell + mc_corner_offset(corners & 15u);
-    uvec3 pb = cell + mc_corner_offset(corners >> 4);
-    float a = volume_texel(vol, ivec3(pa));
-    float b = volume_texel(vol, ivec3(pb));
+// The vertex where the edge from grid point pa (sample a, gradient ga) to pb (b, gb) crosses
+// iso, with its normal pointing toward lower values like the triangles (the gradient blended
+// along the edge and negated; the edge direction pointing from the above end to the below end
+// where the gradient vanishes).
+void mc_edge_vertex_of(uvec3 pa, uvec3 pb, float a, float b, vec3 ga, vec3 gb, float iso,
+                       out vec3 position, out vec3 normal) {
     float t = clamp((iso - a) / (b - a), 0.0, 1.0);
     if (isnan(t)) {
         t = 0.5;
     }
     vec3 dir = vec3(pb - pa);
     position = vec3(pa) + dir * t;
-    vec3 ga = mc_grid_gradient(vol, pa, dims);
-    vec3 gb = mc_grid_gradient(vol, pb, dims);
     vec3 g = ga * (1.0 - t) + gb * t;
     normal = dot(g, g) > 0.0 ? normalize(-g) : (a < iso ? -dir : dir);
+}
+
+// mc_edge_vertex_of for edge `edge` of `cell`, in grid coordinates, its samples read from `vol`.
+void mc_edge_vertex(VOLUME_SAMPLER vol, uvec3 cell, uint edge, float iso, uvec3 dims,
+                    out vec3 position, out vec3 normal) {
+    uint corners = MC_EDGE_CORNERS[edge];
+    uvec3 pa = cell + mc_corner_offset(corners & 15u);
+    uvec3 pb = cell + mc_corner_offset(corners >> 4);
+    mc_edge_vertex_of(pa, pb, volume_texel(vol, ivec3(pa)), volume_texel(vol, ivec3(pb)),
+                      mc_grid_gradient(vol, pa, dims), mc_grid_gradient(vol, pb, dims), iso,
+                      position, normal);
 }
