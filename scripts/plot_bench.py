@@ -73,7 +73,8 @@ def main():
                 if r["dataset"] != dataset:
                     continue
                 size = f'{r["width"]}x{r["height"]}'
-                # Last stage = the rendering stage (time-varying frames also upload and build).
+                # Last stage = the rendering stage, or the span of a frame of several
+                # (time-varying frames also upload and build).
                 stage = r["stages"][-1]
                 series[f'{r["technique"]} ({r["path"]}) {stage["stage"]}'][size] = stage["median_ms"]
             for label, points in sorted(series.items()):

@@ -376,4 +376,17 @@ fn isosurface_ablations_time_each_of_the_rasterizers_ways() {
         }
     }
     assert_eq!(ways.len(), 12, "{ways:?}");
+    // A frame timed pass by pass also carries its whole time, first pass start to last end,
+    // which holds every pass and the drain between them.
+    for r in records.iter().filter(|r| r["technique"] == "direct+hzb") {
+        let median = |name: &str| {
+            let stages = r["stages"].as_array().unwrap();
+            let stage = stages.iter().find(|s| s["stage"] == name);
+            stage.map(|s| s["median_ms"].as_f64().unwrap())
+        };
+        let (Some(sum), Some(span)) = (median("frame"), median("frame-span")) else {
+            panic!("no frame or frame-span in {r}");
+        };
+        assert!(span >= sum, "{r}");
+    }
 }

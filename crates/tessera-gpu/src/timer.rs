@@ -67,9 +67,14 @@ impl Timer {
 
     /// Milliseconds per scope of the last submitted frame, in recording order.
     pub fn read_ms(&self, gpu: &Gpu) -> Result<Vec<(String, f64)>> {
+        Ok(self.read(gpu)?.scopes)
+    }
+
+    /// The last submitted frame's scopes and its span (see [`ScopeTimes`]).
+    pub fn read(&self, gpu: &Gpu) -> Result<ScopeTimes> {
         let n = self.names.len();
         if n == 0 {
-            return Ok(vec![]);
+            return Ok(ScopeTimes::default());
         }
         let mut ticks = vec![0u64; n * 2];
         // No WAIT: submissions wait for their fence, so the results of a submitted frame are
@@ -92,14 +97,27 @@ impl Timer {
             other => other.call("vkGetQueryPoolResults")?,
         }
         let period = gpu.caps().timestamp_period_ns as f64;
-        Ok(self
+        let ms = |from: u64, to: u64| to.wrapping_sub(from) as f64 * period * 1e-6;
+        let scopes = self
             .names
             .iter()
             .enumerate()
-            .map(|(i, name)| {
-                let dt = ticks[i * 2 + 1].wrapping_sub(ticks[i * 2]) as f64;
-                (name.clone(), dt * period * 1e-6)
-            })
-            .collect())
+            .map(|(i, name)| (name.clone(), ms(ticks[i * 2], ticks[i * 2 + 1])))
+            .collect();
+        Ok(ScopeTimes {
+            scopes,
+            span_ms: ms(ticks[0], ticks[n * 2 - 1]),
+        })
     }
+}
+
+/// What a [`Timer`] measured of one frame: each scope's milliseconds in recording order, and
+/// the milliseconds from the first scope's start to the last one's end. Between scopes that
+/// follow each other the GPU drains one pass before the next starts; that time belongs to no
+/// scope, so the span of a frame of several scopes is its whole time and the scopes' sum
+/// falls short of it.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct ScopeTimes {
+    pub scopes: Vec<(String, f64)>,
+    pub span_ms: f64,
 }

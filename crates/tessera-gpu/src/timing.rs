@@ -193,9 +193,10 @@ pub trait TimedFrame {
 }
 
 /// The frames a [`frame_loop`] timed (per frame, its scopes' GPU milliseconds in recording
-/// order) and the warm-up run before them.
+/// order, and its span: [`crate::timer::ScopeTimes`]) and the warm-up run before them.
 pub struct TimedFrames {
     pub frames: Vec<Vec<(String, f64)>>,
+    pub spans: Vec<f64>,
     pub warm_up: WarmUp,
 }
 
@@ -223,6 +224,13 @@ impl TimedFrames {
             .collect();
         StageStats::from_samples(name, &totals).after_warmup(&self.warm_up)
     }
+
+    /// Statistics of each frame's span, first scope's start to last scope's end, as one stage
+    /// `name`: the frame's whole time, where the sum of its scopes leaves out the GPU's drain
+    /// between them.
+    pub fn span_stats(&self, name: &str) -> StageStats {
+        StageStats::from_samples(name, &self.spans).after_warmup(&self.warm_up)
+    }
 }
 
 /// Submits warm-up frames until [`WarmUp`] says they settled, then `plan.frames` timed frames,
@@ -237,6 +245,7 @@ pub fn frame_loop<F: TimedFrame + ?Sized>(
     let mut timer = Timer::new(gpu, max_scopes)?;
     let mut keep_busy = KeepBusy::new(gpu, plan.keep_busy_ms)?;
     let mut frames = Vec::with_capacity(plan.frames as usize);
+    let mut spans = Vec::with_capacity(plan.frames as usize);
     let mut warm_up = WarmUp::new(plan);
     while frames.len() < plan.frames as usize {
         timer.reset(gpu);
@@ -247,16 +256,21 @@ pub fn frame_loop<F: TimedFrame + ?Sized>(
         })?;
         recorded?;
         timed.finish(gpu)?;
-        let scopes = timer.read_ms(gpu)?;
-        let frame_ms = scopes.iter().map(|s| s.1).sum();
+        let times = timer.read(gpu)?;
+        let frame_ms = times.scopes.iter().map(|s| s.1).sum();
         keep_busy.frame_done(gpu, frame_ms)?;
         if warm_up.warming() {
             warm_up.add(frame_ms);
         } else {
-            frames.push(scopes);
+            frames.push(times.scopes);
+            spans.push(times.span_ms);
         }
     }
-    Ok(TimedFrames { frames, warm_up })
+    Ok(TimedFrames {
+        frames,
+        spans,
+        warm_up,
+    })
 }
 
 /// [`frame_loop`] of frames that `record` records (opening timer scopes), each the same:
@@ -314,7 +328,7 @@ mod tests {
     }
 
     #[test]
-    fn scope_and_summed_stats_of_timed_frames() {
+    fn scope_summed_and_span_stats_of_timed_frames() {
         let scope = |name: &str, ms: f64| (name.to_string(), ms);
         let timed = TimedFrames {
             frames: vec![
@@ -322,6 +336,7 @@ mod tests {
                 vec![scope("a", 3.0)],
                 vec![scope("a", 2.0), scope("b", 6.0)],
             ],
+            spans: vec![5.5, 3.0, 8.25],
             warm_up: WarmUp::new(FramePlan::default()),
         };
         let stats = timed.scope_stats();
@@ -334,6 +349,11 @@ mod tests {
         assert_eq!(
             (sum.stage.as_str(), sum.median_ms, sum.max_ms),
             ("frame", 5.0, 8.0)
+        );
+        let span = timed.span_stats("frame-span");
+        assert_eq!(
+            (span.stage.as_str(), span.median_ms, span.max_ms),
+            ("frame-span", 5.5, 8.25)
         );
     }
 

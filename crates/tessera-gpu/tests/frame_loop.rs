@@ -82,6 +82,51 @@ fn every_frame_is_recorded_then_finished_and_only_the_timed_ones_are_kept() {
         ("fill", 3)
     );
     assert_eq!(timed.sum_stats("frame").median_ms, stats[0].median_ms);
+    // One scope spans its frame.
+    assert_eq!(timed.spans.len(), 4);
+    for (span, scopes) in timed.spans.iter().zip(&timed.frames) {
+        assert_eq!(*span, scopes[0].1);
+    }
+    assert_clean(&gpu);
+}
+
+/// Two timed fills with untimed fills between them.
+struct Gapped<'a> {
+    work: &'a Buffer,
+}
+
+impl TimedFrame for Gapped<'_> {
+    type Error = GpuError;
+
+    fn record(&mut self, rec: &Recorder, timer: &mut Timer) -> Result<(), GpuError> {
+        timer.scope(rec, "first", |rec| rec.fill_buffer(self.work, 1));
+        for value in 0..64 {
+            rec.barrier();
+            rec.fill_buffer(self.work, value);
+        }
+        rec.barrier();
+        timer.scope(rec, "second", |rec| rec.fill_buffer(self.work, 2));
+        Ok(())
+    }
+}
+
+#[test]
+fn a_frames_span_holds_its_scopes_and_the_work_between_them() {
+    let Some(gpu) = open() else { return };
+    let work = fill_target(&gpu);
+    let timed = frame_loop(&gpu, plan(), 2, &mut Gapped { work: &work }).unwrap();
+    assert_eq!(timed.spans.len(), timed.frames.len());
+    for (span, scopes) in timed.spans.iter().zip(&timed.frames) {
+        let names: Vec<&str> = scopes.iter().map(|s| s.0.as_str()).collect();
+        assert_eq!(names, ["first", "second"]);
+        let sum: f64 = scopes.iter().map(|s| s.1).sum();
+        // The timestamps wait for all earlier commands: scopes follow each other in time.
+        assert!(
+            *span >= sum && span.is_finite(),
+            "span {span} ms, scopes {scopes:?}"
+        );
+    }
+    assert!(timed.span_stats("frame-span").median_ms >= timed.sum_stats("frame").median_ms);
     assert_clean(&gpu);
 }
 

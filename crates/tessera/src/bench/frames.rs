@@ -19,13 +19,18 @@ pub(super) type EachFrame<'a> = Option<&'a dyn Fn(u32, &mut dyn Renderer) -> Res
 
 /// The stage that sums a frame's stages when it has several.
 pub(super) const FRAME_STAGE: &str = "frame";
+/// The stage that spans a frame of several stages, first start to last end: its whole time,
+/// with the GPU's drain between the stages that [`FRAME_STAGE`] leaves out.
+pub(super) const FRAME_SPAN_STAGE: &str = "frame-span";
 
 /// Statistics per scope (by position), then, when a frame has several scopes, of their sum
-/// as [`FRAME_STAGE`] (the stages follow each other).
+/// as [`FRAME_STAGE`] (the stages follow each other) and of the frame's span as
+/// [`FRAME_SPAN_STAGE`].
 fn stage_stats(timed: &TimedFrames) -> Vec<StageStats> {
     let mut stages = timed.scope_stats();
     if stages.len() > 1 {
         stages.push(timed.sum_stats(FRAME_STAGE));
+        stages.push(timed.span_stats(FRAME_SPAN_STAGE));
     }
     stages
 }
