@@ -31,6 +31,10 @@ const COMMON: &[(&str, &str)] = &[
         include_str!("shaders/common/mc_cell.glsl"),
     ),
     (
+        "common/held_samples.glsl",
+        include_str!("shaders/common/held_samples.glsl"),
+    ),
+    (
         "common/mc_vertex.glsl",
         include_str!("shaders/common/mc_vertex.glsl"),
     ),
@@ -180,10 +184,6 @@ const COMMON: &[(&str, &str)] = &[
     ),
     ("raster/hzb.glsl", include_str!("raster/hzb.glsl")),
     ("raster/hzb_test.glsl", include_str!("raster/hzb_test.glsl")),
-    (
-        "iso/direct/block_samples.glsl",
-        include_str!("iso/direct/block_samples.glsl"),
-    ),
     (
         "iso/direct/block_list.glsl",
         include_str!("iso/direct/block_list.glsl"),

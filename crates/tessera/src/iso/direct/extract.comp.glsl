@@ -1,7 +1,7 @@
 #version 460
 // Compute path of direct isosurface extraction: the task and mesh stages' work in one compute
 // workgroup per 8×8×4 block, for GPUs whose graphics stages run on few units, reading the
-// block's samples from shared memory (iso/direct/block_samples.glsl). Triangles go to
+// block's samples from shared memory (common/held_samples.glsl). Triangles go to
 // the shared compute rasterizer's list (clip-space corners) with their shading attributes
 // beside them; the workgroup reserves its slots with one atomic. Each corner's attributes carry
 // its block's linear id (`maker`), so a resolve knows which blocks own pixels. With BLOCK_LIST
@@ -29,7 +29,11 @@
 layout(local_size_x = 32) in;
 layout(binding = 0) uniform VOLUME_SAMPLER volume_tex;
 layout(binding = 1) readonly buffer Nodes { vec2 minmax_nodes[]; };
-#include "iso/direct/block_samples.glsl"
+// The block's samples with a one-sample apron, loaded once into shared memory.
+#define HELD_SAMPLES_SIZE uvec3(BLOCK_X + 3u, BLOCK_Y + 3u, BLOCK_Z + 3u)
+#define HELD_SAMPLES_MAX ((BLOCK_X + 3u) * (BLOCK_Y + 3u) * (BLOCK_Z + 3u))
+#define HELD_SAMPLES_LOADERS gl_WorkGroupSize.x
+#include "common/held_samples.glsl"
 #ifdef RASTER_IN_EXTRACTION
 // Read back by the workgroup's other invocations, which draw them.
 layout(binding = 2) coherent buffer Triangles { RasterTriangle triangles[]; };
@@ -100,7 +104,8 @@ void main() {
     if (iso < range.x || iso > range.y) {
         return;  // uniform across the workgroup
     }
-    block_samples_load(block, dims);
+    uvec3 block_first = block * uvec3(BLOCK_X, BLOCK_Y, BLOCK_Z);
+    held_samples_load(block_first, block_first + uvec3(BLOCK_X, BLOCK_Y, BLOCK_Z), dims);
 
 #ifdef BLOCK_LIST
     cell_box_record_begin();
@@ -117,7 +122,7 @@ void main() {
         rows[k] = 0u;  // case 0's row: no triangles
         if (all(lessThan(cell, dims - 1u))) {
             float corners[8];
-            block_cell_corners(cell, corners);
+            held_cell_corners(cell, corners);
             rows[k] = mc_row_of_corners(corners, mc_case_of_corners(corners, iso), iso);
         }
         total += mc_tri_count(rows[k]);
@@ -171,7 +176,7 @@ void main() {
             for (uint j = 0u; j < 3u; ++j) {
                 vec3 p;
                 vec3 normal;
-                block_edge_vertex(cell, mc_tri_edge(row, 3u * t + j), iso, dims, p, normal);
+                held_edge_vertex(cell, mc_tri_edge(row, 3u * t + j), iso, dims, p, normal);
                 triangles[slot].clip[j] = params.grid_to_clip * vec4(p, 1.0);
                 attributes[slot].corners[j] = CornerAttributes(grid_normal_to_world(normal, params.grid_to_world.xyz), block_id);
             }

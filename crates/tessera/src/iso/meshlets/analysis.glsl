@@ -85,8 +85,9 @@ void meshlet_analyse(uint listed) {
         s_quarter_padding[me] = 0u;
     }
     // Ends with a barrier: the sums above start at zero for everyone.
-    meshlet_load_samples(block_origin,
-                         mc_box_end(block_origin, uvec3(BLOCK_X, BLOCK_Y, BLOCK_Z), params.volume_dims));
+    held_samples_load(block_origin,
+                      mc_box_end(block_origin, uvec3(BLOCK_X, BLOCK_Y, BLOCK_Z), params.volume_dims),
+                      params.volume_dims);
 
     uint cells = 0u;
     uint triangles = 0u;
@@ -103,7 +104,7 @@ void meshlet_analyse(uint listed) {
             continue;
         }
         float corners[8];
-        meshlet_cell_corners(cell, corners);
+        held_cell_corners(cell, corners);
         uint case_index = mc_case_of_corners(corners, iso);
         if (MC_EDGE_MASK[case_index] == 0u) {
             continue;

@@ -84,7 +84,7 @@ void meshlet_extract(uint s, bool block_samples_held) {
     uvec3 size = meshlet_cell_of_code(first_code + code_count - 1u) - meshlet_cell_of_code(first_code) + 1u;
     uvec3 hi = mc_box_end(lo, size, dims);
     if (!block_samples_held) {
-        meshlet_load_samples(lo, hi);
+        held_samples_load(lo, hi, params.volume_dims);
     }
     uvec3 points = hi - lo + 1u;
     uint box_points = meshlet_box_points(lo, hi);
@@ -113,7 +113,7 @@ void meshlet_extract(uint s, bool block_samples_held) {
 #else
         uvec3 cell = block_origin + meshlet_cell_of_code(meshlet_cell_code(first_cell + c));
         float corners[8];
-        meshlet_cell_corners(cell, corners);
+        held_cell_corners(cell, corners);
         uint case_index = mc_case_of_corners(corners, iso);
         uint entry = mc_row_of_corners(corners, case_index, iso)
             | mc_case_owned_mask(case_index) << 16;
