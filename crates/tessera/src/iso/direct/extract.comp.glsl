@@ -26,14 +26,22 @@
 #include "raster/raster.glsl"
 #include "common/indirect_args.glsl"
 
-layout(local_size_x = 32) in;
+// Invocations per block: 2 cells each. With 32 (8 cells each), a block held
+// too few invocations to hide the latency of its dependent steps, as the meshlet extraction
+// found (docs/BENCHMARKS.md, run 43), and 32-invocation workgroups leave half an SM's warps
+// unused where a GPU keeps at most 32 workgroups on one.
+#define EXTRACT_INVOCATIONS 128
+layout(local_size_x = EXTRACT_INVOCATIONS) in;
 layout(binding = 0) uniform VOLUME_SAMPLER volume_tex;
 layout(binding = 1) readonly buffer Nodes { vec2 minmax_nodes[]; };
 // The block's samples with a one-sample apron, loaded once into shared memory.
 #define HELD_SAMPLES_SIZE uvec3(BLOCK_X + 3u, BLOCK_Y + 3u, BLOCK_Z + 3u)
 #define HELD_SAMPLES_MAX ((BLOCK_X + 3u) * (BLOCK_Y + 3u) * (BLOCK_Z + 3u))
-#define HELD_SAMPLES_LOADERS gl_WorkGroupSize.x
+#define HELD_SAMPLES_LOADERS uint(EXTRACT_INVOCATIONS)
 #include "common/held_samples.glsl"
+#define WORKGROUP_SCAN_SIZE EXTRACT_INVOCATIONS
+#define WORKGROUP_SCAN_SUBGROUPS 0
+#include "common/workgroup_scan.glsl"
 #ifdef RASTER_IN_EXTRACTION
 // Read back by the workgroup's other invocations, which draw them.
 layout(binding = 2) coherent buffer Triangles { RasterTriangle triangles[]; };
@@ -78,8 +86,7 @@ layout(binding = RASTER_BINDING + 2) readonly buffer RasterPassParams {
 #endif
 
 const uint CELLS = BLOCK_X * BLOCK_Y * BLOCK_Z;
-const uint PER_THREAD = CELLS / 32u;
-shared uint prefix[33];
+const uint PER_THREAD = CELLS / uint(EXTRACT_INVOCATIONS);
 shared uint base;
 
 void main() {
@@ -136,14 +143,10 @@ void main() {
         cell_box_record_add(made_lo, made_hi);
     }
 #endif
-    prefix[me + 1u] = total;
-    barrier();
+    uvec3 totals;
+    uint below = workgroup_exclusive_scan(uvec3(total, 0u, 0u), totals).x;
+    uint wg_total = totals.x;
     if (me == 0u) {
-        prefix[0] = 0u;
-        for (uint t = 1u; t <= 32u; ++t) {
-            prefix[t] += prefix[t - 1u];
-        }
-        uint wg_total = prefix[32];
         uint first = atomicAdd(stats[0], wg_total);
         atomicAdd(stats[1], 1u);
         // Slots past the capacity are dropped; the count stays exact (see Stats).
@@ -159,7 +162,7 @@ void main() {
     }
     barrier();
 
-    uint slot = base + prefix[me];
+    uint slot = base + below;
     for (uint k = 0u; k < PER_THREAD; ++k) {
         uint row = rows[k];
         uint n = mc_tri_count(row);
@@ -183,13 +186,14 @@ void main() {
         }
     }
 #ifdef RASTER_IN_EXTRACTION
-    // The workgroup's triangles, drawn as the raster pass draws them. Invocation i takes every
-    // 32nd from the i-th, so that cells with many triangles keep no invocation waiting.
+    // The workgroup's triangles, drawn as the raster pass draws them. Each invocation takes
+    // every EXTRACT_INVOCATIONS-th from its own, so that cells with many triangles keep no
+    // invocation waiting.
     memoryBarrierBuffer();
     barrier();
     RasterPass pass = RasterPass(raster_pass.size, raster_pass.frame_number, raster_pass.hidden_winding);
-    uint end = min(base + prefix[32], capacity);
-    for (uint s = base + me; s < end; s += 32u) {
+    uint end = min(base + wg_total, capacity);
+    for (uint s = base + me; s < end; s += uint(EXTRACT_INVOCATIONS)) {
         raster_draw_triangle(pass, triangles[s].clip[0], triangles[s].clip[1], triangles[s].clip[2],
                              raster_pass.index_base + s);
     }
