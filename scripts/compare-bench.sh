@@ -55,6 +55,9 @@ def records(path):
         # A record may hold its stages and their total (culled frames): count the total once.
         total = max(ms, default=0.0)
         rest = sum(ms) - total
+        # The passes' sum, which binaries of every age record; `frame-span` (the whole
+        # frame) is newer, and a span against a sum would show the drain between passes
+        # as a change.
         if "frame" in stages:
             rows[key] = stages["frame"]
         else:

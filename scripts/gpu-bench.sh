@@ -119,7 +119,7 @@ for line in open(sys.argv[1]):
     if r.get("repeat", 0):
         continue
     stages = {s["stage"]: s["median_ms"] for s in r["stages"]}
-    frame = stages.get("frame", r["stages"][-1]["median_ms"])
+    frame = stages.get("frame-span", stages.get("frame", r["stages"][-1]["median_ms"]))
     size = f'{r["width"]}x{r["height"]}' if r["width"] else "-"
     print(f'{r["scenario"][:12]:12} {r["technique"][:12]:12} {r["path"][:8]:8} '
           f'{r.get("variant", "")[:42]:42} {r["dataset"][:28]:28} {size:9} {frame:9.3f} ms')

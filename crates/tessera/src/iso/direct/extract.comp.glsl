@@ -125,7 +125,7 @@ void main() {
     for (uint k = 0u; k < PER_THREAD; ++k) {
         uint id = me * PER_THREAD + k;
         uvec3 local = uvec3(id % BLOCK_X, (id / BLOCK_X) % BLOCK_Y, id / (BLOCK_X * BLOCK_Y));
-        uvec3 cell = block * uvec3(BLOCK_X, BLOCK_Y, BLOCK_Z) + local;
+        uvec3 cell = block_first + local;
         rows[k] = 0u;  // case 0's row: no triangles
         if (all(lessThan(cell, dims - 1u))) {
             float corners[8];
@@ -171,7 +171,7 @@ void main() {
         }
         uint id = me * PER_THREAD + k;
         uvec3 local = uvec3(id % BLOCK_X, (id / BLOCK_X) % BLOCK_Y, id / (BLOCK_X * BLOCK_Y));
-        uvec3 cell = block * uvec3(BLOCK_X, BLOCK_Y, BLOCK_Z) + local;
+        uvec3 cell = block_first + local;
         for (uint t = 0u; t < n; ++t, ++slot) {
             if (slot >= capacity) {
                 continue;
