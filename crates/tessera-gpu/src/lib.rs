@@ -43,4 +43,4 @@ pub use shader::{ShaderCompiler, Source, Spirv, Stage};
 pub use statistics::PipelineStatistics;
 #[cfg(feature = "window")]
 pub use swapchain::{SwapImage, Swapchain};
-pub use timer::Timer;
+pub use timer::{ScopeTimes, Timer};

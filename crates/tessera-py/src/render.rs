@@ -427,8 +427,9 @@ impl Renderer {
         self.lock().renderer.as_ref().map(|r| r.path().name())
     }
 
-    /// The last frame: GPU milliseconds in all and per stage, the technique's counters, and
-    /// the uploads and pipeline builds so far.
+    /// The last frame: its GPU milliseconds (`gpu_ms`, the whole frame, gaps between passes
+    /// included) and each stage's (`stages_ms`), the technique's counters, and the uploads and
+    /// pipeline builds so far.
     #[getter]
     fn stats<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let state = self.lock();

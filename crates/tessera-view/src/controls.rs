@@ -300,7 +300,7 @@ fn frame_overlay(ctx: &egui::Context, session: &Session) {
                 }
                 ui.monospace(format!(
                     "{:<20} {:8.3} ms",
-                    "GPU total",
+                    "GPU frame",
                     session.times.total_ms()
                 ));
                 let stats = &session.stats;

@@ -233,8 +233,18 @@ fn a_still_camera_draws_last_frame_s_visible_blocks_first() {
         let mut frame = Frame::new(&gpu, SIZE).unwrap();
         frame.render(&gpu, culled.as_mut(), &view).unwrap();
         let first = (frame.target.read(&gpu).unwrap(), culled.stats());
-        frame.render(&gpu, culled.as_mut(), &view).unwrap();
+        let times = frame.render(&gpu, culled.as_mut(), &view).unwrap();
         let second = (frame.target.read(&gpu).unwrap(), culled.stats());
+        // The compute path's culled frame is four passes; the mesh path's is one.
+        assert_eq!(
+            times.scopes.len() > 1,
+            path == PathChoice::Compute,
+            "{times:?}"
+        );
+        assert!(
+            times.total_ms() >= times.passes_ms() && times.passes_ms() > 0.0,
+            "{path:?}: a frame takes at least its passes' sum: {times:?}"
+        );
         let (drawn_first_1, drawn_new_1) = first.1.blocks_drawn.expect("culling counts blocks");
         let (drawn_first_2, drawn_new_2) = second.1.blocks_drawn.unwrap();
         assert_eq!(

@@ -44,7 +44,7 @@ pub use tessera_data::pmb::PmbBlockSize;
 use tessera_data::scene::{Appearance, Dataset};
 pub use tessera_data::tet::shell::{AmbientOcclusion, LayoutKind, Light};
 use tessera_data::{DepthFit, OrbitCamera, RgbaImage, View};
-use tessera_gpu::{Gpu, Recorder, Timer};
+use tessera_gpu::{Gpu, Recorder, ScopeTimes, Timer};
 
 /// Timer scopes one frame may open.
 pub const MAX_TIMER_SCOPES: u32 = 8;
@@ -237,15 +237,34 @@ pub struct Frame {
     timer: Timer,
 }
 
-/// GPU milliseconds of one frame, per timer scope in recording order and in all.
+/// GPU milliseconds of one frame: per timer scope in recording order, and the whole frame
+/// from the first scope's start to the last one's end.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct FrameTimes {
     pub scopes: Vec<(String, f64)>,
+    /// The whole frame. A frame of several passes takes longer than their sum, since the GPU
+    /// drains one pass before the next begins (docs/BENCHMARKS.md, runs 119-120).
+    pub span_ms: f64,
 }
 
 impl FrameTimes {
+    /// The whole frame's GPU time (its span), what a render loop pays.
     pub fn total_ms(&self) -> f64 {
+        self.span_ms
+    }
+
+    /// The passes' own times added up, without the gaps between them.
+    pub fn passes_ms(&self) -> f64 {
         self.scopes.iter().map(|s| s.1).sum()
+    }
+}
+
+impl From<ScopeTimes> for FrameTimes {
+    fn from(times: ScopeTimes) -> FrameTimes {
+        FrameTimes {
+            scopes: times.scopes,
+            span_ms: times.span_ms,
+        }
     }
 }
 
@@ -282,9 +301,7 @@ impl Frame {
             })?;
             recorded?;
             if renderer.finish_frame(gpu)? == FrameOutcome::Done {
-                return Ok(FrameTimes {
-                    scopes: self.timer.read_ms(gpu)?,
-                });
+                return Ok(self.timer.read(gpu)?.into());
             }
         }
         Err(Error::Invalid(format!(
@@ -314,9 +331,9 @@ pub fn render_stereo(
     for _ in 0..=MAX_RETRIES {
         if !renderer.prepare_stereo(gpu, eyes)? {
             let mut times = left.render(gpu, renderer, &eyes[0])?;
-            times
-                .scopes
-                .extend(right.render(gpu, renderer, &eyes[1])?.scopes);
+            let right_times = right.render(gpu, renderer, &eyes[1])?;
+            times.scopes.extend(right_times.scopes);
+            times.span_ms += right_times.span_ms;
             return Ok(times);
         }
         left.timer.reset(gpu);
@@ -327,9 +344,7 @@ pub fn render_stereo(
         })?;
         recorded?;
         if renderer.finish_frame(gpu)? == FrameOutcome::Done {
-            return Ok(FrameTimes {
-                scopes: left.timer.read_ms(gpu)?,
-            });
+            return Ok(left.timer.read(gpu)?.into());
         }
     }
     Err(Error::Invalid(format!(
