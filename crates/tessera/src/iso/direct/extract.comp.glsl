@@ -26,11 +26,17 @@
 #include "raster/raster.glsl"
 #include "common/indirect_args.glsl"
 
-// Invocations per block: 2 cells each. With 32 (8 cells each), a block held
-// too few invocations to hide the latency of its dependent steps, as the meshlet extraction
-// found (docs/BENCHMARKS.md, run 43), and 32-invocation workgroups leave half an SM's warps
-// unused where a GPU keeps at most 32 workgroups on one.
+// Invocations per block. With 32 (8 cells each), a block held too few invocations to hide the
+// latency of its dependent steps, as the meshlet extraction found (docs/BENCHMARKS.md, run
+// 43), and 32-invocation workgroups leave half an SM's warps unused where a GPU keeps at most
+// 32 workgroups on one. A block list holds occupied blocks only, and one cell per invocation
+// is fastest there; the whole grid's workgroups are mostly empty blocks that return at once,
+// and 2 cells per invocation are fastest there (run 121).
+#ifdef BLOCK_LIST
+#define EXTRACT_INVOCATIONS 256
+#else
 #define EXTRACT_INVOCATIONS 128
+#endif
 layout(local_size_x = EXTRACT_INVOCATIONS) in;
 layout(binding = 0) uniform VOLUME_SAMPLER volume_tex;
 layout(binding = 1) readonly buffer Nodes { vec2 minmax_nodes[]; };
