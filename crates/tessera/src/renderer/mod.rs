@@ -242,8 +242,7 @@ pub struct Frame {
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct FrameTimes {
     pub scopes: Vec<(String, f64)>,
-    /// The whole frame. A frame of several passes takes longer than their sum, since the GPU
-    /// drains one pass before the next begins (docs/BENCHMARKS.md, runs 119-120).
+    /// The whole frame, what runs between its scopes included: at least their sum.
     pub span_ms: f64,
 }
 
