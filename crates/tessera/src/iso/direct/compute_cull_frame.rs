@@ -160,7 +160,9 @@ impl DirectCompute {
                 );
             }
         });
-        // Shade, flag the blocks that own pixels, list them for next frame.
+        // Shade, flag the blocks that own pixels, list them for next frame, and copy the
+        // frame's counts to the host: inside the last scope, so that a frame timed pass by
+        // pass spans all its work.
         stage("cull-resolve", &|rec| {
             c.resolve.record_two(
                 rec,
@@ -182,9 +184,8 @@ impl DirectCompute {
                 bytemuck::bytes_of(&state.block_count),
                 per_block(&c.compact),
             );
-            rec.barrier();
+            state.record_stats_readback(rec);
         });
-        state.record_stats_readback(rec);
         state.frame.set(state.frame.get() + 1);
         Ok(())
     }
