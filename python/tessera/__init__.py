@@ -73,8 +73,9 @@ def bench(scenario, device=None, **options):
     ``iso_fraction``, ``data`` (a volume file or spec instead of the built-in phantoms),
     ``sizes`` (a list of ``(width, height)``), ``keep_busy_ms`` (GPU milliseconds each frame
     plus an arithmetic-only dispatch after it take, so that the GPU's clocks stay up between
-    frames as in a render loop; 2 by default, 0 for idle gaps). Notes the scenario makes are
-    printed."""
+    frames as in a render loop; 2 by default, 0 for idle gaps), ``techniques`` (for
+    ``"isosurface"`` and ``"iso-sweep"``: the record names to time besides ray marching, e.g.
+    ``["direct+hzb"]``). Notes the scenario makes are printed."""
     if device is None:
         device = Device()
     records, notes = _bench(device, scenario, **options)

@@ -166,4 +166,5 @@ def _bench(
     data: Optional[str] = None,
     sizes: Optional[List[Tuple[int, int]]] = None,
     keep_busy_ms: Optional[float] = None,
+    techniques: Optional[List[str]] = None,
 ) -> Tuple[List[str], List[str]]: ...

@@ -183,3 +183,15 @@ def test_bench_returns_the_scenario_records(device):
         tessera.bench("nothing", device=device)
     with pytest.raises(tessera.DataError, match="frames"):
         tessera.bench("raymarch", device=device, frames=0)
+
+
+def test_bench_times_only_the_techniques_asked_for(device):
+    records = tessera.bench(
+        "isosurface", device=device, frames=2, warmup=1, data="procedural:sphere:24",
+        sizes=[(48, 32)], techniques=["direct+hzb"],
+    )
+    assert sorted({r["technique"] for r in records}) == ["direct+hzb", "raymarch"]
+    with pytest.raises(tessera.DataError, match=r"no isosurface technique 'direct\+nothing'"):
+        tessera.bench("isosurface", device=device, quick=True, techniques=["direct+nothing"])
+    with pytest.raises(tessera.DataError, match="techniques"):
+        tessera.bench("raymarch", device=device, techniques=["direct"])

@@ -71,6 +71,9 @@ pub struct BenchArgs {
     /// `isosurface`, `iso-sweep`: "hidden-side", "raster-in-extraction" time draws both ways.
     #[arg(long)]
     variants: Option<String>,
+    /// `isosurface`, `iso-sweep`: only these techniques (e.g. direct,direct+hzb) and ray marching.
+    #[arg(long, value_delimiter = ',')]
+    techniques: Vec<String>,
 }
 
 fn parse_path(text: &str) -> std::result::Result<Path, String> {
@@ -151,13 +154,26 @@ pub fn run(options: &GpuOptions, args: &BenchArgs) -> Result<()> {
             SCENARIOS.join(", ")
         ),
     };
-    let with_variants = ["interval", "isosurface", "iso-sweep"];
-    if args.variants.is_some() && !scenarios.iter().any(|s| with_variants.contains(s)) {
-        bail!(
-            "--variants picks interval's, isosurface's or iso-sweep's variants; '{}' has none",
-            args.scenario
-        );
-    }
+    let config = BenchConfig {
+        plan: FramePlan {
+            warmup: args.warmup,
+            frames: args.frames.max(1),
+            max_warmup: args.max_warmup,
+            min_warmup_ms: args.min_warmup_ms,
+            keep_busy_ms: args.keep_busy_ms,
+            ..FramePlan::default()
+        },
+        quick: args.quick,
+        iso_fraction: args.iso_fraction,
+        data: args.data.clone(),
+        raw: args.volume.raw_options(),
+        paths: args.paths.clone(),
+        sizes: args.sizes.clone(),
+        ablations: args.ablations,
+        variants: args.variants.clone(),
+        techniques: args.techniques.clone(),
+    };
+    tessera::bench::check_options(&scenarios, &config)?;
     let gpu = crate::gpu::open_gpu(options)?;
     let file = match &args.json {
         Some(p) => Some(
@@ -182,24 +198,6 @@ pub fn run(options: &GpuOptions, args: &BenchArgs) -> Result<()> {
     );
     // The column heads of the rows `Sink::emit` prints, laid out at its widths.
     println!("scenario             technique  path      dataset                                 size stage           median ms     min ms     max ms warm-up");
-    let config = BenchConfig {
-        plan: FramePlan {
-            warmup: args.warmup,
-            frames: args.frames.max(1),
-            max_warmup: args.max_warmup,
-            min_warmup_ms: args.min_warmup_ms,
-            keep_busy_ms: args.keep_busy_ms,
-            ..FramePlan::default()
-        },
-        quick: args.quick,
-        iso_fraction: args.iso_fraction,
-        data: args.data.clone(),
-        raw: args.volume.raw_options(),
-        paths: args.paths.clone(),
-        sizes: args.sizes.clone(),
-        ablations: args.ablations,
-        variants: args.variants.clone(),
-    };
     for repeat in 0..args.repeat {
         if args.repeat > 1 {
             println!("run {} of {}", repeat + 1, args.repeat);

@@ -191,6 +191,23 @@ fn variants_that_match_nothing_are_refused() {
 }
 
 #[test]
+fn techniques_that_no_scenario_times_are_refused() {
+    let o = tessera(&["bench", "raymarch", "--quick", "--techniques", "direct"]);
+    assert_fails_with(&o, &["--techniques", "raymarch reads none"]);
+    let o = tessera(&[
+        "bench",
+        "isosurface",
+        "--quick",
+        "--techniques",
+        "direct,direct+nothing",
+    ]);
+    assert_fails_with(
+        &o,
+        &["no isosurface technique 'direct+nothing'", "direct+hzb"],
+    );
+}
+
+#[test]
 fn isosurface_times_each_draw_again_with_the_hidden_side_drawn_when_asked() {
     let records = bench_records(
         "bench_hidden_side",

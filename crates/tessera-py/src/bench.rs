@@ -30,9 +30,10 @@ impl RecordSink for Collected {
 /// Runs benchmark `scenario` (one of `tessera bench`'s) on `device`; returns its records as
 /// JSON lines and its notes. GPU timestamps, medians of `frames` after `warmup`; each frame
 /// followed by an arithmetic-only dispatch up to `keep_busy_ms` of GPU time (the library's
-/// default when `None`; 0 leaves the GPU idle between frames).
+/// default when `None`; 0 leaves the GPU idle between frames); `techniques`: the isosurface
+/// scenarios' techniques to time besides ray marching (all when `None`).
 #[pyfunction]
-#[pyo3(signature = (device, scenario, quick=false, frames=100, warmup=10, iso_fraction=0.3, data=None, sizes=None, keep_busy_ms=None))]
+#[pyo3(signature = (device, scenario, quick=false, frames=100, warmup=10, iso_fraction=0.3, data=None, sizes=None, keep_busy_ms=None, techniques=None))]
 #[allow(clippy::too_many_arguments)]
 fn _bench(
     py: Python<'_>,
@@ -45,6 +46,7 @@ fn _bench(
     data: Option<String>,
     sizes: Option<Vec<(u32, u32)>>,
     keep_busy_ms: Option<f64>,
+    techniques: Option<Vec<String>>,
 ) -> PyResult<(Vec<String>, Vec<String>)> {
     if !bench::SCENARIOS.contains(&scenario) {
         return Err(DataError::new_err(format!(
@@ -72,8 +74,10 @@ fn _bench(
         iso_fraction,
         data,
         sizes: sizes.unwrap_or_default(),
+        techniques: techniques.unwrap_or_default(),
         ..BenchConfig::default()
     };
+    bench::check_options(&[scenario], &config).map_err(from_tessera)?;
     let gpu = device.gpu.clone();
     py.detach(|| {
         guarded("benchmarking", || {

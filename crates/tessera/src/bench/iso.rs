@@ -218,6 +218,34 @@ fn with_variants(
     Ok(out)
 }
 
+/// Ray marching and the techniques named in `wanted` (all where it is empty); a name that none
+/// of `techniques` (this device's, on the paths asked for) bears is refused.
+fn chosen(techniques: Vec<IsoTechnique>, wanted: &[String]) -> Result<Vec<IsoTechnique>> {
+    if let Some(unknown) = wanted
+        .iter()
+        .find(|w| !techniques.iter().any(|t| t.name == w.as_str()))
+    {
+        let mut names: Vec<&str> = Vec::new();
+        for t in &techniques {
+            if !names.contains(&t.name) {
+                names.push(t.name);
+            }
+        }
+        return Err(Error::Invalid(format!(
+            "no isosurface technique '{unknown}' here; there are {}",
+            names.join(", ")
+        )));
+    }
+    Ok(techniques
+        .into_iter()
+        .filter(|t| {
+            t.technique == Technique::Raymarch
+                || wanted.is_empty()
+                || wanted.iter().any(|w| w == t.name)
+        })
+        .collect())
+}
+
 /// The look of frame `k`: the scenario's isovalue, or the sweep's.
 fn look_of(config: &BenchConfig, sweep: Sweep, k: u32) -> Appearance {
     let fraction = sweep.map_or(config.iso_fraction, |f| f(k));
@@ -263,7 +291,10 @@ fn run_scenario(
             || config.paths.is_empty()
             || config.paths.contains(&path)
     });
-    let techniques = with_variants(techniques, config.variants.as_deref())?;
+    let techniques = with_variants(
+        chosen(techniques, &config.techniques)?,
+        config.variants.as_deref(),
+    )?;
     for spec in bench_volumes(config) {
         let data = Dataset::Volume(make_volume(gpu, &spec, config)?);
         let volume_name = data.name().to_string();

@@ -66,6 +66,9 @@ pub struct BenchConfig {
     /// `interval` times only the variants whose label holds this text (all when `None`);
     /// `isosurface` and `iso-sweep` take "hidden-side" or "raster-in-extraction".
     pub variants: Option<String>,
+    /// `isosurface` and `iso-sweep` time only the techniques of these record names (e.g.
+    /// "direct+hzb"), and ray marching, the reference of their speed-ups (empty: every one).
+    pub techniques: Vec<String>,
 }
 
 impl Default for BenchConfig {
@@ -80,6 +83,7 @@ impl Default for BenchConfig {
             sizes: Vec::new(),
             ablations: false,
             variants: None,
+            techniques: Vec::new(),
         }
     }
 }
@@ -89,6 +93,30 @@ pub trait RecordSink {
     fn emit(&mut self, record: &BenchRecord) -> Result<()>;
     /// A remark about the device or a result that is not a record (a skipped path, a ratio).
     fn note(&mut self, text: &str);
+}
+
+/// Refuses options that none of `scenarios` reads, before any of them runs.
+pub fn check_options(scenarios: &[&str], config: &BenchConfig) -> Result<()> {
+    let refuse = |option: &str, readers: &[&str]| -> Result<()> {
+        if scenarios.iter().any(|s| readers.contains(s)) {
+            return Ok(());
+        }
+        Err(Error::Invalid(format!(
+            "{option} is read by {}; {} reads none",
+            readers.join(", "),
+            scenarios.join(", ")
+        )))
+    };
+    if config.variants.is_some() {
+        refuse(
+            "variants (--variants)",
+            &["interval", "isosurface", "iso-sweep"],
+        )?;
+    }
+    if !config.techniques.is_empty() {
+        refuse("techniques (--techniques)", &["isosurface", "iso-sweep"])?;
+    }
+    Ok(())
 }
 
 /// Runs the scenario `name` (one of [`SCENARIOS`]).
