@@ -383,7 +383,13 @@ fn isosurface_ablations_time_each_of_the_rasterizers_ways() {
         .collect();
     // Each way unculled, in the raster pass and in the extraction; the exact ones culled too.
     for place in ["", ", in extraction"] {
-        for way in ["exact", "read before atomic", "no atomics", "set-up only"] {
+        for way in [
+            "exact",
+            "read before atomic",
+            "no atomics",
+            "set-up only",
+            "no drawing",
+        ] {
             let variant = format!("raster {way}{place}");
             let culled = !way.starts_with("no") && !way.starts_with("set");
             for (technique, timed) in [("direct", true), ("direct+hzb", culled)] {
@@ -392,9 +398,9 @@ fn isosurface_ablations_time_each_of_the_rasterizers_ways() {
             }
         }
     }
-    assert_eq!(ways.len(), 12, "{ways:?}");
+    assert_eq!(ways.len(), 14, "{ways:?}");
     // A frame timed pass by pass also carries its whole time, first pass start to last end,
-    // which holds every pass and the drain between them.
+    // which holds every pass and whatever runs between them.
     for r in records.iter().filter(|r| r["technique"] == "direct+hzb") {
         let median = |name: &str| {
             let stages = r["stages"].as_array().unwrap();

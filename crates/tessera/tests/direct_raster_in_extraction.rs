@@ -3,7 +3,8 @@
 //! (`RasterVariant::ReadBeforeAtomic`), draw the frames the raster pass after the extraction
 //! draws: the same depth at every pixel and the same image, culled or not, with the near plane
 //! cutting the volume, with the hidden side left out or drawn, and on open surfaces. The
-//! rasterizer's ablations draw nothing but mark the tiles.
+//! rasterizer's ablations draw nothing but mark the tiles (all but the one that draws no
+//! triangle).
 
 mod common;
 
@@ -195,7 +196,7 @@ fn extraction_that_draws_its_triangles_draws_the_raster_passes_frames() {
 }
 
 /// The ablations leave the fragments out: nothing is drawn, yet every tile a triangle reaches
-/// is marked as the exact rasterizer marks it.
+/// is marked as the exact rasterizer marks it; without drawing, no tile is.
 #[test]
 fn raster_ablations_draw_nothing_and_mark_the_tiles() {
     let Some(gpu) = TestGpu::with(&[Need::BufferInt64Atomics]) else {
@@ -218,7 +219,11 @@ fn raster_ablations_draw_nothing_and_mark_the_tiles() {
     let marked = tiles(&exact);
     assert!(marked.iter().filter(|&&t| t != 0).count() > 10);
     for raster in [DirectRaster::Pass, DirectRaster::InExtraction] {
-        for variant in [RasterVariant::NoAtomics, RasterVariant::SetupOnly] {
+        for variant in [
+            RasterVariant::NoAtomics,
+            RasterVariant::SetupOnly,
+            RasterVariant::NoDraw,
+        ] {
             assert!(!variant.is_exact());
             let way = Way::new(&gpu, &head, (raster, variant), (96, 80), capacity);
             let drawn = way.draw(&gpu, iso, &camera, false);
@@ -227,7 +232,12 @@ fn raster_ablations_draw_nothing_and_mark_the_tiles() {
                 "{raster:?} {variant:?}"
             );
             assert!(drawn.triangles > 0);
-            assert_eq!(tiles(&way), marked, "{raster:?} {variant:?}");
+            if variant == RasterVariant::NoDraw {
+                // Not even a tile is marked: no triangle was looked at.
+                assert!(tiles(&way).iter().all(|&t| t == 0), "{raster:?}");
+            } else {
+                assert_eq!(tiles(&way), marked, "{raster:?} {variant:?}");
+            }
         }
     }
     assert_clean(&gpu);

@@ -348,14 +348,17 @@ pub enum RasterVariant {
     NoAtomics,
     /// Triangles clipped, snapped and set up, their tiles marked; no pixel visited.
     SetupOnly,
+    /// No triangle read or drawn: what the extraction costs alone.
+    NoDraw,
 }
 
 impl RasterVariant {
-    pub const ALL: [RasterVariant; 4] = [
+    pub const ALL: [RasterVariant; 5] = [
         RasterVariant::Exact,
         RasterVariant::ReadBeforeAtomic,
         RasterVariant::NoAtomics,
         RasterVariant::SetupOnly,
+        RasterVariant::NoDraw,
     ];
 
     pub fn name(self) -> &'static str {
@@ -364,6 +367,7 @@ impl RasterVariant {
             RasterVariant::ReadBeforeAtomic => "read before atomic",
             RasterVariant::NoAtomics => "no atomics",
             RasterVariant::SetupOnly => "set-up only",
+            RasterVariant::NoDraw => "no drawing",
         }
     }
 
@@ -379,6 +383,7 @@ impl RasterVariant {
             RasterVariant::ReadBeforeAtomic => 1,
             RasterVariant::NoAtomics => 2,
             RasterVariant::SetupOnly => 3,
+            RasterVariant::NoDraw => 4,
         };
         ("RASTER_VARIANT".into(), code.to_string())
     }

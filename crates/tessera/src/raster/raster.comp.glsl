@@ -31,7 +31,7 @@ layout(push_constant) uniform RasterParams {
 void main() {
     uint group = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
     uint index = group * gl_WorkGroupSize.x + gl_LocalInvocationID.x;
-    if (index >= min(triangle_count, params.capacity)) {
+    if (index >= min(triangle_count, params.capacity) || RASTER_VARIANT == 4) {
         return;
     }
     RasterPass pass = RasterPass(params.size, params.frame_number, params.hidden_winding);

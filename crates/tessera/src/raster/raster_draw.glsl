@@ -24,7 +24,8 @@
 
 // The rasterizer's variant (raster::RasterVariant): 0 exact; 1 exact, each fragment's atomic
 // left out where the frame already holds a nearer value; for measuring where the time goes,
-// 2 fragments computed but not written, 3 triangles set up and their tiles marked, no pixels.
+// 2 fragments computed but not written, 3 triangles set up and their tiles marked, no pixels,
+// 4 no triangle read or drawn (the callers leave out their loads too).
 #ifndef RASTER_VARIANT
 #define RASTER_VARIANT 0
 #endif
@@ -210,6 +211,9 @@ void draw_fan_triangle(RasterPass pass, Corner a, Corner b, Corner c, uint index
 // Draws the triangle with clip-space corners c0, c1, c2 into the frame as `payload` (its index
 // in the frame): clipped plane by plane as the reference does, then drawn as a fan.
 void raster_draw_triangle(RasterPass pass, vec4 c0, vec4 c1, vec4 c2, uint payload) {
+#if RASTER_VARIANT == 4
+    return;
+#endif
     uint m0 = outside_mask(c0), m1 = outside_mask(c1), m2 = outside_mask(c2);
     if ((m0 & m1 & m2) != 0u) {
         return;  // wholly outside one plane

@@ -198,7 +198,7 @@ void main() {
     memoryBarrierBuffer();
     barrier();
     RasterPass pass = RasterPass(raster_pass.size, raster_pass.frame_number, raster_pass.hidden_winding);
-    uint end = min(base + wg_total, capacity);
+    uint end = RASTER_VARIANT == 4 ? base : min(base + wg_total, capacity);
     for (uint s = base + me; s < end; s += uint(EXTRACT_INVOCATIONS)) {
         raster_draw_triangle(pass, triangles[s].clip[0], triangles[s].clip[1], triangles[s].clip[2],
                              raster_pass.index_base + s);
