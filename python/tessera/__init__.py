@@ -75,7 +75,9 @@ def bench(scenario, device=None, **options):
     plus an arithmetic-only dispatch after it take, so that the GPU's clocks stay up between
     frames as in a render loop; 2 by default, 0 for idle gaps), ``techniques`` (for
     ``"isosurface"`` and ``"iso-sweep"``: the record names to time besides ray marching, e.g.
-    ``["direct+hzb"]``). Notes the scenario makes are printed."""
+    ``["direct+hzb"]``), ``paths`` (``["graphics"]``, ``["compute"]`` or both), ``variants``
+    and ``ablations`` (as ``tessera bench``'s ``--variants`` and ``--ablations``). Notes the
+    scenario makes are printed."""
     if device is None:
         device = Device()
     records, notes = _bench(device, scenario, **options)

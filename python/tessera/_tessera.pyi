@@ -167,4 +167,7 @@ def _bench(
     sizes: Optional[List[Tuple[int, int]]] = None,
     keep_busy_ms: Optional[float] = None,
     techniques: Optional[List[str]] = None,
+    paths: Optional[List[str]] = None,
+    variants: Optional[str] = None,
+    ablations: bool = False,
 ) -> Tuple[List[str], List[str]]: ...

@@ -195,3 +195,20 @@ def test_bench_times_only_the_techniques_asked_for(device):
         tessera.bench("isosurface", device=device, quick=True, techniques=["direct+nothing"])
     with pytest.raises(tessera.DataError, match="techniques"):
         tessera.bench("raymarch", device=device, techniques=["direct"])
+
+
+def test_bench_takes_paths_and_variants(device):
+    records = tessera.bench(
+        "isosurface", device=device, frames=2, warmup=1, data="procedural:sphere:24",
+        sizes=[(48, 32)], techniques=["direct"], paths=["compute"], variants="hidden-side",
+    )
+    drawn = sorted((r["technique"], r["path"], r.get("variant", "")) for r in records)
+    assert drawn == [
+        ("direct", "compute", ""),
+        ("direct", "compute", "hidden side drawn"),
+        ("raymarch", "compute", ""),
+    ]
+    with pytest.raises(tessera.DataError, match="choose graphics or compute"):
+        tessera.bench("isosurface", device=device, paths=["auto"])
+    with pytest.raises(tessera.DataError, match="variants"):
+        tessera.bench("raymarch", device=device, variants="hidden-side")

@@ -6,7 +6,7 @@ use std::io::Write;
 use std::path::PathBuf;
 use tessera::bench::repeat::{report, spreads};
 use tessera::bench::{BenchConfig, BenchRecord, FramePlan, RecordSink, SCENARIOS};
-use tessera::path::{Path, PathChoice};
+use tessera::path::Path;
 use tessera_gpu::GpuOptions;
 
 #[derive(Args)]
@@ -77,11 +77,7 @@ pub struct BenchArgs {
 }
 
 fn parse_path(text: &str) -> std::result::Result<Path, String> {
-    match PathChoice::parse(text) {
-        Ok(PathChoice::Graphics) => Ok(Path::Graphics),
-        Ok(PathChoice::Compute) => Ok(Path::Compute),
-        _ => Err(format!("'{text}': choose graphics or compute")),
-    }
+    Path::parse(text).map_err(|e| e.to_string())
 }
 
 /// Prints each record as table rows and appends it to the JSON-lines file; keeps the records

@@ -3,6 +3,7 @@
 
 use pyo3::prelude::*;
 use tessera::bench::{self, BenchConfig, BenchRecord, FramePlan, RecordSink};
+use tessera::path::Path;
 
 use crate::device::Device;
 use crate::errors::{from_tessera, guarded, DataError};
@@ -31,9 +32,10 @@ impl RecordSink for Collected {
 /// JSON lines and its notes. GPU timestamps, medians of `frames` after `warmup`; each frame
 /// followed by an arithmetic-only dispatch up to `keep_busy_ms` of GPU time (the library's
 /// default when `None`; 0 leaves the GPU idle between frames); `techniques`: the isosurface
-/// scenarios' techniques to time besides ray marching (all when `None`).
+/// scenarios' techniques to time besides ray marching (all when `None`); `paths`, `variants`
+/// and `ablations` as `tessera bench`'s flags of those names.
 #[pyfunction]
-#[pyo3(signature = (device, scenario, quick=false, frames=100, warmup=10, iso_fraction=0.3, data=None, sizes=None, keep_busy_ms=None, techniques=None))]
+#[pyo3(signature = (device, scenario, quick=false, frames=100, warmup=10, iso_fraction=0.3, data=None, sizes=None, keep_busy_ms=None, techniques=None, paths=None, variants=None, ablations=false))]
 #[allow(clippy::too_many_arguments)]
 fn _bench(
     py: Python<'_>,
@@ -47,6 +49,9 @@ fn _bench(
     sizes: Option<Vec<(u32, u32)>>,
     keep_busy_ms: Option<f64>,
     techniques: Option<Vec<String>>,
+    paths: Option<Vec<String>>,
+    variants: Option<String>,
+    ablations: bool,
 ) -> PyResult<(Vec<String>, Vec<String>)> {
     if !bench::SCENARIOS.contains(&scenario) {
         return Err(DataError::new_err(format!(
@@ -63,6 +68,12 @@ fn _bench(
         )));
     }
     let keep_busy_ms = keep_busy_ms.unwrap_or(FramePlan::default().keep_busy_ms);
+    let paths = paths
+        .unwrap_or_default()
+        .iter()
+        .map(|p| Path::parse(p))
+        .collect::<tessera::Result<Vec<Path>>>()
+        .map_err(from_tessera)?;
     let config = BenchConfig {
         plan: FramePlan {
             warmup,
@@ -75,6 +86,9 @@ fn _bench(
         data,
         sizes: sizes.unwrap_or_default(),
         techniques: techniques.unwrap_or_default(),
+        paths,
+        variants,
+        ablations,
         ..BenchConfig::default()
     };
     bench::check_options(&[scenario], &config).map_err(from_tessera)?;

@@ -35,6 +35,17 @@ impl PathChoice {
 }
 
 impl Path {
+    /// "graphics" or "compute" (a path measured or forced, so not "auto").
+    pub fn parse(text: &str) -> Result<Path> {
+        match text {
+            "graphics" => Ok(Path::Graphics),
+            "compute" => Ok(Path::Compute),
+            _ => Err(Error::Invalid(format!(
+                "path '{text}': choose graphics or compute"
+            ))),
+        }
+    }
+
     pub fn name(self) -> &'static str {
         match self {
             Path::Graphics => "graphics",
@@ -187,5 +198,8 @@ mod tests {
         assert!(choose(&caps(false, true), PathChoice::Graphics, None).is_err());
         assert!(choose(&caps(true, false), PathChoice::Compute, None).is_err());
         assert!(PathChoice::parse("gpu").is_err());
+        assert_eq!(Path::parse("compute").unwrap(), Path::Compute);
+        assert_eq!(Path::parse("graphics").unwrap(), Path::Graphics);
+        assert!(Path::parse("auto").is_err());
     }
 }
