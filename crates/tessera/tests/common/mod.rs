@@ -2,6 +2,7 @@
 //! leave evidence behind when they fail.
 #![allow(dead_code)]
 
+pub mod front_door;
 pub mod interval;
 pub mod param;
 pub mod raster;
