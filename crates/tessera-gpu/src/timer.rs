@@ -112,10 +112,9 @@ impl Timer {
 }
 
 /// What a [`Timer`] measured of one frame: each scope's milliseconds in recording order, and
-/// the milliseconds from the first scope's start to the last one's end. Between scopes that
-/// follow each other the GPU drains one pass before the next starts; that time belongs to no
-/// scope, so the span of a frame of several scopes is its whole time and the scopes' sum
-/// falls short of it.
+/// the milliseconds from the first scope's start to the last one's end. Work recorded between
+/// scopes, and the GPU's drain from one pass to the next, belong to no scope: the span of a
+/// frame of several scopes is its whole time, at least the scopes' sum.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct ScopeTimes {
     pub scopes: Vec<(String, f64)>,

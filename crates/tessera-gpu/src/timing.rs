@@ -226,7 +226,7 @@ impl TimedFrames {
     }
 
     /// Statistics of each frame's span, first scope's start to last scope's end, as one stage
-    /// `name`: the frame's whole time, where the sum of its scopes leaves out the GPU's drain
+    /// `name`: the frame's whole time, where the sum of its scopes leaves out what runs
     /// between them.
     pub fn span_stats(&self, name: &str) -> StageStats {
         StageStats::from_samples(name, &self.spans).after_warmup(&self.warm_up)

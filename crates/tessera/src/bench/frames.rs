@@ -20,7 +20,7 @@ pub(super) type EachFrame<'a> = Option<&'a dyn Fn(u32, &mut dyn Renderer) -> Res
 /// The stage that sums a frame's stages when it has several.
 pub(super) const FRAME_STAGE: &str = "frame";
 /// The stage that spans a frame of several stages, first start to last end: its whole time,
-/// with the GPU's drain between the stages that [`FRAME_STAGE`] leaves out.
+/// with whatever runs between the stages, which [`FRAME_STAGE`] leaves out.
 pub(super) const FRAME_SPAN_STAGE: &str = "frame-span";
 
 /// Statistics per scope (by position), then, when a frame has several scopes, of their sum

@@ -244,8 +244,8 @@ impl BenchRecord {
 
     /// The median time of a whole frame: its span where it has several stages (their sum
     /// where no span was recorded), else its one stage. Speed-ups and frame rates come from
-    /// it, so that a frame timed pass by pass counts the GPU's drain between its passes as a
-    /// frame timed in one piece does.
+    /// it, so that a frame timed pass by pass counts what runs between its passes as a frame
+    /// timed in one piece does.
     pub fn frame_ms(&self) -> Option<f64> {
         match self.stages.as_slice() {
             [one] => Some(one.median_ms),

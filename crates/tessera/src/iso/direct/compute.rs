@@ -46,7 +46,8 @@ pub const ATTRIBUTE_BYTES: u64 = std::mem::size_of::<TriangleAttributes>() as u6
 /// the extraction (one invocation a triangle), or by the extraction's workgroup that made them,
 /// with no pass, barrier or list read between. The frames are the same; which is faster is
 /// measured (`tessera bench isosurface --variants raster-in-extraction`): the pass stays the
-/// default, being faster at 4K on the 256³ head, the extraction only on larger volumes.
+/// default, faster at 4K on the 256³ head, the extraction only on larger volumes (timed with
+/// 32 invocations per block, docs/BENCHMARKS.md runs 119–120).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub enum DirectRaster {
     #[default]
