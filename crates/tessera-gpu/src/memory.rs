@@ -509,14 +509,22 @@ impl Readback {
     /// it follows the writes to `src`. Panics when the range passes either buffer: a caller's
     /// layout error.
     pub fn record_copy(&self, rec: &crate::Recorder, src: &Buffer, offset: u64, bytes: u64) {
-        assert!(
-            bytes <= src.size && offset + bytes <= self.buffer.size,
-            "readback of {bytes} bytes of '{}' at {offset} into '{}' ({} bytes)",
-            src.name,
-            self.buffer.name,
-            self.buffer.size
-        );
-        rec.copy_buffer_range(src, 0, &self.buffer, offset, bytes);
+        self.record_copies(rec, &[(src, offset, bytes)]);
+    }
+
+    /// Records the copies of the first `bytes` of each `src` to its `offset`, then one barrier:
+    /// as [`Self::record_copy`] for each, without a barrier between them.
+    pub fn record_copies(&self, rec: &crate::Recorder, copies: &[(&Buffer, u64, u64)]) {
+        for &(src, offset, bytes) in copies {
+            assert!(
+                bytes <= src.size && offset + bytes <= self.buffer.size,
+                "readback of {bytes} bytes of '{}' at {offset} into '{}' ({} bytes)",
+                src.name,
+                self.buffer.name,
+                self.buffer.size
+            );
+            rec.copy_buffer_range(src, 0, &self.buffer, offset, bytes);
+        }
         rec.barrier();
     }
 

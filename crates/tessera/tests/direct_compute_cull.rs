@@ -152,6 +152,8 @@ fn compute_culling_changes_work_not_images() {
     );
     assert_eq!(first.triangles_first, 0);
     assert!(first.blocks_visible > 0);
+    // Against the first frame's empty pyramid no cell is hidden.
+    assert_eq!(first.triangles_new_hidden, 0);
     for (frame, (culled, plain, stats)) in frames.iter().enumerate() {
         if frame >= 1 && path[frame].1.azimuth_deg == path[frame - 1].1.azimuth_deg {
             // Pass A drew exactly last frame's visible blocks.
@@ -160,6 +162,12 @@ fn compute_culling_changes_work_not_images() {
             assert!(
                 culled < plain,
                 "frame {frame}: a still camera must extract less ({culled} of {plain})"
+            );
+            // Most cells of the blocks pass B draws in a still frame lie behind pass A's
+            // surface, and make no triangles (the depths above show none was visible).
+            assert!(
+                stats.triangles_new_hidden > stats.triangles_new,
+                "frame {frame}: {stats:?}"
             );
         }
     }

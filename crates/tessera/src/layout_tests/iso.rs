@@ -53,6 +53,16 @@ pub(super) fn isosurface_structs(t: &mut Table) {
             host!(BlockListHeader, count, args),
         );
     }
+    // Culling's second pass reads its raster pass's parameters from a buffer.
+    let mut new_defines = list_defines.clone();
+    new_defines.push(("HIDDEN_CELLS_LEFT_OUT".into(), "1".into()));
+    let extract_new = compile(
+        &builtin_shader!("../iso/direct/extract.comp.glsl"),
+        &new_defines,
+    );
+    #[rustfmt::skip]
+    t.buffer(&extract_new, "RasterPassParams", host!(crate::raster::RasterParams, size, capacity,
+        index_base, frame_number, hidden_winding));
     let mut multiview_defines = u8_defines.clone();
     multiview_defines
         .extend([("MULTIVIEW", "1"), ("BLOCK_LIST", "0")].map(|(k, v)| (k.into(), v.into())));

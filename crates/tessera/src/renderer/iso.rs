@@ -536,6 +536,7 @@ impl Renderer for IsoRenderer {
                         let details = [
                             ("triangles_first_pass", s.triangles_first),
                             ("triangles_second_pass", s.triangles_new),
+                            ("triangles_second_pass_hidden", s.triangles_new_hidden),
                             ("blocks_occupied", s.blocks_occupied),
                             ("blocks_visible", s.blocks_visible),
                         ];

@@ -19,7 +19,9 @@
 //!    blocks pass B draws in a still frame went from 1,558 to 877 (the same counts on lavapipe
 //!    and an H200 before the change).
 //! 4. **Pass B** extracts the listed blocks into a second [`TriangleLists`] (owned by the
-//!    state) and rasterizes them into the same frame with index base = pass A's capacity: a
+//!    state); a cell whose box fails the same test makes no triangles (most blocks listed in a
+//!    still frame own no pixel, and most of their cells lie behind pass A's surface). It
+//!    rasterizes them into the same frame with index base = pass A's capacity: a
 //!    frame index `i` refers to pass A's triangle `i` below that base, to pass B's triangle
 //!    `i - base` from it. The resolve reads the right list and flags the block of every drawn
 //!    pixel's triangle (the extraction tags each triangle with its block id). Two lists rather
@@ -79,7 +81,10 @@ pub(super) fn groups_2d(threads: u32, local: u32, max_x: u32) -> [u32; 3] {
 
 /// The culling pipelines, built with [`crate::iso::direct::compute::DirectCompute`].
 pub(crate) struct ComputeCullPipelines {
+    /// Pass A's extraction.
     pub(super) extract_list: Pipeline,
+    /// Pass B's: its cells hidden behind pass A's pyramid make no triangles.
+    pub(super) extract_new: Pipeline,
     /// Whether `extract_list` draws its triangles into the frame (no raster passes).
     pub(super) raster: DirectRaster,
     pub(super) hzb: HzbBuilder,
@@ -129,6 +134,25 @@ impl ComputeCullPipelines {
                 variant,
             )?,
         };
+        // Pass B's extraction binds the frame's (`frame_bindings`) and the pyramid after its own.
+        let mut new_defines = with("BLOCK_LIST");
+        new_defines.push(("HIDDEN_CELLS_LEFT_OUT".into(), "1".into()));
+        let new_slots = [&extract_slots[..], &[sb; 4]].concat();
+        let extract_new = match raster {
+            DirectRaster::Pass => {
+                let spirv =
+                    compiler.compile(&builtin_shader!("extract.comp.glsl"), &new_defines)?;
+                gpu.compute_pipeline("direct extract (new blocks)", &spirv, &new_slots)?
+            }
+            DirectRaster::InExtraction => drawing_extraction(
+                gpu,
+                compiler,
+                &new_defines,
+                &new_slots[..new_slots.len() - 3],
+                "direct extract (new blocks, drawing)",
+                variant,
+            )?,
+        };
         let hzb = HzbBuilder::new(gpu, compiler)?;
         let test = gpu.compute_pipeline("hzb test", &test, &[sb; 6])?;
         let resolve =
@@ -136,6 +160,7 @@ impl ComputeCullPipelines {
         let compact = gpu.compute_pipeline("hzb compact", &compact, &[sb; 3])?;
         Ok(ComputeCullPipelines {
             extract_list,
+            extract_new,
             raster,
             hzb,
             test,
@@ -160,6 +185,9 @@ pub struct ComputeCullStats {
     /// Triangles extracted in pass A and pass B (more than a list's capacity: some were lost).
     pub triangles_first: u32,
     pub triangles_new: u32,
+    /// Triangles pass B's cells would have made where their own occlusion test found them
+    /// hidden, left out.
+    pub triangles_new_hidden: u32,
 }
 
 impl ComputeCullStats {
@@ -176,6 +204,10 @@ impl ComputeCullStats {
 /// pass B, visible (`hzb_test.comp.glsl`, `hzb_compact.comp.glsl`).
 const STATS_WORDS: u64 = 3;
 
+/// Words of each extraction's statistics: triangles made, blocks classified, triangles of
+/// cells left out as hidden (`extract.comp.glsl`).
+const EXTRACT_STATS_WORDS: u64 = 3;
+
 /// Per-volume, per-frame-size culling state carried from frame to frame: block flags and
 /// lists, the pyramid, and pass B's triangle lists.
 pub struct ComputeCullState {
@@ -186,14 +218,15 @@ pub struct ComputeCullState {
     pub(super) new_blocks: Buffer,
     /// Blocks occupied, drawn new (pass B), visible (`STATS_WORDS` words).
     pub(super) stats: Buffer,
-    /// The extraction's (triangles, blocks classified) of pass A and pass B.
+    /// The extraction's (triangles, blocks classified, triangles left out as hidden) of pass A
+    /// and pass B.
     pub(super) extract_stats: [Buffer; 2],
     pub(super) hzb: Buffer,
     /// Per block, the box of its cells that made triangles at the isovalue it was made at:
     /// tested in place of the block's box at that isovalue.
     pub cell_boxes: CellBoxes,
-    /// The statistics of the last frame on the host: `stats`, then the first word of each
-    /// `extract_stats`.
+    /// The statistics of the last frame on the host: `stats`, pass A's list length, pass A's
+    /// triangles, then pass B's `extract_stats`.
     readback: Readback,
     /// Pass B's triangles.
     pub new_lists: TriangleLists,
@@ -221,8 +254,8 @@ impl ComputeCullState {
             ("hzb cull first blocks B", list),
             ("hzb cull new blocks", list),
             ("hzb cull stats", 4 * STATS_WORDS),
-            ("hzb cull extract stats A", 8),
-            ("hzb cull extract stats B", 8),
+            ("hzb cull extract stats A", 4 * EXTRACT_STATS_WORDS),
+            ("hzb cull extract stats B", 4 * EXTRACT_STATS_WORDS),
             ("hzb", hzb_bytes(w, h)),
         ];
         let usage = vk::BufferUsageFlags::STORAGE_BUFFER
@@ -246,7 +279,10 @@ impl ComputeCullState {
             extract_stats: [es_a, es_b],
             hzb,
             cell_boxes: CellBoxes::new(gpu, "hzb cull cell boxes", blocks as u64)?,
-            readback: gpu.create_readback("hzb cull stats (host)", 4 * STATS_WORDS + 12)?,
+            readback: gpu.create_readback(
+                "hzb cull stats (host)",
+                4 * (STATS_WORDS + 2 + EXTRACT_STATS_WORDS),
+            )?,
             new_lists,
             width: w,
             height: h,
@@ -286,23 +322,27 @@ impl ComputeCullState {
     }
 
     /// Records the copy of the frame's statistics to the host (at the frame's end): `stats`,
-    /// then pass A's list length (at the list's start) and each extraction's triangles.
+    /// then pass A's list length (at the list's start), pass A's triangles and pass B's
+    /// extraction statistics.
     pub(super) fn record_stats_readback(&self, rec: &Recorder) {
         rec.barrier();
         let words = 4 * STATS_WORDS;
-        self.readback.record_copy(rec, &self.stats, 0, words);
-        self.readback.record_copy(rec, self.first(), words, 4);
-        self.readback
-            .record_copy(rec, &self.extract_stats[0], words + 4, 4);
-        self.readback
-            .record_copy(rec, &self.extract_stats[1], words + 8, 4);
+        self.readback.record_copies(
+            rec,
+            &[
+                (&self.stats, 0, words),
+                (self.first(), words, 4),
+                (&self.extract_stats[0], words + 4, 4),
+                (&self.extract_stats[1], words + 8, 4 * EXTRACT_STATS_WORDS),
+            ],
+        );
     }
 
     /// What the last recorded frame did (read after it was submitted): copied to the host at
     /// the frame's end, so reading takes no submission.
     pub fn read_stats(&self) -> ComputeCullStats {
-        let mut s = [0u32; 6];
-        if let Some(bytes) = self.readback.bytes().get(..24) {
+        let mut s = [0u32; 8];
+        if let Some(bytes) = self.readback.bytes().get(..32) {
             s = bytemuck::pod_read_unaligned(bytes);
         }
         ComputeCullStats {
@@ -312,6 +352,7 @@ impl ComputeCullState {
             blocks_drawn_first: s[3],
             triangles_first: s[4],
             triangles_new: s[5],
+            triangles_new_hidden: s[7],
         }
     }
 }

@@ -57,7 +57,9 @@ impl DirectCompute {
         };
         // Where the extraction draws its triangles itself, no raster pass follows it.
         let drawing = c.raster == DirectRaster::InExtraction;
+        // Pass B's extraction (`second`) tests its cells against the pyramid.
         let extract = |rec: &Recorder, lists: &TriangleLists, stats: &Buffer, blocks: &Buffer| {
+            let second = std::ptr::eq(lists, &state.new_lists);
             let mut p = *params;
             p.triangle_capacity = lists.capacity;
             let mut bindings = vec![
@@ -70,11 +72,18 @@ impl DirectCompute {
                 Binding::Buffer(blocks),
                 Binding::Buffer(&state.cell_boxes.buffer),
             ];
-            if drawing {
+            if drawing || second {
                 bindings.extend(frame_bindings(&target.frame, lists));
             }
+            if second {
+                bindings.push(Binding::Buffer(&state.hzb));
+            }
             rec.dispatch_indirect(
-                &c.extract_list,
+                if second {
+                    &c.extract_new
+                } else {
+                    &c.extract_list
+                },
                 &bindings,
                 bytemuck::bytes_of(&p),
                 blocks,
@@ -104,11 +113,12 @@ impl DirectCompute {
             target
                 .frame
                 .hide_winding(Direct::hidden_winding(prepared, params));
+            // Pass B's extraction reads the frame's size from its pass parameters.
+            let frame = &target.frame;
             if drawing {
-                let frame = &target.frame;
                 frame.record_pass_params(rec, &a.raster_pass, a.capacity, 0);
-                frame.record_pass_params(rec, &b_lists.raster_pass, b_lists.capacity, base);
             }
+            frame.record_pass_params(rec, &b_lists.raster_pass, b_lists.capacity, base);
             // Boxes made from another volume (the same block grid) say nothing about this one.
             state.cell_boxes.record_keep_for(rec, prepared);
             rec.barrier();

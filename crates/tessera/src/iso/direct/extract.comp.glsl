@@ -7,7 +7,11 @@
 // its block's linear id (`maker`), so a resolve knows which blocks own pixels. With BLOCK_LIST
 // defined (occlusion culling), workgroups take their blocks from a list (linear ids) instead
 // of the block grid. With RASTER_IN_EXTRACTION defined, the workgroup then draws its triangles
-// into the frame itself (raster/raster_draw.glsl), with no raster pass after it.
+// into the frame itself (raster/raster_draw.glsl), with no raster pass after it. With
+// HIDDEN_CELLS_LEFT_OUT defined (culling's second pass, with a block list), a cell makes no
+// triangles where its box fails the occlusion test against the first pass's max-depth pyramid
+// (raster/hzb_test.glsl): most blocks that pass their own test own no pixel, and most of their
+// cells lie behind what the first pass drew.
 #ifdef RASTER_IN_EXTRACTION
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_EXT_shader_atomic_int64 : require
@@ -62,7 +66,8 @@ layout(binding = 4) buffer Counts {
     uint raster_dispatch[3];
 };
 // [0] triangles emitted (may exceed the capacity: then the frame is incomplete), [1] blocks
-// that reached classification.
+// that reached classification, [2] (HIDDEN_CELLS_LEFT_OUT) triangles of cells left out as
+// hidden.
 layout(binding = 5) buffer Stats { uint stats[]; };
 #ifdef BLOCK_LIST
 // A block list: its length, the indirect dispatch arguments (a 2-D grid of workgroups when
@@ -76,11 +81,9 @@ layout(binding = 7) writeonly buffer CellBoxes { uvec2 cell_boxes[]; };
 #else
 #define RASTER_BINDING 6
 #endif
-#ifdef RASTER_IN_EXTRACTION
-// The frame the triangles are drawn into (raster/mod.rs), and how: the raster pass's push
-// constants (RasterParams), written into a buffer since this pass's are full.
-layout(binding = RASTER_BINDING) buffer Frame { uint64_t depth_payload[]; };
-layout(binding = RASTER_BINDING + 1) writeonly buffer TileFrames { uint tile_frames[]; };
+#if defined(RASTER_IN_EXTRACTION) || defined(HIDDEN_CELLS_LEFT_OUT)
+// How the triangles are drawn into the frame: the raster pass's push constants (RasterParams),
+// written into a buffer since this pass's are full. The cells' occlusion test reads its size.
 layout(binding = RASTER_BINDING + 2) readonly buffer RasterPassParams {
     uvec2 size;
     uint capacity;
@@ -88,7 +91,25 @@ layout(binding = RASTER_BINDING + 2) readonly buffer RasterPassParams {
     uint frame_number;
     int hidden_winding;
 } raster_pass;
+#endif
+#ifdef RASTER_IN_EXTRACTION
+// The frame the triangles are drawn into (raster/mod.rs).
+layout(binding = RASTER_BINDING) buffer Frame { uint64_t depth_payload[]; };
+layout(binding = RASTER_BINDING + 1) writeonly buffer TileFrames { uint tile_frames[]; };
 #include "raster/raster_draw.glsl"
+#endif
+#ifdef HIDDEN_CELLS_LEFT_OUT
+// The first pass's max-depth pyramid (raster/hzb.glsl).
+layout(binding = RASTER_BINDING + 3) readonly buffer Hzb { float hzb[]; };
+#include "raster/hzb.glsl"
+#include "raster/hzb_test.glsl"
+
+// Whether every triangle of `cell` lies behind what the first pass drew.
+bool cell_hidden(uvec3 cell) {
+    uvec2 size = raster_pass.size;
+    return !hzb_box_may_be_visible(params.grid_to_clip, vec3(cell), vec3(cell + 1u), size,
+                                   hzb_level_count(size));
+}
 #endif
 
 const uint CELLS = BLOCK_X * BLOCK_Y * BLOCK_Z;
@@ -126,6 +147,7 @@ void main() {
 #endif
     uint rows[PER_THREAD];  // table rows (case and ambiguous-face choices)
     uint total = 0u;
+    uint hidden = 0u;  // triangles of this invocation's cells left out as hidden
     uvec3 made_lo = uvec3(0xffffffffu);  // the box of this invocation's cells with triangles
     uvec3 made_hi = uvec3(0u);
     for (uint k = 0u; k < PER_THREAD; ++k) {
@@ -138,23 +160,37 @@ void main() {
             held_cell_corners(cell, corners);
             rows[k] = mc_row_of_corners(corners, mc_case_of_corners(corners, iso), iso);
         }
-        total += mc_tri_count(rows[k]);
-        if (mc_tri_count(rows[k]) > 0u) {
+        uint n = mc_tri_count(rows[k]);
+        if (n > 0u) {
+            // The cell box records where the surface lies, hidden or not.
             made_lo = min(made_lo, local);
             made_hi = max(made_hi, local);
+#ifdef HIDDEN_CELLS_LEFT_OUT
+            if (cell_hidden(cell)) {
+                hidden += n;
+                rows[k] = 0u;
+                n = 0u;
+            }
+#endif
         }
+        total += n;
     }
 #ifdef BLOCK_LIST
-    if (total > 0u) {
+    if (total + hidden > 0u) {
         cell_box_record_add(made_lo, made_hi);
     }
 #endif
     uvec3 totals;
-    uint below = workgroup_exclusive_scan(uvec3(total, 0u, 0u), totals).x;
+    uint below = workgroup_exclusive_scan(uvec3(total, hidden, 0u), totals).x;
     uint wg_total = totals.x;
     if (me == 0u) {
         uint first = atomicAdd(stats[0], wg_total);
         atomicAdd(stats[1], 1u);
+#ifdef HIDDEN_CELLS_LEFT_OUT
+        if (totals.y > 0u) {
+            atomicAdd(stats[2], totals.y);
+        }
+#endif
         // Slots past the capacity are dropped; the count stays exact (see Stats).
         uint kept = first >= capacity ? 0u : min(wg_total, capacity - first);
         if (kept > 0u) {
@@ -163,7 +199,7 @@ void main() {
         }
         base = first;
 #ifdef BLOCK_LIST
-        cell_boxes[block_id] = uvec2(cell_box_recorded(wg_total > 0u), floatBitsToUint(iso));
+        cell_boxes[block_id] = uvec2(cell_box_recorded(wg_total + totals.y > 0u), floatBitsToUint(iso));
 #endif
     }
     barrier();
