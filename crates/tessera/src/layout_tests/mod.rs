@@ -123,7 +123,7 @@ fn raster_structs(t: &mut Table) {
     t.push_constants::<HzbBuildParams>(
         &hzb,
         "HzbBuildParams",
-        host!(HzbBuildParams, size, level_count, frame_number),
+        host!(HzbBuildParams, size, first_level, level_count, frame_number),
     );
 }
 

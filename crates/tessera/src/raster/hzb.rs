@@ -6,9 +6,7 @@ use crate::builtin_shader;
 use crate::error::Result;
 use crate::raster::RasterFrame;
 use bytemuck::{Pod, Zeroable};
-use tessera_gpu::{
-    vk, Binding, Buffer, Gpu, MemoryLocation, Pipeline, Recorder, ShaderCompiler, Slot,
-};
+use tessera_gpu::{Binding, Buffer, Gpu, Pipeline, Recorder, ShaderCompiler, Slot};
 
 /// The levels of the pyramid of a `width`×`height` frame: texels per axis, level 0 (half
 /// resolution) first, down to 1×1.
@@ -30,20 +28,16 @@ pub fn hzb_bytes(width: u32, height: u32) -> u64 {
         .sum::<u64>()
 }
 
-/// Invocations per side of a pyramid-building workgroup; each folds a 2×2 of a tile's first
-/// level, so a tile folds into `HZB_TILE.ilog2() + 2` levels.
+/// Invocations per side of a pyramid-building workgroup; each folds a 2×2 of its pass's first
+/// level, so a pass builds `HZB_TILE.ilog2() + 2` levels.
 const HZB_TILE: u32 = 16;
 
-/// Levels one tile folds into (the frame's 2×2 → a 32×32 tile → … → 1×1).
-pub const HZB_LEVELS_PER_FOLD: usize = HZB_TILE.ilog2() as usize + 2;
+/// Levels one dispatch of the builder makes (the frame's 2×2 → a 32×32 tile → … → 1×1).
+pub const HZB_LEVELS_PER_PASS: usize = HZB_TILE.ilog2() as usize + 2;
 
 pub(crate) fn build_defines() -> Vec<(String, String)> {
     vec![
         ("HZB_TILE".into(), format!("{HZB_TILE}u")),
-        (
-            "HZB_LEVELS_PER_FOLD".into(),
-            format!("{HZB_LEVELS_PER_FOLD}u"),
-        ),
         ("RASTER_TILE".into(), format!("{}u", super::RASTER_TILE)),
     ]
 }
@@ -53,33 +47,23 @@ pub(crate) fn build_defines() -> Vec<(String, String)> {
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub(crate) struct HzbBuildParams {
     pub(crate) size: [u32; 2],
+    pub(crate) first_level: u32,
     pub(crate) level_count: u32,
     /// [`RasterFrame::frame_number`].
     pub(crate) frame_number: u32,
 }
 
-/// Builds the pyramid in one dispatch: a workgroup per tile of level 0 folds
-/// [`HZB_LEVELS_PER_FOLD`] levels, and the last to finish folds the levels above (a barrier
-/// between dispatches costs more than the pyramid's small levels do).
+/// Builds the pyramid, [`HZB_LEVELS_PER_PASS`] levels per dispatch (a barrier between
+/// dispatches costs more than the pyramid's small levels do).
 pub struct HzbBuilder {
     pipeline: Pipeline,
-    /// The workgroups that finished their tile, zero between builds.
-    progress: Buffer,
 }
 
 impl HzbBuilder {
     pub fn new(gpu: &Gpu, compiler: &ShaderCompiler) -> Result<HzbBuilder> {
         let spirv = compiler.compile(&builtin_shader!("hzb_build.comp.glsl"), &build_defines())?;
-        let progress = gpu.create_buffer(
-            "hzb build progress",
-            4,
-            vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
-            MemoryLocation::GpuOnly,
-        )?;
-        gpu.submit("hzb build progress", |rec| rec.fill_buffer(&progress, 0))?;
         Ok(HzbBuilder {
-            pipeline: gpu.compute_pipeline("hzb build", &spirv, &[Slot::StorageBuffer; 4])?,
-            progress,
+            pipeline: gpu.compute_pipeline("hzb build", &spirv, &[Slot::StorageBuffer; 3])?,
         })
     }
 
@@ -88,23 +72,26 @@ impl HzbBuilder {
     pub fn record(&self, rec: &Recorder, frame: &RasterFrame, hzb: &Buffer) {
         let (w, h) = (frame.width, frame.height);
         let levels = hzb_levels(w, h);
-        let params = HzbBuildParams {
-            size: [w, h],
-            level_count: levels.len() as u32,
-            frame_number: frame.frame_number(),
-        };
         let tile = 2 * HZB_TILE;
-        rec.dispatch_groups(
-            &self.pipeline,
-            &[
-                Binding::Buffer(&frame.depth_payload),
-                Binding::Buffer(hzb),
-                Binding::Buffer(&frame.tile_frames),
-                Binding::Buffer(&self.progress),
-            ],
-            bytemuck::bytes_of(&params),
-            [levels[0][0].div_ceil(tile), levels[0][1].div_ceil(tile), 1],
-        );
-        rec.barrier();
+        for (pass, dims) in levels.chunks(HZB_LEVELS_PER_PASS).enumerate() {
+            let params = HzbBuildParams {
+                size: [w, h],
+                first_level: (pass * HZB_LEVELS_PER_PASS) as u32,
+                level_count: dims.len() as u32,
+                frame_number: frame.frame_number(),
+            };
+            let first = dims[0];
+            rec.dispatch_groups(
+                &self.pipeline,
+                &[
+                    Binding::Buffer(&frame.depth_payload),
+                    Binding::Buffer(hzb),
+                    Binding::Buffer(&frame.tile_frames),
+                ],
+                bytemuck::bytes_of(&params),
+                [first[0].div_ceil(tile), first[1].div_ceil(tile), 1],
+            );
+            rec.barrier();
+        }
     }
 }

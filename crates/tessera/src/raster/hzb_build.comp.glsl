@@ -1,39 +1,33 @@
 #version 460
-// The max-depth pyramid (raster/hzb.glsl) in one dispatch. Each workgroup takes a tile of
-// 2 HZB_TILE × 2 HZB_TILE texels of level 0, made from the rasterizer's frame, and folds it in
-// shared memory into the HZB_TILE-square, ..., 2×2 and 1×1 texels above it: ilog2(HZB_TILE) + 2
-// levels. Where the pyramid has more, the workgroup that finishes last (a counter the others
-// add to) folds the rest the same way, tile by tile, ilog2(HZB_TILE) + 2 levels at a time from
-// the last level made: a second dispatch and its barrier cost more than those few texels. A
-// texel past a level's edge holds NO_DEPTH, which no depth exceeds, so each texel is the max of
-// its in-range sources: the same value as repeating the last row or column, as the per-level
-// definition does. Max is exact, so the pyramid does not depend on how levels are grouped.
+// Up to ilog2(HZB_TILE) + 2 levels of the max-depth pyramid (raster/hzb.glsl) in one
+// dispatch: each workgroup takes a tile of 2 HZB_TILE × 2 HZB_TILE texels of the pass's first
+// level, made from the level below (or from the rasterizer's frame for level 0), and folds it
+// in shared memory into the HZB_TILE-square, ..., 2×2 and 1×1 texels above it. A texel past a
+// level's edge holds NO_DEPTH, which no depth exceeds, so each texel is the max of its
+// in-range sources: the same value as repeating the last row or column, as the per-level
+// definition does. Max is exact, so the pyramid does not depend on how levels are grouped
+// into passes.
 #include "raster/raster.glsl"
 #include "raster/hzb.glsl"
 
-// HZB_TILE (a power of two), HZB_LEVELS_PER_FOLD and RASTER_TILE come from raster::hzb and
-// raster as defines.
+// HZB_TILE (a power of two) and RASTER_TILE come from raster::hzb and raster as defines.
 layout(local_size_x = HZB_TILE, local_size_y = HZB_TILE) in;
 layout(binding = 0) readonly buffer Frame { uvec2 depth_payload[]; };
-// Coherent: the last workgroup reads the levels the others wrote.
-layout(binding = 1) coherent buffer Hzb { float hzb[]; };
+layout(binding = 1) buffer Hzb { float hzb[]; };
 // Per raster tile, the number of the last frame that drew into it (raster/mod.rs): pixels of
 // tiles the frame did not draw into are empty, and are not read.
 layout(binding = 2) readonly buffer TileFrames { uint tile_frames[]; };
-// Workgroups that finished their tile (zero between dispatches: the last one resets it).
-layout(binding = 3) coherent buffer Progress { uint groups_done; };
 
 layout(push_constant) uniform HzbBuildParams {
     uvec2 size;        // frame width and height in pixels
-    uint level_count;  // levels of the pyramid
+    uint first_level;  // the level this pass starts at (its sources are the level below)
+    uint level_count;  // levels this pass builds, 1 ..= ilog2(HZB_TILE) + 2
     uint frame_number; // the number the frame's raster passes marked their tiles with
 } params;
 
 const float NO_DEPTH = -1.0;
 const uint TILE = HZB_TILE;  // invocations per side; each folds a 2×2 of the first level
-const uint LEVELS_PER_FOLD = HZB_LEVELS_PER_FOLD;  // ilog2(TILE) + 2
 shared float s_depth[TILE][TILE];
-shared bool s_last;
 
 float pixel_depth(uvec2 p) {
     if (tile_frames[raster_tile_index(p, params.size.x)] != params.frame_number) {
@@ -44,7 +38,7 @@ float pixel_depth(uvec2 p) {
 }
 
 // Texel `t` of the pass's first level from its in-range 2×2 sources, NO_DEPTH past the edge.
-float first_level_texel(uint first, uvec2 t, uvec2 dims, uvec2 src_dims, uint src_offset) {
+float first_level_texel(uvec2 t, uvec2 dims, uvec2 src_dims, uint src_offset) {
     if (any(greaterThanEqual(t, dims))) {
         return NO_DEPTH;
     }
@@ -52,7 +46,7 @@ float first_level_texel(uint first, uvec2 t, uvec2 dims, uvec2 src_dims, uint sr
     for (uint c = 0u; c < 4u; ++c) {
         uvec2 s = 2u * t + uvec2(c & 1u, c >> 1);
         if (all(lessThan(s, src_dims))) {
-            far_depth = max(far_depth, first == 0u
+            far_depth = max(far_depth, params.first_level == 0u
                 ? pixel_depth(s)
                 : hzb[src_offset + s.y * src_dims.x + s.x]);
         }
@@ -67,10 +61,9 @@ void store(uint offset, uvec2 dims, uvec2 t, float far_depth) {
     }
 }
 
-// Folds tile `tile` (2 TILE × 2 TILE texels of level `first`) into levels first ..
-// first + count - 1. Call from uniform control flow.
-void fold_tile(uvec2 tile, uint first, uint count) {
+void main() {
     uvec2 size = params.size;
+    uint first = params.first_level;
     uvec2 local = gl_LocalInvocationID.xy;
     // Each level's size and start are found once (loops over the levels below) and then
     // stepped level by level, not recomputed per texel.
@@ -80,21 +73,21 @@ void fold_tile(uvec2 tile, uint first, uint count) {
     uint src_offset = first == 0u ? 0u : hzb_level_offset(size, first - 1u);
 
     // The first level: a 2×2 of texels per invocation, written out as they are.
-    uvec2 corner = 2u * (tile * TILE + local);
+    uvec2 corner = 2u * gl_GlobalInvocationID.xy;
     float far_depth = NO_DEPTH;
     for (uint c = 0u; c < 4u; ++c) {
         uvec2 t = corner + uvec2(c & 1u, c >> 1);
-        float d = first_level_texel(first, t, dims, src_dims, src_offset);
+        float d = first_level_texel(t, dims, src_dims, src_offset);
         store(offset, dims, t, d);
         far_depth = max(far_depth, d);
     }
     // The levels above, halving the tile in shared memory.
     uint side = TILE;
-    for (uint k = 1u; k < count; ++k) {
+    for (uint k = 1u; k < params.level_count; ++k) {
         offset += dims.x * dims.y;
         dims = (dims + 1u) / 2u;
         if (all(lessThan(local, uvec2(side)))) {
-            store(offset, dims, tile * side + local, far_depth);
+            store(offset, dims, gl_WorkGroupID.xy * side + local, far_depth);
             s_depth[local.y][local.x] = far_depth;
         }
         barrier();
@@ -105,39 +98,5 @@ void fold_tile(uvec2 tile, uint first, uint count) {
                             max(s_depth[s.y + 1u][s.x], s_depth[s.y + 1u][s.x + 1u]));
         }
         barrier();
-    }
-}
-
-void main() {
-    uint levels = params.level_count;
-    uint count = min(levels, LEVELS_PER_FOLD);
-    fold_tile(gl_WorkGroupID.xy, 0u, count);
-    if (count == levels) {
-        return;
-    }
-    // This tile's texels are written; the workgroup that counts last sees every tile's.
-    memoryBarrierBuffer();
-    barrier();
-    if (gl_LocalInvocationIndex == 0u) {
-        s_last = atomicAdd(groups_done, 1u) + 1u == gl_NumWorkGroups.x * gl_NumWorkGroups.y;
-    }
-    barrier();
-    if (!s_last) {
-        return;  // uniform across the workgroup
-    }
-    memoryBarrierBuffer();
-    for (uint first = count; first < levels; first += LEVELS_PER_FOLD) {
-        uvec2 tiles = (hzb_level_dims(params.size, first) + 2u * TILE - 1u) / (2u * TILE);
-        for (uint ty = 0u; ty < tiles.y; ++ty) {
-            for (uint tx = 0u; tx < tiles.x; ++tx) {
-                fold_tile(uvec2(tx, ty), first, min(levels - first, LEVELS_PER_FOLD));
-            }
-        }
-        // The next fold reads what this one wrote.
-        memoryBarrierBuffer();
-        barrier();
-    }
-    if (gl_LocalInvocationIndex == 0u) {
-        groups_done = 0u;
     }
 }

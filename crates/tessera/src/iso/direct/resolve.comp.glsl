@@ -44,16 +44,13 @@ layout(push_constant) uniform ResolveParams {
     uint empties;        // 1: empty each drawn pixel read (0: the frame is kept for reading)
 } params;
 
-// The frame's value at pixel index `i`, or an empty one where no raster pass drew into its tile.
-uvec2 frame_value(uvec2 pixel, uint i, uvec2 size) {
-    if (tile_frames[raster_tile_index(pixel, size.x)] != params.frame_number) {
-        return uvec2(RASTER_EMPTY_WORD);
-    }
-    return depth_payload[i];
-}
-
-void resolve_pixel(uvec2 pixel, uint i, uvec2 value, uvec2 size) {
+void resolve_pixel(uvec2 pixel, uvec2 size) {
+    uint i = pixel.y * size.x + pixel.x;
     vec4 colour = BACKGROUND;
+    uvec2 value = uvec2(RASTER_EMPTY_WORD);
+    if (tile_frames[raster_tile_index(pixel, size.x)] == params.frame_number) {
+        value = depth_payload[i];
+    }
     if (!raster_is_empty(value)) {
         if (params.empties != 0u) {
             depth_payload[i] = uvec2(RASTER_EMPTY_WORD);
@@ -93,20 +90,10 @@ void main() {
     uvec2 size = params.size;
     uint y = gl_WorkGroupID.y;
     uint first = gl_WorkGroupID.x * (RESOLVE_PIXELS * gl_WorkGroupSize.x) + gl_LocalInvocationID.x;
-    // Every pixel's frame value is loaded before any is shaded, so that the invocation's loads
-    // are in flight together instead of one pixel's chain of loads waiting for the last one's.
-    uvec2 values[RESOLVE_PIXELS];
-    for (uint k = 0u; k < RESOLVE_PIXELS; ++k) {
-        uint x = first + k * gl_WorkGroupSize.x;
-        values[k] = uvec2(RASTER_EMPTY_WORD);
-        if (x < size.x && y < size.y) {
-            values[k] = frame_value(uvec2(x, y), y * size.x + x, size);
-        }
-    }
     for (uint k = 0u; k < RESOLVE_PIXELS; ++k) {
         uint x = first + k * gl_WorkGroupSize.x;
         if (x < size.x && y < size.y) {
-            resolve_pixel(uvec2(x, y), y * size.x + x, values[k], size);
+            resolve_pixel(uvec2(x, y), size);
         }
     }
 }
