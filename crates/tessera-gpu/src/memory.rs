@@ -480,9 +480,10 @@ pub(crate) fn full_range(format: vk::Format, layers: u32) -> vk::ImageSubresourc
     }
 }
 
-/// Small GPU values (counters, statistics) that a frame copies to the host at its end and the
-/// host reads once the frame's submission finished: one host-visible buffer made once, so a
-/// read needs no staging buffer and no submission of its own (as [`Gpu::read_buffer`] does).
+/// Small GPU values (counters, statistics) that a frame copies to the host at its end, or a
+/// shader writes straight into ([`Readback::storage`]), and the host reads once the frame's
+/// submission finished: one host-visible buffer made once, so a read needs no staging buffer
+/// and no submission of its own (as [`Gpu::read_buffer`] does).
 pub struct Readback {
     buffer: Buffer,
 }
@@ -493,7 +494,7 @@ impl Gpu {
         let mut buffer = self.create_buffer(
             name,
             bytes,
-            vk::BufferUsageFlags::TRANSFER_DST,
+            vk::BufferUsageFlags::TRANSFER_DST | vk::BufferUsageFlags::STORAGE_BUFFER,
             MemoryLocation::GpuToCpu,
         )?;
         if let Some(bytes) = buffer.mapped_mut() {
@@ -504,6 +505,12 @@ impl Gpu {
 }
 
 impl Readback {
+    /// The readback as a storage buffer for a shader to write into: a small copy costs a
+    /// frame more than the shader's few stores do.
+    pub fn storage(&self) -> &Buffer {
+        &self.buffer
+    }
+
     /// Records a copy of the first `bytes` of `src` to `offset` in the readback, then a
     /// barrier (so later commands may write `src` again); record a barrier before it so that
     /// it follows the writes to `src`. Panics when the range passes either buffer: a caller's

@@ -57,9 +57,7 @@ use bytemuck::{Pod, Zeroable};
 use std::cell::Cell;
 use tessera_data::mc_ambiguity::AmbiguityRule;
 use tessera_data::ScalarType;
-use tessera_gpu::{
-    vk, Buffer, Gpu, MemoryLocation, Pipeline, Readback, Recorder, ShaderCompiler, Slot,
-};
+use tessera_gpu::{vk, Buffer, Gpu, MemoryLocation, Pipeline, Readback, ShaderCompiler, Slot};
 
 /// Push constants of `hzb_test.comp.glsl`.
 #[repr(C)]
@@ -157,7 +155,7 @@ impl ComputeCullPipelines {
         let test = gpu.compute_pipeline("hzb test", &test, &[sb; 6])?;
         let resolve =
             SurfaceResolve::new(gpu, compiler, &defines, true, "direct resolve (two lists)")?;
-        let compact = gpu.compute_pipeline("hzb compact", &compact, &[sb; 3])?;
+        let compact = gpu.compute_pipeline("hzb compact", &compact, &[sb; 8])?;
         Ok(ComputeCullPipelines {
             extract_list,
             extract_new,
@@ -222,12 +220,15 @@ pub struct ComputeCullState {
     /// and pass B.
     pub(super) extract_stats: [Buffer; 2],
     pub(super) hzb: Buffer,
+    /// The compaction's workgroups that finished (`hzb_compact.comp.glsl`), zero between
+    /// frames.
+    pub(super) compaction_progress: Buffer,
     /// Per block, the box of its cells that made triangles at the isovalue it was made at:
     /// tested in place of the block's box at that isovalue.
     pub cell_boxes: CellBoxes,
-    /// The statistics of the last frame on the host: `stats`, pass A's list length, pass A's
-    /// triangles, then pass B's `extract_stats`.
-    readback: Readback,
+    /// The statistics of the last frame on the host, written by the compaction: `stats`, pass
+    /// A's list length, pass A's triangles, then pass B's `extract_stats`.
+    pub(super) readback: Readback,
     /// Pass B's triangles.
     pub new_lists: TriangleLists,
     pub(super) width: u32,
@@ -257,6 +258,7 @@ impl ComputeCullState {
             ("hzb cull extract stats A", 4 * EXTRACT_STATS_WORDS),
             ("hzb cull extract stats B", 4 * EXTRACT_STATS_WORDS),
             ("hzb", hzb_bytes(w, h)),
+            ("hzb cull compaction progress", 4),
         ];
         let usage = vk::BufferUsageFlags::STORAGE_BUFFER
             | vk::BufferUsageFlags::INDIRECT_BUFFER
@@ -267,9 +269,10 @@ impl ComputeCullState {
             made.push(gpu.create_buffer(name, bytes, usage, MemoryLocation::GpuOnly)?);
         }
         let new_lists = TriangleLists::new(gpu, target.lists.capacity)?;
-        let Ok([flags, a, b, new_blocks, stats, es_a, es_b, hzb]) = <[Buffer; 8]>::try_from(made)
+        let Ok([flags, a, b, new_blocks, stats, es_a, es_b, hzb, compaction_progress]) =
+            <[Buffer; 9]>::try_from(made)
         else {
-            unreachable!("eight buffers were made")
+            unreachable!("nine buffers were made")
         };
         let state = ComputeCullState {
             flags,
@@ -278,6 +281,7 @@ impl ComputeCullState {
             stats,
             extract_stats: [es_a, es_b],
             hzb,
+            compaction_progress,
             cell_boxes: CellBoxes::new(gpu, "hzb cull cell boxes", blocks as u64)?,
             readback: gpu.create_readback(
                 "hzb cull stats (host)",
@@ -306,7 +310,12 @@ impl ComputeCullState {
                 rec.fill_buffer(b, 0);
             }
             self.cell_boxes.record_clear(rec);
-            for b in [&self.stats, &self.extract_stats[0], &self.extract_stats[1]] {
+            for b in [
+                &self.stats,
+                &self.extract_stats[0],
+                &self.extract_stats[1],
+                &self.compaction_progress,
+            ] {
                 rec.fill_buffer(b, 0);
             }
         })?;
@@ -321,24 +330,7 @@ impl ComputeCullState {
         &self.lists[(self.frame.get() + 1) % 2]
     }
 
-    /// Records the copy of the frame's statistics to the host (at the frame's end): `stats`,
-    /// then pass A's list length (at the list's start), pass A's triangles and pass B's
-    /// extraction statistics.
-    pub(super) fn record_stats_readback(&self, rec: &Recorder) {
-        rec.barrier();
-        let words = 4 * STATS_WORDS;
-        self.readback.record_copies(
-            rec,
-            &[
-                (&self.stats, 0, words),
-                (self.first(), words, 4),
-                (&self.extract_stats[0], words + 4, 4),
-                (&self.extract_stats[1], words + 8, 4 * EXTRACT_STATS_WORDS),
-            ],
-        );
-    }
-
-    /// What the last recorded frame did (read after it was submitted): copied to the host at
+    /// What the last recorded frame did (read after it was submitted): written to the host at
     /// the frame's end, so reading takes no submission.
     pub fn read_stats(&self) -> ComputeCullStats {
         let mut s = [0u32; 8];

@@ -170,7 +170,7 @@ impl DirectCompute {
                 );
             }
         });
-        // Shade, flag the blocks that own pixels, list them for next frame, and copy the
+        // Shade, flag the blocks that own pixels, list them for next frame, and write the
         // frame's counts to the host: inside the last scope, so that a frame timed pass by
         // pass spans all its work.
         stage("cull-resolve", &|rec| {
@@ -190,11 +190,16 @@ impl DirectCompute {
                     Binding::Buffer(&state.flags),
                     Binding::Buffer(next),
                     Binding::Buffer(&state.stats),
+                    Binding::Buffer(first),
+                    Binding::Buffer(&state.extract_stats[0]),
+                    Binding::Buffer(&state.extract_stats[1]),
+                    Binding::Buffer(state.readback.storage()),
+                    Binding::Buffer(&state.compaction_progress),
                 ],
                 bytemuck::bytes_of(&state.block_count),
                 per_block(&c.compact),
             );
-            state.record_stats_readback(rec);
+            rec.barrier();
         });
         state.frame.set(state.frame.get() + 1);
         Ok(())

@@ -255,13 +255,12 @@ impl MeshletDraw {
             params.lighting(),
         );
         rec.barrier();
-        self.readback
-            .record_copy(rec, &self.counters, 0, COUNTER_BYTES);
-        self.readback.record_copy(
+        self.readback.record_copies(
             rec,
-            &occlusion.second_counters,
-            COUNTER_BYTES,
-            COUNTER_BYTES,
+            &[
+                (&self.counters, 0, COUNTER_BYTES),
+                (&occlusion.second_counters, COUNTER_BYTES, COUNTER_BYTES),
+            ],
         );
         Ok(())
     }
