@@ -53,19 +53,6 @@ pub(super) fn isosurface_structs(t: &mut Table) {
             host!(BlockListHeader, count, args),
         );
     }
-    let cull_begin = compile(
-        &builtin_shader!("../iso/direct/cull_begin.comp.glsl"),
-        &[("CULL_BEGIN_WORDS".into(), "4".into())],
-    );
-    t.push_constants::<crate::iso::direct::compute_cull::CullBeginParams>(
-        &cull_begin,
-        "CullBeginParams",
-        host!(
-            crate::iso::direct::compute_cull::CullBeginParams,
-            words_low,
-            words_high
-        ),
-    );
     // Culling's second pass reads its raster pass's parameters from a buffer.
     let mut new_defines = list_defines.clone();
     new_defines.push(("HIDDEN_CELLS_LEFT_OUT".into(), "1".into()));

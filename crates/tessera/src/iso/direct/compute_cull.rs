@@ -45,21 +45,19 @@
 
 use crate::builtin_shader;
 use crate::error::Result;
-use crate::iso::direct::block_list::{self, BlockListHeader};
+use crate::iso::direct::block_list;
 use crate::iso::direct::cell_boxes::{cell_box_defines, CellBoxes};
 use crate::iso::direct::compute::{drawing_extraction, DirectRaster};
 use crate::iso::direct::compute::{extract_defines, ComputeTarget, TriangleLists};
 use crate::iso::direct::resolve::SurfaceResolve;
 use crate::iso::PreparedVolume;
 use crate::raster::hzb::{hzb_bytes, HzbBuilder};
-use crate::raster::{RasterCounts, RasterVariant};
+use crate::raster::RasterVariant;
 use bytemuck::{Pod, Zeroable};
 use std::cell::Cell;
 use tessera_data::mc_ambiguity::AmbiguityRule;
 use tessera_data::ScalarType;
-use tessera_gpu::{
-    vk, Binding, Buffer, Gpu, MemoryLocation, Pipeline, Readback, Recorder, ShaderCompiler, Slot,
-};
+use tessera_gpu::{vk, Buffer, Gpu, MemoryLocation, Pipeline, Readback, ShaderCompiler, Slot};
 
 /// Push constants of `hzb_test.comp.glsl`.
 #[repr(C)]
@@ -73,17 +71,6 @@ pub struct HzbTestParams {
     /// x the isovalue.
     pub iso: [f32; 4],
 }
-
-/// Push constants of `cull_begin.comp.glsl`: the words to empty in each of its seven bindings.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Pod, Zeroable)]
-pub struct CullBeginParams {
-    pub words_low: [u32; 4],
-    pub words_high: [u32; 4],
-}
-
-/// Invocations of `cull_begin.comp.glsl`: at least the words of its largest binding.
-const CULL_BEGIN_WORDS: u32 = 4;
 
 /// Workgroups for `threads` invocations of a 1-D pass as a 2-D grid within the x limit.
 pub(super) fn groups_2d(threads: u32, local: u32, max_x: u32) -> [u32; 3] {
@@ -102,8 +89,6 @@ pub(crate) struct ComputeCullPipelines {
     pub(super) test: Pipeline,
     pub(super) resolve: SurfaceResolve,
     pub(super) compact: Pipeline,
-    /// Empties the frame's counts and list headers.
-    pub(super) begin: Pipeline,
     pub(super) max_groups_x: u32,
 }
 
@@ -171,9 +156,6 @@ impl ComputeCullPipelines {
         let resolve =
             SurfaceResolve::new(gpu, compiler, &defines, true, "direct resolve (two lists)")?;
         let compact = gpu.compute_pipeline("hzb compact", &compact, &[sb; 8])?;
-        let begin_defines = [("CULL_BEGIN_WORDS".into(), format!("{CULL_BEGIN_WORDS}"))];
-        let begin = compiler.compile(&builtin_shader!("cull_begin.comp.glsl"), &begin_defines)?;
-        let begin = gpu.compute_pipeline("cull begin", &begin, &[sb; 7])?;
         Ok(ComputeCullPipelines {
             extract_list,
             extract_new,
@@ -182,7 +164,6 @@ impl ComputeCullPipelines {
             test,
             resolve,
             compact,
-            begin,
             max_groups_x: gpu.caps().max_compute_workgroup_count[0],
         })
     }
@@ -339,37 +320,6 @@ impl ComputeCullState {
             }
         })?;
         Ok(())
-    }
-
-    /// Records the dispatch that empties the frame's counts (`first_counts`: pass A's
-    /// triangle list's), statistics and the two lists the frame fills; no barrier.
-    pub(super) fn record_begin(&self, rec: &Recorder, begin: &Pipeline, first_counts: &Buffer) {
-        let counts = (size_of::<RasterCounts>() / 4) as u32;
-        let header = (size_of::<BlockListHeader>() / 4) as u32;
-        let (stats, extraction) = (STATS_WORDS as u32, EXTRACT_STATS_WORDS as u32);
-        let params = CullBeginParams {
-            words_low: [counts, counts, stats, extraction],
-            words_high: [extraction, header, header, 0],
-        };
-        debug_assert!(params
-            .words_low
-            .iter()
-            .chain(&params.words_high)
-            .all(|&w| w <= CULL_BEGIN_WORDS));
-        rec.dispatch_groups(
-            begin,
-            &[
-                Binding::Buffer(first_counts),
-                Binding::Buffer(&self.new_lists.counts),
-                Binding::Buffer(&self.stats),
-                Binding::Buffer(&self.extract_stats[0]),
-                Binding::Buffer(&self.extract_stats[1]),
-                Binding::Buffer(&self.new_blocks),
-                Binding::Buffer(self.next()),
-            ],
-            bytemuck::bytes_of(&params),
-            [1, 1, 1],
-        );
     }
 
     pub(super) fn first(&self) -> &Buffer {

@@ -1,7 +1,7 @@
 //! Recording of a culled compute-path frame (see `compute_cull` for the method).
 
 use crate::error::{Error, Result};
-use crate::iso::direct::block_list;
+use crate::iso::direct::block_list::{self, BlockListHeader};
 use crate::iso::direct::compute::{
     frame_bindings, ComputeTarget, DirectCompute, DirectRaster, TriangleLists,
 };
@@ -99,7 +99,16 @@ impl DirectCompute {
         let per_block =
             |p: &Pipeline| groups_2d(state.block_count, p.local_size[0], c.max_groups_x);
         stage("cull-pass-a", &|rec| {
-            state.record_begin(rec, &c.begin, &a.counts);
+            for list in [&state.new_blocks, next] {
+                rec.update_buffer(list, bytemuck::bytes_of(&BlockListHeader::EMPTY));
+            }
+            for buffer in [&a.counts, &b_lists.counts, &state.stats] {
+                rec.fill_buffer(buffer, 0);
+            }
+            state
+                .extract_stats
+                .iter()
+                .for_each(|s| rec.fill_buffer(s, 0));
             target.frame.record_begin(rec);
             target
                 .frame
