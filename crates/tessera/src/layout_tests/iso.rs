@@ -90,7 +90,8 @@ pub(super) fn isosurface_structs(t: &mut Table) {
             size,
             second_base,
             frame_number,
-            empties
+            empties,
+            seen_number
         ),
     );
     t.buffer(
@@ -119,7 +120,14 @@ pub(super) fn isosurface_structs(t: &mut Table) {
     t.push_constants::<HzbTestParams>(
         &hzb_test,
         "HzbTestParams",
-        host!(HzbTestParams, grid_to_clip, dims, size, iso),
+        host!(
+            HzbTestParams,
+            grid_to_clip,
+            dims,
+            size,
+            iso,
+            first_pass_number
+        ),
     );
     let blocks = compile(
         &builtin_shader!("../iso/minmax/minmax_blocks.comp.glsl"),

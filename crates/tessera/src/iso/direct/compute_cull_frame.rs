@@ -92,8 +92,8 @@ impl DirectCompute {
             rec.barrier();
         };
 
-        // Pass A: last frame's visible blocks (their list and its dispatch arguments were
-        // written by last frame's compaction). Every list and count this frame fills starts
+        // Pass A: last frame's visible blocks (their list written by last frame's resolve, its
+        // dispatch arguments by its finishing pass). Every list and count this frame fills starts
         // empty: the passes that fill them grow their own dispatch arguments.
         let (a, b_lists) = (&target.lists, &state.new_lists);
         let per_block =
@@ -141,6 +141,8 @@ impl DirectCompute {
                 ],
                 size: [w, h, 0, 0],
                 iso: [params.isovalue, 0.0, 0.0, 0.0],
+                first_pass_number: state.first_pass_number(),
+                pad: [0; 3],
             };
             rec.dispatch_groups(
                 &c.test,
@@ -170,34 +172,32 @@ impl DirectCompute {
                 );
             }
         });
-        // Shade, flag the blocks that own pixels, list them for next frame, and write the
-        // frame's counts to the host: inside the last scope, so that a frame timed pass by
-        // pass spans all its work.
+        // Shade, list the blocks that own pixels for next frame, and write the frame's counts
+        // to the host: inside the last scope, so that a frame timed pass by pass spans all its
+        // work.
         stage("cull-resolve", &|rec| {
-            c.resolve.record_two(
+            c.resolve.record_two_listing_seen(
                 rec,
                 &target.frame,
                 (a.shaded(), b_lists.shaded()),
                 base,
-                &state.flags,
+                (&state.flags, state.seen_number(), next),
                 pixels,
                 params.lighting(),
             );
             rec.barrier();
             rec.dispatch_groups(
-                &c.compact,
+                &c.finish,
                 &[
-                    Binding::Buffer(&state.flags),
                     Binding::Buffer(next),
                     Binding::Buffer(&state.stats),
                     Binding::Buffer(first),
                     Binding::Buffer(&state.extract_stats[0]),
                     Binding::Buffer(&state.extract_stats[1]),
                     Binding::Buffer(state.readback.storage()),
-                    Binding::Buffer(&state.compaction_progress),
                 ],
-                bytemuck::bytes_of(&state.block_count),
-                per_block(&c.compact),
+                &[],
+                [1, 1, 1],
             );
             rec.barrier();
         });

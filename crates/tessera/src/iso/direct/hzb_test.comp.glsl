@@ -11,7 +11,8 @@
 
 layout(local_size_x = 256) in;
 layout(binding = 0) readonly buffer Nodes { vec2 minmax_nodes[]; };
-// Bit 1: the block was drawn in the first pass (it was seen last frame).
+// The number of the last frame each block owned a pixel in (resolve.comp.glsl): the blocks
+// of the last frame's number were drawn in the first pass.
 layout(binding = 1) readonly buffer BlockFlags { uint block_flags[]; };
 layout(binding = 2) readonly buffer Hzb { float hzb[]; };
 // Pass B's list; its dispatch arguments (one workgroup per block) grow as blocks are listed.
@@ -27,6 +28,7 @@ layout(push_constant) uniform HzbTestParams {
     uvec4 dims;   // xyz samples per axis, w pyramid levels
     uvec4 size;   // xy frame width and height
     vec4 iso;     // x the isovalue
+    uint first_pass_number;  // the flag of the blocks drawn in the first pass
 } params;
 
 #include "raster/hzb_test.glsl"
@@ -64,7 +66,7 @@ void main() {
             atomicAdd(group_occupied, 1u);
             uvec3 block = uvec3(b % block_dims.x, (b / block_dims.x) % block_dims.y,
                                 b / (block_dims.x * block_dims.y));
-            if ((block_flags[b] & 2u) == 0u && may_be_visible(block, b)) {
+            if (block_flags[b] != params.first_pass_number && may_be_visible(block, b)) {
                 listed = true;
                 slot = atomicAdd(group_new, 1u);
             }

@@ -5,7 +5,10 @@
 //
 // With TWO_LISTS defined (occlusion culling) the frame holds triangles of two lists: indices
 // below params.second_base are the first list's, the rest the second's (drawn with that index base).
-// Each drawn pixel then also flags its triangle's block as seen (bit 0 of the block's flags).
+// Each drawn pixel then also flags its triangle's block as seen (bit 0 of the block's flags);
+// with SEEN_BLOCK_LIST defined (direct's culling) a block's flag is instead the number of the
+// last frame it owned a pixel in, and the first pixel to find it older lists the block for the
+// next frame's first pass (the list's dispatch is sized after this pass).
 //
 // Only the tiles the frame's raster passes marked with its number are read (raster/mod.rs); the
 // rest are background. Each drawn pixel read is emptied again, so that the frame is empty for
@@ -30,6 +33,10 @@ layout(binding = 4) readonly buffer SecondTriangles { RasterTriangle second_tria
 layout(binding = 5) readonly buffer SecondAttributes { TriangleAttributes second_attributes[]; };
 layout(binding = 6) buffer BlockFlags { uint block_flags[]; };
 layout(binding = 7) readonly buffer TileFrames { uint tile_frames[]; };
+#ifdef SEEN_BLOCK_LIST
+#include "iso/direct/block_list.glsl"
+layout(binding = 8) buffer NextBlocks { BlockListHeader next_list; uint next_blocks[]; };
+#endif
 #else
 layout(binding = 4) readonly buffer TileFrames { uint tile_frames[]; };
 #endif
@@ -42,6 +49,7 @@ layout(push_constant) uniform ResolveParams {
     uint second_base;    // first index of the second list (TWO_LISTS)
     uint frame_number;   // the number the frame's raster passes marked their tiles with
     uint empties;        // 1: empty each drawn pixel read (0: the frame is kept for reading)
+    uint seen_number;    // the number this frame writes into its blocks' flags (SEEN_BLOCK_LIST)
 } params;
 
 void resolve_pixel(uvec2 pixel, uvec2 size) {
@@ -68,7 +76,14 @@ void resolve_pixel(uvec2 pixel, uvec2 size) {
         }
         uint block = a.corners[0].maker;
         if (block < uint(block_flags.length())) {
+#ifdef SEEN_BLOCK_LIST
+            uint seen = params.seen_number;
+            if (block_flags[block] != seen && atomicExchange(block_flags[block], seen) != seen) {
+                next_blocks[atomicAdd(next_list.count, 1u)] = block;
+            }
+#else
             block_flags[block] = 1u;  // every writer stores the same value
+#endif
         }
 #else
         tri = triangles[t];

@@ -26,6 +26,8 @@ pub struct ResolveParams {
     pub frame_number: u32,
     /// 1: empty each drawn pixel read; 0: leave it ([`RasterFrame::keep_after_resolve`]).
     pub empties: u32,
+    /// What a resolve that lists the blocks seen writes into their flags (the frame's number).
+    pub seen_number: u32,
 }
 
 /// A triangle list as the resolve reads it: the rasterizer's triangles (for the
@@ -66,10 +68,12 @@ pub fn clip_to_world(
 }
 
 /// The resolve pipeline for one list, or for two (`TWO_LISTS`: the second list's indices
-/// start at a base, and each drawn pixel flags its triangle's block as seen).
+/// start at a base, and each drawn pixel flags its triangle's block as seen), optionally
+/// listing the blocks seen (`SEEN_BLOCK_LIST`).
 pub struct SurfaceResolve {
     pipeline: Pipeline,
     two_lists: bool,
+    lists_seen: bool,
 }
 
 impl SurfaceResolve {
@@ -82,16 +86,45 @@ impl SurfaceResolve {
         two_lists: bool,
         name: &str,
     ) -> Result<SurfaceResolve> {
+        Self::build(gpu, compiler, defines, (two_lists, false), name)
+    }
+
+    /// The two-list pass that also lists each block seen for the first time this frame
+    /// ([`Self::record_two_listing_seen`]).
+    pub fn new_listing_seen(
+        gpu: &Gpu,
+        compiler: &ShaderCompiler,
+        defines: &[(String, String)],
+        name: &str,
+    ) -> Result<SurfaceResolve> {
+        Self::build(gpu, compiler, defines, (true, true), name)
+    }
+
+    fn build(
+        gpu: &Gpu,
+        compiler: &ShaderCompiler,
+        defines: &[(String, String)],
+        (two_lists, lists_seen): (bool, bool),
+        name: &str,
+    ) -> Result<SurfaceResolve> {
         let mut defines = defines.to_vec();
         if two_lists {
             defines.push(("TWO_LISTS".into(), "1".into()));
         }
+        if lists_seen {
+            defines.push(("SEEN_BLOCK_LIST".into(), "1".into()));
+        }
         let spirv = compiler.compile(&builtin_shader!("resolve.comp.glsl"), &defines)?;
-        let slots = if two_lists { 8 } else { 5 };
-        let pipeline = gpu.compute_pipeline(name, &spirv, &[Slot::StorageBuffer; 8][..slots])?;
+        let slots = match (two_lists, lists_seen) {
+            (false, _) => 5,
+            (true, false) => 8,
+            (true, true) => 9,
+        };
+        let pipeline = gpu.compute_pipeline(name, &spirv, &[Slot::StorageBuffer; 9][..slots])?;
         Ok(SurfaceResolve {
             pipeline,
             two_lists,
+            lists_seen,
         })
     }
 
@@ -114,7 +147,7 @@ impl SurfaceResolve {
             Binding::Buffer(&pixels.pixels),
             Binding::Buffer(&frame.tile_frames),
         ];
-        self.dispatch(rec, frame, &bindings, lighting, 0);
+        self.dispatch(rec, frame, &bindings, lighting, (0, 0));
     }
 
     /// Records the shading of `frame`, drawn from `first` and from `second` with its indices
@@ -131,7 +164,10 @@ impl SurfaceResolve {
         pixels: &Target,
         lighting: Lighting,
     ) {
-        debug_assert!(self.two_lists, "a one-list resolve given two lists");
+        debug_assert!(
+            self.two_lists && !self.lists_seen,
+            "a two-list resolve that flags blocks wanted"
+        );
         let bindings = [
             Binding::Buffer(&frame.depth_payload),
             Binding::Buffer(first.triangles),
@@ -142,7 +178,37 @@ impl SurfaceResolve {
             Binding::Buffer(block_flags),
             Binding::Buffer(&frame.tile_frames),
         ];
-        self.dispatch(rec, frame, &bindings, lighting, second_base);
+        self.dispatch(rec, frame, &bindings, lighting, (second_base, 0));
+    }
+
+    /// As [`Self::record_two`], but each block whose triangle owns a pixel gets `seen_number`
+    /// in `block_flags`, and the first pixel to give it that number appends the block to
+    /// `next_list` (a block list, `block_list.glsl`; its dispatch arguments are left to a pass
+    /// after this one). The pipeline must be [`Self::new_listing_seen`]'s.
+    #[allow(clippy::too_many_arguments)]
+    pub fn record_two_listing_seen(
+        &self,
+        rec: &Recorder,
+        frame: &RasterFrame,
+        (first, second): (ShadedList, ShadedList),
+        second_base: u32,
+        (block_flags, seen_number, next_list): (&Buffer, u32, &Buffer),
+        pixels: &Target,
+        lighting: Lighting,
+    ) {
+        debug_assert!(self.lists_seen, "a resolve that lists no blocks");
+        let bindings = [
+            Binding::Buffer(&frame.depth_payload),
+            Binding::Buffer(first.triangles),
+            Binding::Buffer(first.attributes),
+            Binding::Buffer(&pixels.pixels),
+            Binding::Buffer(second.triangles),
+            Binding::Buffer(second.attributes),
+            Binding::Buffer(block_flags),
+            Binding::Buffer(&frame.tile_frames),
+            Binding::Buffer(next_list),
+        ];
+        self.dispatch(rec, frame, &bindings, lighting, (second_base, seen_number));
     }
 
     fn dispatch(
@@ -151,7 +217,7 @@ impl SurfaceResolve {
         frame: &RasterFrame,
         bindings: &[Binding],
         lighting: Lighting,
-        second_base: u32,
+        (second_base, seen_number): (u32, u32),
     ) {
         let (e, l) = (lighting.eye, lighting.light);
         let params = ResolveParams {
@@ -162,6 +228,7 @@ impl SurfaceResolve {
             second_base,
             frame_number: frame.frame_number(),
             empties: u32::from(frame.emptied_by_resolve()),
+            seen_number,
         };
         rec.dispatch_groups(
             &self.pipeline,
