@@ -67,6 +67,25 @@ pub fn clip_to_world(
         .to_cols_array_2d()
 }
 
+/// The bindings of a two-list resolve, in its slots' order.
+fn two_list_bindings<'a>(
+    frame: &'a RasterFrame,
+    (first, second): (ShadedList<'a>, ShadedList<'a>),
+    block_flags: &'a Buffer,
+    pixels: &'a Target,
+) -> [Binding<'a>; 8] {
+    [
+        Binding::Buffer(&frame.depth_payload),
+        Binding::Buffer(first.triangles),
+        Binding::Buffer(first.attributes),
+        Binding::Buffer(&pixels.pixels),
+        Binding::Buffer(second.triangles),
+        Binding::Buffer(second.attributes),
+        Binding::Buffer(block_flags),
+        Binding::Buffer(&frame.tile_frames),
+    ]
+}
+
 /// The resolve pipeline for one list, or for two (`TWO_LISTS`: the second list's indices
 /// start at a base, and each drawn pixel flags its triangle's block as seen), optionally
 /// listing the blocks seen (`SEEN_BLOCK_LIST`).
@@ -168,16 +187,7 @@ impl SurfaceResolve {
             self.two_lists && !self.lists_seen,
             "a two-list resolve that flags blocks wanted"
         );
-        let bindings = [
-            Binding::Buffer(&frame.depth_payload),
-            Binding::Buffer(first.triangles),
-            Binding::Buffer(first.attributes),
-            Binding::Buffer(&pixels.pixels),
-            Binding::Buffer(second.triangles),
-            Binding::Buffer(second.attributes),
-            Binding::Buffer(block_flags),
-            Binding::Buffer(&frame.tile_frames),
-        ];
+        let bindings = two_list_bindings(frame, (first, second), block_flags, pixels);
         self.dispatch(rec, frame, &bindings, lighting, (second_base, 0));
     }
 
@@ -197,17 +207,8 @@ impl SurfaceResolve {
         lighting: Lighting,
     ) {
         debug_assert!(self.lists_seen, "a resolve that lists no blocks");
-        let bindings = [
-            Binding::Buffer(&frame.depth_payload),
-            Binding::Buffer(first.triangles),
-            Binding::Buffer(first.attributes),
-            Binding::Buffer(&pixels.pixels),
-            Binding::Buffer(second.triangles),
-            Binding::Buffer(second.attributes),
-            Binding::Buffer(block_flags),
-            Binding::Buffer(&frame.tile_frames),
-            Binding::Buffer(next_list),
-        ];
+        let mut bindings = two_list_bindings(frame, (first, second), block_flags, pixels).to_vec();
+        bindings.push(Binding::Buffer(next_list));
         self.dispatch(rec, frame, &bindings, lighting, (second_base, seen_number));
     }
 
