@@ -34,10 +34,11 @@
 //!    counts into host-visible memory. A compaction over every block's flags stood here
 //!    before (0.043 ms of the 1024³ head's frame at 3840×2160 on an H100, run 123).
 //!
-//! Every pass that appends to a list or reserves triangles grows the indirect dispatch
-//! arguments of the pass that reads them (`common/indirect_args.glsl`), so no bookkeeping pass
-//! and barrier sits between them: at 3840×2160 the frame is 9 dispatches (23 with a pass per
-//! pyramid level and bookkeeping passes).
+//! The test, which appends to a list, and the extractions, which reserve triangles, grow the
+//! indirect dispatch arguments of the pass that reads them (`common/indirect_args.glsl`), so
+//! no bookkeeping pass and barrier sits between them; the resolve's list is sized by the
+//! finishing pass, which the frame needs anyway: at 3840×2160 the frame is 9 dispatches (23
+//! with a pass per pyramid level and bookkeeping passes).
 //!
 //! Blocks are never marked visible without owning a pixel, so the pass-A list is exactly the
 //! visible set of the last frame; a block that passes the test but owns no pixel is drawn in
