@@ -368,3 +368,27 @@ impl ComputeCullState {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::ComputeCullState;
+
+    /// Frame numbers never match the flags a reset leaves (0) or the number before the first
+    /// frame (1), and two frames in a row differ, also where the numbers wrap around.
+    #[test]
+    fn frame_numbers_skip_the_reset_flags_and_differ_frame_to_frame() {
+        let wrap = u32::MAX as usize - 2;
+        for frame in [0, 1, 2, 1000, wrap - 2, wrap - 1, wrap, wrap + 1] {
+            let (now, before) = (
+                ComputeCullState::number_of(frame),
+                ComputeCullState::number_of(frame.wrapping_sub(1)),
+            );
+            assert!(now >= 2, "frame {frame}: {now}");
+            if frame > 0 {
+                assert_ne!(now, before, "frame {frame}");
+            }
+        }
+        assert_eq!(ComputeCullState::number_of(0), 2);
+        assert_eq!(ComputeCullState::number_of(wrap), 2);
+    }
+}
