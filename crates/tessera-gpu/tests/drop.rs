@@ -231,6 +231,15 @@ fn a_readback_holds_what_the_last_submission_copied() {
             "round {round}"
         );
     }
+    // Several copies behind one barrier: each lands at its own offset.
+    gpu.submit("copies", |rec| {
+        rec.update_buffer(&source, bytemuck::cast_slice(&[7u32, 8, 9, 10]));
+        rec.barrier();
+        readback.record_copies(rec, &[(&source, 0, 8), (&source, 16, 8)]);
+    })
+    .unwrap();
+    let held: Vec<u32> = bytemuck::pod_collect_to_vec(readback.bytes());
+    assert_eq!(held, [7, 8, 2, 4, 7, 8]);
     assert!(
         gpu.validation_errors().is_empty(),
         "{:?}",
