@@ -123,41 +123,37 @@ impl ComputeCullPipelines {
         let sb = Slot::StorageBuffer;
         let test = compiler.compile(&builtin_shader!("hzb_test.comp.glsl"), &defines)?;
         let finish = compiler.compile(&builtin_shader!("cull_finish.comp.glsl"), &defines)?;
+        // Pass A's extraction, and pass B's that leaves out hidden cells: that one binds the
+        // frame's buffers (`frame_bindings`, which a drawing extraction binds anyway) and the
+        // pyramid after its own.
         let extract_slots = [Slot::Texture, sb, sb, sb, sb, sb, sb, sb];
-        let extract_list = match raster {
-            DirectRaster::Pass => {
-                let spirv =
-                    compiler.compile(&builtin_shader!("extract.comp.glsl"), &with("BLOCK_LIST"))?;
-                gpu.compute_pipeline("direct extract (block list)", &spirv, &extract_slots)?
+        let list_extraction = |hidden_cells: bool, blocks: &str| -> Result<Pipeline> {
+            let mut defines = with("BLOCK_LIST");
+            let mut slots = extract_slots.to_vec();
+            if hidden_cells {
+                defines.push(("HIDDEN_CELLS_LEFT_OUT".into(), "1".into()));
+                let frame_slots = if raster == DirectRaster::Pass { 3 } else { 0 };
+                slots.extend(vec![sb; frame_slots + 1]);
             }
-            DirectRaster::InExtraction => drawing_extraction(
-                gpu,
-                compiler,
-                &with("BLOCK_LIST"),
-                &extract_slots,
-                "direct extract (block list, drawing)",
-                variant,
-            )?,
+            Ok(match raster {
+                DirectRaster::Pass => {
+                    let spirv =
+                        compiler.compile(&builtin_shader!("extract.comp.glsl"), &defines)?;
+                    let name = format!("direct extract ({blocks})");
+                    gpu.compute_pipeline(&name, &spirv, &slots)?
+                }
+                DirectRaster::InExtraction => drawing_extraction(
+                    gpu,
+                    compiler,
+                    &defines,
+                    &slots,
+                    &format!("direct extract ({blocks}, drawing)"),
+                    variant,
+                )?,
+            })
         };
-        // Pass B's extraction binds the frame's (`frame_bindings`) and the pyramid after its own.
-        let mut new_defines = with("BLOCK_LIST");
-        new_defines.push(("HIDDEN_CELLS_LEFT_OUT".into(), "1".into()));
-        let new_slots = [&extract_slots[..], &[sb; 4]].concat();
-        let extract_new = match raster {
-            DirectRaster::Pass => {
-                let spirv =
-                    compiler.compile(&builtin_shader!("extract.comp.glsl"), &new_defines)?;
-                gpu.compute_pipeline("direct extract (new blocks)", &spirv, &new_slots)?
-            }
-            DirectRaster::InExtraction => drawing_extraction(
-                gpu,
-                compiler,
-                &new_defines,
-                &new_slots[..new_slots.len() - 3],
-                "direct extract (new blocks, drawing)",
-                variant,
-            )?,
-        };
+        let extract_list = list_extraction(false, "block list")?;
+        let extract_new = list_extraction(true, "new blocks")?;
         let hzb = HzbBuilder::new(gpu, compiler)?;
         let test = gpu.compute_pipeline("hzb test", &test, &[sb; 6])?;
         let resolve = SurfaceResolve::new_listing_seen(

@@ -2,9 +2,7 @@
 
 use crate::error::{Error, Result};
 use crate::iso::direct::block_list::{self, BlockListHeader};
-use crate::iso::direct::compute::{
-    frame_bindings, ComputeTarget, DirectCompute, DirectRaster, TriangleLists,
-};
+use crate::iso::direct::compute::{frame_bindings, ComputeTarget, DirectCompute, DirectRaster};
 use crate::iso::direct::compute_cull::{
     groups_2d, ComputeCullState, ComputeCullStats, HzbTestParams,
 };
@@ -57,9 +55,13 @@ impl DirectCompute {
         };
         // Where the extraction draws its triangles itself, no raster pass follows it.
         let drawing = c.raster == DirectRaster::InExtraction;
-        // Pass B's extraction (`second`) tests its cells against the pyramid.
-        let extract = |rec: &Recorder, lists: &TriangleLists, stats: &Buffer, blocks: &Buffer| {
-            let second = std::ptr::eq(lists, &state.new_lists);
+        // Pass B's extraction (`pass_b`) tests its cells against the pyramid.
+        let extract = |rec: &Recorder, pass_b: bool, stats: &Buffer, blocks: &Buffer| {
+            let lists = if pass_b {
+                &state.new_lists
+            } else {
+                &target.lists
+            };
             let mut p = *params;
             p.triangle_capacity = lists.capacity;
             let mut bindings = vec![
@@ -72,14 +74,14 @@ impl DirectCompute {
                 Binding::Buffer(blocks),
                 Binding::Buffer(&state.cell_boxes.buffer),
             ];
-            if drawing || second {
+            if drawing || pass_b {
                 bindings.extend(frame_bindings(&target.frame, lists));
             }
-            if second {
+            if pass_b {
                 bindings.push(Binding::Buffer(&state.hzb));
             }
             rec.dispatch_indirect(
-                if second {
+                if pass_b {
                     &c.extract_new
                 } else {
                     &c.extract_list
@@ -122,7 +124,7 @@ impl DirectCompute {
             // Boxes made from another volume (the same block grid) say nothing about this one.
             state.cell_boxes.record_keep_for(rec, prepared);
             rec.barrier();
-            extract(rec, a, &state.extract_stats[0], first);
+            extract(rec, false, &state.extract_stats[0], first);
             if !drawing {
                 self.rasterizer
                     .record_raster(rec, &a.triangles, &a.counts, &target.frame);
@@ -161,7 +163,7 @@ impl DirectCompute {
         });
         // Pass B: blocks that may have come into view, into the same frame.
         stage("cull-pass-b", &|rec| {
-            extract(rec, b_lists, &state.extract_stats[1], &state.new_blocks);
+            extract(rec, true, &state.extract_stats[1], &state.new_blocks);
             if !drawing {
                 self.rasterizer.record_raster_with_base(
                     rec,
