@@ -1,6 +1,7 @@
 //! `direct`'s compute path with each extraction workgroup drawing its own triangles
-//! (`DirectRaster::InExtraction`), and the rasterizer reading each pixel before its atomic
-//! (`RasterVariant::ReadBeforeAtomic`), draw the frames the raster pass after the extraction
+//! (`DirectRaster::InExtraction`), the rasterizer reading each pixel before its atomic
+//! (`RasterVariant::ReadBeforeAtomic`) and subgroups walking their triangles together
+//! (`RasterVariant::SubgroupWalk`), each way and combined, draw the frames the raster pass after the extraction
 //! draws: the same depth at every pixel and the same image, culled or not, with the near plane
 //! cutting the volume, with the hidden side left out or drawn, and on open surfaces. The
 //! rasterizer's ablations draw nothing but mark the tiles (all but the one that draws no
@@ -106,11 +107,17 @@ impl Way {
     }
 }
 
-/// The ways held to the raster pass's exact frames.
-const CANDIDATES: [(DirectRaster, RasterVariant); 3] = [
+/// The ways held to the raster pass's exact frames. The subgroup walk takes every triangle whose
+/// box holds more than one pixel, so that most are walked by their subgroup at these sizes.
+const CANDIDATES: [(DirectRaster, RasterVariant); 5] = [
     (DirectRaster::InExtraction, RasterVariant::Exact),
     (DirectRaster::Pass, RasterVariant::ReadBeforeAtomic),
     (DirectRaster::InExtraction, RasterVariant::ReadBeforeAtomic),
+    (DirectRaster::Pass, RasterVariant::SubgroupWalk { above: 1 }),
+    (
+        DirectRaster::InExtraction,
+        RasterVariant::SubgroupWalk { above: 1 },
+    ),
 ];
 
 /// Draws `path` the raster pass's way and each candidate's, culled and not, and holds every
@@ -120,10 +127,23 @@ fn compare_ways(gpu: &Gpu, name: &str, volume: &Volume, fraction: f32, path: &[O
     let iso = volume.iso_to_texel(IsoValue::Normalized(fraction));
     let capacity = marching_cubes(volume, iso).triangle_count() as u32 + 16;
     let exact = (DirectRaster::Pass, RasterVariant::Exact);
+    let candidates: Vec<_> = CANDIDATES
+        .into_iter()
+        .filter(|(raster, variant)| {
+            let available = variant.available(gpu);
+            if !available {
+                eprintln!(
+                    "SKIPPED: {raster:?} {}: no subgroup ballot and shuffle",
+                    variant.name()
+                );
+            }
+            available
+        })
+        .collect();
     for hidden_side in [HiddenSide::Skip, HiddenSide::Draw] {
         let mut ways: Vec<Way> = [exact]
             .iter()
-            .chain(&CANDIDATES)
+            .chain(&candidates)
             .map(|&way| Way::new(gpu, volume, way, size, capacity))
             .collect();
         for way in &mut ways {
@@ -133,7 +153,7 @@ fn compare_ways(gpu: &Gpu, name: &str, volume: &Volume, fraction: f32, path: &[O
             for (frame, camera) in path.iter().enumerate() {
                 let expected = ways[0].draw(gpu, iso, camera, culled);
                 let drawn = expected.depths.iter().filter(|&&d| d != u32::MAX).count();
-                for (way, candidate) in ways[1..].iter().zip(CANDIDATES) {
+                for (way, candidate) in ways[1..].iter().zip(&candidates) {
                     let what = format!(
                         "{name} {candidate:?} hidden side {} culled {culled} frame {frame}",
                         hidden_side.name()

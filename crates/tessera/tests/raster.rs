@@ -129,6 +129,47 @@ fn random_triangles_match_cpu_reference() {
         read_first == gpu_values,
         "reading before the atomic changed the frame"
     );
+
+    // Triangles walked by their whole subgroup leave the same frame, bit for bit, whichever
+    // boxes are walked that way: every box above one pixel, or the larger ones, the rest
+    // walked alone, those the clip planes cut drawn alone.
+    for above in [1, 16, 64] {
+        let variant = RasterVariant::SubgroupWalk { above };
+        if !variant.available(&gpu) {
+            eprintln!(
+                "SKIPPED: {}: no subgroup ballot and shuffle",
+                variant.name()
+            );
+            continue;
+        }
+        let unclipped_above = tris
+            .iter()
+            .filter(|t| t.iter().all(|c| c.w > 0.0 && c.z >= 0.0 && c.z <= c.w))
+            .filter(|t| {
+                let poly = screen_polygon(t, w, h);
+                let (lo, hi) = poly.iter().fold(
+                    (DVec2::splat(f64::MAX), DVec2::splat(f64::MIN)),
+                    |(lo, hi), p| (lo.min(p.truncate()), hi.max(p.truncate())),
+                );
+                let pixels = ((hi.x.min(f64::from(w)) - lo.x.max(0.0)).max(0.0)
+                    * (hi.y.min(f64::from(h)) - lo.y.max(0.0)).max(0.0))
+                    as u32;
+                pixels > above + 8
+            })
+            .count();
+        assert!(
+            unclipped_above > 40,
+            "{above}: {unclipped_above} large triangles"
+        );
+        let walking = ComputeRasterizer::with_variant(&gpu, &compiler, variant).unwrap();
+        let walked = draw(&gpu, &walking, &tris, w, h);
+        let differ = walked
+            .iter()
+            .zip(&gpu_values)
+            .filter(|(a, b)| a != b)
+            .count();
+        assert_eq!(differ, 0, "{}: {differ} pixels differ", variant.name());
+    }
     assert_clean(&gpu);
 }
 

@@ -41,6 +41,13 @@ pub(super) fn raster_ablations(
     let iso = volume.iso_to_texel(IsoValue::Normalized(config.iso_fraction));
     for raster in [DirectRaster::Pass, DirectRaster::InExtraction] {
         for variant in RasterVariant::ALL {
+            if !variant.available(gpu) {
+                sink.note(&format!(
+                    "the rasterizer's {} is not available on this device: skipped",
+                    variant.name()
+                ));
+                continue;
+            }
             let compute = DirectCompute::for_measuring(
                 gpu,
                 &compiler,

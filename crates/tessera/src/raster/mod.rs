@@ -334,7 +334,7 @@ pub(crate) fn raster_defines() -> Vec<(String, String)> {
 }
 
 /// Ways the rasterizer may draw, for performance work (`tessera bench isosurface
-/// --ablations`): the exact one every renderer uses, a candidate that draws the same frames,
+/// --ablations`): the exact one every renderer uses, candidates that draw the same frames,
 /// and stages left out, whose frames are wrong, to tell where the time goes where no profiler
 /// reads the GPU's counters.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -344,6 +344,11 @@ pub enum RasterVariant {
     /// Exact, each fragment's atomic left out where a relaxed read of the pixel already holds a
     /// value at or below its own.
     ReadBeforeAtomic,
+    /// Exact; a triangle whose pixel box holds more than `above` pixels (and whose box is under
+    /// 2^15 sub-pixels a side) is walked by its invocation's whole subgroup, neighbouring
+    /// invocations taking neighbouring pixels. Needs subgroup ballot and shuffle
+    /// ([`RasterVariant::available`]).
+    SubgroupWalk { above: u32 },
     /// Fragments computed but never written.
     NoAtomics,
     /// Triangles clipped, snapped and set up, their tiles marked; no pixel visited.
@@ -353,39 +358,70 @@ pub enum RasterVariant {
 }
 
 impl RasterVariant {
-    pub const ALL: [RasterVariant; 5] = [
+    pub const ALL: [RasterVariant; 7] = [
         RasterVariant::Exact,
         RasterVariant::ReadBeforeAtomic,
+        RasterVariant::SubgroupWalk { above: 16 },
+        RasterVariant::SubgroupWalk { above: 64 },
         RasterVariant::NoAtomics,
         RasterVariant::SetupOnly,
         RasterVariant::NoDraw,
     ];
 
-    pub fn name(self) -> &'static str {
+    pub fn name(self) -> String {
         match self {
-            RasterVariant::Exact => "exact",
-            RasterVariant::ReadBeforeAtomic => "read before atomic",
-            RasterVariant::NoAtomics => "no atomics",
-            RasterVariant::SetupOnly => "set-up only",
-            RasterVariant::NoDraw => "no drawing",
+            RasterVariant::Exact => "exact".into(),
+            RasterVariant::ReadBeforeAtomic => "read before atomic".into(),
+            RasterVariant::SubgroupWalk { above } => format!("subgroup walk above {above} px"),
+            RasterVariant::NoAtomics => "no atomics".into(),
+            RasterVariant::SetupOnly => "set-up only".into(),
+            RasterVariant::NoDraw => "no drawing".into(),
         }
     }
 
     /// Whether its frames are the exact ones.
     pub fn is_exact(self) -> bool {
-        matches!(self, RasterVariant::Exact | RasterVariant::ReadBeforeAtomic)
+        matches!(
+            self,
+            RasterVariant::Exact
+                | RasterVariant::ReadBeforeAtomic
+                | RasterVariant::SubgroupWalk { .. }
+        )
     }
 
-    /// The `RASTER_VARIANT` define `raster/raster_draw.glsl` reads.
-    pub(crate) fn define(self) -> (String, String) {
+    /// Whether `gpu` can draw this way.
+    pub fn available(self, gpu: &Gpu) -> bool {
+        match self {
+            RasterVariant::SubgroupWalk { .. } => gpu.caps().subgroup_ballot_and_shuffle,
+            _ => true,
+        }
+    }
+
+    /// The defines `raster/raster_draw.glsl` reads: `RASTER_VARIANT`, and for the subgroup
+    /// walk `RASTER_SUBGROUP_WALK` and `RASTER_SUBGROUP_WALK_ABOVE`.
+    pub(crate) fn defines(self) -> Vec<(String, String)> {
         let code = match self {
-            RasterVariant::Exact => 0,
+            RasterVariant::Exact | RasterVariant::SubgroupWalk { .. } => 0,
             RasterVariant::ReadBeforeAtomic => 1,
             RasterVariant::NoAtomics => 2,
             RasterVariant::SetupOnly => 3,
             RasterVariant::NoDraw => 4,
         };
-        ("RASTER_VARIANT".into(), code.to_string())
+        let above = match self {
+            RasterVariant::SubgroupWalk { above } => Some(above),
+            _ => None,
+        };
+        vec![
+            ("RASTER_VARIANT".into(), code.to_string()),
+            (
+                "RASTER_SUBGROUP_WALK".into(),
+                u32::from(above.is_some()).to_string(),
+            ),
+            (
+                "RASTER_SUBGROUP_WALK_ABOVE".into(),
+                format!("{}", above.unwrap_or(0)),
+            ),
+        ]
     }
 }
 
@@ -408,8 +444,15 @@ impl ComputeRasterizer {
                 gpu.caps().device_name
             )));
         }
+        if !variant.available(gpu) {
+            return Err(Error::Invalid(format!(
+                "the rasterizer's {} needs subgroup ballot and shuffle, which {} lacks",
+                variant.name(),
+                gpu.caps().device_name
+            )));
+        }
         let mut defines = raster_defines();
-        defines.push(variant.define());
+        defines.extend(variant.defines());
         let raster = compiler.compile(&builtin_shader!("raster.comp.glsl"), &defines)?;
         let raster = gpu.compute_pipeline("raster", &raster, &[Slot::StorageBuffer; 4])?;
         let prepare = IndirectArgs::new(gpu, compiler)?;

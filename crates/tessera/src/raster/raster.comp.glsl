@@ -1,9 +1,14 @@
 #version 460
 // The compute rasterizer's pass: one invocation per clip-space triangle of a list, each drawn
-// by raster/raster_draw.glsl (the CPU reference tessera_data::rasterize's rules).
+// by raster/raster_draw.glsl (the CPU reference tessera_data::rasterize's rules); with
+// RASTER_SUBGROUP_WALK, large ones by the invocation's whole subgroup.
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_EXT_shader_atomic_int64 : require
 #extension GL_KHR_memory_scope_semantics : require
+#if defined(RASTER_SUBGROUP_WALK) && RASTER_SUBGROUP_WALK
+#extension GL_KHR_shader_subgroup_ballot : require
+#extension GL_KHR_shader_subgroup_shuffle : require
+#endif
 #include "raster/raster.glsl"
 
 layout(local_size_x = RASTER_GROUP_SIZE) in;
@@ -31,10 +36,16 @@ layout(push_constant) uniform RasterParams {
 void main() {
     uint group = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
     uint index = group * gl_WorkGroupSize.x + gl_LocalInvocationID.x;
-    if (index >= min(triangle_count, params.capacity) || RASTER_VARIANT == 4) {
-        return;
-    }
+    bool valid = index < min(triangle_count, params.capacity) && RASTER_VARIANT != 4;
     RasterPass pass = RasterPass(params.size, params.frame_number, params.hidden_winding);
-    raster_draw_triangle(pass, triangles[index].clip[0], triangles[index].clip[1],
-                         triangles[index].clip[2], params.index_base + index);
+#if RASTER_SUBGROUP_WALK
+    // Every invocation stays, so that the subgroup walks its large triangles together.
+    vec4 clip[3] = valid ? triangles[index].clip : vec4[3](vec4(0.0), vec4(0.0), vec4(0.0));
+    raster_draw_triangle_in_subgroup(pass, valid, clip[0], clip[1], clip[2], params.index_base + index);
+#else
+    if (valid) {
+        raster_draw_triangle(pass, triangles[index].clip[0], triangles[index].clip[1],
+                             triangles[index].clip[2], params.index_base + index);
+    }
+#endif
 }

@@ -29,6 +29,12 @@
 #ifndef RASTER_VARIANT
 #define RASTER_VARIANT 0
 #endif
+// 1: raster_draw_triangle_in_subgroup lets a subgroup walk its large triangles together
+// (raster::RasterVariant::SubgroupWalk); the includer then enables
+// GL_KHR_shader_subgroup_ballot and GL_KHR_shader_subgroup_shuffle.
+#ifndef RASTER_SUBGROUP_WALK
+#define RASTER_SUBGROUP_WALK 0
+#endif
 
 // What a raster pass draws into, and how (RasterParams on the host).
 struct RasterPass {
@@ -130,13 +136,35 @@ int64_t edge_bias(ivec2 a, ivec2 b) {
     return (d.y < 0 || (d.y == 0 && d.x > 0)) ? int64_t(0) : int64_t(1);
 }
 
-void draw_fan_triangle(RasterPass pass, Corner a, Corner b, Corner c, uint index) {
+// A triangle of positive area on the snapped grid, ready to walk: what each way of walking
+// its pixels needs.
+struct FanSetup {
+    ivec2 first;      // its pixel box, inside the viewport
+    ivec2 last;
+    // Edge i is opposite corner i; its function is corner i's unnormalized weight. `row`
+    // holds them at the centre of pixel `first`, less `bias` (the top-left rule), so that a
+    // pixel is inside where all three are >= 0.
+    i64vec3 row;
+    i64vec3 bias;
+    i64vec3 step_x;   // per pixel right
+    i64vec3 step_y;   // per pixel down
+    float z0;         // NDC depth of corner a
+    vec2 dz;          // corners b's and c's depths relative to a's
+    float inv_area;
+    // Its corners' box spans under 2^15 sub-pixels a side, so every edge function at a pixel
+    // centre in the box is below 2^31 in magnitude (|e| <= 2 W H): a 32-bit walk is exact.
+    bool fits_32_bits;
+};
+
+// Sets up fan triangle (a, b, c) for walking and marks the tiles its pixel box reaches; false
+// where it draws nothing (zero area, a hidden winding, no pixel centre inside the viewport).
+bool fan_setup(RasterPass pass, Corner a, Corner b, Corner c, out FanSetup s) {
     int64_t area = edge(a.p, b.p, c.p);
     if (area == 0) {
-        return;  // zero area: no fragments
+        return false;  // zero area: no fragments
     }
     if (pass.hidden_winding != 0 && (area > 0) == (pass.hidden_winding > 0)) {
-        return;  // turned away from every view ray's first surface
+        return false;  // turned away from every view ray's first surface
     }
     if (area < 0) {  // double-sided: turn it around
         Corner t = b;
@@ -147,64 +175,83 @@ void draw_fan_triangle(RasterPass pass, Corner a, Corner b, Corner c, uint index
     ivec2 lo = min(a.p, min(b.p, c.p));
     ivec2 hi = max(a.p, max(b.p, c.p));
     // Pixels whose centre (x + 1/2) lies in [lo, hi], inside the viewport.
-    ivec2 first = max((lo + (HALF_SUBPIXEL - 1)) >> SUBPIXEL_BITS, ivec2(0));
-    ivec2 last = min((hi - HALF_SUBPIXEL) >> SUBPIXEL_BITS, ivec2(pass.size) - 1);
-    if (any(greaterThan(first, last))) {
-        return;
+    s.first = max((lo + (HALF_SUBPIXEL - 1)) >> SUBPIXEL_BITS, ivec2(0));
+    s.last = min((hi - HALF_SUBPIXEL) >> SUBPIXEL_BITS, ivec2(pass.size) - 1);
+    if (any(greaterThan(s.first, s.last))) {
+        return false;
     }
     // Every tile the pixel box reaches: a superset of the tiles the triangle draws into, which
     // a resolve that reads only marked tiles must all see. Every writer stores the same value.
     uint tiles_per_row = raster_tiles_per_row(pass.size.x);
-    uvec2 first_tile = uvec2(first) / RASTER_TILE;
-    uvec2 last_tile = uvec2(last) / RASTER_TILE;
+    uvec2 first_tile = uvec2(s.first) / RASTER_TILE;
+    uvec2 last_tile = uvec2(s.last) / RASTER_TILE;
     for (uint ty = first_tile.y; ty <= last_tile.y; ++ty) {
         for (uint tx = first_tile.x; tx <= last_tile.x; ++tx) {
             tile_frames[ty * tiles_per_row + tx] = pass.frame_number;
         }
     }
+    ivec2 centre = s.first * SUBPIXEL + HALF_SUBPIXEL;
+    s.bias = i64vec3(edge_bias(b.p, c.p), edge_bias(c.p, a.p), edge_bias(a.p, b.p));
+    s.row = i64vec3(edge(b.p, c.p, centre), edge(c.p, a.p, centre), edge(a.p, b.p, centre)) - s.bias;
+    s.step_x = -i64vec3(c.p.y - b.p.y, a.p.y - c.p.y, b.p.y - a.p.y) * SUBPIXEL;
+    s.step_y = i64vec3(c.p.x - b.p.x, a.p.x - c.p.x, b.p.x - a.p.x) * SUBPIXEL;
+    // Depth relative to corner a: exact where the triangle has one depth.
+    s.z0 = a.z;
+    s.dz = vec2(b.z - a.z, c.z - a.z);
+    s.inv_area = 1.0 / float(area);
+    s.fits_32_bits = all(lessThan(hi - lo, ivec2(1 << 15)));
+    return true;
+}
+
+// Pixel (x, y) of a set-up triangle, covered, with corners b's and c's weights `weights`.
+// `precise` keeps the depth's arithmetic the same wherever this is inlined, so every way of
+// walking a triangle gives it the same depths.
+void draw_fragment(RasterPass pass, FanSetup s, int x, int y, vec2 weights, uint index) {
+    precise float depth = s.z0 + weights.x * s.dz.x + weights.y * s.dz.y;
+    depth = depth > 0.0 ? depth : 0.0;
+    // The reference tests LESS against a buffer cleared to 1.0.
+    if (depth < 1.0) {
+        uint pixel = uint(y) * pass.size.x + uint(x);
+        uint64_t value = packUint2x32(uvec2(index, floatBitsToUint(depth)));
+#if RASTER_VARIANT == 1
+        // Values only fall: one at or below ours already keeps ours out.
+        uint64_t held = atomicLoad(depth_payload[pixel], gl_ScopeDevice,
+                                   gl_StorageSemanticsNone, gl_SemanticsRelaxed);
+        if (value < held) {
+            atomicMin(depth_payload[pixel], value);
+        }
+#elif RASTER_VARIANT == 2
+        if (index == 0xffffffffu) {  // never: keeps the fragment's arithmetic
+            depth_payload[pixel] = value;
+        }
+#else
+        atomicMin(depth_payload[pixel], value);
+#endif
+    }
+}
+
+// Walks a set-up triangle's pixel box row by row with this invocation alone.
+void walk_alone(RasterPass pass, FanSetup s, uint index) {
 #if RASTER_VARIANT == 3
     return;
 #endif
-    // Edge i is opposite corner i; its function is corner i's unnormalized weight.
-    ivec2 centre = first * SUBPIXEL + HALF_SUBPIXEL;
-    i64vec3 bias = i64vec3(edge_bias(b.p, c.p), edge_bias(c.p, a.p), edge_bias(a.p, b.p));
-    i64vec3 row = i64vec3(edge(b.p, c.p, centre), edge(c.p, a.p, centre), edge(a.p, b.p, centre));
-    row -= bias;  // inside <=> every biased edge function >= 0
-    i64vec3 step_x = -i64vec3(c.p.y - b.p.y, a.p.y - c.p.y, b.p.y - a.p.y) * SUBPIXEL;
-    i64vec3 step_y = i64vec3(c.p.x - b.p.x, a.p.x - c.p.x, b.p.x - a.p.x) * SUBPIXEL;
-    // Depth relative to corner a: exact where the triangle has one depth.
-    vec2 dz = vec2(b.z - a.z, c.z - a.z);
-    float inv_area = 1.0 / float(area);
-    for (int y = first.y; y <= last.y; ++y) {
+    i64vec3 row = s.row;
+    for (int y = s.first.y; y <= s.last.y; ++y) {
         i64vec3 e = row;
-        for (int x = first.x; x <= last.x; ++x) {
+        for (int x = s.first.x; x <= s.last.x; ++x) {
             if ((e.x | e.y | e.z) >= 0) {
-                vec2 weights = vec2(e.yz + bias.yz) * inv_area;
-                float depth = a.z + weights.x * dz.x + weights.y * dz.y;
-                depth = depth > 0.0 ? depth : 0.0;
-                // The reference tests LESS against a buffer cleared to 1.0.
-                if (depth < 1.0) {
-                    uint pixel = uint(y) * pass.size.x + uint(x);
-                    uint64_t value = packUint2x32(uvec2(index, floatBitsToUint(depth)));
-#if RASTER_VARIANT == 1
-                    // Values only fall: one at or below ours already keeps ours out.
-                    uint64_t held = atomicLoad(depth_payload[pixel], gl_ScopeDevice,
-                                               gl_StorageSemanticsNone, gl_SemanticsRelaxed);
-                    if (value < held) {
-                        atomicMin(depth_payload[pixel], value);
-                    }
-#elif RASTER_VARIANT == 2
-                    if (index == 0xffffffffu) {  // never: keeps the fragment's arithmetic
-                        depth_payload[pixel] = value;
-                    }
-#else
-                    atomicMin(depth_payload[pixel], value);
-#endif
-                }
+                draw_fragment(pass, s, x, y, vec2(e.yz + s.bias.yz) * s.inv_area, index);
             }
-            e += step_x;
+            e += s.step_x;
         }
-        row += step_y;
+        row += s.step_y;
+    }
+}
+
+void draw_fan_triangle(RasterPass pass, Corner a, Corner b, Corner c, uint index) {
+    FanSetup s;
+    if (fan_setup(pass, a, b, c, s)) {
+        walk_alone(pass, s, index);
     }
 }
 
@@ -269,5 +316,88 @@ void raster_draw_triangle(RasterPass pass, vec4 c0, vec4 c1, vec4 c2, uint paylo
         previous = next;
     }
 }
+
+#if RASTER_SUBGROUP_WALK
+// Walks, with the whole subgroup, the set-up triangles of the invocations where `grouped`
+// holds, one after another: invocation k takes the box's pixels k, k + lanes, ... in row
+// order, so neighbouring invocations draw neighbouring pixels (their atomics meet a few
+// memory sectors) and a large box is spread over the subgroup rather than left to one
+// invocation. Each grouped triangle must fit the 32-bit walk (FanSetup::fits_32_bits): its
+// edge functions are then the exact integers the 64-bit walk computes. Call from uniform
+// control flow.
+void walk_subgroup(RasterPass pass, bool grouped, FanSetup s, uint index) {
+    uint me = gl_SubgroupInvocationID;
+    uint lanes = gl_SubgroupSize;
+    // Unset where not grouped: such lanes' values are never read.
+    ivec3 row = ivec3(s.row);
+    ivec3 step_x = ivec3(s.step_x);
+    ivec3 step_y = ivec3(s.step_y);
+    uvec4 pending = subgroupBallot(grouped);
+    while (any(notEqual(pending, uvec4(0u)))) {
+        uint lane = subgroupBallotFindLSB(pending);
+        pending[lane / 32u] &= ~(1u << (lane % 32u));
+        FanSetup t;
+        t.first = subgroupShuffle(s.first, lane);
+        t.last = subgroupShuffle(s.last, lane);
+        t.bias = i64vec3(subgroupShuffle(ivec3(s.bias), lane));
+        t.z0 = subgroupShuffle(s.z0, lane);
+        t.dz = subgroupShuffle(s.dz, lane);
+        t.inv_area = subgroupShuffle(s.inv_area, lane);
+        ivec3 origin = subgroupShuffle(row, lane);
+        ivec3 right = subgroupShuffle(step_x, lane);
+        ivec3 down = subgroupShuffle(step_y, lane);
+        uint drawn = subgroupShuffle(index, lane);
+        uint width = uint(t.last.x - t.first.x + 1);
+        uint pixels = width * uint(t.last.y - t.first.y + 1);
+        // This invocation's pixel, relative to the box, advanced by `lanes` pixels a step.
+        uint x = me % width;
+        uint y = me / width;
+        uint lanes_x = lanes % width;
+        uint lanes_y = lanes / width;
+        for (uint k = me; k < pixels; k += lanes) {
+            ivec3 e = origin + int(x) * right + int(y) * down;
+            if ((e.x | e.y | e.z) >= 0) {
+                draw_fragment(pass, t, t.first.x + int(x), t.first.y + int(y),
+                              vec2(e.yz + ivec2(t.bias.yz)) * t.inv_area, drawn);
+            }
+            x += lanes_x;
+            y += lanes_y;
+            if (x >= width) {
+                x -= width;
+                ++y;
+            }
+        }
+    }
+}
+
+// raster_draw_triangle for a subgroup, from uniform control flow: an invocation with `valid`
+// draws its triangle; those whose pixel box holds more than RASTER_SUBGROUP_WALK_ABOVE pixels
+// (and fits the 32-bit walk) are walked by the whole subgroup after each invocation has drawn
+// its smaller one alone. Triangles the clip planes cut are drawn alone. The frame is the one
+// raster_draw_triangle draws.
+void raster_draw_triangle_in_subgroup(RasterPass pass, bool valid, vec4 c0, vec4 c1, vec4 c2,
+                                      uint payload) {
+    FanSetup s;
+    bool grouped = false;
+#if RASTER_VARIANT != 4
+    if (valid) {
+        uint m0 = outside_mask(c0), m1 = outside_mask(c1), m2 = outside_mask(c2);
+        if ((m0 | m1 | m2) == 0u) {
+            if (fan_setup(pass, to_screen(pass.size, c0), to_screen(pass.size, c1),
+                          to_screen(pass.size, c2), s)) {
+                ivec2 extent = s.last - s.first + 1;
+                grouped = s.fits_32_bits && extent.x * extent.y > RASTER_SUBGROUP_WALK_ABOVE;
+                if (!grouped) {
+                    walk_alone(pass, s, payload);
+                }
+            }
+        } else {
+            raster_draw_triangle(pass, c0, c1, c2, payload);
+        }
+    }
+#endif
+    walk_subgroup(pass, grouped, s, payload);
+}
+#endif
 
 #endif

@@ -256,7 +256,7 @@ pub(crate) fn drawing_extraction(
 ) -> Result<Pipeline> {
     let mut defines = defines.to_vec();
     defines.push(("RASTER_IN_EXTRACTION".into(), "1".into()));
-    defines.push(variant.define());
+    defines.extend(variant.defines());
     let spirv = compiler.compile(&builtin_shader!("extract.comp.glsl"), &defines)?;
     let slots = [slots, &[Slot::StorageBuffer; 3]].concat();
     Ok(gpu.compute_pipeline(name, &spirv, &slots)?)

@@ -16,6 +16,10 @@
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_EXT_shader_atomic_int64 : require
 #extension GL_KHR_memory_scope_semantics : require
+#if defined(RASTER_SUBGROUP_WALK) && RASTER_SUBGROUP_WALK
+#extension GL_KHR_shader_subgroup_ballot : require
+#extension GL_KHR_shader_subgroup_shuffle : require
+#endif
 #endif
 #include "common/volume.glsl"
 #include "common/mc_tables.glsl"
@@ -235,9 +239,20 @@ void main() {
     barrier();
     RasterPass pass = RasterPass(raster_pass.size, raster_pass.frame_number, raster_pass.hidden_winding);
     uint end = RASTER_VARIANT == 4 ? base : min(base + wg_total, capacity);
+#if RASTER_SUBGROUP_WALK
+    // As many steps for every invocation (base and end are the workgroup's), so that each
+    // subgroup walks its large triangles together.
+    for (uint first = base; first < end; first += uint(EXTRACT_INVOCATIONS)) {
+        uint s = first + me;
+        bool valid = s < end;
+        vec4 clip[3] = valid ? triangles[s].clip : vec4[3](vec4(0.0), vec4(0.0), vec4(0.0));
+        raster_draw_triangle_in_subgroup(pass, valid, clip[0], clip[1], clip[2], raster_pass.index_base + s);
+    }
+#else
     for (uint s = base + me; s < end; s += uint(EXTRACT_INVOCATIONS)) {
         raster_draw_triangle(pass, triangles[s].clip[0], triangles[s].clip[1], triangles[s].clip[2],
                              raster_pass.index_base + s);
     }
+#endif
 #endif
 }
