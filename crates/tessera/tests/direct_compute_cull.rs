@@ -295,6 +295,69 @@ fn reset_forgets_what_was_seen() {
     assert_clean(&gpu);
 }
 
+/// A culled frame that follows its own state's frame into the same target relies on that
+/// frame's finishing pass to have emptied its counts and lists; one that follows another frame
+/// begun in the target (unculled, or another state's) empties them itself. Either way a still
+/// view gives the same counts and image frame after frame.
+#[test]
+fn culled_frames_after_other_frames_into_their_target() {
+    let Some(gpu) = atomics_gpu() else { return };
+    let compiler = shaders::compiler();
+    let volume = generate(ProceduralKind::HeadPhantom, 48, ScalarType::U8).unwrap();
+    let iso = volume.iso_to_texel(IsoValue::Normalized(0.3));
+    let compute = DirectCompute::new(&gpu, &compiler, ScalarType::U8).unwrap();
+    let prepared = compute.prepare(&gpu, &volume).unwrap();
+    let capacity = marching_cubes(&volume, iso).triangle_count() as u32;
+    let target = ComputeTarget::new(&gpu, 80, 64, capacity).unwrap();
+    let pixels = Target::new(&gpu, 80, 64).unwrap();
+    let (state, other_state) = (
+        ComputeCullState::new(&gpu, &prepared, &target).unwrap(),
+        ComputeCullState::new(&gpu, &prepared, &target).unwrap(),
+    );
+    let camera = OrbitCamera::default();
+    let culled = |state: &ComputeCullState| {
+        pixels.poison(&gpu, u32::MAX).unwrap();
+        let (image, _, stats) = compute
+            .render_culled(&gpu, &prepared, &target, &pixels, state, iso, &camera)
+            .unwrap();
+        (image, stats)
+    };
+    for _ in 0..2 {
+        culled(&state);
+    }
+    let (settled_image, settled) = culled(&state);
+    assert!(
+        settled.blocks_drawn_first > 0 && settled.triangles_first > 0,
+        "{settled:?}"
+    );
+    let (plain, _, _) = compute
+        .render(&gpu, &prepared, &target, &pixels, iso, &camera)
+        .unwrap();
+    assert!(settled_image.compare(&plain, 2).fraction_within >= 0.999);
+    // After an unculled frame of another view, whose counts (and triangles) it leaves in the
+    // target, and after another state's frames into the target.
+    let turned = OrbitCamera {
+        azimuth_deg: camera.azimuth_deg + 50.0,
+        ..camera
+    };
+    let (elsewhere, _, _) = compute
+        .render(&gpu, &prepared, &target, &pixels, iso, &turned)
+        .unwrap();
+    assert!(elsewhere.compare(&plain, 2).fraction_within < 0.9);
+    let (image, stats) = culled(&state);
+    assert_eq!(stats, settled, "after an unculled frame");
+    assert!(image.compare(&plain, 2).fraction_within >= 0.999);
+    for _ in 0..2 {
+        culled(&other_state);
+    }
+    for what in ["after another state's frames", "after its own frame"] {
+        let (image, stats) = culled(&state);
+        assert_eq!(stats, settled, "{what}");
+        assert!(image.compare(&plain, 2).fraction_within >= 0.999, "{what}");
+    }
+    assert_clean(&gpu);
+}
+
 #[test]
 fn pyramid_levels_end_at_one_texel() {
     assert_eq!(hzb_levels(1, 1), vec![[1, 1]]);

@@ -85,7 +85,10 @@ fn hzb_pyramid_matches_cpu_levels() {
             .enumerate()
             .map(|(i, &d)| if unmarked(tile_of(i)) { 1.0 } else { d })
             .collect();
-        gpu.submit("begin", |rec| frame.record_begin(rec)).unwrap();
+        gpu.submit("begin", |rec| {
+            frame.record_begin(rec);
+        })
+        .unwrap();
         let marks: Vec<u32> = (0..tiles)
             .map(|t| frame.frame_number() - u32::from(unmarked(t)))
             .collect();

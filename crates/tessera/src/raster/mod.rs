@@ -69,10 +69,14 @@ use crate::builtin_shader;
 use crate::error::{check_image_size, Error, Result};
 use bytemuck::{Pod, Zeroable};
 use std::cell::Cell;
+use std::sync::atomic::{AtomicU64, Ordering};
 use tessera_data::rasterize::{ScreenWinding, GUARD_BAND, MIN_W, SUBPIXEL_BITS};
 use tessera_gpu::{
     vk, Binding, Buffer, Gpu, MemoryLocation, Pipeline, Recorder, ShaderCompiler, Slot,
 };
+
+/// The next [`RasterFrame`]'s serial number.
+static NEXT_FRAME_SERIAL: AtomicU64 = AtomicU64::new(0);
 
 /// Bytes per [`RasterTriangle`].
 pub const TRIANGLE_BYTES: u64 = 48;
@@ -144,6 +148,9 @@ pub struct RasterFrame {
     pub tile_frames: Buffer,
     pub width: u32,
     pub height: u32,
+    /// Which frame this is among every frame made in the process: with [`Self::frame_number`],
+    /// it names one frame of one `RasterFrame` ([`Self::frame_stamp`]).
+    serial: u64,
     /// The number of the frame being drawn (0 before the first).
     frame_number: Cell<u32>,
     /// Whether, after the commands recorded so far, every pixel is empty: false once something
@@ -185,6 +192,7 @@ impl RasterFrame {
             tile_frames,
             width,
             height,
+            serial: NEXT_FRAME_SERIAL.fetch_add(1, Ordering::Relaxed),
             frame_number: Cell::new(0),
             empty: Cell::new(false),
             kept: Cell::new(false),
@@ -201,14 +209,23 @@ impl RasterFrame {
 
     /// Records the start of a frame, without a barrier: the fill that empties every pixel
     /// (and the tiles' frame numbers) unless an emptying resolve already left the frame empty,
-    /// and a new frame number for the raster passes to mark their tiles with.
-    pub fn record_begin(&self, rec: &Recorder) {
-        if !self.empty.get() {
+    /// and a new frame number for the raster passes to mark their tiles with. Returns whether
+    /// it recorded the fill (a barrier must then follow before drawing).
+    pub fn record_begin(&self, rec: &Recorder) -> bool {
+        let fill = !self.empty.get();
+        if fill {
             rec.fill_buffer(&self.tile_frames, 0);
             self.record_fill_empty(rec);
         }
         self.frame_number
             .set(self.frame_number.get().wrapping_add(1).max(1));
+        fill
+    }
+
+    /// This frame object and the frame last begun in it: equal stamps at two times mean no
+    /// frame was begun in it between them.
+    pub fn frame_stamp(&self) -> (u64, u32) {
+        (self.serial, self.frame_number.get())
     }
 
     /// Leaves out of the frame's raster passes recorded after this (until it is called

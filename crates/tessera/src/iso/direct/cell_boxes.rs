@@ -64,10 +64,13 @@ impl CellBoxes {
 
     /// Records forgetting the boxes when they were made from another volume than `prepared`
     /// (the same block grid says nothing about another volume's surface); before a barrier.
-    pub(super) fn record_keep_for(&self, rec: &Recorder, prepared: &PreparedVolume) {
-        if self.volume.replace(prepared.id()) != prepared.id() {
+    /// Returns whether it recorded that.
+    pub(super) fn record_keep_for(&self, rec: &Recorder, prepared: &PreparedVolume) -> bool {
+        let forget = self.volume.replace(prepared.id()) != prepared.id();
+        if forget {
             self.record_clear(rec);
         }
+        forget
     }
 
     /// Per block, the box recorded at `iso` (`None` for blocks not extracted at `iso` since

@@ -30,9 +30,15 @@
 //!    index base known on the host needs one push constant in the rasterizer. The price is
 //!    memory: pass B's list gets the target's capacity, as the first frame (or one after
 //!    [`ComputeCullState::reset`]) draws everything in view there.
-//! 5. A **finishing** pass (one invocation) sizes that list's dispatch and writes the frame's
-//!    counts into host-visible memory. A compaction over every block's flags stood here
-//!    before (0.043 ms of the 1024³ head's frame at 3840×2160 on an H100, run 123).
+//! 5. A **finishing** pass (one invocation) sizes that list's dispatch, writes the frame's
+//!    counts into host-visible memory, then empties what the next frame fills: the counts,
+//!    pass A's list just drawn (next frame's resolve lists into it), pass B's list, and both
+//!    triangle lists' counts. A compaction over every block's flags stood here before (0.043
+//!    ms of the 1024³ head's frame at 3840×2160 on an H100, run 123), and seven fills and their
+//!    barrier began each frame (0.011 ms at 3840×2160 on the 256³ head, run 123). Those fills
+//!    are recorded only where the last frame was not this state's in the same target
+//!    (the first frame, one after a reset, or after another frame into the target: every
+//!    recording that writes a target's triangle counts begins a frame in its `RasterFrame`).
 //!
 //! The test, which appends to a list, and the extractions, which reserve triangles, grow the
 //! indirect dispatch arguments of the pass that reads them (`common/indirect_args.glsl`), so
@@ -103,6 +109,13 @@ pub(crate) struct ComputeCullPipelines {
 pub(crate) fn cull_defines(scalar: ScalarType, rule: AmbiguityRule) -> Vec<(String, String)> {
     let mut defines = extract_defines(scalar, rule);
     defines.extend(cell_box_defines());
+    defines.extend([
+        ("CULL_STATS_WORDS".into(), format!("{STATS_WORDS}u")),
+        (
+            "EXTRACT_STATS_WORDS".into(),
+            format!("{EXTRACT_STATS_WORDS}u"),
+        ),
+    ]);
     defines
 }
 
@@ -162,7 +175,7 @@ impl ComputeCullPipelines {
             &defines,
             "direct resolve (two lists, listing the blocks seen)",
         )?;
-        let finish = gpu.compute_pipeline("cull finish", &finish, &[sb; 6])?;
+        let finish = gpu.compute_pipeline("cull finish", &finish, &[sb; 9])?;
         Ok(ComputeCullPipelines {
             extract_list,
             extract_new,
@@ -244,6 +257,11 @@ pub struct ComputeCullState {
     pub(super) height: u32,
     pub(super) block_count: u32,
     pub(super) frame: Cell<usize>,
+    /// The frame ([`crate::raster::RasterFrame::frame_stamp`]) of the last frame recorded with this state,
+    /// whose finishing pass emptied what the next frame fills: its counts and lists, and its
+    /// target's triangle counts. A next frame into the same target with no other frame begun
+    /// in it between needs no fills before its first pass. `None` after a reset.
+    pub(super) emptied_after: Cell<Option<(u64, u32)>>,
 }
 
 impl ComputeCullState {
@@ -295,6 +313,7 @@ impl ComputeCullState {
             height: h,
             block_count: blocks,
             frame: Cell::new(0),
+            emptied_after: Cell::new(None),
         };
         state.reset(gpu)?;
         Ok(state)
@@ -303,6 +322,7 @@ impl ComputeCullState {
     /// Forgets what earlier frames saw (a cut in the camera path, a new volume): the next frame
     /// draws nothing in pass A.
     pub fn reset(&self, gpu: &Gpu) -> Result<()> {
+        self.emptied_after.set(None);
         gpu.submit("reset compute culling", |rec| {
             for b in [
                 &self.flags,

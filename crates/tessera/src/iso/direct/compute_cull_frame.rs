@@ -96,34 +96,48 @@ impl DirectCompute {
 
         // Pass A: last frame's visible blocks (their list written by last frame's resolve, its
         // dispatch arguments by its finishing pass). Every list and count this frame fills starts
-        // empty: the passes that fill them grow their own dispatch arguments.
+        // empty: the passes that fill them grow their own dispatch arguments. Last frame's
+        // finishing pass emptied them where it was this state's frame into this target (no
+        // other frame begun in it since); otherwise they are emptied here.
         let (a, b_lists) = (&target.lists, &state.new_lists);
         let per_block =
             |p: &Pipeline| groups_2d(state.block_count, p.local_size[0], c.max_groups_x);
+        let emptied = state.emptied_after.get() == Some(target.frame.frame_stamp());
         stage("cull-pass-a", &|rec| {
-            for list in [&state.new_blocks, next] {
-                rec.update_buffer(list, bytemuck::bytes_of(&BlockListHeader::EMPTY));
+            let mut recorded = false;
+            if !emptied {
+                for list in [&state.new_blocks, next] {
+                    rec.update_buffer(list, bytemuck::bytes_of(&BlockListHeader::EMPTY));
+                }
+                for buffer in [&a.counts, &b_lists.counts, &state.stats] {
+                    rec.fill_buffer(buffer, 0);
+                }
+                state
+                    .extract_stats
+                    .iter()
+                    .for_each(|s| rec.fill_buffer(s, 0));
+                recorded = true;
             }
-            for buffer in [&a.counts, &b_lists.counts, &state.stats] {
-                rec.fill_buffer(buffer, 0);
-            }
-            state
-                .extract_stats
-                .iter()
-                .for_each(|s| rec.fill_buffer(s, 0));
-            target.frame.record_begin(rec);
+            recorded |= target.frame.record_begin(rec);
             target
                 .frame
                 .hide_winding(Direct::hidden_winding(prepared, params));
-            // Pass B's extraction reads the frame's size from its pass parameters.
+            // Pass B's extraction reads the frame's size from its pass parameters, which stay
+            // as written until the state meets another target; a drawing extraction also
+            // reads the frame's number, new every frame.
             let frame = &target.frame;
             if drawing {
                 frame.record_pass_params(rec, &a.raster_pass, a.capacity, 0);
             }
-            frame.record_pass_params(rec, &b_lists.raster_pass, b_lists.capacity, base);
-            // Boxes made from another volume (the same block grid) say nothing about this one.
-            state.cell_boxes.record_keep_for(rec, prepared);
-            rec.barrier();
+            if drawing || !emptied {
+                frame.record_pass_params(rec, &b_lists.raster_pass, b_lists.capacity, base);
+                recorded = true;
+            }
+            // Boxes made from another volume (the same block grid says nothing about this one).
+            recorded |= state.cell_boxes.record_keep_for(rec, prepared);
+            if recorded {
+                rec.barrier();
+            }
             extract(rec, false, &state.extract_stats[0], first);
             if !drawing {
                 self.rasterizer
@@ -197,6 +211,9 @@ impl DirectCompute {
                     Binding::Buffer(&state.extract_stats[0]),
                     Binding::Buffer(&state.extract_stats[1]),
                     Binding::Buffer(state.readback.storage()),
+                    Binding::Buffer(&a.counts),
+                    Binding::Buffer(&b_lists.counts),
+                    Binding::Buffer(&state.new_blocks),
                 ],
                 &[],
                 [1, 1, 1],
@@ -204,6 +221,7 @@ impl DirectCompute {
             rec.barrier();
         });
         state.frame.set(state.frame.get() + 1);
+        state.emptied_after.set(Some(target.frame.frame_stamp()));
         Ok(())
     }
 
