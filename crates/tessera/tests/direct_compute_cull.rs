@@ -358,6 +358,71 @@ fn culled_frames_after_other_frames_into_their_target() {
     assert_clean(&gpu);
 }
 
+/// Pass A's extraction timed alone (`tessera bench isosurface --ablations`): whole, it makes the
+/// triangles the culled frame's pass A made; without vertex arithmetic as many, elsewhere; with
+/// only the analysis or the samples, none for the rasterizer. It leaves the next culled frame
+/// as it would have been.
+#[test]
+fn pass_a_extraction_alone_and_its_ablations() {
+    use tessera::iso::ablation::Ablation;
+    use tessera::iso::direct::compute_cull::ablated_list_extraction;
+    use tessera::raster::RasterCounts;
+    use tessera_gpu::Timer;
+    let Some(gpu) = atomics_gpu() else { return };
+    let compiler = shaders::compiler();
+    let volume = generate(ProceduralKind::HeadPhantom, 48, ScalarType::U8).unwrap();
+    let iso = volume.iso_to_texel(IsoValue::Normalized(0.3));
+    let compute = DirectCompute::new(&gpu, &compiler, ScalarType::U8).unwrap();
+    let prepared = compute.prepare(&gpu, &volume).unwrap();
+    let capacity = marching_cubes(&volume, iso).triangle_count() as u32;
+    let (w, h) = (80, 64);
+    let target = ComputeTarget::new(&gpu, w, h, capacity).unwrap();
+    let pixels = Target::new(&gpu, w, h).unwrap();
+    let state = ComputeCullState::new(&gpu, &prepared, &target).unwrap();
+    let camera = OrbitCamera::default();
+    let culled = || {
+        compute
+            .render_culled(&gpu, &prepared, &target, &pixels, &state, iso, &camera)
+            .unwrap()
+    };
+    culled();
+    let (_, _, settled) = culled();
+    assert!(settled.triangles_first > 100, "{settled:?}");
+    let params = Direct::params(&prepared, iso, &camera, w, h, capacity);
+    let mut timer = Timer::new(&gpu, 1).unwrap();
+    let mut extract = |ablation: Ablation| -> (u32, Vec<u8>) {
+        let pipeline = ablated_list_extraction(&gpu, &compiler, ScalarType::U8, ablation).unwrap();
+        timer.reset(&gpu);
+        gpu.submit("pass A alone", |rec| {
+            compute.record_first_extraction(
+                rec,
+                (&mut timer, "extraction"),
+                &pipeline,
+                &prepared,
+                &target,
+                &params,
+                &state,
+            )
+        })
+        .unwrap();
+        let counts: RasterCounts =
+            bytemuck::pod_read_unaligned(&gpu.read_buffer(&target.lists.counts).unwrap()[..16]);
+        let made = counts.triangle_count as usize * 48;
+        let triangles = gpu.read_buffer(&target.lists.triangles).unwrap()[..made].to_vec();
+        (counts.triangle_count, triangles)
+    };
+    let (whole, whole_triangles) = extract(Ablation::None);
+    assert_eq!(whole, settled.triangles_first);
+    let (standing_in, stand_in_triangles) = extract(Ablation::NoVertexArithmetic);
+    assert_eq!(standing_in, whole);
+    assert_ne!(stand_in_triangles, whole_triangles);
+    assert_eq!(extract(Ablation::AnalysisOnly).0, 0);
+    assert_eq!(extract(Ablation::SamplesOnly).0, 0);
+    let (_, _, after) = culled();
+    assert_eq!(after, settled, "the next frame");
+    assert_clean(&gpu);
+}
+
 #[test]
 fn pyramid_levels_end_at_one_texel() {
     assert_eq!(hzb_levels(1, 1), vec![[1, 1]]);

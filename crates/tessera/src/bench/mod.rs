@@ -4,6 +4,7 @@
 
 mod basic;
 mod extraction;
+mod extraction_ablation;
 mod frames;
 mod growth;
 mod interval;

@@ -20,7 +20,7 @@ use tessera_gpu::Gpu;
 
 /// Culled frames rendered before timing, so that the first pass draws last frame's blocks as
 /// in a still view.
-const CULLED_SETTLING_FRAMES: u32 = 3;
+pub(super) const CULLED_SETTLING_FRAMES: u32 = 3;
 
 /// Times every way on `volume` (named `dataset`) at the scenario's sizes and isovalue, from the
 /// isosurface scenarios' camera.
@@ -109,7 +109,7 @@ pub(super) fn raster_ablations(
 }
 
 /// The triangles of the surface at `iso`, counted by an extraction into a one-triangle list.
-fn triangles(
+pub(super) fn triangles(
     gpu: &Gpu,
     compute: &DirectCompute,
     prepared: &crate::iso::PreparedVolume,

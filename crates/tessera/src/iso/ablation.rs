@@ -16,6 +16,8 @@ pub enum Ablation {
     /// Every step, but each vertex placed at its edge's start with a fixed normal instead of
     /// the exact interpolation and the gradients at both ends.
     NoVertexArithmetic,
+    /// `direct`'s extraction: each block's samples loaded, nothing classified.
+    SamplesOnly,
 }
 
 impl Ablation {
@@ -26,6 +28,15 @@ impl Ablation {
         Ablation::NoVertexArithmetic,
     ];
     pub const PMB: [Ablation; 2] = [Ablation::FilteringOnly, Ablation::NoVertexArithmetic];
+    /// The ablations worth timing for `direct`'s extraction of a block list: the whole, then
+    /// less and less of it. Its analysis is the cells' cases and triangle counts, their sum
+    /// and the slots reserved, with no triangle written.
+    pub const DIRECT: [Ablation; 4] = [
+        Ablation::None,
+        Ablation::NoVertexArithmetic,
+        Ablation::AnalysisOnly,
+        Ablation::SamplesOnly,
+    ];
 
     pub fn name(self) -> &'static str {
         match self {
@@ -33,6 +44,7 @@ impl Ablation {
             Ablation::FilteringOnly => "filtering only",
             Ablation::AnalysisOnly => "analysis only",
             Ablation::NoVertexArithmetic => "no vertex arithmetic",
+            Ablation::SamplesOnly => "samples only",
         }
     }
 
@@ -42,6 +54,7 @@ impl Ablation {
             Ablation::None | Ablation::FilteringOnly => 0,
             Ablation::AnalysisOnly => 1,
             Ablation::NoVertexArithmetic => 2,
+            Ablation::SamplesOnly => 3,
         };
         ("EXTRACTION_ABLATION".into(), code.to_string())
     }

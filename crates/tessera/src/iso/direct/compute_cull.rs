@@ -55,6 +55,7 @@
 
 use crate::builtin_shader;
 use crate::error::Result;
+use crate::iso::ablation::Ablation;
 use crate::iso::direct::block_list;
 use crate::iso::direct::cell_boxes::{cell_box_defines, CellBoxes};
 use crate::iso::direct::compute::{drawing_extraction, DirectRaster};
@@ -105,6 +106,67 @@ pub(crate) struct ComputeCullPipelines {
     pub(super) max_groups_x: u32,
 }
 
+/// A list extraction of the culling (`extract.comp.glsl` with `BLOCK_LIST` and `defines`):
+/// pass A's, or pass B's (`hidden_cells`), which leaves out hidden cells and so binds the
+/// frame's buffers (`frame_bindings`, which a drawing extraction binds anyway) and the pyramid
+/// after its own.
+fn list_extraction(
+    gpu: &Gpu,
+    compiler: &ShaderCompiler,
+    defines: &[(String, String)],
+    (raster, variant): (DirectRaster, RasterVariant),
+    hidden_cells: bool,
+) -> Result<Pipeline> {
+    let sb = Slot::StorageBuffer;
+    let mut defines = defines.to_vec();
+    defines.push(("BLOCK_LIST".into(), "1".into()));
+    let mut slots = vec![Slot::Texture, sb, sb, sb, sb, sb, sb, sb];
+    if hidden_cells {
+        defines.push(("HIDDEN_CELLS_LEFT_OUT".into(), "1".into()));
+        let frame_slots = if raster == DirectRaster::Pass { 3 } else { 0 };
+        slots.extend(vec![sb; frame_slots + 1]);
+    }
+    let blocks = if hidden_cells {
+        "new blocks"
+    } else {
+        "block list"
+    };
+    Ok(match raster {
+        DirectRaster::Pass => {
+            let spirv = compiler.compile(&builtin_shader!("extract.comp.glsl"), &defines)?;
+            gpu.compute_pipeline(&format!("direct extract ({blocks})"), &spirv, &slots)?
+        }
+        DirectRaster::InExtraction => drawing_extraction(
+            gpu,
+            compiler,
+            &defines,
+            &slots,
+            &format!("direct extract ({blocks}, drawing)"),
+            variant,
+        )?,
+    })
+}
+
+/// Pass A's extraction with the stages `ablation` leaves out, for measuring where the
+/// extraction's time goes (`tessera bench isosurface --ablations`); its triangles are not a
+/// surface (none at all for [`Ablation::SamplesOnly`] and [`Ablation::AnalysisOnly`]).
+pub fn ablated_list_extraction(
+    gpu: &Gpu,
+    compiler: &ShaderCompiler,
+    scalar: ScalarType,
+    ablation: Ablation,
+) -> Result<Pipeline> {
+    let mut defines = cull_defines(scalar, AmbiguityRule::default());
+    defines.push(ablation.define());
+    list_extraction(
+        gpu,
+        compiler,
+        &defines,
+        (DirectRaster::Pass, RasterVariant::Exact),
+        false,
+    )
+}
+
 /// The defines of the culling passes: the extraction's, and the cell boxes' layout.
 pub(crate) fn cull_defines(scalar: ScalarType, rule: AmbiguityRule) -> Vec<(String, String)> {
     let mut defines = extract_defines(scalar, rule);
@@ -128,45 +190,11 @@ impl ComputeCullPipelines {
         (raster, variant): (DirectRaster, RasterVariant),
     ) -> Result<ComputeCullPipelines> {
         let defines = cull_defines(scalar, rule);
-        let with = |name: &str| {
-            let mut d = defines.clone();
-            d.push((name.into(), "1".into()));
-            d
-        };
         let sb = Slot::StorageBuffer;
         let test = compiler.compile(&builtin_shader!("hzb_test.comp.glsl"), &defines)?;
         let finish = compiler.compile(&builtin_shader!("cull_finish.comp.glsl"), &defines)?;
-        // Pass A's extraction, and pass B's that leaves out hidden cells: that one binds the
-        // frame's buffers (`frame_bindings`, which a drawing extraction binds anyway) and the
-        // pyramid after its own.
-        let extract_slots = [Slot::Texture, sb, sb, sb, sb, sb, sb, sb];
-        let list_extraction = |hidden_cells: bool, blocks: &str| -> Result<Pipeline> {
-            let mut defines = with("BLOCK_LIST");
-            let mut slots = extract_slots.to_vec();
-            if hidden_cells {
-                defines.push(("HIDDEN_CELLS_LEFT_OUT".into(), "1".into()));
-                let frame_slots = if raster == DirectRaster::Pass { 3 } else { 0 };
-                slots.extend(vec![sb; frame_slots + 1]);
-            }
-            Ok(match raster {
-                DirectRaster::Pass => {
-                    let spirv =
-                        compiler.compile(&builtin_shader!("extract.comp.glsl"), &defines)?;
-                    let name = format!("direct extract ({blocks})");
-                    gpu.compute_pipeline(&name, &spirv, &slots)?
-                }
-                DirectRaster::InExtraction => drawing_extraction(
-                    gpu,
-                    compiler,
-                    &defines,
-                    &slots,
-                    &format!("direct extract ({blocks}, drawing)"),
-                    variant,
-                )?,
-            })
-        };
-        let extract_list = list_extraction(false, "block list")?;
-        let extract_new = list_extraction(true, "new blocks")?;
+        let extract_list = list_extraction(gpu, compiler, &defines, (raster, variant), false)?;
+        let extract_new = list_extraction(gpu, compiler, &defines, (raster, variant), true)?;
         let hzb = HzbBuilder::new(gpu, compiler)?;
         let test = gpu.compute_pipeline("hzb test", &test, &[sb; 6])?;
         let resolve = SurfaceResolve::new_listing_seen(

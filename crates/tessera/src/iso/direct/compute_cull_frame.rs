@@ -2,13 +2,16 @@
 
 use crate::error::{Error, Result};
 use crate::iso::direct::block_list::{self, BlockListHeader};
-use crate::iso::direct::compute::{frame_bindings, ComputeTarget, DirectCompute, DirectRaster};
+use crate::iso::direct::compute::{
+    frame_bindings, ComputeTarget, DirectCompute, DirectRaster, TriangleLists,
+};
 use crate::iso::direct::compute_cull::{
     groups_2d, ComputeCullState, ComputeCullStats, HzbTestParams,
 };
 use crate::iso::direct::{Direct, DirectParams};
 use crate::iso::PreparedVolume;
 use crate::raster::hzb::hzb_levels;
+use crate::raster::RasterFrame;
 use crate::target::Target;
 use tessera_data::{OrbitCamera, RgbaImage};
 use tessera_gpu::{Binding, Buffer, Gpu, Pipeline, Recorder, Timer};
@@ -49,47 +52,30 @@ impl DirectCompute {
         }
         let c = &self.cull;
         let (first, next) = (state.first(), state.next());
-        let volume = Binding::Texture {
-            image: &prepared.volume.texture,
-            linear: false,
-        };
         // Where the extraction draws its triangles itself, no raster pass follows it.
         let drawing = c.raster == DirectRaster::InExtraction;
         // Pass B's extraction (`pass_b`) tests its cells against the pyramid.
         let extract = |rec: &Recorder, pass_b: bool, stats: &Buffer, blocks: &Buffer| {
+            let pipeline = if pass_b {
+                &c.extract_new
+            } else {
+                &c.extract_list
+            };
             let lists = if pass_b {
                 &state.new_lists
             } else {
                 &target.lists
             };
-            let mut p = *params;
-            p.triangle_capacity = lists.capacity;
-            let mut bindings = vec![
-                volume,
-                Binding::Buffer(&prepared.octree.nodes),
-                Binding::Buffer(&lists.triangles),
-                Binding::Buffer(&lists.attributes),
-                Binding::Buffer(&lists.counts),
-                Binding::Buffer(stats),
-                Binding::Buffer(blocks),
-                Binding::Buffer(&state.cell_boxes.buffer),
-            ];
-            if drawing || pass_b {
-                bindings.extend(frame_bindings(&target.frame, lists));
-            }
-            if pass_b {
-                bindings.push(Binding::Buffer(&state.hzb));
-            }
-            rec.dispatch_indirect(
-                if pass_b {
-                    &c.extract_new
-                } else {
-                    &c.extract_list
-                },
-                &bindings,
-                bytemuck::bytes_of(&p),
-                blocks,
-                block_list::ARGS_OFFSET,
+            let frame = (drawing || pass_b).then_some(&target.frame);
+            let hzb = pass_b.then_some(&state.hzb);
+            record_list_extraction(
+                rec,
+                pipeline,
+                prepared,
+                (lists, stats),
+                (blocks, state),
+                (frame, hzb),
+                params,
             );
             rec.barrier();
         };
@@ -225,6 +211,42 @@ impl DirectCompute {
         Ok(())
     }
 
+    /// Records pass A's extraction alone with `pipeline` (the culling's own, or
+    /// [`super::compute_cull::ablated_list_extraction`]) over the blocks `state`'s next frame
+    /// would draw first, into `target`'s lists, timed in a scope `name`: its counts emptied
+    /// before the scope, a barrier after it. For measuring: nothing is drawn or resolved, and
+    /// the state is left as it was but for its cell boxes.
+    #[allow(clippy::too_many_arguments)]
+    pub fn record_first_extraction(
+        &self,
+        rec: &Recorder,
+        (timer, name): (&mut Timer, &str),
+        pipeline: &Pipeline,
+        prepared: &PreparedVolume,
+        target: &ComputeTarget,
+        params: &DirectParams,
+        state: &ComputeCullState,
+    ) {
+        let stats = &state.extract_stats[0];
+        rec.fill_buffer(&target.lists.counts, 0);
+        rec.fill_buffer(stats, 0);
+        rec.barrier();
+        timer.scope(rec, name, |rec| {
+            record_list_extraction(
+                rec,
+                pipeline,
+                prepared,
+                (&target.lists, stats),
+                (state.first(), state),
+                (None, None),
+                params,
+            )
+        });
+        rec.barrier();
+        // The next frame's fills are due: this wrote the counts its finishing pass emptied.
+        state.emptied_after.set(None);
+    }
+
     /// Renders one culled frame: the image, the GPU time in milliseconds and what culling did.
     #[allow(clippy::too_many_arguments)]
     pub fn render_culled(
@@ -264,4 +286,46 @@ impl DirectCompute {
         }
         Ok((pixels.read(gpu)?, ms, stats))
     }
+}
+
+/// Records one workgroup per listed block of `blocks` extracting into `lists` with `pipeline`
+/// (one of the culling's list extractions), counting into `stats`; a drawing or pass-B
+/// extraction also binds `frame` (and the lists' raster parameters), pass B the pyramid `hzb`.
+pub(super) fn record_list_extraction(
+    rec: &Recorder,
+    pipeline: &Pipeline,
+    prepared: &PreparedVolume,
+    (lists, stats): (&TriangleLists, &Buffer),
+    (blocks, state): (&Buffer, &ComputeCullState),
+    (frame, hzb): (Option<&RasterFrame>, Option<&Buffer>),
+    params: &DirectParams,
+) {
+    let mut p = *params;
+    p.triangle_capacity = lists.capacity;
+    let mut bindings = vec![
+        Binding::Texture {
+            image: &prepared.volume.texture,
+            linear: false,
+        },
+        Binding::Buffer(&prepared.octree.nodes),
+        Binding::Buffer(&lists.triangles),
+        Binding::Buffer(&lists.attributes),
+        Binding::Buffer(&lists.counts),
+        Binding::Buffer(stats),
+        Binding::Buffer(blocks),
+        Binding::Buffer(&state.cell_boxes.buffer),
+    ];
+    if let Some(frame) = frame {
+        bindings.extend(frame_bindings(frame, lists));
+    }
+    if let Some(hzb) = hzb {
+        bindings.push(Binding::Buffer(hzb));
+    }
+    rec.dispatch_indirect(
+        pipeline,
+        &bindings,
+        bytemuck::bytes_of(&p),
+        blocks,
+        block_list::ARGS_OFFSET,
+    );
 }

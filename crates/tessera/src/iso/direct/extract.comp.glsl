@@ -33,6 +33,7 @@
 #include "iso/direct/attributes.glsl"
 #include "raster/raster.glsl"
 #include "common/indirect_args.glsl"
+#include "common/ablation.glsl"
 
 // Invocations per block. With 32 (8 cells each), a block held too few invocations to hide the
 // latency of its dependent steps, as the meshlet extraction found (docs/BENCHMARKS.md, run
@@ -144,6 +145,9 @@ void main() {
     }
     uvec3 block_first = block * uvec3(BLOCK_X, BLOCK_Y, BLOCK_Z);
     held_samples_load(block_first, block_first + uvec3(BLOCK_X, BLOCK_Y, BLOCK_Z), dims);
+#if EXTRACTION_ABLATION == ABLATION_SAMPLES_ONLY
+    return;  // the samples are in shared memory, which other invocations could read
+#endif
 
 #ifdef BLOCK_LIST
     cell_box_record_begin();
@@ -197,6 +201,9 @@ void main() {
 #endif
         // Slots past the capacity are dropped; the count stays exact (see Stats).
         uint kept = first >= capacity ? 0u : min(wg_total, capacity - first);
+#if EXTRACTION_ABLATION == ABLATION_ANALYSIS_ONLY
+        kept = 0u;  // no triangle is written, so none is counted for the raster pass
+#endif
         if (kept > 0u) {
             atomicAdd(triangle_count, kept);
             GROW_INDIRECT_ARGS3(raster_dispatch, first + kept, RASTER_GROUP_SIZE);
@@ -207,6 +214,9 @@ void main() {
 #endif
     }
     barrier();
+#if EXTRACTION_ABLATION == ABLATION_ANALYSIS_ONLY
+    return;
+#endif
 
     uint slot = base + below;
     for (uint k = 0u; k < PER_THREAD; ++k) {
@@ -225,7 +235,11 @@ void main() {
             for (uint j = 0u; j < 3u; ++j) {
                 vec3 p;
                 vec3 normal;
-                held_edge_vertex(cell, mc_tri_edge(row, 3u * t + j), iso, dims, p, normal);
+                uint edge = mc_tri_edge(row, 3u * t + j);
+                uvec3 start = cell + mc_corner_offset(MC_EDGE_CORNERS[edge] & 15u);
+                if (!ablation_stands_in_for_vertex(start, p, normal)) {
+                    held_edge_vertex(cell, edge, iso, dims, p, normal);
+                }
                 triangles[slot].clip[j] = params.grid_to_clip * vec4(p, 1.0);
                 attributes[slot].corners[j] = CornerAttributes(grid_normal_to_world(normal, params.grid_to_world.xyz), block_id);
             }

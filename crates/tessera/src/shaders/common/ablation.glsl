@@ -5,6 +5,7 @@
 #endif
 #define ABLATION_ANALYSIS_ONLY 1
 #define ABLATION_NO_VERTEX_ARITHMETIC 2
+#define ABLATION_SAMPLES_ONLY 3
 
 // The no-vertex-arithmetic ablation's stand-in for an edge vertex: the edge's start and a fixed
 // normal. Returns whether it stands in; a constant, so the arithmetic it guards is compiled out

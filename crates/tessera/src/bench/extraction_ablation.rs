@@ -1,0 +1,90 @@
+//! Where `direct`'s extraction of a block list spends its time (`tessera bench isosurface
+//! --ablations`): pass A's extraction of a still, culled view timed alone, whole and with
+//! stages left out ([`Ablation::DIRECT`]: no vertex arithmetic, no triangle written, samples
+//! only), over the blocks the settled frames saw. Records carry the way as their variant
+//! ("pass A extraction, samples only", ...), the blocks and triangles as counts.
+
+use super::basic::bench_sizes;
+use super::frames::time_recorded;
+use super::raster_ablation::{triangles, CULLED_SETTLING_FRAMES};
+use super::{BenchConfig, BenchRecord, FramePlan, RecordSink};
+use crate::error::Result;
+use crate::iso::ablation::Ablation;
+use crate::iso::direct::compute::{ComputeTarget, DirectCompute};
+use crate::iso::direct::compute_cull::{ablated_list_extraction, ComputeCullState};
+use crate::iso::direct::Direct;
+use crate::target::Target;
+use tessera_data::{IsoValue, OrbitCamera, Volume};
+use tessera_gpu::Gpu;
+
+/// The timer scope of the extraction.
+const STAGE: &str = "pass-a-extraction";
+
+/// Times pass A's extraction each way on `volume` (named `dataset`) at the scenario's sizes
+/// and isovalue, from the isosurface scenarios' camera.
+pub(super) fn extraction_ablations(
+    gpu: &Gpu,
+    config: &BenchConfig,
+    plan: FramePlan,
+    sink: &mut dyn RecordSink,
+    volume: &Volume,
+    dataset: &str,
+) -> Result<()> {
+    if !gpu.caps().buffer_int64_atomics {
+        sink.note("no 64-bit buffer atomics: direct's extraction ablations skipped");
+        return Ok(());
+    }
+    let compiler = crate::shaders::compiler();
+    let camera = OrbitCamera::default();
+    let iso = volume.iso_to_texel(IsoValue::Normalized(config.iso_fraction));
+    let compute = DirectCompute::new(gpu, &compiler, volume.scalar_type())?;
+    let prepared = compute.prepare(gpu, volume)?;
+    let capacity = triangles(gpu, &compute, &prepared, iso, &camera)?;
+    let ways = Ablation::DIRECT
+        .iter()
+        .map(|&a| {
+            Ok((
+                a,
+                ablated_list_extraction(gpu, &compiler, volume.scalar_type(), a)?,
+            ))
+        })
+        .collect::<Result<Vec<_>>>()?;
+    for (w, h) in bench_sizes(config) {
+        let target = ComputeTarget::new(gpu, w, h, capacity)?;
+        let pixels = Target::new(gpu, w, h)?;
+        let state = ComputeCullState::new(gpu, &prepared, &target)?;
+        let mut settled = None;
+        for _ in 0..CULLED_SETTLING_FRAMES {
+            let (_, _, stats) =
+                compute.render_culled(gpu, &prepared, &target, &pixels, &state, iso, &camera)?;
+            settled = Some(stats);
+        }
+        let params = Direct::params(&prepared, iso, &camera, w, h, capacity);
+        for (ablation, pipeline) in &ways {
+            let stages = time_recorded(gpu, plan, |rec, timer| {
+                compute.record_first_extraction(
+                    rec,
+                    (timer, STAGE),
+                    pipeline,
+                    &prepared,
+                    &target,
+                    &params,
+                    &state,
+                );
+                Ok(())
+            })?;
+            let mut r = BenchRecord::new(gpu, "isosurface", "direct+hzb", "compute", dataset);
+            r.variant = format!("pass A extraction, {}", ablation.name());
+            (r.width, r.height, r.warmup, r.frames, r.stages) =
+                (w, h, plan.warmup, plan.frames, stages);
+            if let Some(stats) = settled {
+                r.counts
+                    .insert("blocks".into(), f64::from(stats.blocks_drawn_first));
+                r.counts
+                    .insert("triangles".into(), f64::from(stats.triangles_first));
+            }
+            sink.emit(&r)?;
+        }
+    }
+    Ok(())
+}
