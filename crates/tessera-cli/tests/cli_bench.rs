@@ -348,7 +348,7 @@ fn bench_records(scratch_name: &str, args: &[&str]) -> Vec<Value> {
 }
 
 #[test]
-fn isosurface_ablations_time_each_of_the_rasterizers_ways() {
+fn isosurface_ablations_time_the_rasterizers_ways_and_the_first_extraction() {
     let records = bench_records(
         "bench_raster_ablations",
         &[
@@ -386,6 +386,8 @@ fn isosurface_ablations_time_each_of_the_rasterizers_ways() {
         for way in [
             "exact",
             "read before atomic",
+            "subgroup walk above 16 px",
+            "subgroup walk above 64 px",
             "no atomics",
             "set-up only",
             "no drawing",
@@ -398,10 +400,31 @@ fn isosurface_ablations_time_each_of_the_rasterizers_ways() {
             }
         }
     }
-    assert_eq!(ways.len(), 14, "{ways:?}");
+    assert_eq!(ways.len(), 22, "{ways:?}");
+    // Then pass A's extraction alone, each way, over the settled view's blocks.
+    let extractions: Vec<&str> = records
+        .iter()
+        .filter_map(|r| r["variant"].as_str())
+        .filter(|v| v.starts_with("pass A extraction"))
+        .collect();
+    assert_eq!(
+        extractions,
+        [
+            "pass A extraction, whole",
+            "pass A extraction, no vertex arithmetic",
+            "pass A extraction, analysis only",
+            "pass A extraction, samples only"
+        ]
+    );
     // A frame timed pass by pass also carries its whole time, first pass start to last end,
     // which holds every pass and whatever runs between them.
-    for r in records.iter().filter(|r| r["technique"] == "direct+hzb") {
+    let culled_frames = records.iter().filter(|r| {
+        r["technique"] == "direct+hzb"
+            && r["variant"]
+                .as_str()
+                .is_some_and(|v| v.starts_with("raster "))
+    });
+    for r in culled_frames {
         let median = |name: &str| {
             let stages = r["stages"].as_array().unwrap();
             let stage = stages.iter().find(|s| s["stage"] == name);
