@@ -26,7 +26,7 @@ pub(super) fn isosurface_structs(t: &mut Table) {
         isovalue, forward, tan_half_fov_x, right, tan_half_fov_y, up, light, grid_to_world, dims,
         octree_levels, image));
     let extract_defines =
-        crate::iso::direct::compute::extract_defines(ScalarType::U8, Default::default());
+        crate::iso::direct::compute::extract_defines(ScalarType::U8, Default::default(), false);
     let extract = compile(
         &builtin_shader!("../iso/direct/extract.comp.glsl"),
         &extract_defines,
@@ -35,7 +35,7 @@ pub(super) fn isosurface_structs(t: &mut Table) {
     t.push_constants::<DirectParams>(&extract, "DirectParams", host!(DirectParams, grid_to_clip,
         eye_world, isovalue, grid_to_world, light, dims, triangle_capacity));
     let cull_defines =
-        crate::iso::direct::compute_cull::cull_defines(ScalarType::U8, Default::default());
+        crate::iso::direct::compute_cull::cull_defines(ScalarType::U8, Default::default(), false);
     let mut list_defines = cull_defines.clone();
     list_defines.push(("BLOCK_LIST".into(), "1".into()));
     let extract_list = compile(

@@ -164,7 +164,7 @@ impl DirectExtract {
     ) -> Result<DirectExtract> {
         let spirv = compiler.compile(
             &builtin_shader!("extract.comp.glsl"),
-            &extract_defines(scalar, rule),
+            &extract_defines(scalar, rule, gpu.caps().subgroup_arithmetic),
         )?;
         let extract = gpu.compute_pipeline("direct extract", &spirv, &EXTRACT_SLOTS)?;
         let stats = gpu.create_buffer(
@@ -238,10 +238,22 @@ impl DirectExtract {
     }
 }
 
-/// Defines of `extract.comp.glsl`: marching cubes', and the raster pass's, whose dispatch
-/// arguments it writes.
-pub(crate) fn extract_defines(scalar: ScalarType, rule: AmbiguityRule) -> Vec<(String, String)> {
-    [marching_cubes_defines(scalar, rule), raster_defines()].concat()
+/// Defines of `extract.comp.glsl`: marching cubes', the raster pass's, whose dispatch
+/// arguments it writes, and whether its prefix sums use subgroup arithmetic (`subgroup_scan`,
+/// where the device has it for compute shaders: two barriers instead of the shared-memory
+/// scan's sixteen, as the meshlet and PMB extractions do).
+pub(crate) fn extract_defines(
+    scalar: ScalarType,
+    rule: AmbiguityRule,
+    subgroup_scan: bool,
+) -> Vec<(String, String)> {
+    let mut defines = [marching_cubes_defines(scalar, rule), raster_defines()].concat();
+    // A preprocessor condition: a plain 0 or 1.
+    defines.push((
+        "DIRECT_SUBGROUP_SCAN".into(),
+        u32::from(subgroup_scan).to_string(),
+    ));
+    defines
 }
 
 /// `extract.comp.glsl` with the given defines (`extract_defines`, and the culling's), also
@@ -383,7 +395,7 @@ impl DirectCompute {
             DirectRaster::InExtraction => Some(drawing_extraction(
                 gpu,
                 compiler,
-                &extract_defines(scalar, rule),
+                &extract_defines(scalar, rule, gpu.caps().subgroup_arithmetic),
                 &EXTRACT_SLOTS,
                 "direct extract (drawing)",
                 variant,

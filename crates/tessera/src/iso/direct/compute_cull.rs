@@ -156,7 +156,8 @@ pub fn ablated_list_extraction(
     scalar: ScalarType,
     ablation: Ablation,
 ) -> Result<Pipeline> {
-    let mut defines = cull_defines(scalar, AmbiguityRule::default());
+    let subgroup_scan = gpu.caps().subgroup_arithmetic;
+    let mut defines = cull_defines(scalar, AmbiguityRule::default(), subgroup_scan);
     defines.push(ablation.define());
     list_extraction(
         gpu,
@@ -168,8 +169,12 @@ pub fn ablated_list_extraction(
 }
 
 /// The defines of the culling passes: the extraction's, and the cell boxes' layout.
-pub(crate) fn cull_defines(scalar: ScalarType, rule: AmbiguityRule) -> Vec<(String, String)> {
-    let mut defines = extract_defines(scalar, rule);
+pub(crate) fn cull_defines(
+    scalar: ScalarType,
+    rule: AmbiguityRule,
+    subgroup_scan: bool,
+) -> Vec<(String, String)> {
+    let mut defines = extract_defines(scalar, rule, subgroup_scan);
     defines.extend(cell_box_defines());
     defines.extend([
         ("CULL_STATS_WORDS".into(), format!("{STATS_WORDS}u")),
@@ -189,7 +194,7 @@ impl ComputeCullPipelines {
         rule: AmbiguityRule,
         (raster, variant): (DirectRaster, RasterVariant),
     ) -> Result<ComputeCullPipelines> {
-        let defines = cull_defines(scalar, rule);
+        let defines = cull_defines(scalar, rule, gpu.caps().subgroup_arithmetic);
         let sb = Slot::StorageBuffer;
         let test = compiler.compile(&builtin_shader!("hzb_test.comp.glsl"), &defines)?;
         let finish = compiler.compile(&builtin_shader!("cull_finish.comp.glsl"), &defines)?;

@@ -12,6 +12,9 @@
 // triangles where its box fails the occlusion test against the first pass's max-depth pyramid
 // (raster/hzb_test.glsl): most blocks that pass their own test own no pixel, and most of their
 // cells lie behind what the first pass drew.
+#if defined(DIRECT_SUBGROUP_SCAN) && DIRECT_SUBGROUP_SCAN
+#extension GL_KHR_shader_subgroup_arithmetic : require
+#endif
 #ifdef RASTER_IN_EXTRACTION
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_EXT_shader_atomic_int64 : require
@@ -55,7 +58,12 @@ layout(binding = 1) readonly buffer Nodes { vec2 minmax_nodes[]; };
 #define HELD_SAMPLES_LOADERS uint(EXTRACT_INVOCATIONS)
 #include "common/held_samples.glsl"
 #define WORKGROUP_SCAN_SIZE EXTRACT_INVOCATIONS
+// Subgroup arithmetic where the device has it (compute::extract_defines).
+#if defined(DIRECT_SUBGROUP_SCAN) && DIRECT_SUBGROUP_SCAN
+#define WORKGROUP_SCAN_SUBGROUPS 1
+#else
 #define WORKGROUP_SCAN_SUBGROUPS 0
+#endif
 #include "common/workgroup_scan.glsl"
 #ifdef RASTER_IN_EXTRACTION
 // Read back by the workgroup's other invocations, which draw them.
