@@ -7,12 +7,13 @@ use common::{assert_clean, assert_matches_cpu_raster, Need, TestGpu};
 use tessera::iso::direct::compute::{ComputeTarget, DirectCompute};
 use tessera::iso::direct::compute_cull::{ComputeCullState, ComputeCullStats};
 use tessera::iso::direct::Direct;
+use tessera::iso::PreparedVolume;
 use tessera::raster::hzb::hzb_levels;
 use tessera::shaders;
 use tessera::target::Target;
 use tessera_data::marching_cubes::marching_cubes;
 use tessera_data::procedural::{generate, ProceduralKind};
-use tessera_data::{IsoValue, OrbitCamera, ScalarType, Volume};
+use tessera_data::{IsoValue, OrbitCamera, RgbaImage, ScalarType, Volume};
 use tessera_gpu::Gpu;
 
 fn atomics_gpu() -> Option<TestGpu> {
@@ -260,37 +261,89 @@ fn compute_culling_follows_isovalue_changes() {
     assert_clean(&gpu);
 }
 
+/// One volume's culled frames: the pipelines, the prepared volume, a target whose lists hold
+/// its whole surface at `iso`, pixels and a culling state, seen from the default camera.
+struct Culling {
+    compute: DirectCompute,
+    prepared: PreparedVolume,
+    iso: f32,
+    capacity: u32,
+    target: ComputeTarget,
+    pixels: Target,
+    state: ComputeCullState,
+    camera: OrbitCamera,
+}
+
+impl Culling {
+    fn new(gpu: &Gpu, volume: &Volume, fraction: f32, (w, h): (u32, u32)) -> Culling {
+        let compute = DirectCompute::new(gpu, &shaders::compiler(), volume.scalar_type()).unwrap();
+        let prepared = compute.prepare(gpu, volume).unwrap();
+        let iso = volume.iso_to_texel(IsoValue::Normalized(fraction));
+        let capacity = marching_cubes(volume, iso).triangle_count() as u32;
+        let target = ComputeTarget::new(gpu, w, h, capacity).unwrap();
+        let pixels = Target::new(gpu, w, h).unwrap();
+        let state = ComputeCullState::new(gpu, &prepared, &target).unwrap();
+        Culling {
+            compute,
+            prepared,
+            iso,
+            capacity,
+            target,
+            pixels,
+            state,
+            camera: OrbitCamera::default(),
+        }
+    }
+
+    /// A culled frame with `state` (this one's, or another made for its target).
+    fn culled(&self, gpu: &Gpu, state: &ComputeCullState) -> (RgbaImage, ComputeCullStats) {
+        self.pixels.poison(gpu, u32::MAX).unwrap();
+        let (image, _, stats) = self
+            .compute
+            .render_culled(
+                gpu,
+                &self.prepared,
+                &self.target,
+                &self.pixels,
+                state,
+                self.iso,
+                &self.camera,
+            )
+            .unwrap();
+        (image, stats)
+    }
+}
+
 #[test]
 fn reset_forgets_what_was_seen() {
     let Some(gpu) = atomics_gpu() else { return };
-    let compiler = shaders::compiler();
     let volume = generate(ProceduralKind::MarschnerLobb, 33, ScalarType::U8).unwrap();
-    let iso = volume.iso_to_texel(IsoValue::Normalized(0.5));
-    let compute = DirectCompute::new(&gpu, &compiler, ScalarType::U8).unwrap();
-    let prepared = compute.prepare(&gpu, &volume).unwrap();
-    let capacity = marching_cubes(&volume, iso).triangle_count() as u32;
-    let target = ComputeTarget::new(&gpu, 64, 48, capacity).unwrap();
-    let pixels = Target::new(&gpu, 64, 48).unwrap();
-    let state = ComputeCullState::new(&gpu, &prepared, &target).unwrap();
-    let camera = OrbitCamera::default();
+    let c = Culling::new(&gpu, &volume, 0.5, (64, 48));
     let mut images = Vec::new();
     for reset in [false, false, true] {
         if reset {
-            state.reset(&gpu).unwrap();
+            c.state.reset(&gpu).unwrap();
         }
-        let (image, _, stats) = compute
-            .render_culled(&gpu, &prepared, &target, &pixels, &state, iso, &camera)
-            .unwrap();
+        let (image, stats) = c.culled(&gpu, &c.state);
         assert_eq!(stats.blocks_drawn_first == 0, images.is_empty() || reset);
         images.push(image);
     }
     assert!(images[2].compare(&images[0], 2).fraction_within >= 0.999);
     assert!(images[1].compare(&images[0], 2).fraction_within >= 0.999);
     // A state for another frame size is refused.
-    let other = ComputeTarget::new(&gpu, 32, 48, capacity).unwrap();
+    let other = ComputeTarget::new(&gpu, 32, 48, c.capacity).unwrap();
     let other_pixels = Target::new(&gpu, 32, 48).unwrap();
-    assert!(compute
-        .render_culled(&gpu, &prepared, &other, &other_pixels, &state, iso, &camera)
+    assert!(c
+        .compute
+        .render_culled(
+            &gpu,
+            &c.prepared,
+            &other,
+            &other_pixels,
+            &c.state,
+            c.iso,
+            &c.camera
+        )
         .is_err());
     assert_clean(&gpu);
 }
@@ -302,66 +355,46 @@ fn reset_forgets_what_was_seen() {
 #[test]
 fn culled_frames_after_other_frames_into_their_target() {
     let Some(gpu) = atomics_gpu() else { return };
-    let compiler = shaders::compiler();
     let volume = generate(ProceduralKind::HeadPhantom, 48, ScalarType::U8).unwrap();
-    let iso = volume.iso_to_texel(IsoValue::Normalized(0.3));
-    let compute = DirectCompute::new(&gpu, &compiler, ScalarType::U8).unwrap();
-    let prepared = compute.prepare(&gpu, &volume).unwrap();
-    let capacity = marching_cubes(&volume, iso).triangle_count() as u32;
-    let target = ComputeTarget::new(&gpu, 80, 64, capacity).unwrap();
-    let pixels = Target::new(&gpu, 80, 64).unwrap();
-    let (state, other_state) = (
-        ComputeCullState::new(&gpu, &prepared, &target).unwrap(),
-        ComputeCullState::new(&gpu, &prepared, &target).unwrap(),
-    );
-    let camera = OrbitCamera::default();
-    let culled = |state: &ComputeCullState| {
-        pixels.poison(&gpu, u32::MAX).unwrap();
-        let (image, _, stats) = compute
-            .render_culled(&gpu, &prepared, &target, &pixels, state, iso, &camera)
-            .unwrap();
-        (image, stats)
-    };
+    let c = Culling::new(&gpu, &volume, 0.3, (80, 64));
+    let other_state = ComputeCullState::new(&gpu, &c.prepared, &c.target).unwrap();
     for _ in 0..2 {
-        culled(&state);
+        c.culled(&gpu, &c.state);
     }
-    let (settled_image, settled) = culled(&state);
+    let (settled_image, settled) = c.culled(&gpu, &c.state);
     assert!(
         settled.blocks_drawn_first > 0 && settled.triangles_first > 0,
         "{settled:?}"
     );
-    let (plain, _, _) = compute
-        .render(&gpu, &prepared, &target, &pixels, iso, &camera)
-        .unwrap();
+    let unculled = |camera: &OrbitCamera| {
+        let rendered = c
+            .compute
+            .render(&gpu, &c.prepared, &c.target, &c.pixels, c.iso, camera);
+        rendered.unwrap().0
+    };
+    let plain = unculled(&c.camera);
     assert!(settled_image.compare(&plain, 2).fraction_within >= 0.999);
     // After an unculled frame of another view, whose counts (and triangles) it leaves in the
     // target, and after another state's frames into the target.
     let turned = OrbitCamera {
-        azimuth_deg: camera.azimuth_deg + 50.0,
-        ..camera
+        azimuth_deg: c.camera.azimuth_deg + 50.0,
+        ..c.camera
     };
-    let (elsewhere, _, _) = compute
-        .render(&gpu, &prepared, &target, &pixels, iso, &turned)
-        .unwrap();
-    assert!(elsewhere.compare(&plain, 2).fraction_within < 0.9);
-    let (image, stats) = culled(&state);
+    assert!(unculled(&turned).compare(&plain, 2).fraction_within < 0.9);
+    let (image, stats) = c.culled(&gpu, &c.state);
     assert_eq!(stats, settled, "after an unculled frame");
     assert!(image.compare(&plain, 2).fraction_within >= 0.999);
     for _ in 0..2 {
-        culled(&other_state);
+        c.culled(&gpu, &other_state);
     }
     for what in ["after another state's frames", "after its own frame"] {
-        let (image, stats) = culled(&state);
+        let (image, stats) = c.culled(&gpu, &c.state);
         assert_eq!(stats, settled, "{what}");
         assert!(image.compare(&plain, 2).fraction_within >= 0.999, "{what}");
     }
     assert_clean(&gpu);
 }
 
-/// Pass A's extraction timed alone (`tessera bench isosurface --ablations`): whole, it makes the
-/// triangles the culled frame's pass A made; without vertex arithmetic as many, elsewhere; with
-/// only the analysis or the samples, none for the rasterizer. It leaves the next culled frame
-/// as it would have been.
 #[test]
 fn pass_a_extraction_alone_and_its_ablations() {
     use tessera::iso::ablation::Ablation;
@@ -371,44 +404,32 @@ fn pass_a_extraction_alone_and_its_ablations() {
     let Some(gpu) = atomics_gpu() else { return };
     let compiler = shaders::compiler();
     let volume = generate(ProceduralKind::HeadPhantom, 48, ScalarType::U8).unwrap();
-    let iso = volume.iso_to_texel(IsoValue::Normalized(0.3));
-    let compute = DirectCompute::new(&gpu, &compiler, ScalarType::U8).unwrap();
-    let prepared = compute.prepare(&gpu, &volume).unwrap();
-    let capacity = marching_cubes(&volume, iso).triangle_count() as u32;
     let (w, h) = (80, 64);
-    let target = ComputeTarget::new(&gpu, w, h, capacity).unwrap();
-    let pixels = Target::new(&gpu, w, h).unwrap();
-    let state = ComputeCullState::new(&gpu, &prepared, &target).unwrap();
-    let camera = OrbitCamera::default();
-    let culled = || {
-        compute
-            .render_culled(&gpu, &prepared, &target, &pixels, &state, iso, &camera)
-            .unwrap()
-    };
-    culled();
-    let (_, _, settled) = culled();
+    let c = Culling::new(&gpu, &volume, 0.3, (w, h));
+    c.culled(&gpu, &c.state);
+    let (_, settled) = c.culled(&gpu, &c.state);
     assert!(settled.triangles_first > 100, "{settled:?}");
-    let params = Direct::params(&prepared, iso, &camera, w, h, capacity);
+    let params = Direct::params(&c.prepared, c.iso, &c.camera, w, h, c.capacity);
     let mut timer = Timer::new(&gpu, 1).unwrap();
     let mut extract = |ablation: Ablation| -> (u32, Vec<u8>) {
         let pipeline = ablated_list_extraction(&gpu, &compiler, ScalarType::U8, ablation).unwrap();
         timer.reset(&gpu);
         gpu.submit("pass A alone", |rec| {
-            compute.record_first_extraction(
+            c.compute.record_first_extraction(
                 rec,
                 (&mut timer, "extraction"),
                 &pipeline,
-                &prepared,
-                &target,
+                &c.prepared,
+                &c.target,
                 &params,
-                &state,
+                &c.state,
             )
         })
         .unwrap();
         let counts: RasterCounts =
-            bytemuck::pod_read_unaligned(&gpu.read_buffer(&target.lists.counts).unwrap()[..16]);
+            bytemuck::pod_read_unaligned(&gpu.read_buffer(&c.target.lists.counts).unwrap()[..16]);
         let made = counts.triangle_count as usize * 48;
-        let triangles = gpu.read_buffer(&target.lists.triangles).unwrap()[..made].to_vec();
+        let triangles = gpu.read_buffer(&c.target.lists.triangles).unwrap()[..made].to_vec();
         (counts.triangle_count, triangles)
     };
     let (whole, whole_triangles) = extract(Ablation::None);
@@ -418,7 +439,7 @@ fn pass_a_extraction_alone_and_its_ablations() {
     assert_ne!(stand_in_triangles, whole_triangles);
     assert_eq!(extract(Ablation::AnalysisOnly).0, 0);
     assert_eq!(extract(Ablation::SamplesOnly).0, 0);
-    let (_, _, after) = culled();
+    let (_, after) = c.culled(&gpu, &c.state);
     assert_eq!(after, settled, "the next frame");
     assert_clean(&gpu);
 }

@@ -6,7 +6,7 @@
 
 use super::basic::bench_sizes;
 use super::frames::time_recorded;
-use super::raster_ablation::{triangles, CULLED_SETTLING_FRAMES};
+use super::raster_ablation::{triangles, AblationScene, CULLED_SETTLING_FRAMES};
 use super::{BenchConfig, BenchRecord, FramePlan, RecordSink};
 use crate::error::Result;
 use crate::iso::ablation::Ablation;
@@ -14,30 +14,22 @@ use crate::iso::direct::compute::{ComputeTarget, DirectCompute};
 use crate::iso::direct::compute_cull::{ablated_list_extraction, ComputeCullState};
 use crate::iso::direct::Direct;
 use crate::target::Target;
-use tessera_data::{IsoValue, OrbitCamera, Volume};
 use tessera_gpu::Gpu;
 
 /// The timer scope of the extraction.
 const STAGE: &str = "pass-a-extraction";
 
-/// Times pass A's extraction each way on `volume` (named `dataset`) at the scenario's sizes
-/// and isovalue, from the isosurface scenarios' camera.
-pub(super) fn extraction_ablations(
+/// Times pass A's extraction each way in `scene`, at the scenario's sizes.
+pub(super) fn first_extraction_ways(
     gpu: &Gpu,
     config: &BenchConfig,
     plan: FramePlan,
     sink: &mut dyn RecordSink,
-    volume: &Volume,
-    dataset: &str,
+    scene: &AblationScene,
 ) -> Result<()> {
-    if !gpu.caps().buffer_int64_atomics {
-        sink.note("no 64-bit buffer atomics: direct's extraction ablations skipped");
-        return Ok(());
-    }
-    let compiler = crate::shaders::compiler();
-    let camera = OrbitCamera::default();
-    let iso = volume.iso_to_texel(IsoValue::Normalized(config.iso_fraction));
-    let compute = DirectCompute::new(gpu, &compiler, volume.scalar_type())?;
+    let (volume, iso, camera) = (scene.volume, scene.iso, scene.camera);
+    let compiler = &scene.compiler;
+    let compute = DirectCompute::new(gpu, compiler, volume.scalar_type())?;
     let prepared = compute.prepare(gpu, volume)?;
     let capacity = triangles(gpu, &compute, &prepared, iso, &camera)?;
     let ways = Ablation::DIRECT
@@ -45,7 +37,7 @@ pub(super) fn extraction_ablations(
         .map(|&a| {
             Ok((
                 a,
-                ablated_list_extraction(gpu, &compiler, volume.scalar_type(), a)?,
+                ablated_list_extraction(gpu, compiler, volume.scalar_type(), a)?,
             ))
         })
         .collect::<Result<Vec<_>>>()?;
@@ -73,7 +65,7 @@ pub(super) fn extraction_ablations(
                 );
                 Ok(())
             })?;
-            let mut r = BenchRecord::new(gpu, "isosurface", "direct+hzb", "compute", dataset);
+            let mut r = BenchRecord::new(gpu, "isosurface", "direct+hzb", "compute", scene.dataset);
             r.variant = format!("pass A extraction, {}", ablation.name());
             (r.width, r.height, r.warmup, r.frames, r.stages) =
                 (w, h, plan.warmup, plan.frames, stages);

@@ -2,9 +2,8 @@
 //! driven through the front door.
 
 use super::basic::{bench_sizes, bench_volumes, make_volume};
-use super::extraction_ablation::extraction_ablations;
 use super::frames::{settle_after_upload, time_mono, EachFrame};
-use super::raster_ablation::raster_ablations;
+use super::raster_ablation::direct_ablations;
 use super::{time_frames, BenchRecord, FramePlan};
 use super::{BenchConfig, RecordSink};
 use crate::error::{Error, Result};
@@ -339,8 +338,7 @@ fn run_scenario(
         }
         if config.ablations && sweep.is_none() {
             if let Dataset::Volume(volume) = &data {
-                raster_ablations(gpu, config, plan, sink, volume, &volume_name)?;
-                extraction_ablations(gpu, config, plan, sink, volume, &volume_name)?;
+                direct_ablations(gpu, config, plan, sink, volume, &volume_name)?;
             }
         }
     }

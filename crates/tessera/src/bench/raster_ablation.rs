@@ -7,6 +7,7 @@
 //! variant ("raster exact", "raster no atomics, in extraction", ...).
 
 use super::basic::bench_sizes;
+use super::extraction_ablation::first_extraction_ways;
 use super::frames::time_recorded;
 use super::{BenchConfig, BenchRecord, FramePlan, RecordSink};
 use crate::error::Result;
@@ -16,15 +17,25 @@ use crate::iso::direct::Direct;
 use crate::raster::RasterVariant;
 use crate::target::Target;
 use tessera_data::{IsoValue, OrbitCamera, Volume};
-use tessera_gpu::Gpu;
+use tessera_gpu::{Gpu, ShaderCompiler};
 
 /// Culled frames rendered before timing, so that the first pass draws last frame's blocks as
 /// in a still view.
 pub(super) const CULLED_SETTLING_FRAMES: u32 = 3;
 
-/// Times every way on `volume` (named `dataset`) at the scenario's sizes and isovalue, from the
-/// isosurface scenarios' camera.
-pub(super) fn raster_ablations(
+/// What `direct`'s ablations draw: a volume (named `dataset`) at the scenario's isovalue, from
+/// the isosurface scenarios' camera.
+pub(super) struct AblationScene<'a> {
+    pub(super) compiler: ShaderCompiler,
+    pub(super) volume: &'a Volume,
+    pub(super) dataset: &'a str,
+    pub(super) iso: f32,
+    pub(super) camera: OrbitCamera,
+}
+
+/// Times `direct`'s compute frame with each of the rasterizer's ways, then its first
+/// extraction alone each way (`extraction_ablation`), on `volume` at the scenario's sizes.
+pub(super) fn direct_ablations(
     gpu: &Gpu,
     config: &BenchConfig,
     plan: FramePlan,
@@ -36,9 +47,32 @@ pub(super) fn raster_ablations(
         sink.note("no 64-bit buffer atomics: direct's compute path, and its ablations, skipped");
         return Ok(());
     }
-    let compiler = crate::shaders::compiler();
-    let camera = OrbitCamera::default();
-    let iso = volume.iso_to_texel(IsoValue::Normalized(config.iso_fraction));
+    let scene = AblationScene {
+        compiler: crate::shaders::compiler(),
+        volume,
+        dataset,
+        iso: volume.iso_to_texel(IsoValue::Normalized(config.iso_fraction)),
+        camera: OrbitCamera::default(),
+    };
+    raster_ways(gpu, config, plan, sink, &scene)?;
+    first_extraction_ways(gpu, config, plan, sink, &scene)
+}
+
+/// Times every way of the rasterizer in `scene`.
+fn raster_ways(
+    gpu: &Gpu,
+    config: &BenchConfig,
+    plan: FramePlan,
+    sink: &mut dyn RecordSink,
+    scene: &AblationScene,
+) -> Result<()> {
+    let &AblationScene {
+        ref compiler,
+        volume,
+        dataset,
+        iso,
+        camera,
+    } = scene;
     for raster in [DirectRaster::Pass, DirectRaster::InExtraction] {
         for variant in RasterVariant::ALL {
             if !variant.available(gpu) {
@@ -48,13 +82,8 @@ pub(super) fn raster_ablations(
                 ));
                 continue;
             }
-            let compute = DirectCompute::for_measuring(
-                gpu,
-                &compiler,
-                volume.scalar_type(),
-                raster,
-                variant,
-            )?;
+            let compute =
+                DirectCompute::for_measuring(gpu, compiler, volume.scalar_type(), raster, variant)?;
             let prepared = compute.prepare(gpu, volume)?;
             let label = match raster {
                 DirectRaster::Pass => format!("raster {}", variant.name()),

@@ -207,17 +207,7 @@ impl DirectExtract {
             frame.record_pass_params(rec, &lists.raster_pass, lists.capacity, 0);
         }
         rec.barrier();
-        let mut bindings = vec![
-            Binding::Texture {
-                image: &prepared.volume.texture,
-                linear: false,
-            },
-            Binding::Buffer(&prepared.octree.nodes),
-            Binding::Buffer(&lists.triangles),
-            Binding::Buffer(&lists.attributes),
-            Binding::Buffer(&lists.counts),
-            Binding::Buffer(&self.stats),
-        ];
+        let mut bindings = extraction_bindings(prepared, lists, &self.stats);
         if let Some(frame) = frame {
             bindings.extend(frame_bindings(frame, lists));
         }
@@ -236,6 +226,26 @@ impl DirectExtract {
             blocks_classified: s[1],
         })
     }
+}
+
+/// The bindings every `extract.comp.glsl` pipeline begins with: the volume, its octree's
+/// nodes, the lists' triangles, attributes and counts, and the extraction's statistics.
+pub(crate) fn extraction_bindings<'a>(
+    prepared: &'a PreparedVolume,
+    lists: &'a TriangleLists,
+    stats: &'a Buffer,
+) -> Vec<Binding<'a>> {
+    vec![
+        Binding::Texture {
+            image: &prepared.volume.texture,
+            linear: false,
+        },
+        Binding::Buffer(&prepared.octree.nodes),
+        Binding::Buffer(&lists.triangles),
+        Binding::Buffer(&lists.attributes),
+        Binding::Buffer(&lists.counts),
+        Binding::Buffer(stats),
+    ]
 }
 
 /// Defines of `extract.comp.glsl`: marching cubes', the raster pass's, whose dispatch

@@ -3,7 +3,7 @@
 use crate::error::{Error, Result};
 use crate::iso::direct::block_list::{self, BlockListHeader};
 use crate::iso::direct::compute::{
-    frame_bindings, ComputeTarget, DirectCompute, DirectRaster, TriangleLists,
+    extraction_bindings, frame_bindings, ComputeTarget, DirectCompute, DirectRaster, TriangleLists,
 };
 use crate::iso::direct::compute_cull::{
     groups_2d, ComputeCullState, ComputeCullStats, HzbTestParams,
@@ -302,19 +302,11 @@ pub(super) fn record_list_extraction(
 ) {
     let mut p = *params;
     p.triangle_capacity = lists.capacity;
-    let mut bindings = vec![
-        Binding::Texture {
-            image: &prepared.volume.texture,
-            linear: false,
-        },
-        Binding::Buffer(&prepared.octree.nodes),
-        Binding::Buffer(&lists.triangles),
-        Binding::Buffer(&lists.attributes),
-        Binding::Buffer(&lists.counts),
-        Binding::Buffer(stats),
+    let mut bindings = extraction_bindings(prepared, lists, stats);
+    bindings.extend([
         Binding::Buffer(blocks),
         Binding::Buffer(&state.cell_boxes.buffer),
-    ];
+    ]);
     if let Some(frame) = frame {
         bindings.extend(frame_bindings(frame, lists));
     }
