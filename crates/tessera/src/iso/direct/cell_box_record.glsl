@@ -23,6 +23,20 @@ void cell_box_record_add(uvec3 lo, uvec3 hi) {
     }
 }
 
+#if defined(CELL_BOX_RECORD_SUBGROUPS) && CELL_BOX_RECORD_SUBGROUPS
+// cell_box_record_add for a whole subgroup at once, from uniform control flow (the includer
+// enables subgroup arithmetic): an invocation with no cells to add passes the empty box (`lo`
+// all ones, `hi` zero), and one invocation adds the subgroup's box, so that the shared atomics
+// meet each address once a subgroup rather than once an invocation with triangles.
+void cell_box_record_add_in_subgroup(uvec3 lo, uvec3 hi) {
+    uvec3 group_lo = subgroupMin(lo);
+    uvec3 group_hi = subgroupMax(hi);
+    if (subgroupElect() && group_lo.x <= group_hi.x) {
+        cell_box_record_add(group_lo, group_hi);
+    }
+}
+#endif
+
 // The packed box after every addition (and a barrier); with `made_triangles` false, a block
 // without triangles, no box (its whole box stands).
 uint cell_box_recorded(bool made_triangles) {

@@ -14,6 +14,11 @@
 // cells lie behind what the first pass drew.
 #if defined(DIRECT_SUBGROUP_SCAN) && DIRECT_SUBGROUP_SCAN
 #extension GL_KHR_shader_subgroup_arithmetic : require
+// Subgroup arithmetic where the device has it for compute shaders (compute::extract_defines):
+// the prefix sums and the cell box's minima and maxima.
+#define DIRECT_SUBGROUPS 1
+#else
+#define DIRECT_SUBGROUPS 0
 #endif
 #ifdef RASTER_IN_EXTRACTION
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
@@ -31,6 +36,7 @@
 #include "iso/direct/params.glsl"
 #include "iso/direct/block_list.glsl"
 #ifdef BLOCK_LIST
+#define CELL_BOX_RECORD_SUBGROUPS DIRECT_SUBGROUPS
 #include "iso/direct/cell_box_record.glsl"
 #endif
 #include "iso/direct/attributes.glsl"
@@ -58,12 +64,7 @@ layout(binding = 1) readonly buffer Nodes { vec2 minmax_nodes[]; };
 #define HELD_SAMPLES_LOADERS uint(EXTRACT_INVOCATIONS)
 #include "common/held_samples.glsl"
 #define WORKGROUP_SCAN_SIZE EXTRACT_INVOCATIONS
-// Subgroup arithmetic where the device has it (compute::extract_defines).
-#if defined(DIRECT_SUBGROUP_SCAN) && DIRECT_SUBGROUP_SCAN
-#define WORKGROUP_SCAN_SUBGROUPS 1
-#else
-#define WORKGROUP_SCAN_SUBGROUPS 0
-#endif
+#define WORKGROUP_SCAN_SUBGROUPS DIRECT_SUBGROUPS
 #include "common/workgroup_scan.glsl"
 #ifdef RASTER_IN_EXTRACTION
 // Read back by the workgroup's other invocations, which draw them.
@@ -192,9 +193,13 @@ void main() {
         total += n;
     }
 #ifdef BLOCK_LIST
+#if DIRECT_SUBGROUPS
+    cell_box_record_add_in_subgroup(made_lo, made_hi);
+#else
     if (total + hidden > 0u) {
         cell_box_record_add(made_lo, made_hi);
     }
+#endif
 #endif
     uvec3 totals;
     uint below = workgroup_exclusive_scan(uvec3(total, hidden, 0u), totals).x;
