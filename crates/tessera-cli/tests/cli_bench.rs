@@ -413,7 +413,8 @@ fn isosurface_ablations_time_the_rasterizers_ways_and_the_first_extraction() {
             "pass A extraction, whole",
             "pass A extraction, no vertex arithmetic",
             "pass A extraction, analysis only",
-            "pass A extraction, samples only"
+            "pass A extraction, samples only",
+            "pass A extraction, whole, corners spread"
         ]
     );
     // A frame timed pass by pass also carries its whole time, first pass start to last end,

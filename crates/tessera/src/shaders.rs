@@ -335,6 +335,11 @@ pub fn mc_tables_glsl() -> String {
     );
     let t = mc_tables::mc_tables();
     let mut out = String::from("// Generated from tessera_data::mc_tables at run time.\n");
+    let _ = writeln!(
+        out,
+        "// Most triangles any row holds.\nconst uint MC_MAX_TRIANGLES = {}u;",
+        mc_tables::MAX_TRIANGLES
+    );
     let list = |items: Vec<String>| items.join(",");
     let masks = t.edge_mask.iter().map(|m| format!("{m}u")).collect();
     let _ = writeln!(

@@ -398,7 +398,7 @@ fn culled_frames_after_other_frames_into_their_target() {
 #[test]
 fn pass_a_extraction_alone_and_its_ablations() {
     use tessera::iso::ablation::Ablation;
-    use tessera::iso::direct::compute_cull::ablated_list_extraction;
+    use tessera::iso::direct::compute_cull::{measured_list_extraction, FirstExtractionWay};
     use tessera::raster::RasterCounts;
     use tessera_gpu::Timer;
     let Some(gpu) = atomics_gpu() else { return };
@@ -411,8 +411,8 @@ fn pass_a_extraction_alone_and_its_ablations() {
     assert!(settled.triangles_first > 100, "{settled:?}");
     let params = Direct::params(&c.prepared, c.iso, &c.camera, w, h, c.capacity);
     let mut timer = Timer::new(&gpu, 1).unwrap();
-    let mut extract = |ablation: Ablation| -> (u32, Vec<u8>) {
-        let pipeline = ablated_list_extraction(&gpu, &compiler, ScalarType::U8, ablation).unwrap();
+    let mut extract_way = |way: FirstExtractionWay| -> (u32, Vec<Vec<u32>>) {
+        let pipeline = measured_list_extraction(&gpu, &compiler, ScalarType::U8, way).unwrap();
         timer.reset(&gpu);
         gpu.submit("pass A alone", |rec| {
             c.compute.record_first_extraction(
@@ -428,9 +428,21 @@ fn pass_a_extraction_alone_and_its_ablations() {
         .unwrap();
         let counts: RasterCounts =
             bytemuck::pod_read_unaligned(&gpu.read_buffer(&c.target.lists.counts).unwrap()[..16]);
+        // Blocks reserve their slots in whichever order their workgroups run: compare the
+        // triangles as a set, each as its 12 words.
         let made = counts.triangle_count as usize * 48;
-        let triangles = gpu.read_buffer(&c.target.lists.triangles).unwrap()[..made].to_vec();
+        let words: Vec<u32> = bytemuck::pod_collect_to_vec(
+            &gpu.read_buffer(&c.target.lists.triangles).unwrap()[..made],
+        );
+        let mut triangles: Vec<Vec<u32>> = words.chunks(12).map(<[u32]>::to_vec).collect();
+        triangles.sort_unstable();
         (counts.triangle_count, triangles)
+    };
+    let mut extract = |ablation: Ablation| {
+        extract_way(FirstExtractionWay {
+            ablation,
+            spread_corners: false,
+        })
     };
     let (whole, whole_triangles) = extract(Ablation::None);
     assert_eq!(whole, settled.triangles_first);
@@ -439,6 +451,12 @@ fn pass_a_extraction_alone_and_its_ablations() {
     assert_ne!(stand_in_triangles, whole_triangles);
     assert_eq!(extract(Ablation::AnalysisOnly).0, 0);
     assert_eq!(extract(Ablation::SamplesOnly).0, 0);
+    // Each corner made by its own invocation: the same triangles in the same slots.
+    let spread = extract_way(FirstExtractionWay {
+        ablation: Ablation::None,
+        spread_corners: true,
+    });
+    assert!(spread == (whole, whole_triangles.clone()), "corners spread");
     let (_, after) = c.culled(&gpu, &c.state);
     assert_eq!(after, settled, "the next frame");
     assert_clean(&gpu);

@@ -1,7 +1,7 @@
 //! Where `direct`'s extraction of a block list spends its time (`tessera bench isosurface
-//! --ablations`): pass A's extraction of a still, culled view timed alone, whole and with
-//! stages left out ([`Ablation::DIRECT`]: no vertex arithmetic, no triangle written, samples
-//! only), over the blocks the settled frames saw. Records carry the way as their variant
+//! --ablations`): pass A's extraction of a still, culled view timed alone, whole, with stages
+//! left out (no vertex arithmetic, no triangle written, samples only) and with each corner
+//! made by its own invocation ([`FirstExtractionWay`]), over the blocks the settled frames saw. Records carry the way as their variant
 //! ("pass A extraction, samples only", ...), the blocks and triangles as counts.
 
 use super::basic::bench_sizes;
@@ -9,9 +9,10 @@ use super::frames::time_recorded;
 use super::raster_ablation::{triangles, AblationScene, CULLED_SETTLING_FRAMES};
 use super::{BenchConfig, BenchRecord, FramePlan, RecordSink};
 use crate::error::Result;
-use crate::iso::ablation::Ablation;
 use crate::iso::direct::compute::{ComputeTarget, DirectCompute};
-use crate::iso::direct::compute_cull::{ablated_list_extraction, ComputeCullState};
+use crate::iso::direct::compute_cull::{
+    measured_list_extraction, ComputeCullState, FirstExtractionWay,
+};
 use crate::iso::direct::Direct;
 use crate::target::Target;
 use tessera_gpu::Gpu;
@@ -32,13 +33,11 @@ pub(super) fn first_extraction_ways(
     let compute = DirectCompute::new(gpu, compiler, volume.scalar_type())?;
     let prepared = compute.prepare(gpu, volume)?;
     let capacity = triangles(gpu, &compute, &prepared, iso, &camera)?;
-    let ways = Ablation::DIRECT
-        .iter()
-        .map(|&a| {
-            Ok((
-                a,
-                ablated_list_extraction(gpu, compiler, volume.scalar_type(), a)?,
-            ))
+    let ways = FirstExtractionWay::all()
+        .into_iter()
+        .map(|way| {
+            let pipeline = measured_list_extraction(gpu, compiler, volume.scalar_type(), way)?;
+            Ok((way, pipeline))
         })
         .collect::<Result<Vec<_>>>()?;
     for (w, h) in bench_sizes(config) {
@@ -52,7 +51,7 @@ pub(super) fn first_extraction_ways(
             settled = Some(stats);
         }
         let params = Direct::params(&prepared, iso, &camera, w, h, capacity);
-        for (ablation, pipeline) in &ways {
+        for (way, pipeline) in &ways {
             let stages = time_recorded(gpu, plan, |rec, timer| {
                 compute.record_first_extraction(
                     rec,
@@ -66,7 +65,7 @@ pub(super) fn first_extraction_ways(
                 Ok(())
             })?;
             let mut r = BenchRecord::new(gpu, "isosurface", "direct+hzb", "compute", scene.dataset);
-            r.variant = format!("pass A extraction, {}", ablation.name());
+            r.variant = format!("pass A extraction, {}", way.name());
             (r.width, r.height, r.warmup, r.frames, r.stages) =
                 (w, h, plan.warmup, plan.frames, stages);
             if let Some(stats) = settled {

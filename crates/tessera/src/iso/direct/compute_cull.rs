@@ -147,18 +147,61 @@ fn list_extraction(
     })
 }
 
-/// Pass A's extraction with the stages `ablation` leaves out, for measuring where the
-/// extraction's time goes (`tessera bench isosurface --ablations`); its triangles are not a
-/// surface (none at all for [`Ablation::SamplesOnly`] and [`Ablation::AnalysisOnly`]).
-pub fn ablated_list_extraction(
+/// A way of running pass A's extraction, for measuring where its time goes (`tessera bench
+/// isosurface --ablations`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct FirstExtractionWay {
+    /// The stages left out: its triangles are then not a surface (none at all for
+    /// [`Ablation::SamplesOnly`] and [`Ablation::AnalysisOnly`]).
+    pub ablation: Ablation,
+    /// Every corner of the block's triangles made by its own invocation (`SPREAD_CORNERS`),
+    /// rather than each cell's triangles one after another by the cell's: the same triangles
+    /// in the same slots, with no invocation left making a cell's ten corners while the rest
+    /// wait.
+    pub spread_corners: bool,
+}
+
+impl FirstExtractionWay {
+    /// The ways worth timing: whole, then less and less of it ([`Ablation::DIRECT`]), then
+    /// whole with its corners spread.
+    pub fn all() -> Vec<FirstExtractionWay> {
+        let mut ways: Vec<FirstExtractionWay> = Ablation::DIRECT
+            .iter()
+            .map(|&ablation| FirstExtractionWay {
+                ablation,
+                spread_corners: false,
+            })
+            .collect();
+        ways.push(FirstExtractionWay {
+            ablation: Ablation::None,
+            spread_corners: true,
+        });
+        ways
+    }
+
+    pub fn name(self) -> String {
+        let spread = if self.spread_corners {
+            ", corners spread"
+        } else {
+            ""
+        };
+        format!("{}{spread}", self.ablation.name())
+    }
+}
+
+/// Pass A's extraction run `way`, for measuring.
+pub fn measured_list_extraction(
     gpu: &Gpu,
     compiler: &ShaderCompiler,
     scalar: ScalarType,
-    ablation: Ablation,
+    way: FirstExtractionWay,
 ) -> Result<Pipeline> {
     let subgroup_scan = gpu.caps().subgroup_arithmetic;
     let mut defines = cull_defines(scalar, AmbiguityRule::default(), subgroup_scan);
-    defines.push(ablation.define());
+    defines.push(way.ablation.define());
+    if way.spread_corners {
+        defines.push(("SPREAD_CORNERS".into(), "1".into()));
+    }
     list_extraction(
         gpu,
         compiler,

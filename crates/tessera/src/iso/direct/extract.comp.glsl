@@ -129,6 +129,36 @@ bool cell_hidden(uvec3 cell) {
 const uint CELLS = BLOCK_X * BLOCK_Y * BLOCK_Z;
 const uint PER_THREAD = CELLS / uint(EXTRACT_INVOCATIONS);
 shared uint base;
+#ifdef SPREAD_CORNERS
+#ifndef BLOCK_LIST
+#error "SPREAD_CORNERS needs one cell per invocation (BLOCK_LIST)"
+#endif
+// For each of the block's triangles in slot order, the invocation whose cell made it; for
+// each invocation, its cell's table row and its first triangle among the block's.
+shared uint triangle_maker[CELLS * MC_MAX_TRIANGLES];
+shared uint corner_maker_row[EXTRACT_INVOCATIONS];
+shared uint corner_maker_first[EXTRACT_INVOCATIONS];
+#endif
+
+// The block-local cell `id` (x fastest).
+uvec3 cell_of_invocation(uint id) {
+    return uvec3(id % BLOCK_X, (id / BLOCK_X) % BLOCK_Y, id / (BLOCK_X * BLOCK_Y));
+}
+
+// Corner `j` of the triangle in `slot`: the vertex on edge `corner` of `cell`'s table row
+// `row` (its 3 t + j-th), with its normal and the block that made it, `block_id`.
+void write_corner(uvec3 cell, uint row, uint corner, uint slot, uint j, uint block_id) {
+    uvec3 dims = params.dims.xyz;
+    vec3 p;
+    vec3 normal;
+    uint edge = mc_tri_edge(row, corner);
+    uvec3 start = cell + mc_corner_offset(MC_EDGE_CORNERS[edge] & 15u);
+    if (!ablation_stands_in_for_vertex(start, p, normal)) {
+        held_edge_vertex(cell, edge, params.isovalue, dims, p, normal);
+    }
+    triangles[slot].clip[j] = params.grid_to_clip * vec4(p, 1.0);
+    attributes[slot].corners[j] = CornerAttributes(grid_normal_to_world(normal, params.grid_to_world.xyz), block_id);
+}
 
 void main() {
     uint me = gl_LocalInvocationIndex;
@@ -168,8 +198,7 @@ void main() {
     uvec3 made_lo = uvec3(0xffffffffu);  // the box of this invocation's cells with triangles
     uvec3 made_hi = uvec3(0u);
     for (uint k = 0u; k < PER_THREAD; ++k) {
-        uint id = me * PER_THREAD + k;
-        uvec3 local = uvec3(id % BLOCK_X, (id / BLOCK_X) % BLOCK_Y, id / (BLOCK_X * BLOCK_Y));
+        uvec3 local = cell_of_invocation(me * PER_THREAD + k);
         uvec3 cell = block_first + local;
         rows[k] = 0u;  // case 0's row: no triangles
         if (all(lessThan(cell, dims - 1u))) {
@@ -231,6 +260,27 @@ void main() {
     return;
 #endif
 
+#ifdef SPREAD_CORNERS
+    // Every corner of the block's triangles to its own invocation, in slot order: the cell that
+    // made a triangle is found from the shared list of makers.
+    uint row = rows[0];
+    corner_maker_row[me] = row;
+    corner_maker_first[me] = below;
+    for (uint t = 0u; t < mc_tri_count(row); ++t) {
+        triangle_maker[below + t] = me;
+    }
+    barrier();
+    for (uint c = me; c < 3u * wg_total; c += uint(EXTRACT_INVOCATIONS)) {
+        uint t = c / 3u;
+        uint slot = base + t;
+        if (slot < capacity) {
+            uint maker = triangle_maker[t];
+            write_corner(block_first + cell_of_invocation(maker), corner_maker_row[maker],
+                         3u * (t - corner_maker_first[maker]) + (c - 3u * t), slot, c - 3u * t,
+                         block_id);
+        }
+    }
+#else
     uint slot = base + below;
     for (uint k = 0u; k < PER_THREAD; ++k) {
         uint row = rows[k];
@@ -238,26 +288,17 @@ void main() {
         if (n == 0u) {
             continue;
         }
-        uint id = me * PER_THREAD + k;
-        uvec3 local = uvec3(id % BLOCK_X, (id / BLOCK_X) % BLOCK_Y, id / (BLOCK_X * BLOCK_Y));
-        uvec3 cell = block_first + local;
+        uvec3 cell = block_first + cell_of_invocation(me * PER_THREAD + k);
         for (uint t = 0u; t < n; ++t, ++slot) {
             if (slot >= capacity) {
                 continue;
             }
             for (uint j = 0u; j < 3u; ++j) {
-                vec3 p;
-                vec3 normal;
-                uint edge = mc_tri_edge(row, 3u * t + j);
-                uvec3 start = cell + mc_corner_offset(MC_EDGE_CORNERS[edge] & 15u);
-                if (!ablation_stands_in_for_vertex(start, p, normal)) {
-                    held_edge_vertex(cell, edge, iso, dims, p, normal);
-                }
-                triangles[slot].clip[j] = params.grid_to_clip * vec4(p, 1.0);
-                attributes[slot].corners[j] = CornerAttributes(grid_normal_to_world(normal, params.grid_to_world.xyz), block_id);
+                write_corner(cell, row, 3u * t + j, slot, j, block_id);
             }
         }
     }
+#endif
 #ifdef RASTER_IN_EXTRACTION
     // The workgroup's triangles, drawn as the raster pass draws them. Each invocation takes
     // every EXTRACT_INVOCATIONS-th from its own, so that cells with many triangles keep no
