@@ -219,11 +219,19 @@ pub(crate) fn cull_defines(
 ) -> Vec<(String, String)> {
     let mut defines = extract_defines(scalar, rule, subgroup_scan);
     defines.extend(cell_box_defines());
+    let empty = block_list::BlockListHeader::EMPTY;
     defines.extend([
         ("CULL_STATS_WORDS".into(), format!("{STATS_WORDS}u")),
         (
             "EXTRACT_STATS_WORDS".into(),
             format!("{EXTRACT_STATS_WORDS}u"),
+        ),
+        (
+            "EMPTY_BLOCK_LIST".into(),
+            format!(
+                "BlockListHeader({}u, uint[3]({}u, {}u, {}u))",
+                empty.count, empty.args[0], empty.args[1], empty.args[2]
+            ),
         ),
     ]);
     defines

@@ -31,8 +31,8 @@ layout(binding = 7) writeonly buffer NewCounts { uint new_triangles; uint new_ra
 // Pass B's block list (hzb_test.comp.glsl).
 layout(binding = 8) writeonly buffer NewBlocks { BlockListHeader new_list; };
 
-// The header of a list with no entries (block_list::BlockListHeader::EMPTY).
-const BlockListHeader EMPTY_LIST = BlockListHeader(0u, uint[3](0u, 1u, 1u));
+// EMPTY_BLOCK_LIST, the header of a list with no entries, comes from
+// block_list::BlockListHeader::EMPTY (compute_cull::cull_defines).
 
 void main() {
     uint visible = next_list.count;
@@ -59,6 +59,6 @@ void main() {
         first_raster_dispatch[i] = 0u;
         new_raster_dispatch[i] = 0u;
     }
-    first_list = EMPTY_LIST;
-    new_list = EMPTY_LIST;
+    first_list = EMPTY_BLOCK_LIST;
+    new_list = EMPTY_BLOCK_LIST;
 }
