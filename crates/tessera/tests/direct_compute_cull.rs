@@ -414,8 +414,9 @@ fn pass_a_extraction_alone_and_its_ablations() {
     let mut extract_way = |way: FirstExtractionWay| -> (u32, Vec<Vec<u32>>) {
         let pipeline = measured_list_extraction(&gpu, &compiler, ScalarType::U8, way).unwrap();
         timer.reset(&gpu);
+        let mut recorded = Ok(());
         gpu.submit("pass A alone", |rec| {
-            c.compute.record_first_extraction(
+            recorded = c.compute.record_first_extraction(
                 rec,
                 (&mut timer, "extraction"),
                 &pipeline,
@@ -423,9 +424,10 @@ fn pass_a_extraction_alone_and_its_ablations() {
                 &c.target,
                 &params,
                 &c.state,
-            )
+            );
         })
         .unwrap();
+        recorded.unwrap();
         let counts: RasterCounts =
             bytemuck::pod_read_unaligned(&gpu.read_buffer(&c.target.lists.counts).unwrap()[..16]);
         // Blocks reserve their slots in whichever order their workgroups run: compare the
@@ -459,6 +461,36 @@ fn pass_a_extraction_alone_and_its_ablations() {
     assert!(spread == (whole, whole_triangles.clone()), "corners spread");
     let (_, after) = c.culled(&gpu, &c.state);
     assert_eq!(after, settled, "the next frame");
+    // A state made for another frame size is refused, with nothing recorded.
+    let other = ComputeTarget::new(&gpu, w / 2, h, c.capacity).unwrap();
+    let pipeline = measured_list_extraction(
+        &gpu,
+        &compiler,
+        ScalarType::U8,
+        FirstExtractionWay {
+            ablation: Ablation::None,
+            spread_corners: false,
+        },
+    )
+    .unwrap();
+    let mut refused = Ok(());
+    gpu.submit("pass A alone, wrong state", |rec| {
+        refused = c.compute.record_first_extraction(
+            rec,
+            (&mut timer, "extraction"),
+            &pipeline,
+            &c.prepared,
+            &other,
+            &params,
+            &c.state,
+        );
+    })
+    .unwrap();
+    let message = refused.unwrap_err().to_string();
+    assert!(
+        message.contains("another frame size or volume"),
+        "{message}"
+    );
     assert_clean(&gpu);
 }
 

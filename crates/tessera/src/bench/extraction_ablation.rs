@@ -61,8 +61,7 @@ pub(super) fn first_extraction_ways(
                     &target,
                     &params,
                     &state,
-                );
-                Ok(())
+                )
             })?;
             let mut r = BenchRecord::new(gpu, "isosurface", "direct+hzb", "compute", scene.dataset);
             r.variant = format!("pass A extraction, {}", way.name());

@@ -37,13 +37,8 @@ impl DirectCompute {
             None => body(rec),
         };
         super::compute::check_pixels(target, pixels)?;
-        let b = prepared.octree.level_dims[0];
+        check_state(state, prepared, target)?;
         let (w, h) = (target.frame.width, target.frame.height);
-        if (w, h) != (state.width, state.height) || b[0] * b[1] * b[2] != state.block_count {
-            return Err(Error::Invalid(
-                "the culling state was made for another frame size or volume".into(),
-            ));
-        }
         let base = target.lists.capacity;
         if base.checked_add(state.new_lists.capacity).is_none() {
             return Err(Error::Invalid(
@@ -212,10 +207,11 @@ impl DirectCompute {
     }
 
     /// Records pass A's extraction alone with `pipeline` (the culling's own, or
-    /// [`super::compute_cull::ablated_list_extraction`]) over the blocks `state`'s next frame
+    /// [`super::compute_cull::measured_list_extraction`]) over the blocks `state`'s next frame
     /// would draw first, into `target`'s lists, timed in a scope `name`: its counts emptied
     /// before the scope, a barrier after it. For measuring: nothing is drawn or resolved, and
-    /// the state is left as it was but for its cell boxes.
+    /// the state is left as it was but for its cell boxes. `state` must be made for `prepared`
+    /// and `target`'s size.
     #[allow(clippy::too_many_arguments)]
     pub fn record_first_extraction(
         &self,
@@ -226,7 +222,8 @@ impl DirectCompute {
         target: &ComputeTarget,
         params: &DirectParams,
         state: &ComputeCullState,
-    ) {
+    ) -> Result<()> {
+        check_state(state, prepared, target)?;
         let stats = &state.extract_stats[0];
         rec.fill_buffer(&target.lists.counts, 0);
         rec.fill_buffer(stats, 0);
@@ -245,6 +242,7 @@ impl DirectCompute {
         rec.barrier();
         // The next frame's fills are due: this wrote the counts its finishing pass emptied.
         state.emptied_after.set(None);
+        Ok(())
     }
 
     /// Renders one culled frame: the image, the GPU time in milliseconds and what culling did.
@@ -320,4 +318,21 @@ pub(super) fn record_list_extraction(
         blocks,
         block_list::ARGS_OFFSET,
     );
+}
+
+/// Refuses a culling state made for another frame size or volume than `target`'s and
+/// `prepared`'s (its flags, lists and pyramid would be read out of their bounds).
+fn check_state(
+    state: &ComputeCullState,
+    prepared: &PreparedVolume,
+    target: &ComputeTarget,
+) -> Result<()> {
+    let b = prepared.octree.level_dims[0];
+    let (w, h) = (target.frame.width, target.frame.height);
+    if (w, h) != (state.width, state.height) || b[0] * b[1] * b[2] != state.block_count {
+        return Err(Error::Invalid(
+            "the culling state was made for another frame size or volume".into(),
+        ));
+    }
+    Ok(())
 }
