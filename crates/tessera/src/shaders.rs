@@ -27,6 +27,10 @@ const COMMON: &[(&str, &str)] = &[
         include_str!("shaders/common/workgroup_scan.glsl"),
     ),
     (
+        "common/subgroup_turns.glsl",
+        include_str!("shaders/common/subgroup_turns.glsl"),
+    ),
+    (
         "common/mc_cell.glsl",
         include_str!("shaders/common/mc_cell.glsl"),
     ),

@@ -1,8 +1,9 @@
 //! Where `direct`'s extraction of a block list spends its time (`tessera bench isosurface
 //! --ablations`): pass A's extraction of a still, culled view timed alone, whole, with stages
 //! left out (no vertex arithmetic, no triangle written, samples only) and with each corner
-//! made by its own invocation ([`FirstExtractionWay`]), over the blocks the settled frames saw. Records carry the way as their variant
-//! ("pass A extraction, samples only", ...), the blocks and triangles as counts.
+//! made by its own invocation ([`FirstExtractionWay`]), over the blocks the settled frames
+//! saw. Records carry the way as their variant ("pass A extraction, samples only", ...), the
+//! blocks and triangles as counts.
 
 use super::basic::bench_sizes;
 use super::frames::time_recorded;

@@ -148,8 +148,8 @@ pub struct RasterFrame {
     pub tile_frames: Buffer,
     pub width: u32,
     pub height: u32,
-    /// Which frame this is among every frame made in the process: with [`Self::frame_number`],
-    /// it names one frame of one `RasterFrame` ([`Self::frame_stamp`]).
+    /// Which of the process's `RasterFrame`s this is: with [`Self::frame_number`], it names one
+    /// frame drawn in one of them ([`Self::frame_stamp`]).
     serial: u64,
     /// The number of the frame being drawn (0 before the first).
     frame_number: Cell<u32>,

@@ -318,6 +318,8 @@ void raster_draw_triangle(RasterPass pass, vec4 c0, vec4 c1, vec4 c2, uint paylo
 }
 
 #if RASTER_SUBGROUP_WALK
+#include "common/subgroup_turns.glsl"
+
 // Walks, with the whole subgroup, the set-up triangles of the invocations where `grouped`
 // holds, one after another: invocation k takes the box's pixels k, k + lanes, ... in row
 // order, so neighbouring invocations draw neighbouring pixels (their atomics meet a few
@@ -333,9 +335,8 @@ void walk_subgroup(RasterPass pass, bool grouped, FanSetup s, uint index) {
     ivec3 step_x = ivec3(s.step_x);
     ivec3 step_y = ivec3(s.step_y);
     uvec4 pending = subgroupBallot(grouped);
-    while (any(notEqual(pending, uvec4(0u)))) {
-        uint lane = subgroupBallotFindLSB(pending);
-        pending[lane / 32u] &= ~(1u << (lane % 32u));
+    while (subgroup_turns_left(pending)) {
+        uint lane = subgroup_next_turn(pending);
         FanSetup t;
         t.first = subgroupShuffle(s.first, lane);
         t.last = subgroupShuffle(s.last, lane);

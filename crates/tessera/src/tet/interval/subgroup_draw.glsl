@@ -11,6 +11,8 @@
 // same drawing shared by a workgroup through shared memory lost (21-33 ms far; runs 91, 92).
 // Needs subgroup ballot, shuffle and arithmetic enabled, tet_draw.glsl and what it needs.
 
+#include "common/subgroup_turns.glsl"
+
 // The number of pixels above which this subgroup draws a tet together: SUBGROUP_DRAW_ABOVE_PIXELS,
 // or with SUBGROUP_DRAW_CHOSEN the one of SUBGROUP_DRAW_LIMITS whose estimated time is least
 // for the subgroup's tets. An invocation's `pixels` is its tet's rectangle (0 where it draws
@@ -55,9 +57,8 @@ void draw_subgroup(bool grouped, uint tet, Proxy proxy, uvec2 first, uvec2 last)
     uint me = gl_SubgroupInvocationID;
     uint lanes = gl_SubgroupSize;
     uvec4 pending = subgroupBallot(grouped);
-    while (any(notEqual(pending, uvec4(0u)))) {
-        uint lane = subgroupBallotFindLSB(pending);
-        pending[lane / 32u] &= ~(1u << (lane % 32u));
+    while (subgroup_turns_left(pending)) {
+        uint lane = subgroup_next_turn(pending);
         ProxyRaster raster = proxy_raster(shuffle_proxy(proxy, lane));
         uint drawn = subgroupShuffle(tet, lane);
         uvec2 from = subgroupShuffle(first, lane);
